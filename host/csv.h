@@ -1,0 +1,27 @@
+/* CSV spectra files: first column wavelength in nm, one or more value columns.
+ * Lines starting with '#' are comments (provenance lines); the first
+ * non-comment line is the header of column names. */
+#ifndef SPM_CSV_H
+#define SPM_CSV_H
+#include <stddef.h>
+#include "util.h"
+#include "spectrum.h"
+
+typedef struct {
+    int ncols;        /* including the wavelength column */
+    char **names;     /* ncols names */
+    size_t nrows;
+    double *data;     /* nrows * ncols, row-major */
+    int *line;        /* source line number of each row */
+} spm_csv;
+
+/* Errors name file and line: "path:LINE: problem". Returns 0 or fills err. */
+int spm_csv_load(const char *path, spm_csv *out, spm_error *err);
+void spm_csv_free(spm_csv *csv);
+
+/* Load one value column (by name; NULL = the only value column, an error if
+ * there are several) as a spectrum of the given kind: checks wavelengths strictly
+ * increasing, finite values, no negative values; errors as "path:LINE: ...". */
+int spm_spectrum_load(const char *path, const char *column, spm_kind kind,
+                      spm_spectrum *out, spm_error *err);
+#endif

@@ -1,0 +1,30 @@
+/* Scene geometry flattened for the device: triangles, BVH, emitter list, camera. */
+#ifndef SPM_GEOMETRY_H
+#define SPM_GEOMETRY_H
+#include "scene.h"
+#include "spm_shared.h"
+
+typedef struct {
+    spm_tri *tris;          /* reordered by the BVH build */
+    int ntris;
+    spm_bvh_node *nodes;
+    int nnodes;
+    spm_u32 *emitters;      /* indices into tris of triangles with emission and area > 0 */
+    int nemitters;
+    spm_camera cam;
+} spm_geometry;
+
+/* Builds triangles (MiniLight's edges/normal/tangent/area), a binned-SAH BVH
+ * and the emitter list. Zero-area triangles are an input error naming the line. */
+int spm_geometry_build(const spm_scene *scene, spm_geometry *g, spm_error *err);
+void spm_geometry_free(spm_geometry *g);
+spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg, int w, int h);
+
+/* Closest hit along origin + t dir, t >= 0, ignoring triangle `skip` (or
+ * SPM_NONE-like 0xFFFFFFFF). Returns the triangle index or -1; *t_out set. */
+int spm_bvh_intersect(const spm_geometry *g, const float o[3], const float d[3], spm_u32 skip,
+                      float *t_out);
+/* The same by testing every triangle (for tests). */
+int spm_brute_intersect(const spm_geometry *g, const float o[3], const float d[3], spm_u32 skip,
+                        float *t_out);
+#endif

@@ -1,0 +1,41 @@
+/* Spectral tables for the device and the CPU reference: every scene colour at
+ * every level, in truth, as RGB, with the pretest's per-occurrence levels,
+ * plus the Composite Model's spike lanes and the hero-wavelength density. */
+#ifndef SPM_TABLES_H
+#define SPM_TABLES_H
+#include <stdint.h>
+#include "scene.h"
+#include "pretest.h"
+
+typedef struct {
+    int ncolours;
+    float *lvl[SPM_NUM_LEVELS];    /* ncolours x SPM_LEVEL_BINS(l), bin means */
+    float *truth;                  /* ncolours x SPM_TRUTH_BINS */
+    float *rgb;                    /* ncolours x 4: linear sRGB (reflectance D65-referred, white = 1) */
+    float cmf_lvl[SPM_NUM_LEVELS][3][SPM_L0_BINS];  /* XYZ weights per level (bins(l) used) */
+    float cmf_truth[3][SPM_TRUTH_BINS];
+    /* ml: level for a colour met k times on a path: lvlk[c * SPM_PRETEST_KMAX + (k-1)] */
+    uint8_t *lvlk;
+    int coarsest_level;            /* the coarsest level the pretest could pick */
+    spm_pretest_result *pretest;   /* per colour */
+
+    /* mlc (Composite Model): nspikes lanes shared by the scene. */
+    int nspikes;
+    float spike_wl[SPM_MAX_SPIKES];
+    float *mlc_lvl[SPM_NUM_LEVELS];  /* ncolours x (SPM_LEVEL_BINS(l) + SPM_MAX_SPIKES): smooth bins then spike lanes */
+    float spike_cmf[3][SPM_MAX_SPIKES];
+    uint8_t *mlc_lvlk;             /* as lvlk, for the smooth parts */
+
+    /* hero: density over 380-780 nm tabulated per truth bin (piecewise constant) */
+    float hero_pdf[SPM_TRUTH_BINS];      /* per nm, integrates to 1 */
+    float hero_cdf[SPM_TRUTH_BINS + 1];
+    float cmf_point[3][SPM_TRUTH_BINS + 1]; /* CMF at 380..780 nm (same normalisation as the weights, per nm) */
+
+    spm_material *materials;       /* per scene material */
+    int nmaterials;
+} spm_tables;
+
+int spm_tables_build(const spm_scene *scene, const spm_pretest_opts *po, spm_tables *t,
+                     spm_error *err);
+void spm_tables_free(spm_tables *t);
+#endif

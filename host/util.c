@@ -1,0 +1,49 @@
+#include "util.h"
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+int spm_quiet_warnings = 0;
+
+void spm_errorf(spm_error *err, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    if (err)
+        vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+    va_end(ap);
+}
+
+void spm_warnf(const char *fmt, ...)
+{
+    if (spm_quiet_warnings)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("specmip: warning: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+static void *check(void *p, size_t n)
+{
+    if (!p && n) {
+        fprintf(stderr, "specmip: out of memory (%zu bytes)\n", n);
+        exit(SPM_EXIT_RUNTIME);
+    }
+    return p;
+}
+
+void *spm_xmalloc(size_t n) { return check(malloc(n ? n : 1), n); }
+void *spm_xcalloc(size_t c, size_t s) { return check(calloc(c ? c : 1, s ? s : 1), c * s); }
+void *spm_xrealloc(void *p, size_t n) { return check(realloc(p, n ? n : 1), n); }
+char *spm_xstrdup(const char *s) { return strcpy(spm_xmalloc(strlen(s) + 1), s); }
+
+double spm_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}

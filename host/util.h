@@ -1,0 +1,32 @@
+/* Small shared helpers: error reporting with exit codes, checked allocation. */
+#ifndef SPM_UTIL_H
+#define SPM_UTIL_H
+#include <stddef.h>
+#include <stdarg.h>
+
+/* Exit codes (README: 0 ok, 1 runtime failure, 2 usage/input error, 130 interrupted). */
+#define SPM_EXIT_OK 0
+#define SPM_EXIT_RUNTIME 1
+#define SPM_EXIT_INPUT 2
+#define SPM_EXIT_INTERRUPTED 130
+
+/* An error message filled in by a failing function, e.g. "scene.txt:12:5: expected a number".
+ * Functions that can fail return 0 on success and non-zero on failure, filling *err. */
+typedef struct {
+    char msg[1024];
+} spm_error;
+
+void spm_errorf(spm_error *err, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Warnings go to stderr prefixed "specmip: warning: "; tests may silence them. */
+void spm_warnf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+extern int spm_quiet_warnings;
+
+/* Allocation that aborts the program with a clear message when memory runs out. */
+void *spm_xmalloc(size_t n);
+void *spm_xcalloc(size_t count, size_t size);
+void *spm_xrealloc(void *p, size_t n);
+char *spm_xstrdup(const char *s);
+
+/* Monotonic wall clock in seconds. */
+double spm_now(void);
+#endif

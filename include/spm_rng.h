@@ -1,0 +1,46 @@
+/* Counter-based random numbers keyed by (seed, pixel, sample, dimension).
+ * Integer-only, so the OpenCL kernels and the CPU reference produce the same
+ * bits; the float conversion is exact (24 random bits times 2^-24). */
+#ifndef SPM_RNG_H
+#define SPM_RNG_H
+#include "spm_shared.h"
+
+/* Dimensions: 0, 1 camera jitter; each vertex j uses SPM_DIM_VERTEX(j) + 0..5. */
+#define SPM_DIM_CAM_X 0u
+#define SPM_DIM_CAM_Y 1u
+#define SPM_DIMS_PER_VERTEX 6u
+#define SPM_DIM_VERTEX(j) (2u + SPM_DIMS_PER_VERTEX * (spm_u32)(j))
+#define SPM_DIM_EMITTER 0u      /* which emitter */
+#define SPM_DIM_EPOINT_A 1u     /* point on it */
+#define SPM_DIM_EPOINT_B 2u
+#define SPM_DIM_RR 3u           /* Russian roulette */
+#define SPM_DIM_DIR_A 4u        /* cosine-weighted direction */
+#define SPM_DIM_DIR_B 5u
+#define SPM_DIM_HERO 0x7fffff00u  /* hero wavelength offset, shade stage only */
+
+/* "lowbias32" integer mixer (Wellons): full avalanche, cheap. */
+SPM_INLINE spm_u32 spm_mix32(spm_u32 x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352dU;
+    x ^= x >> 15;
+    x *= 0x846ca68bU;
+    x ^= x >> 16;
+    return x;
+}
+
+SPM_INLINE spm_u32 spm_rng_u32(spm_u32 seed, spm_u32 pixel, spm_u32 sample, spm_u32 dim)
+{
+    spm_u32 h = spm_mix32(seed ^ 0x9e3779b9U);
+    h = spm_mix32(h ^ pixel);
+    h = spm_mix32(h ^ (sample * 0x85ebca6bU));
+    h = spm_mix32(h ^ (dim * 0xc2b2ae35U));
+    return h;
+}
+
+/* Uniform in [0, 1). */
+SPM_INLINE float spm_rng(spm_u32 seed, spm_u32 pixel, spm_u32 sample, spm_u32 dim)
+{
+    return (float)(spm_rng_u32(seed, pixel, sample, dim) >> 8) * (1.0f / 16777216.0f);
+}
+#endif

@@ -1,0 +1,152 @@
+/* Definitions shared by the host, the CPU reference and the OpenCL kernels.
+ * Only constants, plain structs and integer helpers live here: the kernel's
+ * and the reference's floating-point arithmetic is each written separately. */
+#ifndef SPM_SHARED_H
+#define SPM_SHARED_H
+
+#ifdef __OPENCL_VERSION__
+typedef uint spm_u32;
+typedef int spm_i32;
+#define SPM_INLINE inline
+#else
+#include <stdint.h>
+typedef uint32_t spm_u32;
+typedef int32_t spm_i32;
+#define SPM_INLINE static inline
+#endif
+
+/* ---- spectral domain ---------------------------------------------------- */
+#define SPM_LAMBDA_MIN 380
+#define SPM_LAMBDA_MAX 780
+#define SPM_L0_BINS 80          /* level 0: 5 nm bins */
+#define SPM_NUM_LEVELS 4        /* levels 0..3: 80, 40, 20, 10 bins */
+#define SPM_LEVEL_BINS(l) (SPM_L0_BINS >> (l))
+#define SPM_TRUTH_BINS 400      /* 1 nm bins: ground truth */
+#define SPM_VECS_PER_LEVEL 5    /* a level is five vectors: 5x16, 5x8, 5x4, 5x2 */
+#define SPM_PRETEST_KMAX 8      /* pretest context B: k = 1..8 occurrences */
+#define SPM_MAX_SPIKES 16       /* Composite Model: spike lanes per scene */
+#define SPM_HERO_LANES 4
+
+/* ---- render modes ------------------------------------------------------- */
+enum spm_mode {
+    SPM_MODE_TRUTH = 0,
+    SPM_MODE_REF = 1,
+    SPM_MODE_ML = 2,
+    SPM_MODE_MLC = 3,
+    SPM_MODE_HERO = 4,
+    SPM_MODE_RGB = 5,
+    SPM_MODE_COUNT = 6
+};
+
+/* ---- path records ------------------------------------------------------- */
+#define SPM_MAX_DEPTH 64        /* vertices per path record (same in both backends) */
+#define SPM_NONE 0xFFFFu        /* "no colour" in a 16-bit colour id */
+
+/* How a path ended. */
+#define SPM_END_ABSORBED 0u     /* Russian roulette ended it */
+#define SPM_END_ESCAPED 1u      /* a ray left the scene (background term recorded) */
+#define SPM_END_TRUNCATED 2u    /* SPM_MAX_DEPTH reached: counted in --stats */
+
+/* One path vertex. ids: low 16 bits the reflectance colour at the vertex,
+ * high 16 bits the emission colour of the sampled emitter (SPM_NONE when the
+ * emitter was occluded, back-facing or absent). c is the emitter term's scalar
+ * weight, with every level-independent factor folded in:
+ *   n_emitters * cos_e * area / max(d^2, 1e-6) * |cos_i| / pi
+ *   * prod over earlier vertices of 1 / mean reflectance (Russian roulette). */
+typedef struct {
+    spm_u32 ids;
+    float c;
+} spm_vertex;
+
+/* A path's colour-independent record. Shading a path at any level is
+ *   P = 1; L = first_emit_c * E[first_emit];
+ *   for each vertex: P *= R[refl]; if emit != NONE: L += P * E[emit] * c;
+ *   if bg != NONE: L += P * E[bg] * bg_c;
+ * so every mode shades exactly the same geometry. */
+typedef struct {
+    spm_u32 nvert;       /* number of recorded vertices (0: camera ray escaped) */
+    spm_u32 end;         /* SPM_END_* */
+    spm_u32 first_emit;  /* emission colour seen at the first hit (front face) or SPM_NONE */
+    float first_emit_c;  /* its weight (1 when present) */
+    spm_u32 bg;          /* background colour seen by the escaping ray, or SPM_NONE */
+    float bg_c;          /* its weight (product of 1/mean reflectance so far) */
+    spm_u32 pad0, pad1;
+} spm_path_head;
+
+typedef struct {
+    spm_path_head h;
+    spm_vertex v[SPM_MAX_DEPTH];
+} spm_path;
+
+/* Per-path level byte written by the trace stage (the level feeler):
+ * bits 0-2 the finest level the path's colours need, bits 4-5 what set it. */
+#define SPM_LEVEL_MASK 0x07u
+#define SPM_SETBY_SHIFT 4
+#define SPM_SETBY_NONE 0u       /* path met no colour finer than the coarsest */
+#define SPM_SETBY_EMITTER 1u    /* an emission (light or background) set it */
+#define SPM_SETBY_REFLECTOR 2u  /* a reflectance set it */
+
+/* ---- geometry ------------------------------------------------------------ */
+/* Triangle as MiniLight keeps it: vertex 0, edges, unit normal, unit tangent
+ * (= normalised edge 1), area. Normal = normalise(e1 x e2). */
+typedef struct {
+    float v0[3];
+    float e1[3];   /* v1 - v0 */
+    float e2[3];   /* v2 - v0 */
+    float n[3];
+    float t[3];
+    float area;
+    spm_u32 material;
+    spm_u32 pad;
+} spm_tri;
+
+/* Flattened BVH node. count > 0: leaf holding triangles [first, first+count)
+ * of the (reordered) triangle array. count == 0: interior node whose children
+ * are nodes `first` and `first + 1`. Node 0 is the root. */
+typedef struct {
+    float bmin[3];
+    spm_u32 first;
+    float bmax[3];
+    spm_u32 count;
+} spm_bvh_node;
+
+/* Material as the device sees it: colour ids into the spectral tables. */
+typedef struct {
+    spm_u32 refl;      /* reflectance colour id (SPM_NONE: black) */
+    spm_u32 emit;      /* emission colour id (SPM_NONE: not an emitter) */
+    float mean;        /* level-0 mean reflectance: Russian roulette survival */
+    float inv_mean;    /* 1 / mean (0 when mean == 0) */
+} spm_material;
+
+/* MiniLight's camera, resolved on the host. Pixel (x, y) with y = 0 at the
+ * top maps to direction normalise(dir + tan_half * (right * cx + up * cy * h/w))
+ * with cx = 2 (x + u) / w - 1, cy = 1 - 2 (y + v) / h. */
+typedef struct {
+    float eye[3];
+    float dir[3];
+    float right[3];
+    float up[3];
+    float tan_half;
+    spm_i32 width;
+    spm_i32 height;
+    spm_u32 pad;
+} spm_camera;
+
+/* Scene-wide constants the trace stage needs besides its buffers. */
+typedef struct {
+    spm_camera cam;
+    spm_u32 ntris;
+    spm_u32 nemitters;
+    spm_u32 bg_up;     /* background colour for an upward escaping ray, or SPM_NONE */
+    spm_u32 bg_down;   /* for a downward one (MiniLight: sky x ground), or SPM_NONE */
+    spm_u32 seed;
+    spm_u32 spp_per_pass;  /* samples per pixel in one pass */
+    spm_u32 first_sample;  /* sample index of this pass's first sample */
+    spm_u32 pad;
+} spm_trace_params;
+
+#define SPM_D2_MIN 1e-6f
+#define SPM_RAY_EPSILON (1.0f / 1048576.0f)  /* MiniLight's determinant epsilon */
+#define SPM_PI_F 3.14159265358979323846f
+
+#endif
