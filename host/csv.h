@@ -13,6 +13,7 @@ typedef struct {
     size_t nrows;
     double *data;     /* nrows * ncols, row-major */
     int *line;        /* source line number of each row */
+    int header_line;  /* source line number of the header (added by the foundation) */
 } spm_csv;
 
 /* Errors name file and line: "path:LINE: problem". Returns 0 or fills err. */
@@ -24,4 +25,11 @@ void spm_csv_free(spm_csv *csv);
  * increasing, finite values, no negative values; errors as "path:LINE: ...". */
 int spm_spectrum_load(const char *path, const char *column, spm_kind kind,
                       spm_spectrum *out, spm_error *err);
+
+/* Index of the value column called `name` (1..ncols-1), or -1. */
+int spm_csv_column(const spm_csv *csv, const char *name);
+/* Column `col` of a loaded table as a spectrum, with the checks of
+ * spm_spectrum_load; `path` names the file in error messages. */
+int spm_spectrum_from_csv(const spm_csv *csv, int col, const char *path, spm_kind kind,
+                          spm_spectrum *out, spm_error *err);
 #endif

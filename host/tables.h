@@ -33,6 +33,7 @@ typedef struct {
 
     spm_material *materials;       /* per scene material */
     int nmaterials;
+    spm_u32 bg_up, bg_down;        /* background colour ids (SPM_NONE: none), for spm_trace_params */
 } spm_tables;
 
 int spm_tables_build(const spm_scene *scene, const spm_pretest_opts *po, spm_tables *t,

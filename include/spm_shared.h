@@ -26,6 +26,8 @@ typedef int32_t spm_i32;
 #define SPM_PRETEST_KMAX 8      /* pretest context B: k = 1..8 occurrences */
 #define SPM_MAX_SPIKES 16       /* Composite Model: spike lanes per scene */
 #define SPM_HERO_LANES 4
+/* mlc tables hold, per colour and level, the smooth bins then the spike lanes */
+#define SPM_MLC_STRIDE(l) (SPM_LEVEL_BINS(l) + SPM_MAX_SPIKES)
 
 /* ---- render modes ------------------------------------------------------- */
 enum spm_mode {

@@ -1,0 +1,275 @@
+/* specmip render: options -> setup -> render loop -> images + statistics. */
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include "commands.h"
+#include "output.h"
+#include "render_setup.h"
+#include "render_stats.h"
+
+#define MAX_OUTPUTS 4
+
+static volatile sig_atomic_t stop_flag;
+static void on_signal(int sig)
+{
+    (void)sig;
+    stop_flag = 1;
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: specmip render [SCENE] [options]\n"
+        "Renders SCENE (a .scene file or a MiniLight .ml.txt file); without SCENE the built-in\n"
+        "Cornell box (ColorChecker walls, equal-energy light).\n\n"
+        "  -o, --output FILE      image to write; .exr (linear sRGB, float) or .png (tone-mapped sRGB);\n"
+        "                         may be given up to %d times (default: specmip.png and specmip.exr)\n"
+        "  --mode M               truth | ref | ml | mlc | hero | rgb   (default ml)\n"
+        "                           truth: 1 nm bins; ref: 5 nm bins; ml: Spectral Mipmapping;\n"
+        "                           mlc: ml + Composite Model spike lanes; hero: 4 hero wavelengths;\n"
+        "                           rgb: three components\n"
+        "  --spp N                samples per pixel (default: the scene's, else 16)\n"
+        "  --seed S               random seed (default 1); the same seed gives the same paths\n"
+        "  --width W, --height H  image size (default: the scene's)\n"
+        "  --backend B            opencl (default) | cpu (the scalar CPU reference)\n"
+        "  --device D             OpenCL device index, a list 0,2, or all (default 0);\n"
+        "                         see 'specmip devices'\n"
+        "  --threshold T          pretest colour-difference threshold (default 2.0)\n"
+        "  --metric M             de00 (default) | deab: the pretest's colour difference\n"
+        "  --coarsest-level L     coarsest level the pretest may pick: 2 (20 bins, default) or 3 (10)\n"
+        "  --tonemap T            auto (default: exposure from the 99th percentile of Y) | thesis\n"
+        "                         (scale = 1/(5 + L)) | exposure\n"
+        "  --exposure E           with --tonemap exposure: display = E * Y\n"
+        "  --stats                print timings, paths/s and paths per level (stdout)\n"
+        "  --json                 print the statistics as one JSON object (stdout)\n"
+        "  --progress             progress line on stderr even when it is not a terminal\n"
+        "  --quiet                no progress line\n"
+        "  --verbose              print the pretest's level table\n"
+        "Ctrl-C (or SIGTERM) ends the current pass, writes the image so far and exits 130.\n",
+        MAX_OUTPUTS);
+}
+
+static int parse_int(const char *opt, const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    long v = strtol(s, &end, 10);
+    if (!*s || *end || v < lo || v > hi) {
+        fprintf(stderr, "specmip render: %s needs a whole number from %ld to %ld, not '%s'\n", opt,
+                lo, hi, s);
+        return 1;
+    }
+    *out = v;
+    return 0;
+}
+
+static int parse_double(const char *opt, const char *s, double lo, double hi, double *out)
+{
+    char *end;
+    double v = strtod(s, &end);
+    if (!*s || *end || !(v >= lo && v <= hi)) {
+        fprintf(stderr, "specmip render: %s needs a number from %g to %g, not '%s'\n", opt, lo, hi,
+                s);
+        return 1;
+    }
+    *out = v;
+    return 0;
+}
+
+static int parse_devices(const char *s, spm_render_config *c)
+{
+    if (!strcmp(s, "all")) {
+        c->all_devices = 1;
+        return 0;
+    }
+    const char *p = s;
+    while (*p) {
+        char *end;
+        long v = strtol(p, &end, 10);
+        if (end == p || v < 0 || v > 255 || (*end && *end != ',') ||
+            c->ndevices >= SPM_MAX_BACKENDS) {
+            fprintf(stderr,
+                    "specmip render: --device takes an index, a list like 0,2 or 'all', not '%s'\n",
+                    s);
+            return 1;
+        }
+        c->devices[c->ndevices++] = (int)v;
+        p = *end ? end + 1 : end;
+    }
+    return c->ndevices ? 0 : 1;
+}
+
+int spm_cmd_render(int argc, char **argv)
+{
+    spm_render_config cfg;
+    spm_render_config_defaults(&cfg);
+    const char *outputs[MAX_OUTPUTS];
+    int nout = 0, stats = 0, json = 0, progress = isatty(2);
+    spm_tonemap_opts tm;
+    spm_tonemap_defaults(&tm);
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        long n;
+        double d;
+#define NEED_VALUE                                                                          \
+    do {                                                                                    \
+        if (!v) {                                                                           \
+            fprintf(stderr, "specmip render: %s needs a value\n", a);                      \
+            return SPM_EXIT_INPUT;                                                          \
+        }                                                                                   \
+        i++;                                                                                \
+    } while (0)
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            return SPM_EXIT_OK;
+        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+            NEED_VALUE;
+            if (nout >= MAX_OUTPUTS) {
+                fprintf(stderr, "specmip render: at most %d outputs\n", MAX_OUTPUTS);
+                return SPM_EXIT_INPUT;
+            }
+            outputs[nout++] = v;
+        } else if (!strcmp(a, "--mode")) {
+            NEED_VALUE;
+            if ((cfg.mode = spm_mode_parse(v)) < 0) {
+                fprintf(stderr, "specmip render: unknown mode '%s' (truth, ref, ml, mlc, hero, rgb)\n", v);
+                return SPM_EXIT_INPUT;
+            }
+        } else if (!strcmp(a, "--spp")) {
+            NEED_VALUE;
+            if (parse_int(a, v, 1, 1 << 24, &n))
+                return SPM_EXIT_INPUT;
+            cfg.spp = (int)n;
+        } else if (!strcmp(a, "--seed")) {
+            NEED_VALUE;
+            if (parse_int(a, v, 0, 0xffffffffL, &n))
+                return SPM_EXIT_INPUT;
+            cfg.seed = (spm_u32)n;
+        } else if (!strcmp(a, "--width") || !strcmp(a, "--height")) {
+            NEED_VALUE;
+            if (parse_int(a, v, 1, 16384, &n))
+                return SPM_EXIT_INPUT;
+            *(a[2] == 'w' ? &cfg.width : &cfg.height) = (int)n;
+        } else if (!strcmp(a, "--backend")) {
+            NEED_VALUE;
+            if (strcmp(v, "cpu") && strcmp(v, "opencl")) {
+                fprintf(stderr, "specmip render: --backend is opencl or cpu, not '%s'\n", v);
+                return SPM_EXIT_INPUT;
+            }
+            cfg.use_cpu = !strcmp(v, "cpu");
+        } else if (!strcmp(a, "--device")) {
+            NEED_VALUE;
+            if (parse_devices(v, &cfg))
+                return SPM_EXIT_INPUT;
+        } else if (!strcmp(a, "--threshold")) {
+            NEED_VALUE;
+            if (parse_double(a, v, 0.0, 1000.0, &d))
+                return SPM_EXIT_INPUT;
+            cfg.pretest.threshold = d;
+        } else if (!strcmp(a, "--metric")) {
+            NEED_VALUE;
+            if (!strcmp(v, "de00"))
+                cfg.pretest.metric = SPM_METRIC_DE00;
+            else if (!strcmp(v, "deab"))
+                cfg.pretest.metric = SPM_METRIC_DEAB;
+            else {
+                fprintf(stderr, "specmip render: --metric is de00 or deab, not '%s'\n", v);
+                return SPM_EXIT_INPUT;
+            }
+        } else if (!strcmp(a, "--coarsest-level")) {
+            NEED_VALUE;
+            if (parse_int(a, v, 0, SPM_NUM_LEVELS - 1, &n))
+                return SPM_EXIT_INPUT;
+            cfg.pretest.coarsest_level = (int)n;
+        } else if (!strcmp(a, "--tonemap")) {
+            NEED_VALUE;
+            if (spm_tonemap_parse(v, &tm)) {
+                fprintf(stderr, "specmip render: --tonemap is auto, thesis or exposure, not '%s'\n", v);
+                return SPM_EXIT_INPUT;
+            }
+        } else if (!strcmp(a, "--exposure")) {
+            NEED_VALUE;
+            if (parse_double(a, v, 1e-12, 1e12, &d))
+                return SPM_EXIT_INPUT;
+            spm_tonemap_set_exposure(&tm, d);
+        } else if (!strcmp(a, "--stats")) {
+            stats = 1;
+        } else if (!strcmp(a, "--json")) {
+            json = 1;
+        } else if (!strcmp(a, "--progress")) {
+            progress = 1;
+        } else if (!strcmp(a, "--quiet")) {
+            progress = 0;
+        } else if (!strcmp(a, "--verbose")) {
+            cfg.verbose = 1;
+        } else if (a[0] == '-' && a[1]) {
+            fprintf(stderr, "specmip render: unknown option '%s' (see specmip render --help)\n", a);
+            return SPM_EXIT_INPUT;
+        } else if (!cfg.scene_path) {
+            cfg.scene_path = a;
+        } else {
+            fprintf(stderr, "specmip render: one scene only ('%s' and '%s')\n", cfg.scene_path, a);
+            return SPM_EXIT_INPUT;
+        }
+#undef NEED_VALUE
+    }
+    if (!nout) {
+        outputs[nout++] = "specmip.png";
+        outputs[nout++] = "specmip.exr";
+    }
+    spm_error err;
+    err.msg[0] = 0;
+    /* an output we cannot write is reported before any work, not after */
+    for (int i = 0; i < nout; i++)
+        if (spm_output_check(outputs[i], &err)) {
+            fprintf(stderr, "specmip render: %s\n", err.msg);
+            return SPM_EXIT_INPUT;
+        }
+
+    spm_render_setup s;
+    int rc = spm_render_setup_open(&cfg, &s, &err);
+    if (rc) {
+        fprintf(stderr, "specmip render: %s\n", err.msg);
+        spm_render_setup_close(&s);
+        return rc;
+    }
+    int spp = cfg.spp ? cfg.spp : (s.scene.spp > 0 ? s.scene.spp : 16);
+    size_t npix = (size_t)s.scene.width * (size_t)s.scene.height;
+    spm_film film;
+    spm_film_init(&film, s.scene.width, s.scene.height);
+    spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), &stop_flag, progress};
+    spm_run_result res;
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    rc = spm_render_run(s.b, s.nb, npix, &ro, &film, &res, &err);
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
+    if (rc) {
+        fprintf(stderr, "specmip render: %s\n", err.msg);
+        rc = SPM_EXIT_RUNTIME;
+    }
+    /* whatever converged is written, also after an interruption or a lost device */
+    if (res.spp_done > 0)
+        for (int i = 0; i < nout; i++)
+            if (spm_output_write(&film, outputs[i], &tm, &err)) {
+                fprintf(stderr, "specmip render: %s\n", err.msg);
+                rc = SPM_EXIT_RUNTIME;
+            }
+    if (json)
+        spm_render_stats_json(stdout, &cfg, &s, &res);
+    else if (stats)
+        spm_render_stats_text(stdout, &cfg, &s, &res);
+    if (!rc && res.interrupted) {
+        fprintf(stderr, "specmip render: interrupted after %d of %d samples per pixel; image written\n",
+                res.spp_done, spp);
+        rc = SPM_EXIT_INTERRUPTED;
+    }
+    spm_film_free(&film);
+    spm_render_setup_close(&s);
+    return rc;
+}

@@ -1,0 +1,215 @@
+/* CSV spectra: '#' comment lines, a header of column names, then numeric rows.
+ * Every error names the file and the line it was found on. */
+#define _POSIX_C_SOURCE 200809L /* getline */
+#include "csv.h"
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static char *trim(char *s)
+{
+    while (isspace((unsigned char)*s))
+        s++;
+    char *e = s + strlen(s);
+    while (e > s && isspace((unsigned char)e[-1]))
+        *--e = '\0';
+    return s;
+}
+
+/* Splits `line` in place at commas; returns the number of fields (up to max). */
+static int split(char *line, char **fields, int max)
+{
+    int n = 0;
+    for (char *p = line;;) {
+        char *comma = strchr(p, ',');
+        if (comma)
+            *comma = '\0';
+        if (n < max)
+            fields[n] = trim(p);
+        n++;
+        if (!comma)
+            return n;
+        p = comma + 1;
+    }
+}
+
+static int count_fields(const char *line)
+{
+    int n = 1;
+    for (; *line; line++)
+        n += *line == ',';
+    return n;
+}
+
+static int is_blank_or_comment(const char *line)
+{
+    while (isspace((unsigned char)*line))
+        line++;
+    return *line == '\0' || *line == '#';
+}
+
+static int parse_row(spm_csv *c, char *line, int lineno, const char *path, spm_error *err)
+{
+    int n = count_fields(line);
+    if (n != c->ncols) {
+        spm_errorf(err, "%s:%d: expected %d columns, found %d", path, lineno, c->ncols, n);
+        return 1;
+    }
+    char **f = spm_xmalloc((size_t)n * sizeof *f);
+    split(line, f, n);
+    c->data = spm_xrealloc(c->data, (c->nrows + 1) * (size_t)n * sizeof *c->data);
+    c->line = spm_xrealloc(c->line, (c->nrows + 1) * sizeof *c->line);
+    double *row = c->data + c->nrows * (size_t)n;
+    for (int i = 0; i < n; i++) {
+        char *end;
+        errno = 0;
+        row[i] = strtod(f[i], &end);
+        if (end == f[i] || *end != '\0') {
+            spm_errorf(err, "%s:%d: column %d (%s): '%s' is not a number", path, lineno, i + 1,
+                       c->names[i], f[i]);
+            free(f);
+            return 1;
+        }
+        if (!isfinite(row[i])) {
+            spm_errorf(err, "%s:%d: column %d (%s): '%s' is not a finite number", path, lineno,
+                       i + 1, c->names[i], f[i]);
+            free(f);
+            return 1;
+        }
+    }
+    free(f);
+    c->line[c->nrows++] = lineno;
+    return 0;
+}
+
+static void set_header(spm_csv *c, char *line)
+{
+    c->ncols = count_fields(line);
+    char **f = spm_xmalloc((size_t)c->ncols * sizeof *f);
+    split(line, f, c->ncols);
+    c->names = spm_xmalloc((size_t)c->ncols * sizeof *c->names);
+    for (int i = 0; i < c->ncols; i++)
+        c->names[i] = spm_xstrdup(f[i]);
+    free(f);
+}
+
+int spm_csv_load(const char *path, spm_csv *out, spm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    FILE *fp = fopen(path, "r");
+    if (!fp) {
+        spm_errorf(err, "%s:0: cannot open: %s", path, strerror(errno));
+        return 1;
+    }
+    char *line = NULL;
+    size_t cap = 0;
+    int lineno = 0, rc = 0;
+    while (getline(&line, &cap, fp) >= 0) {
+        lineno++;
+        if (is_blank_or_comment(line))
+            continue;
+        if (!out->names) {
+            set_header(out, line);
+            out->header_line = lineno;
+            if (out->ncols < 2) {
+                spm_errorf(err, "%s:%d: header needs a wavelength column and a value column",
+                           path, lineno);
+                rc = 1;
+                break;
+            }
+            continue;
+        }
+        if (parse_row(out, line, lineno, path, err)) {
+            rc = 1;
+            break;
+        }
+    }
+    free(line);
+    fclose(fp);
+    if (!rc && !out->names) {
+        spm_errorf(err, "%s:%d: empty file: no header line", path, lineno > 0 ? lineno : 1);
+        rc = 1;
+    } else if (!rc && out->nrows == 0) {
+        spm_errorf(err, "%s:%d: no data rows after the header", path, lineno);
+        rc = 1;
+    }
+    if (rc)
+        spm_csv_free(out);
+    return rc;
+}
+
+void spm_csv_free(spm_csv *c)
+{
+    for (int i = 0; c->names && i < c->ncols; i++)
+        free(c->names[i]);
+    free(c->names);
+    free(c->data);
+    free(c->line);
+    memset(c, 0, sizeof *c);
+}
+
+int spm_csv_column(const spm_csv *c, const char *name)
+{
+    for (int i = 1; i < c->ncols; i++)
+        if (strcmp(c->names[i], name) == 0)
+            return i;
+    return -1;
+}
+
+int spm_spectrum_from_csv(const spm_csv *c, int col, const char *path, spm_kind kind,
+                          spm_spectrum *out, spm_error *err)
+{
+    size_t n = c->nrows;
+    double *wl = spm_xmalloc(n * sizeof *wl), *val = spm_xmalloc(n * sizeof *val);
+    int rc = 0;
+    for (size_t r = 0; r < n && !rc; r++) {
+        wl[r] = c->data[r * (size_t)c->ncols];
+        val[r] = c->data[r * (size_t)c->ncols + (size_t)col];
+        if (r > 0 && wl[r] <= wl[r - 1]) {
+            spm_errorf(err, "%s:%d: wavelengths must increase strictly (%g nm after %g nm)",
+                       path, c->line[r], wl[r], wl[r - 1]);
+            rc = 1;
+        } else if (val[r] < 0) {
+            spm_errorf(err, "%s:%d: negative %s %g in column %s", path, c->line[r],
+                       kind == SPM_KIND_EMISSION ? "emission" : "reflectance", val[r],
+                       c->names[col]);
+            rc = 1;
+        }
+    }
+    if (!rc) {
+        /* Coverage problems concern the whole column: report them at its first row. */
+        char what[1100];
+        snprintf(what, sizeof what, "%s:%d", path, c->line[0]);
+        rc = spm_spectrum_from_samples(wl, val, n, kind, what, out, err);
+    }
+    free(wl);
+    free(val);
+    return rc;
+}
+
+int spm_spectrum_load(const char *path, const char *column, spm_kind kind, spm_spectrum *out,
+                      spm_error *err)
+{
+    spm_csv c;
+    if (spm_csv_load(path, &c, err))
+        return 1;
+    int col = 1, rc = 0;
+    if (column) {
+        col = spm_csv_column(&c, column);
+        if (col < 0) {
+            spm_errorf(err, "%s:%d: no column named '%s'", path, c.header_line, column);
+            rc = 1;
+        }
+    } else if (c.ncols > 2) {
+        spm_errorf(err, "%s:%d: %d value columns (%s, %s, ...): choose one by name", path,
+                   c.header_line, c.ncols - 1, c.names[1], c.names[2]);
+        rc = 1;
+    }
+    if (!rc)
+        rc = spm_spectrum_from_csv(&c, col, path, kind, out, err);
+    spm_csv_free(&c);
+    return rc;
+}

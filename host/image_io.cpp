@@ -1,0 +1,143 @@
+// Image files through OpenImageIO 2.4 behind a C interface (image_io.h).
+#include "image_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fcntl.h>
+#include <string>
+#include <strings.h>
+#include <unistd.h>
+#include <vector>
+
+extern "C" {
+#include "colour.h"
+}
+
+using OIIO::ImageInput;
+using OIIO::ImageOutput;
+using OIIO::ImageSpec;
+using OIIO::TypeDesc;
+
+// Bounds the allocation a hostile header could ask for (3 floats per pixel).
+static const long long MAX_PIXELS = 1LL << 28;
+
+extern "C" int spm_image_read(const char *path, spm_image *img, spm_error *err)
+{
+    img->width = img->height = 0;
+    img->rgb = nullptr;
+    auto in = ImageInput::open(path);
+    if (!in) {
+        std::string why = OIIO::geterror();
+        spm_errorf(err, "%s: cannot read image: %s", path, why.empty() ? "unknown format" : why.c_str());
+        return 1;
+    }
+    const ImageSpec &spec = in->spec();
+    long long npix = (long long)spec.width * spec.height;
+    if (spec.deep || spec.width <= 0 || spec.height <= 0 || spec.depth > 1 || npix > MAX_PIXELS ||
+        spec.nchannels < 1) {
+        spm_errorf(err, "%s: unsupported image (%dx%d, %d channels%s)", path, spec.width,
+                   spec.height, spec.nchannels, spec.deep ? ", deep" : "");
+        return 1;
+    }
+    int nch = spec.nchannels >= 3 ? 3 : 1;
+    std::vector<float> buf((size_t)npix * nch);
+    if (!in->read_image(0, 0, 0, nch, TypeDesc::FLOAT, buf.data())) {
+        spm_errorf(err, "%s: cannot read pixels: %s", path, in->geterror().c_str());
+        return 1;
+    }
+    // Integer pixels are display-encoded by convention unless the file says linear.
+    bool encoded = !spec.format.is_floating_point() &&
+                   strcasecmp(spec.get_string_attribute("oiio:ColorSpace").c_str(), "linear") != 0;
+    float *rgb = (float *)spm_xmalloc((size_t)npix * 3 * sizeof(float));
+    for (long long i = 0; i < npix; i++)
+        for (int c = 0; c < 3; c++) {
+            float v = buf[(size_t)i * nch + (nch == 3 ? c : 0)];
+            rgb[i * 3 + c] = encoded ? (float)spm_srgb_decode(v) : v;
+        }
+    img->width = spec.width;
+    img->height = spec.height;
+    img->rgb = rgb;
+    return 0;
+}
+
+extern "C" void spm_image_free(spm_image *img)
+{
+    free(img->rgb);
+    img->rgb = nullptr;
+    img->width = img->height = 0;
+}
+
+extern "C" int spm_image_can_write(const char *path)
+{
+    auto out = ImageOutput::create(path);
+    OIIO::geterror(); // clear the message a failed lookup leaves behind
+    return out != nullptr;
+}
+
+// A fresh, exclusively created file next to `path`, keeping its extension (some
+// writers look at it): dir/.base.spmtmp-PID-N.ext
+static std::string make_temp(const std::string &path, int *errnum)
+{
+    size_t slash = path.rfind('/');
+    std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+    std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+    size_t dot = base.rfind('.');
+    std::string ext = dot == std::string::npos ? "" : base.substr(dot);
+    std::string stem = dot == std::string::npos ? base : base.substr(0, dot);
+    for (int n = 0; n < 100; n++) {
+        std::string tmp = dir + "." + stem + ".spmtmp-" + std::to_string((long)getpid()) + "-" +
+                          std::to_string(n) + ext;
+        int fd = open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
+        if (fd >= 0) {
+            close(fd);
+            return tmp;
+        }
+        if (errno != EEXIST)
+            break;
+    }
+    *errnum = errno;
+    return "";
+}
+
+extern "C" int spm_image_write(const char *path, int width, int height, const void *pixels,
+                               spm_pixel_type type, spm_error *err)
+{
+    auto out = ImageOutput::create(path);
+    if (!out) {
+        OIIO::geterror();
+        spm_errorf(err, "%s: no image writer for this file extension", path);
+        return 1;
+    }
+    bool is_float = type == SPM_PIXEL_FLOAT;
+    TypeDesc td = is_float ? TypeDesc::FLOAT : TypeDesc::UINT8;
+    ImageSpec spec(width, height, 3, td);
+    spec.attribute("oiio:ColorSpace", is_float ? "Linear" : "sRGB");
+    if (is_float) {
+        // IEC 61966-2-1 primaries and D65 white, so EXR readers know what the numbers mean.
+        static const float srgb_chroma[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
+        spec.attribute("chromaticities", TypeDesc(TypeDesc::FLOAT, 8), srgb_chroma);
+    }
+    int errnum = 0;
+    std::string tmp = make_temp(path, &errnum);
+    if (tmp.empty()) {
+        spm_errorf(err, "%s: cannot create a temporary file next to it: %s", path, strerror(errnum));
+        return 1;
+    }
+    bool ok = out->open(tmp, spec) && out->write_image(td, pixels);
+    ok = out->close() && ok;
+    std::string why = out->geterror();
+    if (ok && rename(tmp.c_str(), path) != 0) {
+        why = std::string("rename: ") + strerror(errno);
+        ok = false;
+    }
+    if (!ok) {
+        unlink(tmp.c_str());
+        spm_errorf(err, "%s: cannot write image: %s", path, why.empty() ? "write failed" : why.c_str());
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,41 @@
+/* Image files through OpenImageIO: read any image OIIO reads as linear float RGB,
+ * write float or 8-bit RGB. The only C++ in the project (host/image_io.cpp). */
+#ifndef SPM_IMAGE_IO_H
+#define SPM_IMAGE_IO_H
+#include "util.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* width x height pixels, 3 floats (R, G, B) each, rows top to bottom. */
+typedef struct {
+    int width, height;
+    float *rgb;
+} spm_image;
+
+typedef enum { SPM_PIXEL_FLOAT = 0, SPM_PIXEL_UINT8 = 1 } spm_pixel_type;
+
+/* Reads the first three channels (one or two channels: the first is repeated as grey).
+ * Float and half files are taken as linear light (linear sRGB primaries); integer
+ * files (8/16-bit PNG, JPEG, TIFF...) as sRGB-encoded and decoded to linear.
+ * Returns 0, or fills err naming the file. Free with spm_image_free. */
+int spm_image_read(const char *path, spm_image *img, spm_error *err);
+void spm_image_free(spm_image *img);
+
+/* Writes 3-channel pixels: SPM_PIXEL_FLOAT takes float[3*w*h] stored as float32
+ * (EXR/TIFF/PFM keep negative and > 1 values), SPM_PIXEL_UINT8 takes unsigned
+ * char[3*w*h] of already display-encoded values. The format follows the extension.
+ * The data go to a new temporary file in the same directory, which is renamed over
+ * `path` only once complete: a failed write leaves an existing file untouched and
+ * no temporary behind. Returns 0, or fills err naming the file. */
+int spm_image_write(const char *path, int width, int height, const void *pixels,
+                    spm_pixel_type type, spm_error *err);
+
+/* 1 if OIIO has a writer for this file name's extension. */
+int spm_image_can_write(const char *path);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,8 @@
+/* Composite Model tables (mlc mode): smooth parts at every level plus the
+ * scene's spike lanes. Part of spm_tables_build. */
+#ifndef SPM_MLC_TABLES_H
+#define SPM_MLC_TABLES_H
+#include "tables.h"
+int spm_mlc_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables *t,
+                         spm_error *err);
+#endif

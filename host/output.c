@@ -1,0 +1,103 @@
+/* Writing a film or XYZ image in the format its extension names. */
+#include "output.h"
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include "colour.h"
+#include "image_io.h"
+
+typedef enum { OUT_UNKNOWN, OUT_FLOAT, OUT_DISPLAY } out_kind;
+
+static const struct {
+    const char *ext;
+    out_kind kind;
+} formats[] = {
+    {".exr", OUT_FLOAT}, {".tif", OUT_FLOAT}, {".tiff", OUT_FLOAT}, {".pfm", OUT_FLOAT},
+    {".png", OUT_DISPLAY}, {".ppm", OUT_DISPLAY},
+};
+
+static out_kind kind_of(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    const char *dot = strrchr(slash ? slash : path, '.');
+    if (dot)
+        for (size_t i = 0; i < sizeof formats / sizeof formats[0]; i++)
+            if (!strcasecmp(dot, formats[i].ext))
+                return formats[i].kind;
+    return OUT_UNKNOWN;
+}
+
+int spm_output_check(const char *path, spm_error *err)
+{
+    if (kind_of(path) == OUT_UNKNOWN) {
+        spm_errorf(err, "%s: unknown output format (use .exr, .png, .tif, .pfm or .ppm)", path);
+        return 1;
+    }
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        spm_errorf(err, "%s: is a directory", path);
+        return 1;
+    }
+    const char *slash = strrchr(path, '/');
+    char *dir = slash ? spm_xstrdup(path) : spm_xstrdup(".");
+    if (slash)
+        dir[slash == path ? 1 : slash - path] = '\0';
+    int rc = 0;
+    if (stat(dir, &st) != 0) {
+        spm_errorf(err, "%s: output directory '%s' does not exist", path, dir);
+        rc = 1;
+    } else if (!S_ISDIR(st.st_mode)) {
+        spm_errorf(err, "%s: '%s' is not a directory", path, dir);
+        rc = 1;
+    } else if (access(dir, W_OK | X_OK) != 0) {
+        spm_errorf(err, "%s: output directory '%s' is not writable: %s", path, dir, strerror(errno));
+        rc = 1;
+    }
+    free(dir);
+    return rc;
+}
+
+int spm_output_write_xyz(const char *path, int width, int height, const float *xyz,
+                         const spm_tonemap *tm, spm_error *err)
+{
+    out_kind kind = kind_of(path);
+    if (kind == OUT_UNKNOWN)
+        return spm_output_check(path, err);
+    size_t npix = (size_t)width * height;
+    int rc;
+    if (kind == OUT_FLOAT) {
+        float *rgb = spm_xmalloc(npix * 3 * sizeof *rgb);
+        for (size_t i = 0; i < npix; i++) {
+            double v[3] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}, out[3];
+            spm_xyz_to_linear_srgb(v, out);
+            for (int c = 0; c < 3; c++)
+                rgb[3 * i + c] = (float)out[c];
+        }
+        rc = spm_image_write(path, width, height, rgb, SPM_PIXEL_FLOAT, err);
+        free(rgb);
+    } else {
+        spm_tonemap def;
+        if (!tm) {
+            spm_tonemap_default(&def);
+            tm = &def;
+        }
+        unsigned char *rgb8 = spm_xmalloc(npix * 3);
+        spm_tonemap_apply(tm, xyz, npix, rgb8);
+        rc = spm_image_write(path, width, height, rgb8, SPM_PIXEL_UINT8, err);
+        free(rgb8);
+    }
+    return rc;
+}
+
+int spm_output_write_film(const char *path, const spm_film *film, const spm_tonemap *tm,
+                          spm_error *err)
+{
+    float *xyz = spm_xmalloc((size_t)film->width * film->height * 3 * sizeof *xyz);
+    spm_film_resolve(film, xyz);
+    int rc = spm_output_write_xyz(path, film->width, film->height, xyz, tm, err);
+    free(xyz);
+    return rc;
+}

@@ -1,0 +1,36 @@
+/* Everything a render needs, prepared from the command line: scene, geometry,
+ * spectral tables and backends. Shared by `render` and `bench`. */
+#ifndef SPM_RENDER_SETUP_H
+#define SPM_RENDER_SETUP_H
+#include "backend.h"
+#include "render_run.h"
+
+typedef struct {
+    const char *scene_path;   /* NULL: the built-in default scene */
+    int mode;
+    int spp;                  /* 0: the scene's, else 16 */
+    spm_u32 seed;
+    int width, height;        /* 0: the scene's */
+    int use_cpu;              /* --backend cpu */
+    int devices[SPM_MAX_BACKENDS];
+    int ndevices;             /* 0: device 0 */
+    int all_devices;          /* --device all */
+    spm_pretest_opts pretest;
+    int verbose;
+} spm_render_config;
+
+typedef struct {
+    spm_scene scene;
+    spm_geometry geom;
+    spm_tables tables;
+    spm_backend *b[SPM_MAX_BACKENDS];
+    int nb;
+} spm_render_setup;
+
+void spm_render_config_defaults(spm_render_config *c);
+const char *spm_mode_name(int mode);
+int spm_mode_parse(const char *s);  /* -1 if unknown */
+/* Returns 0, or an exit code (2 input error, 1 runtime) with err filled. */
+int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_error *err);
+void spm_render_setup_close(spm_render_setup *s);
+#endif

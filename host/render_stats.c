@@ -1,0 +1,89 @@
+#include "render_stats.h"
+
+static double kernel_s(const spm_pass_stats *p) { return p->trace_s + p->shade_s + p->accum_s; }
+
+static void json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        if (*s == '"' || *s == '\\')
+            fprintf(f, "\\%c", *s);
+        else if ((unsigned char)*s < 0x20)
+            fprintf(f, "\\u%04x", *s);
+        else
+            fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
+void spm_render_stats_text(FILE *f, const spm_render_config *c, const spm_render_setup *s,
+                           const spm_run_result *r)
+{
+    const spm_pass_stats *t = &r->total;
+    fprintf(f, "scene        %s (%dx%d, %d spp, mode %s, seed %u)\n", s->scene.path, s->scene.width,
+            s->scene.height, r->spp_done, spm_mode_name(c->mode), c->seed);
+    fprintf(f, "wall         %.3f s   %.3f Mpaths/s\n", r->wall_s,
+            r->wall_s > 0 ? (double)t->paths / r->wall_s * 1e-6 : 0.0);
+    fprintf(f, "stages       trace %.3f s   shade %.3f s   accumulate %.3f s\n", t->trace_s,
+            t->shade_s, t->accum_s);
+    fprintf(f, "paths        %llu   truncated %llu   non-finite %llu\n",
+            (unsigned long long)t->paths, (unsigned long long)t->truncated,
+            (unsigned long long)t->nonfinite);
+    fprintf(f, "level  bins   paths      set by emitter  set by reflector  coarsest\n");
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        const uint64_t *lp = t->level_paths[l];
+        uint64_t all = lp[0] + lp[1] + lp[2];
+        if (!all)
+            continue;
+        fprintf(f, "%5d  %4d   %-10llu %-15llu %-17llu %llu\n", l, SPM_LEVEL_BINS(l),
+                (unsigned long long)all, (unsigned long long)lp[SPM_SETBY_EMITTER],
+                (unsigned long long)lp[SPM_SETBY_REFLECTOR], (unsigned long long)lp[SPM_SETBY_NONE]);
+    }
+    for (int i = 0; i < s->nb; i++) {
+        const spm_pass_stats *d = &r->per_backend[i];
+        fprintf(f, "device %d     %s: %llu paths (%.1f%%), kernel %.3f s, %.3f Mpaths/s%s\n", i,
+                s->b[i]->name, (unsigned long long)d->paths,
+                t->paths ? 100.0 * (double)d->paths / (double)t->paths : 0.0, kernel_s(d),
+                r->wall_s > 0 ? (double)d->paths / r->wall_s * 1e-6 : 0.0,
+                r->failed[i] ? "  FAILED" : "");
+    }
+}
+
+void spm_render_stats_json(FILE *f, const spm_render_config *c, const spm_render_setup *s,
+                           const spm_run_result *r)
+{
+    const spm_pass_stats *t = &r->total;
+    fprintf(f, "{\"scene\": ");
+    json_string(f, s->scene.path);
+    fprintf(f, ", \"mode\": \"%s\", \"width\": %d, \"height\": %d, \"spp\": %d, \"seed\": %u",
+            spm_mode_name(c->mode), s->scene.width, s->scene.height, r->spp_done, c->seed);
+    fprintf(f, ", \"wall_s\": %.6f, \"trace_s\": %.6f, \"shade_s\": %.6f, \"accum_s\": %.6f",
+            r->wall_s, t->trace_s, t->shade_s, t->accum_s);
+    fprintf(f, ", \"kernel_s\": %.6f, \"paths\": %llu, \"paths_per_s\": %.1f", kernel_s(t),
+            (unsigned long long)t->paths, r->wall_s > 0 ? (double)t->paths / r->wall_s : 0.0);
+    fprintf(f, ", \"truncated\": %llu, \"nonfinite\": %llu, \"interrupted\": %s",
+            (unsigned long long)t->truncated, (unsigned long long)t->nonfinite,
+            r->interrupted ? "true" : "false");
+    fprintf(f, ", \"threshold\": %g, \"levels\": [", c->pretest.threshold);
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        const uint64_t *lp = t->level_paths[l];
+        fprintf(f, "%s{\"level\": %d, \"bins\": %d, \"paths\": %llu, \"set_by_emitter\": %llu, "
+                   "\"set_by_reflector\": %llu, \"coarsest\": %llu}",
+                l ? ", " : "", l, SPM_LEVEL_BINS(l), (unsigned long long)(lp[0] + lp[1] + lp[2]),
+                (unsigned long long)lp[SPM_SETBY_EMITTER], (unsigned long long)lp[SPM_SETBY_REFLECTOR],
+                (unsigned long long)lp[SPM_SETBY_NONE]);
+    }
+    fprintf(f, "], \"devices\": [");
+    for (int i = 0; i < s->nb; i++) {
+        const spm_pass_stats *d = &r->per_backend[i];
+        fprintf(f, "%s{\"name\": ", i ? ", " : "");
+        json_string(f, s->b[i]->name);
+        fprintf(f, ", \"paths\": %llu, \"share\": %.4f, \"passes\": %d, \"kernel_s\": %.6f, "
+                   "\"trace_s\": %.6f, \"shade_s\": %.6f, \"paths_per_s\": %.1f, \"failed\": %s}",
+                (unsigned long long)d->paths,
+                t->paths ? (double)d->paths / (double)t->paths : 0.0, r->passes_by_backend[i],
+                kernel_s(d), d->trace_s, d->shade_s,
+                r->wall_s > 0 ? (double)d->paths / r->wall_s : 0.0, r->failed[i] ? "true" : "false");
+    }
+    fprintf(f, "]}\n");
+}

@@ -1,0 +1,173 @@
+/* Spectral tables: every scene colour prepared at every representation the
+ * modes need, plus the pretest's levels and the device materials. */
+#include "tables.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "colour.h"
+#include "mlc_tables.h"
+
+static void fill_levels(const spm_spectrum *s, int c, spm_tables *t)
+{
+    double bins[SPM_L0_BINS];
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        int nb = SPM_LEVEL_BINS(l);
+        spm_spectrum_level(s, l, bins);
+        for (int b = 0; b < nb; b++)
+            t->lvl[l][(size_t)c * nb + b] = (float)bins[b];
+    }
+    for (int i = 0; i < SPM_TRUTH_BINS; i++)
+        t->truth[(size_t)c * SPM_TRUTH_BINS + i] = (float)s->nm1[i];
+}
+
+/* rgb mode: a reflectance becomes its linear sRGB under D65, normalised so the
+ * perfect white is (1,1,1); an emission becomes the linear sRGB of its XYZ. */
+static void fill_rgb(const spm_spectrum *s, const spm_spectrum *d65, const double white_rgb[3],
+                     float out[4])
+{
+    double xyz[3], rgb[3];
+    if (s->kind == SPM_KIND_EMISSION) {
+        spm_xyz_emission(s, xyz);
+        spm_xyz_to_linear_srgb(xyz, rgb);
+    } else {
+        spm_xyz_reflectance(s, d65, xyz);
+        spm_xyz_to_linear_srgb(xyz, rgb);
+        for (int i = 0; i < 3; i++)
+            rgb[i] /= white_rgb[i];
+    }
+    for (int i = 0; i < 3; i++)
+        out[i] = (float)rgb[i];
+    out[3] = 0.0f;
+}
+
+static int load_d65(spm_spectrum *d65, double white_rgb[3], spm_error *err)
+{
+    spm_spectrum white;
+    char path[1024];
+    if (spm_spectrum_load(spm_data_path("spectra/illuminant_D65_1nm.csv", path, sizeof path), NULL,
+                          SPM_KIND_EMISSION, d65, err))
+        return 1;
+    spm_spectrum_constant(1.0, SPM_KIND_REFLECTANCE, &white);
+    double xyz[3];
+    spm_xyz_reflectance(&white, d65, xyz);
+    spm_xyz_to_linear_srgb(xyz, white_rgb);
+    return 0;
+}
+
+static void fill_cmf(spm_tables *t)
+{
+    const double (*w)[SPM_TRUTH_BINS] = spm_cmf_truth();
+    for (int c = 0; c < 3; c++)
+        for (int i = 0; i < SPM_TRUTH_BINS; i++)
+            t->cmf_truth[c][i] = (float)w[c][i];
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        double lw[3][SPM_L0_BINS];
+        spm_cmf_level(l, lw);
+        for (int c = 0; c < 3; c++)
+            for (int b = 0; b < SPM_L0_BINS; b++)
+                t->cmf_lvl[l][c][b] = b < SPM_LEVEL_BINS(l) ? (float)lw[c][b] : 0.0f;
+    }
+    for (int i = 0; i <= SPM_TRUTH_BINS; i++) {
+        double p[3];
+        spm_cmf_point(SPM_LAMBDA_MIN + i, p);
+        for (int c = 0; c < 3; c++)
+            t->cmf_point[c][i] = (float)p[c];
+    }
+}
+
+/* hero: sampling density proportional to x+y+z (visible importance) mixed
+ * with 10% uniform so no visible wavelength has a vanishing density. */
+static void fill_hero(spm_tables *t)
+{
+    double w[SPM_TRUTH_BINS], sum = 0.0;
+    for (int i = 0; i < SPM_TRUTH_BINS; i++) {
+        w[i] = t->cmf_truth[0][i] + t->cmf_truth[1][i] + t->cmf_truth[2][i];
+        sum += w[i];
+    }
+    double acc = 0.0;
+    t->hero_cdf[0] = 0.0f;
+    for (int i = 0; i < SPM_TRUTH_BINS; i++) {
+        double p = 0.9 * w[i] / sum + 0.1 / SPM_TRUTH_BINS; /* probability of the 1 nm bin */
+        t->hero_pdf[i] = (float)p;                           /* bins are 1 nm: per nm too */
+        acc += p;
+        t->hero_cdf[i + 1] = (float)acc;
+    }
+    t->hero_cdf[SPM_TRUTH_BINS] = 1.0f;
+}
+
+static void fill_materials(const spm_scene *sc, spm_tables *t)
+{
+    t->nmaterials = sc->nmaterials;
+    t->materials = spm_xcalloc((size_t)sc->nmaterials, sizeof *t->materials);
+    for (int m = 0; m < sc->nmaterials; m++) {
+        spm_material *d = &t->materials[m];
+        const spm_scene_material *s = &sc->materials[m];
+        d->refl = s->refl >= 0 ? (spm_u32)s->refl : SPM_NONE;
+        d->emit = s->emit >= 0 ? (spm_u32)s->emit : SPM_NONE;
+        double mean = s->refl >= 0 ? spm_spectrum_mean(&sc->colours[s->refl].s) : 0.0;
+        d->mean = (float)mean;
+        d->inv_mean = mean > 0.0 ? (float)(1.0 / mean) : 0.0f;
+    }
+    t->bg_up = sc->bg_up >= 0 ? (spm_u32)sc->bg_up : SPM_NONE;
+    t->bg_down = sc->bg_down >= 0 ? (spm_u32)sc->bg_down : SPM_NONE;
+}
+
+int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables *t,
+                     spm_error *err)
+{
+    memset(t, 0, sizeof *t);
+    if (sc->ncolours >= (int)SPM_NONE) {
+        spm_errorf(err, "%s: too many colours (%d, at most %u)", sc->path, sc->ncolours,
+                   SPM_NONE - 1);
+        return 1;
+    }
+    if (spm_cmf_init(err))
+        return 1;
+    double white_rgb[3];
+    spm_spectrum d65;
+    if (load_d65(&d65, white_rgb, err))
+        return 1;
+    int n = sc->ncolours;
+    t->ncolours = n;
+    for (int l = 0; l < SPM_NUM_LEVELS; l++)
+        t->lvl[l] = spm_xcalloc((size_t)n * SPM_LEVEL_BINS(l) + 1, sizeof(float));
+    t->truth = spm_xcalloc((size_t)n * SPM_TRUTH_BINS + 1, sizeof(float));
+    t->rgb = spm_xcalloc((size_t)n * 4 + 1, sizeof(float));
+    for (int c = 0; c < n; c++) {
+        fill_levels(&sc->colours[c].s, c, t);
+        fill_rgb(&sc->colours[c].s, &d65, white_rgb, &t->rgb[(size_t)c * 4]);
+    }
+    fill_cmf(t);
+    fill_hero(t);
+    fill_materials(sc, t);
+
+    /* ml levels: the pretest over the scene's whole set of colours */
+    t->coarsest_level = po->coarsest_level;
+    t->pretest = spm_xcalloc((size_t)n + 1, sizeof *t->pretest);
+    const spm_spectrum **set = spm_xcalloc((size_t)n + 1, sizeof *set);
+    for (int c = 0; c < n; c++)
+        set[c] = &sc->colours[c].s;
+    spm_pretest_run(set, n, po, t->pretest);
+    free(set);
+    t->lvlk = spm_xcalloc((size_t)n * SPM_PRETEST_KMAX + 1, 1);
+    for (int c = 0; c < n; c++)
+        for (int k = 0; k < SPM_PRETEST_KMAX; k++)
+            t->lvlk[(size_t)c * SPM_PRETEST_KMAX + k] = (uint8_t)t->pretest[c].level_k[k];
+
+    return spm_mlc_tables_build(sc, po, t, err);
+}
+
+void spm_tables_free(spm_tables *t)
+{
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        free(t->lvl[l]);
+        free(t->mlc_lvl[l]);
+    }
+    free(t->truth);
+    free(t->rgb);
+    free(t->lvlk);
+    free(t->mlc_lvlk);
+    free(t->pretest);
+    free(t->materials);
+    memset(t, 0, sizeof *t);
+}
