@@ -14,8 +14,7 @@
 #endif
 #include "util.h"
 
-/* "CL_OUT_OF_RESOURCES" etc.; "CL_UNKNOWN_ERROR(-9999)"-style for others (static buffer
- * per code is not used: unknown codes return a fixed string). */
+/* The error code's name, e.g. "CL_OUT_OF_RESOURCES" ("unknown OpenCL error" otherwise). */
 const char *spm_cl_errname(cl_int code);
 
 /* If code != CL_SUCCESS: fill err with "<what>: <CL name>" (what names the call site,

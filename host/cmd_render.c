@@ -39,9 +39,10 @@ static void usage(FILE *f)
         "  --threshold T          pretest colour-difference threshold (default 2.0)\n"
         "  --metric M             de00 (default) | deab: the pretest's colour difference\n"
         "  --coarsest-level L     coarsest level the pretest may pick: 2 (20 bins, default) or 3 (10)\n"
-        "  --tonemap T            auto (default: exposure from the 99th percentile of Y) | thesis\n"
-        "                         (scale = 1/(5 + L)) | exposure\n"
-        "  --exposure E           with --tonemap exposure: display = E * Y\n"
+        "  --tonemap T            PNG tone mapping on luminance: linear (default) | thesis\n"
+        "                         (the thesis' operator, scale = 1/(5 + L))\n"
+        "  --exposure E           auto (default: the 99th percentile of Y maps to white) or a\n"
+        "                         number multiplying Y before the operator\n"
         "  --stats                print timings, paths/s and paths per level (stdout)\n"
         "  --json                 print the statistics as one JSON object (stdout)\n"
         "  --progress             progress line on stderr even when it is not a terminal\n"
@@ -106,8 +107,8 @@ int spm_cmd_render(int argc, char **argv)
     spm_render_config_defaults(&cfg);
     const char *outputs[MAX_OUTPUTS];
     int nout = 0, stats = 0, json = 0, progress = isatty(2);
-    spm_tonemap_opts tm;
-    spm_tonemap_defaults(&tm);
+    spm_tonemap tm;
+    spm_tonemap_default(&tm);
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -183,17 +184,13 @@ int spm_cmd_render(int argc, char **argv)
             if (parse_int(a, v, 0, SPM_NUM_LEVELS - 1, &n))
                 return SPM_EXIT_INPUT;
             cfg.pretest.coarsest_level = (int)n;
-        } else if (!strcmp(a, "--tonemap")) {
+        } else if (!strcmp(a, "--tonemap") || !strcmp(a, "--exposure")) {
             NEED_VALUE;
-            if (spm_tonemap_parse(v, &tm)) {
-                fprintf(stderr, "specmip render: --tonemap is auto, thesis or exposure, not '%s'\n", v);
+            spm_error e;
+            if (a[2] == 't' ? spm_tonemap_select(&tm, v, &e) : spm_tonemap_set_exposure(&tm, v, &e)) {
+                fprintf(stderr, "specmip render: %s: %s\n", a, e.msg);
                 return SPM_EXIT_INPUT;
             }
-        } else if (!strcmp(a, "--exposure")) {
-            NEED_VALUE;
-            if (parse_double(a, v, 1e-12, 1e12, &d))
-                return SPM_EXIT_INPUT;
-            spm_tonemap_set_exposure(&tm, d);
         } else if (!strcmp(a, "--stats")) {
             stats = 1;
         } else if (!strcmp(a, "--json")) {
@@ -238,7 +235,11 @@ int spm_cmd_render(int argc, char **argv)
     int spp = cfg.spp ? cfg.spp : (s.scene.spp > 0 ? s.scene.spp : 16);
     size_t npix = (size_t)s.scene.width * (size_t)s.scene.height;
     spm_film film;
-    spm_film_init(&film, s.scene.width, s.scene.height);
+    if (spm_film_init(&film, s.scene.width, s.scene.height, &err)) {
+        fprintf(stderr, "specmip render: %s\n", err.msg);
+        spm_render_setup_close(&s);
+        return SPM_EXIT_INPUT;
+    }
     spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), &stop_flag, progress};
     spm_run_result res;
     struct sigaction sa;
@@ -256,7 +257,7 @@ int spm_cmd_render(int argc, char **argv)
     /* whatever converged is written, also after an interruption or a lost device */
     if (res.spp_done > 0)
         for (int i = 0; i < nout; i++)
-            if (spm_output_write(&film, outputs[i], &tm, &err)) {
+            if (spm_output_write_film(outputs[i], &film, &tm, &err)) {
                 fprintf(stderr, "specmip render: %s\n", err.msg);
                 rc = SPM_EXIT_RUNTIME;
             }

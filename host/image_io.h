@@ -2,11 +2,10 @@
  * write float or 8-bit RGB. The only C++ in the project (host/image_io.cpp). */
 #ifndef SPM_IMAGE_IO_H
 #define SPM_IMAGE_IO_H
-#include "util.h"
-
 #ifdef __cplusplus
 extern "C" {
 #endif
+#include "util.h" /* a C header: its declarations need C linkage here too */
 
 /* width x height pixels, 3 floats (R, G, B) each, rows top to bottom. */
 typedef struct {

@@ -15,7 +15,7 @@ static const struct {
     const char *ext;
     out_kind kind;
 } formats[] = {
-    {".exr", OUT_FLOAT}, {".tif", OUT_FLOAT}, {".tiff", OUT_FLOAT}, {".pfm", OUT_FLOAT},
+    {".exr", OUT_FLOAT}, {".tif", OUT_FLOAT}, {".tiff", OUT_FLOAT},
     {".png", OUT_DISPLAY}, {".ppm", OUT_DISPLAY},
 };
 
@@ -33,7 +33,7 @@ static out_kind kind_of(const char *path)
 int spm_output_check(const char *path, spm_error *err)
 {
     if (kind_of(path) == OUT_UNKNOWN) {
-        spm_errorf(err, "%s: unknown output format (use .exr, .png, .tif, .pfm or .ppm)", path);
+        spm_errorf(err, "%s: unknown output format (use .exr, .tif, .png or .ppm)", path);
         return 1;
     }
     struct stat st;

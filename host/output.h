@@ -1,6 +1,7 @@
 /* Writing a render: the format follows the file extension (case-insensitive).
- *   .exr .tif .tiff .pfm  float32 linear light, sRGB primaries (D65), negative values kept
- *   .png .ppm             tone-mapped 8-bit sRGB (tonemap.h)
+ *   .exr .tif .tiff  float32 linear light, sRGB primaries (D65), negative values kept
+ *   .png .ppm        tone-mapped 8-bit sRGB (tonemap.h)
+ * (OIIO 2.4 reads PFM but has no PFM writer.)
  * Files are written to a temporary name and renamed (image_io.h). */
 #ifndef SPM_OUTPUT_H
 #define SPM_OUTPUT_H

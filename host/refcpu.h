@@ -18,4 +18,33 @@ void spm_ref_trace(const spm_geometry *g, const spm_material *mats, const uint8_
  * level byte; hero needs the pass parameters for its wavelength offsets. */
 void spm_ref_shade(const spm_tables *t, int mode, const spm_trace_params *p, const spm_path *paths,
                    const uint8_t *levels, size_t n, float *xyz);
+
+/* Added by the reference's owner. ------------------------------------------
+ * Record conventions: a weight is 0 whenever its colour is SPM_NONE
+ * (first_emit_c, bg_c, a vertex's c); only h.nvert vertices are written.
+ * A path whose record is full (SPM_MAX_DEPTH vertices) and that survives
+ * Russian roulette at the last one ends SPM_END_TRUNCATED.
+ * Level feeler order: first-hit emission, then per vertex its reflectance
+ * (k = its occurrences so far on the path) and its emitter (k = 1), then the
+ * background (k = 1); each lowers the level only when strictly finer, and
+ * records who did. lvlk may be NULL (modes that ignore levels: byte 0). */
+
+/* Path i of a pass belongs to this pixel and sample (the RNG's key). */
+static inline void spm_ref_path_key(const spm_trace_params *p, size_t i, spm_u32 *pixel,
+                                    spm_u32 *sample)
+{
+    *pixel = (spm_u32)(i / p->spp_per_pass);
+    *sample = p->first_sample + (spm_u32)(i % p->spp_per_pass);
+}
+
+/* The level a path starts from (its level when it meets no colour finer): the
+ * coarsest k = 1 level among the colours the scene's triangles and background
+ * use, so every path's level is one the scene compiles. */
+int spm_ref_level_start(const spm_geometry *g, const spm_material *mats, const uint8_t *lvlk,
+                        const spm_trace_params *p);
+/* Paths [begin, end) of the pass (paths[i], levels[i] at absolute index i),
+ * e.g. one slice per thread; start_level from spm_ref_level_start. */
+void spm_ref_trace_range(const spm_geometry *g, const spm_material *mats, const uint8_t *lvlk,
+                         int start_level, const spm_trace_params *p, size_t begin, size_t end,
+                         spm_path *paths, uint8_t *levels);
 #endif

@@ -73,7 +73,7 @@ static void flush_in_order(run_state *s)
 {
     while (s->next_to_add < s->npasses && s->done[s->next_to_add]) {
         int p = s->next_to_add;
-        spm_film_add_pass(s->film, s->done[p], pass_spp(s, p));
+        spm_film_add_pass(s->film, s->done[p], (int)pass_spp(s, p));
         s->r->spp_done += (int)pass_spp(s, p);
         free(s->done[p]);
         s->done[p] = NULL;

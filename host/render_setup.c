@@ -1,7 +1,9 @@
 #include "render_setup.h"
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "clhost.h"
 
 static const char *mode_names[SPM_MODE_COUNT] = {"truth", "ref", "ml", "mlc", "hero", "rgb"};
 
@@ -24,6 +26,74 @@ void spm_render_config_defaults(spm_render_config *c)
     c->mode = SPM_MODE_ML;
     c->seed = 1;
     spm_pretest_defaults(&c->pretest);
+}
+
+typedef struct {
+    int device;
+    const spm_backend_input *in;
+    spm_backend *b;
+    spm_error err;
+} device_open;
+
+static void *open_one(void *arg)
+{
+    device_open *d = arg;
+    d->b = spm_backend_cl_create(d->device, d->in, &d->err);
+    return NULL;
+}
+
+/* Each device builds its program in its own thread: builds run concurrently.
+ * A device that cannot be opened is reported; the render goes on with the
+ * others, and fails only if none is left. */
+static int open_devices(const spm_render_config *c, const spm_backend_input *in,
+                        spm_render_setup *s, spm_error *err)
+{
+    int list[SPM_MAX_BACKENDS], n = 0;
+    if (c->all_devices) {
+        spm_cl_device *devs;
+        int ndev;
+        if (spm_cl_devices(&devs, &ndev, err))
+            return SPM_EXIT_RUNTIME;
+        free(devs);
+        for (int i = 0; i < ndev && n < SPM_MAX_BACKENDS; i++)
+            list[n++] = i;
+    } else if (c->ndevices) {
+        for (int i = 0; i < c->ndevices; i++)
+            list[n++] = c->devices[i];
+    } else {
+        list[n++] = 0;
+    }
+    for (int i = 0; i < n; i++) {
+        spm_cl_device d;
+        if (spm_cl_device_get(list[i], &d, err)) /* unknown index: lists the available ones */
+            return SPM_EXIT_INPUT;
+    }
+    device_open opens[SPM_MAX_BACKENDS];
+    pthread_t th[SPM_MAX_BACKENDS];
+    for (int i = 0; i < n; i++) {
+        opens[i] = (device_open){list[i], in, NULL, {{0}}};
+        if (n == 1)
+            open_one(&opens[i]);
+        else
+            pthread_create(&th[i], NULL, open_one, &opens[i]);
+    }
+    if (n > 1)
+        for (int i = 0; i < n; i++)
+            pthread_join(th[i], NULL);
+    for (int i = 0; i < n; i++) {
+        if (opens[i].b)
+            s->b[s->nb++] = opens[i].b;
+        else if (n > 1)
+            fprintf(stderr, "specmip: device %d left out: %s\n", list[i], opens[i].err.msg);
+        else
+            *err = opens[i].err;
+    }
+    if (!s->nb) {
+        if (n > 1)
+            spm_errorf(err, "no device could be opened");
+        return SPM_EXIT_RUNTIME;
+    }
+    return 0;
 }
 
 int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_error *err)
@@ -53,16 +123,7 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
         s->b[s->nb++] = spm_backend_cpu_create(&in, err);
         return 0;
     }
-    int ndev = c->ndevices ? c->ndevices : 1;
-    int dev0 = 0;
-    for (int i = 0; i < ndev; i++) {
-        int d = c->ndevices ? c->devices[i] : dev0;
-        spm_backend *b = spm_backend_cl_create(d, &in, err);
-        if (!b)
-            return SPM_EXIT_RUNTIME;
-        s->b[s->nb++] = b;
-    }
-    return 0;
+    return open_devices(c, &in, s, err);
 }
 
 void spm_render_setup_close(spm_render_setup *s)

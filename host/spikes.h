@@ -14,14 +14,15 @@ typedef struct {
     int first, last;  /* truth bins it was taken from (to fold it back exactly) */
 } spm_spike;
 
-/* Two-pass Gaussian detector. Pass 1 marks a truth bin whose excess over the
- * blurred curve b1 (in - b1) exceeds both rel1 x b1 and abs1 x mean(in). Marked
- * bins are replaced by the line between their unmarked neighbours and the
- * result is blurred again (b2); pass 2 grows each marked run outward over the
- * foothills: neighbours whose excess over b2 exceeds rel2 x b2 and abs2 x
- * mean(in). A run wider than max_width_nm is a broad peak, not a line, and
- * stays in the smooth part, as does a spike carrying less than min_fraction
- * of the spectrum's energy. */
+/* Two-pass Gaussian detector (defaults in spikes.c, with their reasons).
+ * Pass 1 marks a truth bin whose excess over the blurred curve b1 (in - b1)
+ * exceeds both rel1 x b1 and abs1 x mean(in); a marked run wider than
+ * max_width_nm is a broad band, not a line, and is unmarked. Pass 2 replaces
+ * the marked runs by the line between their unmarked neighbours, blurs that
+ * again (b2) and adds to a run each neighbouring foothill bin whose excess over
+ * b2 exceeds rel2 x b2 and abs2 x mean(in), one bin per side per round, until
+ * no run grows or would grow past max_width_nm. A spike carrying less than
+ * min_fraction of the spectrum's energy stays in the smooth part. */
 typedef struct {
     double sigma1_nm, sigma2_nm;  /* blur standard deviations */
     double rel1, abs1;            /* pass 1 thresholds */

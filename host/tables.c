@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "colour.h"
+#include "csv.h"
 #include "mlc_tables.h"
 
 static void fill_levels(const spm_spectrum *s, int c, spm_tables *t)

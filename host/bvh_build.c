@@ -1,0 +1,234 @@
+/* Binned-SAH BVH build: flattened nodes (children of an interior node are
+ * adjacent) and the triangles reordered into leaf order. */
+#include "geometry.h"
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define NBINS 12
+#define LEAF_MAX 4
+/* Below this depth SAH decides; deeper, object-median splits bound the depth
+ * by 32 + log2(n) whatever the geometry. */
+#define SAH_MAX_DEPTH 32
+/* Node boxes grow by this fraction of the scene's largest coordinate, far
+ * above float rounding in the slab test and the hit point (about 1e-7). */
+#define BOX_PAD_REL 1e-5f
+
+typedef struct {
+    float lo[3], hi[3];
+} box;
+
+typedef struct {
+    box b;
+    float c[3]; /* centroid of the box */
+} prim;
+
+typedef struct {
+    int node, begin, end, depth;
+} job;
+
+static void box_empty(box *b)
+{
+    for (int i = 0; i < 3; i++)
+        b->lo[i] = FLT_MAX, b->hi[i] = -FLT_MAX;
+}
+
+static void box_add(box *b, const box *a)
+{
+    for (int i = 0; i < 3; i++) {
+        b->lo[i] = fminf(b->lo[i], a->lo[i]);
+        b->hi[i] = fmaxf(b->hi[i], a->hi[i]);
+    }
+}
+
+static float box_area(const box *b)
+{
+    float d[3];
+    for (int i = 0; i < 3; i++)
+        d[i] = b->hi[i] > b->lo[i] ? b->hi[i] - b->lo[i] : 0.0f;
+    return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+}
+
+/* The box of the triangle as the intersector sees it: v0, v0 + e1, v0 + e2. */
+static void tri_prim(const spm_tri *t, prim *p)
+{
+    for (int i = 0; i < 3; i++) {
+        float a = t->v0[i], b = t->v0[i] + t->e1[i], c = t->v0[i] + t->e2[i];
+        p->b.lo[i] = fminf(a, fminf(b, c));
+        p->b.hi[i] = fmaxf(a, fmaxf(b, c));
+        p->c[i] = 0.5f * (p->b.lo[i] + p->b.hi[i]);
+    }
+}
+
+typedef struct {
+    int axis, split; /* left side: bins [0, split) on axis; axis -1: no SAH split */
+} sah_split;
+
+static int bin_of(float c, float lo, float scale)
+{
+    int b = (int)((c - lo) * scale);
+    return b < 0 ? 0 : (b >= NBINS ? NBINS - 1 : b);
+}
+
+/* Cheapest binned SAH split of idx[begin, end) over all three axes. */
+static sah_split find_sah(const prim *pr, const int *idx, int begin, int end, const box *cb)
+{
+    sah_split best = {-1, 0};
+    float best_cost = FLT_MAX;
+    for (int axis = 0; axis < 3; axis++) {
+        float ext = cb->hi[axis] - cb->lo[axis];
+        if (!(ext > 0.0f))
+            continue;
+        float scale = NBINS / ext;
+        box bb[NBINS];
+        int cnt[NBINS] = {0};
+        for (int b = 0; b < NBINS; b++)
+            box_empty(&bb[b]);
+        for (int i = begin; i < end; i++) {
+            const prim *p = &pr[idx[i]];
+            int b = bin_of(p->c[axis], cb->lo[axis], scale);
+            cnt[b]++;
+            box_add(&bb[b], &p->b);
+        }
+        /* right-to-left sweep stores the right side's area*count per split */
+        float right_cost[NBINS];
+        box acc;
+        box_empty(&acc);
+        int n = 0;
+        for (int s = NBINS - 1; s > 0; s--) {
+            box_add(&acc, &bb[s]);
+            n += cnt[s];
+            right_cost[s] = n ? box_area(&acc) * (float)n : 0.0f;
+        }
+        box_empty(&acc);
+        n = 0;
+        for (int s = 1; s < NBINS; s++) {
+            box_add(&acc, &bb[s - 1]);
+            n += cnt[s - 1];
+            int nr = end - begin - n;
+            if (n == 0 || nr == 0)
+                continue;
+            float cost = box_area(&acc) * (float)n + right_cost[s];
+            if (cost < best_cost)
+                best_cost = cost, best.axis = axis, best.split = s;
+        }
+    }
+    return best;
+}
+
+static const prim *sort_prims;
+static int sort_axis;
+static int cmp_centroid(const void *a, const void *b)
+{
+    float ca = sort_prims[*(const int *)a].c[sort_axis], cb = sort_prims[*(const int *)b].c[sort_axis];
+    return (ca > cb) - (ca < cb);
+}
+
+/* Partition idx[begin, end) and return the first index of the right side. */
+static int split_range(const prim *pr, int *idx, int begin, int end, const box *cb, int depth)
+{
+    sah_split s = {-1, 0};
+    if (depth < SAH_MAX_DEPTH)
+        s = find_sah(pr, idx, begin, end, cb);
+    if (s.axis >= 0) {
+        float scale = NBINS / (cb->hi[s.axis] - cb->lo[s.axis]);
+        int i = begin, j = end - 1;
+        while (i <= j) {
+            if (bin_of(pr[idx[i]].c[s.axis], cb->lo[s.axis], scale) < s.split) {
+                i++;
+            } else {
+                int tmp = idx[i];
+                idx[i] = idx[j], idx[j--] = tmp;
+            }
+        }
+        if (i > begin && i < end)
+            return i;
+    }
+    /* object median along the widest centroid axis (also when all coincide) */
+    int axis = 0;
+    for (int a = 1; a < 3; a++)
+        if (cb->hi[a] - cb->lo[a] > cb->hi[axis] - cb->lo[axis])
+            axis = a;
+    sort_prims = pr, sort_axis = axis;
+    qsort(idx + begin, (size_t)(end - begin), sizeof *idx, cmp_centroid);
+    return begin + (end - begin) / 2;
+}
+
+static void pad_boxes(spm_bvh_node *nodes, int nnodes)
+{
+    float scale = 0.0f;
+    for (int i = 0; i < 3; i++)
+        scale = fmaxf(scale, fmaxf(fabsf(nodes[0].bmin[i]), fabsf(nodes[0].bmax[i])));
+    float pad = BOX_PAD_REL * scale + FLT_MIN;
+    for (int k = 0; k < nnodes; k++)
+        for (int i = 0; i < 3; i++)
+            nodes[k].bmin[i] -= pad, nodes[k].bmax[i] += pad;
+}
+
+int spm_bvh_build(spm_geometry *g, spm_error *err)
+{
+    int n = g->ntris;
+    g->nodes = NULL;
+    g->nnodes = 0;
+    if (n == 0)
+        return 0;
+    prim *pr = spm_xmalloc((size_t)n * sizeof *pr);
+    int *idx = spm_xmalloc((size_t)n * sizeof *idx);
+    for (int i = 0; i < n; i++) {
+        tri_prim(&g->tris[i], &pr[i]);
+        idx[i] = i;
+    }
+    spm_bvh_node *nodes = spm_xcalloc((size_t)2 * n, sizeof *nodes);
+    job *stack = spm_xmalloc((size_t)2 * n * sizeof *stack);
+    int nnodes = 1, top = 0, fail = 0;
+    stack[top++] = (job){0, 0, n, 0};
+    while (top > 0) {
+        job j = stack[--top];
+        box b, cb;
+        box_empty(&b);
+        box_empty(&cb);
+        for (int i = j.begin; i < j.end; i++) {
+            box_add(&b, &pr[idx[i]].b);
+            box c = {{pr[idx[i]].c[0], pr[idx[i]].c[1], pr[idx[i]].c[2]},
+                     {pr[idx[i]].c[0], pr[idx[i]].c[1], pr[idx[i]].c[2]}};
+            box_add(&cb, &c);
+        }
+        spm_bvh_node *nd = &nodes[j.node];
+        memcpy(nd->bmin, b.lo, sizeof nd->bmin);
+        memcpy(nd->bmax, b.hi, sizeof nd->bmax);
+        if (j.depth >= SPM_BVH_STACK - 1) {
+            fail = 1;
+            break;
+        }
+        if (j.end - j.begin <= LEAF_MAX) {
+            nd->first = (spm_u32)j.begin;
+            nd->count = (spm_u32)(j.end - j.begin);
+            continue;
+        }
+        int mid = split_range(pr, idx, j.begin, j.end, &cb, j.depth);
+        nd->first = (spm_u32)nnodes;
+        nd->count = 0;
+        stack[top++] = (job){nnodes + 1, mid, j.end, j.depth + 1};
+        stack[top++] = (job){nnodes, j.begin, mid, j.depth + 1};
+        nnodes += 2;
+    }
+    free(stack);
+    free(pr);
+    if (fail) {
+        free(idx);
+        free(nodes);
+        spm_errorf(err, "BVH deeper than %d levels (%d triangles)", SPM_BVH_STACK, n);
+        return 1;
+    }
+    spm_tri *sorted = spm_xmalloc((size_t)n * sizeof *sorted);
+    for (int i = 0; i < n; i++)
+        sorted[i] = g->tris[idx[i]];
+    memcpy(g->tris, sorted, (size_t)n * sizeof *sorted);
+    free(sorted);
+    free(idx);
+    pad_boxes(nodes, nnodes);
+    g->nodes = nodes;
+    g->nnodes = nnodes;
+    return 0;
+}

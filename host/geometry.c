@@ -1,0 +1,160 @@
+/* Scene triangles in MiniLight's form, the emitter list and the camera. */
+#include "geometry.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* MiniLight clamps the view angle to this range (degrees). */
+#define VIEW_ANGLE_MIN 10.0
+#define VIEW_ANGLE_MAX 160.0
+
+static void dsub(double o[3], const float a[3], const float b[3])
+{
+    for (int i = 0; i < 3; i++)
+        o[i] = (double)a[i] - (double)b[i];
+}
+
+static void dcross(double o[3], const double a[3], const double b[3])
+{
+    double x = a[1] * b[2] - a[2] * b[1], y = a[2] * b[0] - a[0] * b[2],
+           z = a[0] * b[1] - a[1] * b[0];
+    o[0] = x, o[1] = y, o[2] = z;
+}
+
+static double dlen(const double a[3])
+{
+    return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+}
+
+/* Triangle data in double, stored as float: e1, e2, unit normal of e1 x e2,
+ * unit tangent along e1, half the cross product's length. */
+static int make_tri(const spm_scene *sc, const spm_scene_tri *st, spm_tri *t, spm_error *err)
+{
+    double e1[3], e2[3], cr[3];
+    dsub(e1, st->p[1], st->p[0]);
+    dsub(e2, st->p[2], st->p[0]);
+    dcross(cr, e1, e2);
+    double len = dlen(cr), l1 = dlen(e1);
+    if (!isfinite(len) || !isfinite(l1)) {
+        spm_errorf(err, "%s:%d: triangle has a vertex that is not a finite number", sc->path,
+                   st->line);
+        return 1;
+    }
+    if (!((float)(0.5 * len) > 0.0f)) {
+        spm_errorf(err, "%s:%d: triangle has zero area (its vertices are collinear)", sc->path,
+                   st->line);
+        return 1;
+    }
+    if (st->material < 0 || st->material >= sc->nmaterials) {
+        spm_errorf(err, "%s:%d: triangle refers to material %d, the scene has %d", sc->path,
+                   st->line, st->material, sc->nmaterials);
+        return 1;
+    }
+    memset(t, 0, sizeof *t);
+    for (int i = 0; i < 3; i++) {
+        t->v0[i] = st->p[0][i];
+        t->e1[i] = (float)e1[i];
+        t->e2[i] = (float)e2[i];
+        t->n[i] = (float)(cr[i] / len);
+        t->t[i] = (float)(e1[i] / l1);
+    }
+    t->area = (float)(0.5 * len);
+    t->material = (spm_u32)st->material;
+    return 0;
+}
+
+/* MiniLight: a triangle emits if its emission is non-zero (and its area is,
+ * which make_tri guarantees). */
+static int material_emits(const spm_scene *sc, int m)
+{
+    int c = sc->materials[m].emit;
+    if (c < 0 || c >= sc->ncolours)
+        return 0;
+    const spm_spectrum *s = &sc->colours[c].s;
+    for (int i = 0; i < SPM_TRUTH_BINS; i++)
+        if (s->nm1[i] > 0.0)
+            return 1;
+    return 0;
+}
+
+static void list_emitters(const spm_scene *sc, spm_geometry *g)
+{
+    g->emitters = spm_xcalloc((size_t)g->ntris + 1, sizeof *g->emitters);
+    g->nemitters = 0;
+    for (int i = 0; i < g->ntris; i++)
+        if (material_emits(sc, (int)g->tris[i].material) && g->tris[i].area > 0.0f)
+            g->emitters[g->nemitters++] = (spm_u32)i;
+}
+
+int spm_geometry_build(const spm_scene *scene, spm_geometry *g, spm_error *err)
+{
+    memset(g, 0, sizeof *g);
+    g->ntris = scene->ntris;
+    g->tris = spm_xcalloc((size_t)scene->ntris + 1, sizeof *g->tris);
+    for (int i = 0; i < scene->ntris; i++) {
+        if (make_tri(scene, &scene->tris[i], &g->tris[i], err)) {
+            spm_geometry_free(g);
+            return 1;
+        }
+    }
+    if (spm_bvh_build(g, err)) {
+        spm_geometry_free(g);
+        return 1;
+    }
+    list_emitters(scene, g); /* after the BVH reordered the triangles */
+    g->cam = spm_camera_make(scene->eye, scene->dir, scene->fov_deg, scene->width, scene->height);
+    return 0;
+}
+
+void spm_geometry_free(spm_geometry *g)
+{
+    free(g->tris);
+    free(g->nodes);
+    free(g->emitters);
+    memset(g, 0, sizeof *g);
+}
+
+static void dnormalise(double v[3])
+{
+    double l = dlen(v);
+    if (l > 0.0)
+        for (int i = 0; i < 3; i++)
+            v[i] /= l;
+}
+
+/* MiniLight's camera frame: up is Y unless the view is vertical, then Z for a
+ * downward view and -Z for an upward one; right = up x dir, up = dir x right. */
+spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg, int w, int h)
+{
+    spm_camera c;
+    memset(&c, 0, sizeof c);
+    double d[3] = {dir[0], dir[1], dir[2]}, up[3] = {0.0, 1.0, 0.0}, right[3];
+    dnormalise(d);
+    if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0)
+        d[2] = 1.0; /* degenerate direction: MiniLight looks along Z */
+    dcross(right, up, d);
+    if (dlen(right) > 0.0) {
+        dnormalise(right);
+        dcross(up, d, right);
+        dnormalise(up);
+    } else {
+        up[0] = 0.0, up[1] = 0.0, up[2] = d[1] < 0.0 ? 1.0 : -1.0;
+        dcross(right, up, d);
+        dnormalise(right);
+    }
+    double angle = fov_deg;
+    if (!(angle >= VIEW_ANGLE_MIN))
+        angle = VIEW_ANGLE_MIN; /* also catches NaN */
+    if (angle > VIEW_ANGLE_MAX)
+        angle = VIEW_ANGLE_MAX;
+    for (int i = 0; i < 3; i++) {
+        c.eye[i] = eye[i];
+        c.dir[i] = (float)d[i];
+        c.right[i] = (float)right[i];
+        c.up[i] = (float)up[i];
+    }
+    c.tan_half = (float)tan(angle * 0.5 * (3.14159265358979323846 / 180.0));
+    c.width = w;
+    c.height = h;
+    return c;
+}

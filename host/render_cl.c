@@ -1,0 +1,642 @@
+/* The OpenCL render backend (render_cl.h): device buffers, kernel set per
+ * mode, the pass pipeline trace -> bucket -> shade -> accumulate. */
+#include "render_cl.h"
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "colour.h"
+#include "refcpu.h"
+
+/* Shade kernels: levels 0..3, then the modes with their own representation. */
+enum { SLOT_TRUTH = SPM_NUM_LEVELS, SLOT_RGB, SLOT_HERO, NSLOTS };
+static const char *slot_kernel[NSLOTS] = {"spm_shade_l0",    "spm_shade_l1",  "spm_shade_l2",
+                                          "spm_shade_l3",    "spm_shade_truth", "spm_shade_rgb",
+                                          "spm_shade_hero"};
+/* Work-group size asked for (PoCL runs a group's work-items in one thread; 64
+ * amortises the per-group cost and keeps the last group's waste small). */
+#define LOCAL_SIZE 64
+#define NCOUNTERS 4 /* truncated paths, BVH stack overflows, non-finite samples */
+
+struct spm_cl_renderer {
+    spm_cl_ctx cl;
+    int mode;
+    size_t npix;
+    spm_trace_params params;
+    spm_u32 init_level;
+    cl_program prog;
+    cl_kernel k_trace, k_accum;
+    cl_kernel k_shade[NSLOTS]; /* NULL: not compiled */
+    cl_mem tab[NSLOTS], cmf[NSLOTS], hero;
+    cl_mem tris, nodes, emitters, mats, lvlk;
+    /* per-pass buffers, grown on demand */
+    size_t cap;
+    cl_mem paths, levels, idx, xyz, pass, counters;
+    uint8_t *h_levels;
+    spm_u32 *h_idx;
+    size_t ident_n; /* h_idx/idx hold the identity for this many paths (modes without levels) */
+    spm_u32 zero[NCOUNTERS];
+    long npasses;
+    long fail_pass; /* SPECMIP_CL_FAIL: this pass fails (-1: never) */
+};
+
+#define CK(call, what)                     \
+    do {                                   \
+        if (spm_cl_check((call), what, err)) \
+            return 1;                      \
+    } while (0)
+
+static int uses_levels(int mode)
+{
+    return mode == SPM_MODE_ML || mode == SPM_MODE_MLC;
+}
+
+static int new_buffer(spm_cl_renderer *r, cl_mem *m, cl_mem_flags fl, size_t bytes,
+                      const void *host, const char *what, spm_error *err)
+{
+    cl_int rc;
+    if (bytes > r->cl.dev.max_alloc) {
+        spm_errorf(err, "%s needs %.1f MB in one buffer; device '%s' allows %.1f MB", what,
+                   (double)bytes / 1048576.0, r->cl.dev.name, (double)r->cl.dev.max_alloc / 1048576.0);
+        return 1;
+    }
+    /* zero-sized buffers are invalid in OpenCL: an empty table gets a few bytes */
+    if (!bytes)
+        host = NULL;
+    *m = clCreateBuffer(r->cl.ctx, fl | (host ? CL_MEM_COPY_HOST_PTR : 0), bytes ? bytes : 16,
+                        (void *)host, &rc);
+    char buf[160];
+    snprintf(buf, sizeof buf, "clCreateBuffer(%s)", what);
+    return spm_cl_check(rc, buf, err);
+}
+
+static const uint8_t *lvlk_of(const spm_tables *t, int mode)
+{
+    return mode == SPM_MODE_MLC ? t->mlc_lvlk : t->lvlk;
+}
+
+/* Vectors per colour in level l's kernel: 5, plus in mlc the spike lanes
+ * rounded up to whole vectors of the level's width. */
+static int level_nv(const spm_tables *t, int mode, int l)
+{
+    int w = 16 >> l;
+    return SPM_VECS_PER_LEVEL + (mode == SPM_MODE_MLC ? (t->nspikes + w - 1) / w : 0);
+}
+
+/* Which shade kernels the mode needs. ml/mlc: every level a path can get,
+ * i.e. the start level and every per-occurrence level of a colour in use. */
+static void need_colour(const uint8_t *lk, const spm_tables *t, spm_u32 c, spm_u32 init,
+                        int need[NSLOTS])
+{
+    if (c == SPM_NONE || (int)c >= t->ncolours)
+        return;
+    for (int k = 0; k < SPM_PRETEST_KMAX; k++) {
+        spm_u32 l = lk[c * SPM_PRETEST_KMAX + (spm_u32)k];
+        if (l <= init)
+            need[l] = 1;
+    }
+}
+
+static void needed_slots(const spm_tables *t, int mode, spm_u32 init, int need[NSLOTS])
+{
+    memset(need, 0, NSLOTS * sizeof *need);
+    if (mode == SPM_MODE_TRUTH)
+        need[SLOT_TRUTH] = 1;
+    else if (mode == SPM_MODE_RGB)
+        need[SLOT_RGB] = 1;
+    else if (mode == SPM_MODE_HERO)
+        need[SLOT_HERO] = 1;
+    else if (mode == SPM_MODE_REF)
+        need[0] = 1;
+    if (!uses_levels(mode))
+        return;
+    const uint8_t *lk = lvlk_of(t, mode);
+    need[init] = 1;
+    need_colour(lk, t, t->bg_up, init, need);
+    need_colour(lk, t, t->bg_down, init, need);
+    for (int m = 0; m < t->nmaterials; m++) {
+        need_colour(lk, t, t->materials[m].refl, init, need);
+        need_colour(lk, t, t->materials[m].emit, init, need);
+    }
+}
+
+/* Row-major table of ncolours rows: each row's `src_n` floats copied to a row of
+ * `dst_n` floats (rest zero). Also used for the XYZ weights (3 rows). */
+static float *repack(const float *src, int rows, int src_stride, int src_n, int dst_n)
+{
+    float *o = spm_xcalloc((size_t)rows * (size_t)dst_n + 1, sizeof *o);
+    for (int r = 0; r < rows; r++)
+        memcpy(&o[(size_t)r * dst_n], &src[(size_t)r * src_stride], (size_t)src_n * sizeof *o);
+    return o;
+}
+
+/* The shade tables of one slot: colour rows and XYZ weight rows in the
+ * layout shade_body.clh reads (rows of nv vectors). */
+static int upload_slot(spm_cl_renderer *r, const spm_tables *t, int slot, spm_error *err)
+{
+    int nc = t->ncolours, mode = r->mode;
+    float *tab = NULL, *cmf = NULL;
+    size_t tab_n = 0, cmf_n = 0;
+    if (slot < SPM_NUM_LEVELS) {
+        int l = slot, bins = SPM_LEVEL_BINS(l), nv = level_nv(t, mode, l), row = nv * (16 >> l);
+        if (mode == SPM_MODE_MLC) {
+            int ns = t->nspikes;
+            tab = repack(t->mlc_lvl[l], nc, SPM_MLC_STRIDE(l), bins + ns, row);
+            float w[3 * (SPM_L0_BINS + SPM_MAX_SPIKES)];
+            for (int ch = 0; ch < 3; ch++) {
+                memcpy(&w[ch * row], t->cmf_lvl[l][ch], (size_t)bins * sizeof *w);
+                memset(&w[ch * row + bins], 0, (size_t)(row - bins) * sizeof *w);
+                memcpy(&w[ch * row + bins], t->spike_cmf[ch], (size_t)ns * sizeof *w);
+            }
+            cmf = repack(w, 3, row, row, row);
+        } else {
+            tab = repack(t->lvl[l], nc, bins, bins, row);
+            cmf = repack(&t->cmf_lvl[l][0][0], 3, SPM_L0_BINS, bins, row);
+        }
+        tab_n = (size_t)nc * row;
+        cmf_n = 3 * (size_t)row;
+    } else if (slot == SLOT_TRUTH) {
+        tab = repack(t->truth, nc, SPM_TRUTH_BINS, SPM_TRUTH_BINS, SPM_TRUTH_BINS);
+        cmf = repack(&t->cmf_truth[0][0], 3, SPM_TRUTH_BINS, SPM_TRUTH_BINS, SPM_TRUTH_BINS);
+        tab_n = (size_t)nc * SPM_TRUTH_BINS;
+        cmf_n = 3 * SPM_TRUTH_BINS;
+    } else if (slot == SLOT_RGB) {
+        /* XYZ from linear sRGB with the colour module's own matrix */
+        tab = repack(t->rgb, nc, 4, 3, 4);
+        cmf = spm_xcalloc(12, sizeof *cmf);
+        for (int c = 0; c < 3; c++) {
+            double rgb[3] = {c == 0, c == 1, c == 2}, xyz[3];
+            spm_linear_srgb_to_xyz(rgb, xyz);
+            for (int ch = 0; ch < 3; ch++)
+                cmf[ch * 4 + c] = (float)xyz[ch];
+        }
+        tab_n = (size_t)nc * 4;
+        cmf_n = 12;
+    } else { /* hero: level-0 values, gathered per wavelength */
+        tab = repack(t->lvl[0], nc, SPM_L0_BINS, SPM_L0_BINS, SPM_L0_BINS);
+        tab_n = (size_t)nc * SPM_L0_BINS;
+        cmf = spm_xcalloc(4, sizeof *cmf); /* unused: the weights are per wavelength */
+        cmf_n = 4;
+        /* kernels/shade.cl HERO_*: CDF, density per nm, CMF at 380..780 nm */
+        size_t hn = (SPM_TRUTH_BINS + 1) + SPM_TRUTH_BINS + 3 * (SPM_TRUTH_BINS + 1);
+        float *h = spm_xcalloc(hn, sizeof *h);
+        memcpy(h, t->hero_cdf, sizeof t->hero_cdf);
+        memcpy(h + SPM_TRUTH_BINS + 1, t->hero_pdf, sizeof t->hero_pdf);
+        memcpy(h + 2 * SPM_TRUTH_BINS + 1, t->cmf_point, sizeof t->cmf_point);
+        int rc = new_buffer(r, &r->hero, CL_MEM_READ_ONLY, hn * sizeof *h, h, "hero tables", err);
+        free(h);
+        if (rc) {
+            free(tab);
+            free(cmf);
+            return 1;
+        }
+    }
+    int rc = new_buffer(r, &r->tab[slot], CL_MEM_READ_ONLY, tab_n * sizeof *tab, tab,
+                        "colour table", err) ||
+             new_buffer(r, &r->cmf[slot], CL_MEM_READ_ONLY, cmf_n * sizeof *cmf, cmf,
+                        "XYZ weights", err);
+    free(tab);
+    free(cmf);
+    return rc;
+}
+
+static int build(spm_cl_renderer *r, const spm_tables *t, const int need[NSLOTS], spm_error *err)
+{
+    char defs[512];
+    int n = snprintf(defs, sizeof defs, "-DSPM_BVH_STACK=%d", SPM_BVH_STACK);
+    for (int l = 0; l < SPM_NUM_LEVELS; l++)
+        if (need[l])
+            n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_L%d_NV=%d", l,
+                          level_nv(t, r->mode, l));
+    if (need[SLOT_TRUTH])
+        n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_TRUTH");
+    if (need[SLOT_RGB])
+        n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_RGB");
+    if (need[SLOT_HERO])
+        snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_HERO");
+    const char *files[] = {"kernels/trace.cl", "kernels/shade.cl"};
+    if (spm_cl_build(&r->cl, files, 2, defs, &r->prog, err))
+        return 1;
+    cl_int rc;
+    r->k_trace = clCreateKernel(r->prog, "spm_trace", &rc);
+    CK(rc, "clCreateKernel(spm_trace)");
+    r->k_accum = clCreateKernel(r->prog, "spm_accumulate", &rc);
+    CK(rc, "clCreateKernel(spm_accumulate)");
+    for (int s = 0; s < NSLOTS; s++)
+        if (need[s]) {
+            char what[96];
+            snprintf(what, sizeof what, "clCreateKernel(%s)", slot_kernel[s]);
+            r->k_shade[s] = clCreateKernel(r->prog, slot_kernel[s], &rc);
+            CK(rc, what);
+        }
+    return 0;
+}
+
+static int upload_scene(spm_cl_renderer *r, const spm_geometry *g, const spm_tables *t,
+                        spm_error *err)
+{
+    size_t nlk = (size_t)t->ncolours * SPM_PRETEST_KMAX;
+    return new_buffer(r, &r->tris, CL_MEM_READ_ONLY, (size_t)g->ntris * sizeof(spm_tri), g->tris,
+                      "triangles", err) ||
+           new_buffer(r, &r->nodes, CL_MEM_READ_ONLY, (size_t)g->nnodes * sizeof(spm_bvh_node),
+                      g->nodes, "BVH", err) ||
+           new_buffer(r, &r->emitters, CL_MEM_READ_ONLY, (size_t)g->nemitters * sizeof(spm_u32),
+                      g->emitters, "emitters", err) ||
+           new_buffer(r, &r->mats, CL_MEM_READ_ONLY, (size_t)t->nmaterials * sizeof(spm_material),
+                      t->materials, "materials", err) ||
+           new_buffer(r, &r->lvlk, CL_MEM_READ_ONLY, nlk, lvlk_of(t, r->mode), "level table", err);
+}
+
+static void parse_fail_env(spm_cl_renderer *r, int device)
+{
+    r->fail_pass = -1;
+    const char *s = getenv("SPECMIP_CL_FAIL");
+    int dev;
+    long pass;
+    if (s && sscanf(s, "%d:%ld", &dev, &pass) == 2 && dev == device)
+        r->fail_pass = pass;
+}
+
+int spm_cl_create(int device, const spm_geometry *g, const spm_tables *t, int mode, spm_u32 seed,
+                  spm_cl_renderer **out, spm_error *err)
+{
+    *out = NULL;
+    if (mode < 0 || mode >= SPM_MODE_COUNT) {
+        spm_errorf(err, "unknown render mode %d", mode);
+        return 1;
+    }
+    if (g->nnodes < 1 || g->cam.width < 1 || g->cam.height < 1) {
+        spm_errorf(err, "nothing to render (empty BVH or image size %dx%d)", g->cam.width,
+                   g->cam.height);
+        return 1;
+    }
+    if (mode == SPM_MODE_MLC && !t->mlc_lvlk) {
+        spm_errorf(err, "mlc mode needs the Composite Model tables");
+        return 1;
+    }
+    spm_cl_renderer *r = spm_xcalloc(1, sizeof *r);
+    r->mode = mode;
+    r->npix = (size_t)g->cam.width * (size_t)g->cam.height;
+    parse_fail_env(r, device);
+    spm_trace_params *p = &r->params;
+    p->cam = g->cam;
+    p->ntris = (spm_u32)g->ntris;
+    p->nemitters = (spm_u32)g->nemitters;
+    p->bg_up = t->bg_up;
+    p->bg_down = t->bg_down;
+    p->seed = seed;
+    r->init_level = (spm_u32)spm_ref_level_start(g, t->materials, lvlk_of(t, mode), p);
+    if (r->init_level >= SPM_NUM_LEVELS)
+        r->init_level = SPM_NUM_LEVELS - 1;
+    int need[NSLOTS];
+    needed_slots(t, mode, r->init_level, need);
+    int rc = spm_cl_ctx_create(device, &r->cl, err) || upload_scene(r, g, t, err);
+    for (int s = 0; s < NSLOTS && !rc; s++)
+        if (need[s])
+            rc = upload_slot(r, t, s, err);
+    rc = rc || new_buffer(r, &r->counters, CL_MEM_READ_WRITE, sizeof r->zero, NULL, "counters",
+                          err) ||
+         new_buffer(r, &r->pass, CL_MEM_WRITE_ONLY, r->npix * 3 * sizeof(float), NULL,
+                    "pass image", err) ||
+         build(r, t, need, err);
+    if (rc) {
+        spm_cl_destroy(r);
+        return 1;
+    }
+    *out = r;
+    return 0;
+}
+
+static void release(cl_mem *m)
+{
+    if (*m)
+        clReleaseMemObject(*m);
+    *m = NULL;
+}
+
+void spm_cl_destroy(spm_cl_renderer *r)
+{
+    if (!r)
+        return;
+    if (r->cl.queue)
+        clFinish(r->cl.queue);
+    for (int s = 0; s < NSLOTS; s++) {
+        if (r->k_shade[s])
+            clReleaseKernel(r->k_shade[s]);
+        release(&r->tab[s]);
+        release(&r->cmf[s]);
+    }
+    if (r->k_trace)
+        clReleaseKernel(r->k_trace);
+    if (r->k_accum)
+        clReleaseKernel(r->k_accum);
+    if (r->prog)
+        clReleaseProgram(r->prog);
+    cl_mem *ms[] = {&r->hero, &r->tris,  &r->nodes, &r->emitters, &r->mats, &r->lvlk,
+                    &r->paths, &r->levels, &r->idx, &r->xyz, &r->pass, &r->counters};
+    for (size_t i = 0; i < sizeof ms / sizeof *ms; i++)
+        release(ms[i]);
+    spm_cl_ctx_release(&r->cl);
+    free(r->h_levels);
+    free(r->h_idx);
+    free(r);
+}
+
+const spm_cl_device *spm_cl_renderer_device(const spm_cl_renderer *r)
+{
+    return &r->cl.dev;
+}
+
+/* Per-pass buffers for n paths; only grows. */
+static int reserve(spm_cl_renderer *r, size_t n, spm_error *err)
+{
+    if (n <= r->cap)
+        return 0;
+    release(&r->paths);
+    release(&r->levels);
+    release(&r->idx);
+    release(&r->xyz);
+    r->cap = 0;
+    r->ident_n = 0;
+    if (new_buffer(r, &r->paths, CL_MEM_READ_WRITE, n * sizeof(spm_path), NULL, "path records",
+                   err) ||
+        new_buffer(r, &r->levels, CL_MEM_READ_WRITE, n, NULL, "level bytes", err) ||
+        new_buffer(r, &r->idx, CL_MEM_READ_ONLY, n * sizeof(spm_u32), NULL, "bucket indices",
+                   err) ||
+        new_buffer(r, &r->xyz, CL_MEM_READ_WRITE, n * 3 * sizeof(float), NULL, "path XYZ", err))
+        return 1;
+    r->h_levels = spm_xrealloc(r->h_levels, n);
+    r->h_idx = spm_xrealloc(r->h_idx, n * sizeof *r->h_idx);
+    r->cap = n;
+    return 0;
+}
+
+static size_t round_up(size_t n)
+{
+    return (n + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
+}
+
+static int set_args(cl_kernel k, const char *name, int nargs, const size_t *sizes,
+                    const void *const *vals, spm_error *err)
+{
+    for (int i = 0; i < nargs; i++) {
+        cl_int rc = clSetKernelArg(k, (cl_uint)i, sizes[i], vals[i]);
+        if (rc != CL_SUCCESS) {
+            char what[128];
+            snprintf(what, sizeof what, "clSetKernelArg(%s, %d)", name, i);
+            return spm_cl_check(rc, what, err);
+        }
+    }
+    return 0;
+}
+
+static int enqueue(spm_cl_renderer *r, cl_kernel k, const char *name, size_t offset, size_t n,
+                   cl_event *ev, spm_error *err)
+{
+    size_t off = offset, global = round_up(n), local = LOCAL_SIZE;
+    char what[128];
+    snprintf(what, sizeof what, "clEnqueueNDRangeKernel(%s)", name);
+    return spm_cl_check(clEnqueueNDRangeKernel(r->cl.queue, k, 1, &off, &global, &local, 0, NULL, ev),
+                        what, err);
+}
+
+static int run_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t n,
+                     cl_event *ev, spm_error *err)
+{
+    r->params.first_sample = first_sample;
+    r->params.spp_per_pass = spp;
+    spm_u32 npaths = (spm_u32)n;
+    CK(clEnqueueWriteBuffer(r->cl.queue, r->counters, CL_FALSE, 0, sizeof r->zero, r->zero, 0,
+                            NULL, NULL),
+       "clEnqueueWriteBuffer(counters)");
+    const size_t sz[] = {sizeof(cl_mem), sizeof(cl_mem), sizeof(cl_mem), sizeof(cl_mem),
+                         sizeof(cl_mem), sizeof r->params, sizeof(spm_u32), sizeof(spm_u32),
+                         sizeof(cl_mem), sizeof(cl_mem), sizeof(cl_mem)};
+    const void *val[] = {&r->tris, &r->nodes, &r->emitters, &r->mats, &r->lvlk, &r->params,
+                         &r->init_level, &npaths, &r->paths, &r->levels, &r->counters};
+    if (set_args(r->k_trace, "spm_trace", 11, sz, val, err))
+        return 1;
+    return enqueue(r, r->k_trace, "spm_trace", 0, n, ev, err);
+}
+
+/* Counting sort of the paths by shade kernel, stable (ascending path index in
+ * a bucket). Modes without levels: one bucket, the identity. */
+static int bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t off[NSLOTS + 1],
+                  spm_error *err)
+{
+    memset(off, 0, (NSLOTS + 1) * sizeof *off);
+    if (!uses_levels(r->mode)) {
+        int slot = r->mode == SPM_MODE_TRUTH ? SLOT_TRUTH
+                   : r->mode == SPM_MODE_RGB ? SLOT_RGB
+                   : r->mode == SPM_MODE_HERO ? SLOT_HERO
+                                              : 0;
+        for (int s = slot + 1; s <= NSLOTS; s++)
+            off[s] = n;
+        if (r->ident_n < n) {
+            for (size_t i = 0; i < n; i++)
+                r->h_idx[i] = (spm_u32)i;
+            r->ident_n = n;
+            CK(clEnqueueWriteBuffer(r->cl.queue, r->idx, CL_FALSE, 0, n * sizeof(spm_u32),
+                                    r->h_idx, 0, NULL, NULL),
+               "clEnqueueWriteBuffer(bucket indices)");
+        }
+        return 0;
+    }
+    size_t cnt[SPM_LEVEL_MASK + 1] = {0};
+    for (size_t i = 0; i < n; i++)
+        cnt[levels[i] & SPM_LEVEL_MASK]++;
+    for (int l = 0; l <= (int)SPM_LEVEL_MASK; l++) {
+        if (cnt[l] && (l >= SPM_NUM_LEVELS || !r->k_shade[l])) {
+            spm_errorf(err, "%zu paths need level %d, which this scene's program does not have",
+                       cnt[l], l);
+            return 1;
+        }
+        if (l < SPM_NUM_LEVELS)
+            off[l + 1] = off[l] + cnt[l];
+    }
+    for (int s = SPM_NUM_LEVELS + 1; s <= NSLOTS; s++)
+        off[s] = n;
+    size_t pos[SPM_NUM_LEVELS];
+    memcpy(pos, off, sizeof pos);
+    for (size_t i = 0; i < n; i++)
+        r->h_idx[pos[levels[i] & SPM_LEVEL_MASK]++] = (spm_u32)i;
+    r->ident_n = 0;
+    CK(clEnqueueWriteBuffer(r->cl.queue, r->idx, CL_FALSE, 0, n * sizeof(spm_u32), r->h_idx, 0,
+                            NULL, NULL),
+       "clEnqueueWriteBuffer(bucket indices)");
+    return 0;
+}
+
+/* Enqueue the shade kernel of every non-empty bucket; events in ev[slot]. */
+static int run_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp,
+                     const size_t off[NSLOTS + 1], cl_event ev[NSLOTS], spm_error *err)
+{
+    for (int s = 0; s < NSLOTS; s++) {
+        ev[s] = NULL;
+        size_t cnt = off[s + 1] - off[s];
+        if (!cnt)
+            continue;
+        spm_u32 end = (spm_u32)off[s + 1];
+        spm_u32 seed = r->params.seed;
+        /* shade_body.clh: (paths, idx, n, tab, cmf [, hero, seed, spp, first_sample], xyz) */
+        const size_t m = sizeof(cl_mem), u = sizeof(spm_u32);
+        const size_t sz_hero[] = {m, m, u, m, m, m, u, u, u, m};
+        const void *val_hero[] = {&r->paths, &r->idx, &end, &r->tab[s], &r->cmf[s],
+                                  &r->hero,  &seed,   &spp, &first_sample, &r->xyz};
+        const size_t sz[] = {m, m, u, m, m, m};
+        const void *val[] = {&r->paths, &r->idx, &end, &r->tab[s], &r->cmf[s], &r->xyz};
+        int rc = s == SLOT_HERO ? set_args(r->k_shade[s], slot_kernel[s], 10, sz_hero, val_hero, err)
+                                : set_args(r->k_shade[s], slot_kernel[s], 6, sz, val, err);
+        if (rc || enqueue(r, r->k_shade[s], slot_kernel[s], off[s], cnt, &ev[s], err))
+            return 1;
+    }
+    return 0;
+}
+
+static double release_events(cl_event *ev, int n)
+{
+    double s = 0.0;
+    for (int i = 0; i < n; i++)
+        if (ev[i]) {
+            s += spm_cl_event_seconds(ev[i]);
+            clReleaseEvent(ev[i]);
+            ev[i] = NULL;
+        }
+    return s;
+}
+
+/* Paths per level and set-by (as spm_count_levels: level 0, none, in modes
+ * without levels). Levels were checked by bucket(). */
+static void count_levels(const spm_cl_renderer *r, const uint8_t *levels, size_t n,
+                         spm_pass_stats *st)
+{
+    st->paths += n;
+    if (!uses_levels(r->mode)) {
+        st->level_paths[0][SPM_SETBY_NONE] += n;
+        return;
+    }
+    for (size_t i = 0; i < n; i++) {
+        spm_u32 by = (levels[i] >> SPM_SETBY_SHIFT) & 3u;
+        st->level_paths[levels[i] & SPM_LEVEL_MASK][by > 2 ? 0 : by]++;
+    }
+}
+
+int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
+                spm_pass_stats *st, spm_error *err)
+{
+    if (r->npasses++ == r->fail_pass) {
+        spm_errorf(err, "clEnqueueNDRangeKernel(spm_trace): injected failure (SPECMIP_CL_FAIL)");
+        return 1;
+    }
+    size_t n = r->npix * spp;
+    if (spp == 0 || reserve(r, n, err))
+        return spp == 0 ? 0 : 1;
+    cl_event ev_t = NULL, ev_s[NSLOTS] = {NULL}, ev_a = NULL;
+    int rc = run_trace(r, first_sample, spp, n, &ev_t, err);
+    if (!rc && uses_levels(r->mode))
+        rc = spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->levels, CL_TRUE, 0, n, r->h_levels,
+                                              1, &ev_t, NULL),
+                          "clEnqueueReadBuffer(level bytes)", err);
+    double t0 = spm_now();
+    size_t off[NSLOTS + 1];
+    rc = rc || bucket(r, n, r->h_levels, off, err);
+    double bucket_s = spm_now() - t0;
+    rc = rc || run_shade(r, first_sample, spp, off, ev_s, err);
+    spm_u32 npix = (spm_u32)r->npix, counters[NCOUNTERS];
+    if (!rc) {
+        const size_t sz[] = {sizeof(cl_mem), sizeof(spm_u32), sizeof(spm_u32), sizeof(cl_mem),
+                             sizeof(cl_mem)};
+        const void *val[] = {&r->xyz, &npix, &spp, &r->pass, &r->counters};
+        rc = set_args(r->k_accum, "spm_accumulate", 5, sz, val, err) ||
+             enqueue(r, r->k_accum, "spm_accumulate", 0, r->npix, &ev_a, err);
+    }
+    rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->pass, CL_FALSE, 0,
+                                                r->npix * 3 * sizeof(float), pass_xyz, 0, NULL,
+                                                NULL),
+                            "clEnqueueReadBuffer(pass image)", err);
+    rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->counters, CL_TRUE, 0,
+                                                sizeof counters, counters, 0, NULL, NULL),
+                            "clEnqueueReadBuffer(counters)", err);
+    if (rc) {
+        clFinish(r->cl.queue);
+    } else {
+        count_levels(r, r->h_levels, n, st);
+        st->truncated += counters[0];
+        st->nonfinite += counters[2];
+        if (counters[1]) {
+            spm_errorf(err, "BVH traversal stack overflow in %u rays (kernel stack %d)",
+                       counters[1], SPM_BVH_STACK);
+            rc = 1;
+        }
+    }
+    st->trace_s += release_events(&ev_t, 1);
+    st->shade_s += release_events(ev_s, NSLOTS) + bucket_s;
+    st->accum_s += release_events(&ev_a, 1);
+    return rc;
+}
+
+int spm_cl_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, spm_path *paths,
+                 uint8_t *levels, spm_error *err)
+{
+    size_t n = r->npix * spp;
+    if (reserve(r, n, err))
+        return 1;
+    cl_event ev = NULL;
+    int rc = run_trace(r, first_sample, spp, n, &ev, err) ||
+             spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->paths, CL_FALSE, 0,
+                                              n * sizeof(spm_path), paths, 0, NULL, NULL),
+                          "clEnqueueReadBuffer(path records)", err) ||
+             spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->levels, CL_TRUE, 0, n, levels, 0,
+                                              NULL, NULL),
+                          "clEnqueueReadBuffer(level bytes)", err);
+    clFinish(r->cl.queue);
+    release_events(&ev, 1);
+    return rc;
+}
+
+int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const spm_path *paths,
+                 const uint8_t *levels, float *xyz, spm_error *err)
+{
+    size_t n = r->npix * spp;
+    if (reserve(r, n, err))
+        return 1;
+    cl_event ev[NSLOTS] = {NULL};
+    size_t off[NSLOTS + 1];
+    r->params.first_sample = first_sample;
+    r->params.spp_per_pass = spp;
+    int rc = spm_cl_check(clEnqueueWriteBuffer(r->cl.queue, r->paths, CL_FALSE, 0,
+                                               n * sizeof(spm_path), paths, 0, NULL, NULL),
+                          "clEnqueueWriteBuffer(path records)", err) ||
+             bucket(r, n, levels, off, err) || run_shade(r, first_sample, spp, off, ev, err) ||
+             spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->xyz, CL_TRUE, 0,
+                                              n * 3 * sizeof(float), xyz, 0, NULL, NULL),
+                          "clEnqueueReadBuffer(path XYZ)", err);
+    clFinish(r->cl.queue);
+    release_events(ev, NSLOTS);
+    return rc;
+}
+
+/* ---- as a render backend (backend.h) ----------------------------------- */
+static int backend_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
+                        spm_pass_stats *st, spm_error *err)
+{
+    return spm_cl_pass(b->impl, first_sample, spp, pass_xyz, st, err);
+}
+
+static void backend_destroy(spm_backend *b)
+{
+    spm_cl_destroy(b->impl);
+    free(b);
+}
+
+spm_backend *spm_backend_cl_create(int device, const spm_backend_input *in, spm_error *err)
+{
+    spm_cl_renderer *r;
+    if (spm_cl_create(device, in->geom, in->tables, in->mode, in->seed, &r, err))
+        return NULL;
+    spm_backend *b = spm_xcalloc(1, sizeof *b);
+    b->impl = r;
+    b->pass = backend_pass;
+    b->destroy = backend_destroy;
+    snprintf(b->name, sizeof b->name, "%d: %.200s", device, r->cl.dev.name);
+    return b;
+}

@@ -1,0 +1,296 @@
+/* Scenes: loading (dispatch on the file's first line), freeing, and the
+ * builder both parsers share: colours and materials shared by content,
+ * triangle checks, light checks, pruning of what no triangle uses. */
+#include "scene_build.h"
+#include "colour.h"
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MINILIGHT_ID "#MiniLight"
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && strcmp(s + n - m, suffix) == 0;
+}
+
+int spm_scene_load(const char *path, spm_scene *out, spm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        spm_errorf(err, "%s: cannot open: %s", path, strerror(errno));
+        return 1;
+    }
+    char head[sizeof MINILIGHT_ID] = {0};
+    size_t n = fread(head, 1, sizeof head - 1, f);
+    fclose(f);
+    if (n == sizeof head - 1 && memcmp(head, MINILIGHT_ID, n) == 0)
+        return spm_scene_parse_minilight(path, out, err);
+    if (ends_with(path, ".ml.txt")) {
+        spm_errorf(err, "%s:1:1: expected '%s' at the start of a MiniLight file", path,
+                   MINILIGHT_ID);
+        return 1;
+    }
+    return spm_scene_parse_text(path, out, err);
+}
+
+void spm_scene_free(spm_scene *s)
+{
+    free(s->colours);
+    free(s->materials);
+    free(s->tris);
+    memset(s, 0, sizeof *s);
+    s->bg_up = s->bg_down = -1;
+}
+
+/* ---- builder --------------------------------------------------------------- */
+
+void spm_sb_init(spm_scene_builder *b, spm_scene *s, const char *path)
+{
+    memset(b, 0, sizeof *b);
+    memset(s, 0, sizeof *s);
+    b->s = s;
+    snprintf(s->path, sizeof s->path, "%s", path);
+    s->bg_up = s->bg_down = -1;
+    spm_names_init(&b->colour_index);
+    spm_names_init(&b->material_index);
+}
+
+void spm_sb_done(spm_scene_builder *b, int ok)
+{
+    spm_names_free(&b->colour_index);
+    spm_names_free(&b->material_index);
+    if (!ok)
+        spm_scene_free(b->s);
+}
+
+/* Grows an array to hold one more element. */
+static void *reserve(void *p, int count, int *cap, size_t elem)
+{
+    if (count < *cap)
+        return p;
+    *cap = *cap ? *cap * 2 : 16;
+    return spm_xrealloc(p, (size_t)*cap * elem);
+}
+
+static void spectrum_key(const spm_spectrum *sp, char *key, size_t size)
+{
+    uint64_t h = 1469598103934665603ull; /* FNV-1a over the bins' bytes */
+    const unsigned char *p = (const unsigned char *)sp->nm1;
+    for (size_t i = 0; i < sizeof sp->nm1; i++)
+        h = (h ^ p[i]) * 1099511628211ull;
+    snprintf(key, size, "%d:%016llx", (int)sp->kind, (unsigned long long)h);
+}
+
+int spm_sb_colour(spm_scene_builder *b, const char *name, const spm_spectrum *sp,
+                  const char *where, spm_error *err)
+{
+    spm_scene *s = b->s;
+    char key[64];
+    spectrum_key(sp, key, sizeof key);
+    int i = spm_names_get(&b->colour_index, key);
+    if (i >= 0 && s->colours[i].s.kind == sp->kind &&
+        memcmp(s->colours[i].s.nm1, sp->nm1, sizeof sp->nm1) == 0)
+        return i;
+    if (s->ncolours >= SPM_SCENE_MAX_COLOURS) {
+        spm_errorf(err, "%s: more than %d distinct colours", where, SPM_SCENE_MAX_COLOURS);
+        return -1;
+    }
+    s->colours = reserve(s->colours, s->ncolours, &b->cap_colours, sizeof *s->colours);
+    spm_colour *c = &s->colours[s->ncolours];
+    memset(c, 0, sizeof *c);
+    snprintf(c->name, sizeof c->name, "%s", name);
+    c->s = *sp;
+    if (i < 0) /* on a (freak) hash collision the first colour keeps the key */
+        spm_names_put(&b->colour_index, key, s->ncolours);
+    return s->ncolours++;
+}
+
+int spm_sb_material(spm_scene_builder *b, const char *name, int refl, int emit,
+                    const char *where, spm_error *err)
+{
+    spm_scene *s = b->s;
+    char key[32];
+    snprintf(key, sizeof key, "%d %d", refl, emit);
+    int i = spm_names_get(&b->material_index, key);
+    if (i >= 0)
+        return i;
+    if (s->nmaterials >= SPM_SCENE_MAX_MATERIALS) {
+        spm_errorf(err, "%s: more than %d distinct materials", where, SPM_SCENE_MAX_MATERIALS);
+        return -1;
+    }
+    s->materials = reserve(s->materials, s->nmaterials, &b->cap_materials, sizeof *s->materials);
+    spm_scene_material *m = &s->materials[s->nmaterials];
+    memset(m, 0, sizeof *m);
+    snprintf(m->name, sizeof m->name, "%s", name);
+    m->refl = refl;
+    m->emit = emit;
+    spm_names_put(&b->material_index, key, s->nmaterials);
+    return s->nmaterials++;
+}
+
+int spm_sb_tri(spm_scene_builder *b, const double p[3][3], int material, int line,
+               const char *where, spm_error *err)
+{
+    spm_scene *s = b->s;
+    if (s->ntris >= SPM_SCENE_MAX_TRIS) {
+        spm_errorf(err, "%s: more than %d triangles", where, SPM_SCENE_MAX_TRIS);
+        return 1;
+    }
+    spm_scene_tri t;
+    memset(&t, 0, sizeof t);
+    for (int v = 0; v < 3; v++)
+        for (int k = 0; k < 3; k++) {
+            if (!(fabs(p[v][k]) <= SPM_SCENE_MAX_COORD)) {
+                spm_errorf(err, "%s: coordinate %g is beyond +-%g", where, p[v][k],
+                           SPM_SCENE_MAX_COORD);
+                return 1;
+            }
+            t.p[v][k] = (float)p[v][k];
+        }
+    /* Judge the triangle the renderer will see: the float vertices. */
+    double e1[3], e2[3], c[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = (double)t.p[1][k] - t.p[0][k];
+        e2[k] = (double)t.p[2][k] - t.p[0][k];
+    }
+    c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double cross = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    double l2 = sqrt(e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]);
+    /* The sine of the angle between the edges below ~1e-6 (MiniLight's epsilon)
+     * leaves no usable normal in float arithmetic. */
+    if (!(cross > 1e-6 * l1 * l2) || cross == 0.0) {
+        spm_errorf(err, "%s: degenerate triangle (zero area: its vertices coincide or lie on "
+                        "one line)", where);
+        return 1;
+    }
+    t.material = material;
+    t.line = line;
+    s->tris = reserve(s->tris, s->ntris, &b->cap_tris, sizeof *s->tris);
+    s->tris[s->ntris++] = t;
+    return 0;
+}
+
+int spm_sb_camera(spm_scene_builder *b, const double eye[3], const double dir[3], double fov,
+                  const char *where, spm_error *err)
+{
+    spm_scene *s = b->s;
+    double len = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+    if (!(len > 0.0) || !isfinite(len)) {
+        spm_errorf(err, "%s: the camera direction must be a non-zero vector", where);
+        return 1;
+    }
+    double clamped = fov < SPM_FOV_MIN ? SPM_FOV_MIN : fov > SPM_FOV_MAX ? SPM_FOV_MAX : fov;
+    if (clamped != fov)
+        spm_warnf("%s: field of view %g degrees clamped to %g (range %g..%g, as MiniLight)",
+                  where, fov, clamped, SPM_FOV_MIN, SPM_FOV_MAX);
+    for (int k = 0; k < 3; k++) {
+        s->eye[k] = (float)eye[k];
+        s->dir[k] = (float)(dir[k] / len);
+    }
+    s->fov_deg = (float)clamped;
+    return 0;
+}
+
+int spm_sb_reflectance(const spm_spectrum *shape, double scale, const char *where,
+                       spm_spectrum *out, spm_error *err)
+{
+    *out = *shape;
+    out->kind = SPM_KIND_REFLECTANCE;
+    spm_spectrum_scale(out, scale);
+    int imax = 0;
+    for (int i = 1; i < SPM_TRUTH_BINS; i++)
+        imax = out->nm1[i] > out->nm1[imax] ? i : imax;
+    if (out->nm1[imax] > 1.0) {
+        spm_errorf(err, "%s: reflectance reaches %g at %d nm with scale %g; a reflectance must "
+                        "not exceed 1", where, out->nm1[imax], SPM_LAMBDA_MIN + imax, scale);
+        return 1;
+    }
+    return 0;
+}
+
+int spm_sb_emission(const spm_spectrum *shape, double luminance, const char *where,
+                    spm_spectrum *out, spm_error *err)
+{
+    double xyz[3];
+    spm_xyz_emission(shape, xyz);
+    if (!(xyz[1] > 0.0) || !isfinite(xyz[1])) {
+        spm_errorf(err, "%s: the emission has no luminance inside %d-%d nm", where,
+                   SPM_LAMBDA_MIN, SPM_LAMBDA_MAX);
+        return 1;
+    }
+    *out = *shape;
+    out->kind = SPM_KIND_EMISSION;
+    spm_spectrum_scale(out, luminance / xyz[1]);
+    return 0;
+}
+
+/* Drops materials no triangle uses and colours nothing refers to. */
+static void prune(spm_scene *s)
+{
+    int *mmap = spm_xmalloc(((size_t)s->nmaterials + 1) * sizeof *mmap);
+    int *cmap = spm_xmalloc(((size_t)s->ncolours + 1) * sizeof *cmap);
+    for (int i = 0; i < s->nmaterials; i++)
+        mmap[i] = -1;
+    for (int i = 0; i < s->ncolours; i++)
+        cmap[i] = -1;
+    for (int t = 0; t < s->ntris; t++)
+        mmap[s->tris[t].material] = 0;
+    int nm = 0;
+    for (int i = 0; i < s->nmaterials; i++)
+        if (mmap[i] == 0) {
+            mmap[i] = nm;
+            s->materials[nm++] = s->materials[i];
+        }
+    s->nmaterials = nm;
+    for (int t = 0; t < s->ntris; t++)
+        s->tris[t].material = mmap[s->tris[t].material];
+    /* Colours in order of first use, so the numbering does not depend on leftovers. */
+    int nc = 0;
+    spm_colour *kept = spm_xmalloc(((size_t)s->ncolours + 1) * sizeof *kept);
+    int *refs[] = {&s->bg_up, &s->bg_down};
+    for (int i = 0; i < 2 * s->nmaterials + 2; i++) {
+        int *r = i < 2 * s->nmaterials ? (i & 1 ? &s->materials[i / 2].emit
+                                               : &s->materials[i / 2].refl)
+                                       : refs[i - 2 * s->nmaterials];
+        if (*r < 0)
+            continue;
+        if (cmap[*r] < 0) {
+            kept[nc] = s->colours[*r];
+            cmap[*r] = nc++;
+        }
+        *r = cmap[*r];
+    }
+    free(s->colours);
+    s->colours = kept;
+    s->ncolours = nc;
+    free(mmap);
+    free(cmap);
+}
+
+int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
+{
+    spm_scene *s = b->s;
+    if (s->ntris == 0) {
+        spm_errorf(err, "%s: end of file: the scene has no triangles", where);
+        return 1;
+    }
+    prune(s);
+    int lit = s->bg_up >= 0 || s->bg_down >= 0;
+    for (int i = 0; i < s->nmaterials && !lit; i++)
+        lit = s->materials[i].emit >= 0;
+    if (!lit) {
+        spm_errorf(err, "%s: end of file: the scene has no light (no triangle has an emitting "
+                        "material and there is no background)", where);
+        return 1;
+    }
+    return 0;
+}

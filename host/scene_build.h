@@ -1,0 +1,61 @@
+/* Building an spm_scene: what both parsers (the project's format and the
+ * MiniLight importer) share, so the checks and the limits are written once.
+ * `where` arguments are "file:line:col" prefixes for error messages. */
+#ifndef SPM_SCENE_BUILD_H
+#define SPM_SCENE_BUILD_H
+#include "scene.h"
+#include "scene_names.h"
+
+#define SPM_SCENE_MAX_SIDE 16384        /* image width and height */
+#define SPM_SCENE_MAX_SPP (1 << 20)
+#define SPM_SCENE_MAX_TRIS (1 << 24)    /* MiniLight's limit */
+#define SPM_SCENE_MAX_COLOURS 4096      /* ids are 16-bit on the device; pretests cost per colour */
+#define SPM_SCENE_MAX_MATERIALS 4096
+#define SPM_SCENE_MAX_COORD 1e6         /* |coordinate|: keeps float geometry meaningful */
+#define SPM_FOV_MIN 10.0                /* MiniLight's clamp of the view angle */
+#define SPM_FOV_MAX 160.0
+
+typedef struct {
+    spm_scene *s;
+    int cap_colours, cap_materials, cap_tris;
+    spm_names colour_index;    /* colour content key -> index (sharing) */
+    spm_names material_index;  /* "refl emit" -> index (sharing) */
+} spm_scene_builder;
+
+/* Starts an empty scene (no camera, no background) for file `path`. */
+void spm_sb_init(spm_scene_builder *b, spm_scene *s, const char *path);
+/* Frees the builder's tables; on failure (ok == 0) the scene too. */
+void spm_sb_done(spm_scene_builder *b, int ok);
+
+/* A colour with this spectrum, shared with an identical earlier one (the first
+ * one's name is kept). Returns its index or -1 with err filled. */
+int spm_sb_colour(spm_scene_builder *b, const char *name, const spm_spectrum *sp,
+                  const char *where, spm_error *err);
+/* A material, shared with one of the same colours. Index or -1. */
+int spm_sb_material(spm_scene_builder *b, const char *name, int refl, int emit,
+                    const char *where, spm_error *err);
+/* Appends a triangle; zero-area or degenerate (collinear) triangles, huge
+ * coordinates and too many triangles are errors. */
+int spm_sb_tri(spm_scene_builder *b, const double p[3][3], int material, int line,
+               const char *where, spm_error *err);
+/* Camera: direction must not be zero (stored normalised); the field of view
+ * is clamped to MiniLight's 10..160 degrees with a warning. */
+int spm_sb_camera(spm_scene_builder *b, const double eye[3], const double dir[3], double fov,
+                  const char *where, spm_error *err);
+
+/* Reflectance `shape` times `scale`; more than 1 anywhere is an error. */
+int spm_sb_reflectance(const spm_spectrum *shape, double scale, const char *where,
+                       spm_spectrum *out, spm_error *err);
+/* Emission `shape` normalised to luminance 1, times `luminance` (DESIGN.md). */
+int spm_sb_emission(const spm_spectrum *shape, double luminance, const char *where,
+                    spm_spectrum *out, spm_error *err);
+
+/* Final checks at the end of the file (`where`): triangles exist, something
+ * emits (a triangle's material or the background); unused materials and
+ * colours are dropped. */
+int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err);
+
+/* The two parsers, dispatched by spm_scene_load. */
+int spm_scene_parse_text(const char *path, spm_scene *out, spm_error *err);
+int spm_scene_parse_minilight(const char *path, spm_scene *out, spm_error *err);
+#endif

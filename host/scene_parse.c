@@ -1,0 +1,508 @@
+/* The project's own scene format (docs/SCENE_FORMAT.md): one statement per
+ * line, a keyword first. Spectra are named definitions turned into concrete
+ * colours where a material or the background uses them, because the kind
+ * (reflectance or emission) decides how partial data is extended. */
+#include "scene_build.h"
+#include "scene_lexer.h"
+#include "csv.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define MAX_SPECTRA 4096
+#define MAX_INLINE_SAMPLES 100000
+#define MAX_WAVELENGTH 1e5  /* nm; anything beyond is a typo, not data */
+
+typedef enum { DEF_FILE, DEF_INLINE, DEF_EQUAL, DEF_BLACKBODY } def_type;
+
+typedef struct {
+    char name[SPM_NAME_MAX];
+    def_type type;
+    char where[600];         /* "file:line:col" of the definition */
+    char path[1024];         /* DEF_FILE: resolved path */
+    char column[SPM_TOK_MAX]; /* DEF_FILE: column name or "" */
+    double *wl, *val;        /* DEF_INLINE */
+    size_t n;
+    double kelvin;           /* DEF_BLACKBODY */
+    spm_spectrum *made[2];   /* per spm_kind, made on first use */
+    int used;
+} spec_def;
+
+typedef struct {
+    spm_lexer lx;
+    spm_scene_builder b;
+    spm_error *err;
+    char dir[1024];          /* directory of the scene file, for relative spectrum paths */
+    spec_def *defs;
+    int ndefs, cap_defs;
+    spm_names spectra;       /* name -> index into defs */
+    spm_names materials;     /* name -> material index */
+    int image_line, camera_line, spp_line, bg_line[2];
+} parser;
+
+static void where_now(const parser *p, char *buf, size_t size)
+{
+    spm_lex_where(&p->lx, buf, size);
+}
+
+/* ---- numbers and vectors ------------------------------------------------- */
+
+static int vec3(parser *p, const char *what, double lo, double hi, double v[3])
+{
+    for (int k = 0; k < 3; k++)
+        if (spm_lex_number(&p->lx, what, lo, hi, &v[k], p->err))
+            return 1;
+    return 0;
+}
+
+/* An optional scale after a spectrum name: present when the next token is a number. */
+static int opt_scale(parser *p, int emission, double *scale)
+{
+    *scale = 1.0;
+    if (!spm_lex_is_number(&p->lx))
+        return 0;
+    if (emission && (p->lx.text[0] == '-' || strtod(p->lx.text, NULL) == 0.0))
+        return spm_lex_expected(&p->lx, p->err, "an emission scale (a luminance) above 0");
+    return spm_lex_number(&p->lx, emission ? "an emission scale (a luminance)" : "a scale", 0.0,
+                          HUGE_VAL, scale, p->err);
+}
+
+/* ---- spectra --------------------------------------------------------------- */
+
+static int file_exists(const char *path) { return access(path, R_OK) == 0; }
+
+/* A spectrum file: absolute, or relative to the scene file, or in spectra/. */
+static int resolve_spectrum_file(parser *p, const char *name, const char *where, char *out,
+                                 size_t size)
+{
+    char tried[1024];
+    if (name[0] == '/') {
+        snprintf(out, size, "%s", name);
+        if (file_exists(out))
+            return 0;
+        spm_errorf(p->err, "%s: spectrum file '%s' not found", where, name);
+        return 1;
+    }
+    int n = snprintf(out, size, "%s/%s", p->dir, name);
+    if (n < (int)size && file_exists(out))
+        return 0;
+    snprintf(tried, sizeof tried, "%s", out);
+    char rel[1100];
+    snprintf(rel, sizeof rel, "spectra/%s", name);
+    spm_data_path(rel, out, size);
+    if (file_exists(out))
+        return 0;
+    spm_errorf(p->err, "%s: spectrum file '%s' not found (looked for %s and %s)", where, name,
+               tried, out);
+    return 1;
+}
+
+static int parse_inline(parser *p, spec_def *d)
+{
+    size_t cap = 0;
+    if (spm_lex_skip_newlines(&p->lx, p->err))
+        return 1;
+    while (!spm_lex_is(&p->lx, "end")) {
+        if (p->lx.type == SPM_TOK_EOF || !spm_lex_is_number(&p->lx))
+            return spm_lex_expected(&p->lx, p->err, "a wavelength in nm or 'end'");
+        if (d->n >= MAX_INLINE_SAMPLES)
+            return spm_lex_expected(&p->lx, p->err, "'end' (too many samples)");
+        if (d->n == cap) {
+            cap = cap ? cap * 2 : 64;
+            d->wl = spm_xrealloc(d->wl, cap * sizeof *d->wl);
+            d->val = spm_xrealloc(d->val, cap * sizeof *d->val);
+        }
+        double lo = d->n ? d->wl[d->n - 1] : 0.0;
+        if (d->n && strtod(p->lx.text, NULL) <= lo) {
+            char what[96];
+            snprintf(what, sizeof what, "a wavelength above the previous one (%g nm)", lo);
+            return spm_lex_expected(&p->lx, p->err, what);
+        }
+        if (spm_lex_number(&p->lx, "a wavelength in nm", 0.0, MAX_WAVELENGTH, &d->wl[d->n],
+                           p->err) ||
+            spm_lex_number(&p->lx, "a spectral value", 0.0, HUGE_VAL, &d->val[d->n], p->err) ||
+            spm_lex_skip_newlines(&p->lx, p->err))
+            return 1;
+        d->n++;
+    }
+    if (d->n == 0)
+        return spm_lex_expected(&p->lx, p->err, "a wavelength in nm");
+    return spm_lex_next(&p->lx, p->err);
+}
+
+static int stmt_spectrum(parser *p)
+{
+    if (p->ndefs >= MAX_SPECTRA)
+        return spm_lex_expected(&p->lx, p->err, "no more spectrum definitions (limit reached)");
+    char name[SPM_NAME_MAX];
+    char where[600];
+    where_now(p, where, sizeof where);
+    if (spm_lex_name(&p->lx, "a spectrum name", name, sizeof name, p->err))
+        return 1;
+    int prev = spm_names_get(&p->spectra, name);
+    if (prev >= 0) {
+        spm_errorf(p->err, "%s: spectrum '%s' is already defined at %s", where, name,
+                   p->defs[prev].where);
+        return 1;
+    }
+    if (p->ndefs == p->cap_defs) {
+        p->cap_defs = p->cap_defs ? 2 * p->cap_defs : 16;
+        p->defs = spm_xrealloc(p->defs, (size_t)p->cap_defs * sizeof *p->defs);
+    }
+    spec_def *d = &p->defs[p->ndefs++]; /* counted now so that it is freed on error */
+    memset(d, 0, sizeof *d);
+    snprintf(d->name, sizeof d->name, "%s", name);
+    snprintf(d->where, sizeof d->where, "%s", where);
+    if (spm_lex_is(&p->lx, "file")) {
+        char file[SPM_TOK_MAX], fwhere[600];
+        d->type = DEF_FILE;
+        if (spm_lex_next(&p->lx, p->err))
+            return 1;
+        where_now(p, fwhere, sizeof fwhere);
+        if (spm_lex_path(&p->lx, "a spectrum file name", file, sizeof file, p->err) ||
+            resolve_spectrum_file(p, file, fwhere, d->path, sizeof d->path))
+            return 1;
+        if (spm_lex_is(&p->lx, "column") &&
+            (spm_lex_next(&p->lx, p->err) ||
+             spm_lex_path(&p->lx, "a column name", d->column, sizeof d->column, p->err)))
+            return 1;
+    } else if (spm_lex_is(&p->lx, "inline")) {
+        d->type = DEF_INLINE;
+        if (spm_lex_next(&p->lx, p->err) || parse_inline(p, d))
+            return 1;
+    } else if (spm_lex_is(&p->lx, "equal")) {
+        d->type = DEF_EQUAL;
+        if (spm_lex_next(&p->lx, p->err))
+            return 1;
+    } else if (spm_lex_is(&p->lx, "blackbody")) {
+        d->type = DEF_BLACKBODY;
+        if (spm_lex_next(&p->lx, p->err) ||
+            spm_lex_number(&p->lx, "a temperature in kelvin", 500.0, 1e5, &d->kelvin, p->err))
+            return 1;
+    } else {
+        return spm_lex_expected(&p->lx, p->err, "'file', 'inline', 'equal' or 'blackbody'");
+    }
+    spm_names_put(&p->spectra, name, p->ndefs - 1);
+    return spm_lex_end_of_statement(&p->lx, p->err);
+}
+
+/* The named spectrum as a `kind`, made on first use. `where` is the use site. */
+static const spm_spectrum *use_spectrum(parser *p, int idx, spm_kind kind, const char *where)
+{
+    spec_def *d = &p->defs[idx];
+    d->used = 1;
+    if (d->made[kind])
+        return d->made[kind];
+    spm_spectrum sp;
+    spm_error inner;
+    int rc = 0;
+    switch (d->type) {
+    case DEF_FILE:
+        rc = spm_spectrum_load(d->path, d->column[0] ? d->column : NULL, kind, &sp, &inner);
+        if (rc)
+            spm_errorf(p->err, "%s: spectrum '%s': %s", where, d->name, inner.msg);
+        break;
+    case DEF_INLINE: {
+        char what[700];
+        snprintf(what, sizeof what, "%s: spectrum '%s'", d->where, d->name);
+        rc = spm_spectrum_from_samples(d->wl, d->val, d->n, kind, what, &sp, p->err);
+        break;
+    }
+    case DEF_EQUAL:
+        spm_spectrum_constant(1.0, kind, &sp);
+        break;
+    case DEF_BLACKBODY:
+        if (kind == SPM_KIND_REFLECTANCE) {
+            spm_errorf(p->err, "%s: spectrum '%s' is a blackbody: an emission, not a reflectance",
+                       where, d->name);
+            rc = 1;
+        } else {
+            spm_spectrum_blackbody(d->kelvin, &sp);
+        }
+        break;
+    }
+    if (rc)
+        return NULL;
+    d->made[kind] = spm_xmalloc(sizeof sp);
+    *d->made[kind] = sp;
+    return d->made[kind];
+}
+
+/* "NAME SCALE?" -> a colour of the scene (scaled, checked). Returns its index or -1. */
+static int colour_ref(parser *p, spm_kind kind)
+{
+    char where[600], name[SPM_NAME_MAX], cname[SPM_NAME_MAX];
+    where_now(p, where, sizeof where);
+    if (spm_lex_name(&p->lx, "a spectrum name", name, sizeof name, p->err))
+        return -1;
+    int idx = spm_names_get(&p->spectra, name);
+    if (idx < 0) {
+        spm_errorf(p->err, "%s: unknown spectrum '%s' (define it with 'spectrum %s ...' first)",
+                   where, name, name);
+        return -1;
+    }
+    double scale;
+    const spm_spectrum *shape = use_spectrum(p, idx, kind, where);
+    if (!shape || opt_scale(p, kind == SPM_KIND_EMISSION, &scale))
+        return -1;
+    spm_spectrum sp;
+    int rc = kind == SPM_KIND_EMISSION ? spm_sb_emission(shape, scale, where, &sp, p->err)
+                                       : spm_sb_reflectance(shape, scale, where, &sp, p->err);
+    if (rc)
+        return -1;
+    if (scale == 1.0 && kind == SPM_KIND_REFLECTANCE)
+        snprintf(cname, sizeof cname, "%s", name);
+    else
+        snprintf(cname, sizeof cname, "%.40s*%.6g", name, scale);
+    return spm_sb_colour(&p->b, cname, &sp, where, p->err);
+}
+
+/* ---- statements ------------------------------------------------------------ */
+
+static int once(parser *p, int *line, const char *what)
+{
+    if (*line) {
+        char where[600];
+        where_now(p, where, sizeof where);
+        spm_errorf(p->err, "%s: %s given twice (first at line %d)", where, what, *line);
+        return 1;
+    }
+    *line = p->lx.tline;
+    return spm_lex_next(&p->lx, p->err);
+}
+
+static int stmt_image(parser *p)
+{
+    long w, h;
+    if (once(p, &p->image_line, "the image size") ||
+        spm_lex_int(&p->lx, "the image width", 1, SPM_SCENE_MAX_SIDE, &w, p->err) ||
+        spm_lex_int(&p->lx, "the image height", 1, SPM_SCENE_MAX_SIDE, &h, p->err))
+        return 1;
+    p->b.s->width = (int)w;
+    p->b.s->height = (int)h;
+    return spm_lex_end_of_statement(&p->lx, p->err);
+}
+
+static int stmt_spp(parser *p)
+{
+    long n;
+    if (once(p, &p->spp_line, "the sample count") ||
+        spm_lex_int(&p->lx, "samples per pixel", 1, SPM_SCENE_MAX_SPP, &n, p->err))
+        return 1;
+    p->b.s->spp = (int)n;
+    return spm_lex_end_of_statement(&p->lx, p->err);
+}
+
+static int stmt_camera(parser *p)
+{
+    char where[600];
+    where_now(p, where, sizeof where);
+    if (once(p, &p->camera_line, "the camera"))
+        return 1;
+    double eye[3], dir[3], fov;
+    int have[3] = {0, 0, 0};
+    const char *keys[3] = {"position", "direction", "fov"};
+    while (p->lx.type != SPM_TOK_NEWLINE && p->lx.type != SPM_TOK_EOF) {
+        int k = 0;
+        while (k < 3 && (have[k] || !spm_lex_is(&p->lx, keys[k])))
+            k++;
+        if (k == 3)
+            return spm_lex_expected(&p->lx, p->err,
+                                    "'position', 'direction' or 'fov' (each once)");
+        have[k] = 1;
+        if (spm_lex_next(&p->lx, p->err))
+            return 1;
+        int rc = k == 0   ? vec3(p, "a coordinate", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD, eye)
+                 : k == 1 ? vec3(p, "a direction component", -HUGE_VAL, HUGE_VAL, dir)
+                          : spm_lex_number(&p->lx, "a field of view in degrees", -HUGE_VAL,
+                                           HUGE_VAL, &fov, p->err);
+        if (rc)
+            return 1;
+    }
+    for (int k = 0; k < 3; k++)
+        if (!have[k]) {
+            char what[64];
+            snprintf(what, sizeof what, "'%s'", keys[k]);
+            return spm_lex_expected(&p->lx, p->err, what);
+        }
+    if (spm_sb_camera(&p->b, eye, dir, fov, where, p->err))
+        return 1;
+    return spm_lex_end_of_statement(&p->lx, p->err);
+}
+
+static int stmt_material(parser *p)
+{
+    char where[600], name[SPM_NAME_MAX];
+    where_now(p, where, sizeof where);
+    if (spm_lex_name(&p->lx, "a material name", name, sizeof name, p->err))
+        return 1;
+    if (spm_names_get(&p->materials, name) >= 0) {
+        spm_errorf(p->err, "%s: material '%s' is already defined", where, name);
+        return 1;
+    }
+    int col[2] = {-1, -1}, have[2] = {0, 0};
+    const char *keys[2] = {"reflect", "emit"};
+    while (p->lx.type != SPM_TOK_NEWLINE && p->lx.type != SPM_TOK_EOF) {
+        int k = spm_lex_is(&p->lx, keys[0]) ? 0 : spm_lex_is(&p->lx, keys[1]) ? 1 : 2;
+        if (k == 2 || have[k])
+            return spm_lex_expected(&p->lx, p->err, "'reflect' or 'emit' (each once)");
+        have[k] = 1;
+        if (spm_lex_next(&p->lx, p->err))
+            return 1;
+        col[k] = colour_ref(p, k ? SPM_KIND_EMISSION : SPM_KIND_REFLECTANCE);
+        if (col[k] < 0)
+            return 1;
+    }
+    int m = spm_sb_material(&p->b, name, col[0], col[1], where, p->err);
+    if (m < 0)
+        return 1;
+    spm_names_put(&p->materials, name, m);
+    return spm_lex_end_of_statement(&p->lx, p->err);
+}
+
+/* tri (3 vertices) or quad (4 vertices, two triangles a b c and a c d). */
+static int stmt_polygon(parser *p, int nverts)
+{
+    char where[600], name[SPM_NAME_MAX];
+    int line = p->lx.tline;
+    where_now(p, where, sizeof where);
+    if (spm_lex_next(&p->lx, p->err))
+        return 1;
+    char mwhere[600];
+    where_now(p, mwhere, sizeof mwhere);
+    if (spm_lex_name(&p->lx, "a material name", name, sizeof name, p->err))
+        return 1;
+    int m = spm_names_get(&p->materials, name);
+    if (m < 0) {
+        spm_errorf(p->err, "%s: unknown material '%s' (define it with 'material %s ...' first)",
+                   mwhere, name, name);
+        return 1;
+    }
+    double v[4][3];
+    for (int i = 0; i < nverts; i++)
+        if (vec3(p, "a vertex coordinate", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD, v[i]))
+            return 1;
+    if (spm_lex_end_of_statement(&p->lx, p->err))
+        return 1;
+    double t[3][3];
+    for (int tri = 0; tri < nverts - 2; tri++) {
+        memcpy(t[0], v[0], sizeof t[0]);
+        memcpy(t[1], v[tri + 1], sizeof t[1]);
+        memcpy(t[2], v[tri + 2], sizeof t[2]);
+        if (spm_sb_tri(&p->b, t, m, line, where, p->err))
+            return 1;
+    }
+    return 0;
+}
+
+static int stmt_background(parser *p)
+{
+    int dir = spm_lex_is(&p->lx, "up") ? 0 : spm_lex_is(&p->lx, "down") ? 1
+              : spm_lex_is(&p->lx, "both") ? 2 : -1;
+    if (dir < 0)
+        return spm_lex_expected(&p->lx, p->err, "'up', 'down' or 'both'");
+    for (int k = 0; k < 2; k++)
+        if ((dir == k || dir == 2) && p->bg_line[k]) {
+            char where[600];
+            where_now(p, where, sizeof where);
+            spm_errorf(p->err, "%s: background %s given twice (first at line %d)", where,
+                       k ? "down" : "up", p->bg_line[k]);
+            return 1;
+        }
+    int line = p->lx.tline;
+    if (spm_lex_next(&p->lx, p->err))
+        return 1;
+    int c = colour_ref(p, SPM_KIND_EMISSION);
+    if (c < 0)
+        return 1;
+    if (dir != 1) {
+        p->b.s->bg_up = c;
+        p->bg_line[0] = line;
+    }
+    if (dir != 0) {
+        p->b.s->bg_down = c;
+        p->bg_line[1] = line;
+    }
+    return spm_lex_end_of_statement(&p->lx, p->err);
+}
+
+static int statement(parser *p)
+{
+    spm_lexer *lx = &p->lx;
+    if (spm_lex_is(lx, "tri"))
+        return stmt_polygon(p, 3);
+    if (spm_lex_is(lx, "quad"))
+        return stmt_polygon(p, 4);
+    if (spm_lex_is(lx, "image"))
+        return stmt_image(p);
+    if (spm_lex_is(lx, "spp"))
+        return stmt_spp(p);
+    if (spm_lex_is(lx, "camera"))
+        return stmt_camera(p);
+    static const char *rest[] = {"spectrum", "material", "background"};
+    static int (*const fn[])(parser *) = {stmt_spectrum, stmt_material, stmt_background};
+    for (int i = 0; i < 3; i++)
+        if (spm_lex_is(lx, rest[i]))
+            return spm_lex_next(lx, p->err) || fn[i](p);
+    return spm_lex_expected(lx, p->err,
+                            "a statement (image, spp, camera, spectrum, material, tri, quad, "
+                            "background)");
+}
+
+static void parser_free(parser *p)
+{
+    for (int i = 0; i < p->ndefs; i++) {
+        free(p->defs[i].wl);
+        free(p->defs[i].val);
+        free(p->defs[i].made[0]);
+        free(p->defs[i].made[1]);
+    }
+    free(p->defs);
+    spm_names_free(&p->spectra);
+    spm_names_free(&p->materials);
+    spm_lex_close(&p->lx);
+}
+
+static int finish(parser *p)
+{
+    char where[600];
+    where_now(p, where, sizeof where);
+    if (!p->image_line)
+        return spm_lex_expected(&p->lx, p->err, "an 'image WIDTH HEIGHT' statement");
+    if (!p->camera_line)
+        return spm_lex_expected(&p->lx, p->err,
+                                "a 'camera position X Y Z direction X Y Z fov DEGREES' statement");
+    for (int i = 0; i < p->ndefs; i++)
+        if (!p->defs[i].used)
+            spm_warnf("%s: spectrum '%s' is never used", p->defs[i].where, p->defs[i].name);
+    return spm_sb_finish(&p->b, where, p->err);
+}
+
+int spm_scene_parse_text(const char *path, spm_scene *out, spm_error *err)
+{
+    parser p;
+    memset(&p, 0, sizeof p);
+    p.err = err;
+    spm_names_init(&p.spectra);
+    spm_names_init(&p.materials);
+    spm_sb_init(&p.b, out, path);
+    const char *slash = strrchr(path, '/');
+    if (slash)
+        snprintf(p.dir, sizeof p.dir, "%.*s", (int)(slash - path), path);
+    else
+        snprintf(p.dir, sizeof p.dir, ".");
+    if (slash == path)
+        snprintf(p.dir, sizeof p.dir, "/");
+    int rc = spm_lex_open(&p.lx, path, err);
+    while (!rc && p.lx.type != SPM_TOK_EOF) {
+        rc = spm_lex_skip_newlines(&p.lx, err);
+        if (!rc && p.lx.type != SPM_TOK_EOF)
+            rc = statement(&p);
+    }
+    if (!rc)
+        rc = finish(&p);
+    parser_free(&p);
+    spm_sb_done(&p.b, !rc);
+    return rc;
+}

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Installs, builds and runs every test: the normal build, then the host code and
+# the CPU reference again under AddressSanitizer + UndefinedBehaviorSanitizer.
+# Usage (as root on Debian 12): bash tools/test.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash tools/setup.sh
+export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$PWD/build/pocl-cache}"
+ctest --test-dir build --output-on-failure -j2
+
+# Sanitizer build: the OpenCL tests are left out (PoCL's LLVM and the ICD
+# loader are not instrumented and report their own leaks).
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPECMIP_SANITIZE=ON >/dev/null
+cmake --build build-asan -j"$(nproc)"
+ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ctest --test-dir build-asan --output-on-failure -j2 -LE opencl
