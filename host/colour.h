@@ -2,6 +2,9 @@
 #ifndef SPM_COLOUR_H
 #define SPM_COLOUR_H
 #include "spectrum.h"
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* XYZ of an emission (Y = luminance per the weights in spectrum.h), or of a
  * reflectance under `illum` scaled so the perfect white under it has Y = 100.
@@ -24,4 +27,7 @@ double spm_delta_e_2000(const double lab1[3], const double lab2[3]);
 
 /* D65 white point XYZ with Y = 1 (from the 1 nm observer and spectra/illuminant_D65_1nm.csv). */
 void spm_white_d65(double xyz[3]);
+#ifdef __cplusplus
+}
+#endif
 #endif

@@ -42,6 +42,18 @@ static void at_level(const spm_spectrum *s, int level, bins_t out)
         out[b] = bins[b >> level];
 }
 
+/* at_level plus a part held at level 0 whatever the level (spike lanes). */
+static void at_level_sharp(const spm_spectrum *s, const spm_spectrum *sharp, int level, bins_t out)
+{
+    at_level(s, level, out);
+    if (!sharp)
+        return;
+    bins_t extra;
+    at_level(sharp, 0, extra);
+    for (int b = 0; b < SPM_L0_BINS; b++)
+        out[b] += extra[b];
+}
+
 /* Colour difference of two products normalised to the same luminance.
  * A product without luminance at level 0 cannot be seen: no error. */
 static double product_error(const bins_t ref, const bins_t test, spm_metric metric)
@@ -89,7 +101,8 @@ typedef struct {
     int nlights, nrefl;
 } set_t;
 
-static void split_set(const spm_spectrum *const *sp, int n, set_t *set)
+static void split_set(const spm_spectrum *const *sp, const spm_spectrum *const *sharp, int n,
+                      set_t *set)
 {
     set->lights = spm_xcalloc((size_t)n + 1, sizeof *set->lights);
     set->refl = spm_xcalloc((size_t)n + 1, sizeof *set->refl);
@@ -97,7 +110,7 @@ static void split_set(const spm_spectrum *const *sp, int n, set_t *set)
     set->nlights = set->nrefl = 0;
     for (int i = 0; i < n; i++) {
         if (sp[i]->kind == SPM_KIND_EMISSION) {
-            at_level(sp[i], 0, set->lights[set->nlights++]);
+            at_level_sharp(sp[i], sharp ? sharp[i] : NULL, 0, set->lights[set->nlights++]);
         } else {
             set->refl_index[set->nrefl] = i;
             at_level(sp[i], 0, set->refl[set->nrefl++]);
@@ -140,7 +153,7 @@ static double sequence_error(const set_t *set, int self, int is_light, const bin
     return worst;
 }
 
-static void run_one(const spm_spectrum *s, int self, const set_t *set, const spm_pretest_opts *o,
+static void run_one(const spm_spectrum *s, const spm_spectrum *sharp, int self, const set_t *set, const spm_pretest_opts *o,
                     spm_pretest_result *res)
 {
     int is_light = s->kind == SPM_KIND_EMISSION;
@@ -148,10 +161,10 @@ static void run_one(const spm_spectrum *s, int self, const set_t *set, const spm
     bins_t s0, sl, one;
     for (int b = 0; b < SPM_L0_BINS; b++)
         one[b] = 1.0;
-    at_level(s, 0, s0);
+    at_level_sharp(s, sharp, 0, s0);
     memset(res, 0, sizeof *res);
     for (int l = 1; l < SPM_NUM_LEVELS; l++) {
-        at_level(s, l, sl);
+        at_level_sharp(s, sharp, l, sl);
         /* A and B: s^k under each light; an emission ends the product, so
          * for it every k is context A (s on its own). */
         for (int k = 1; k <= SPM_PRETEST_KMAX; k++) {
@@ -188,10 +201,16 @@ static void run_one(const spm_spectrum *s, int self, const set_t *set, const spm
 void spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
                      spm_pretest_result *results)
 {
+    spm_pretest_run_sharp(spectra, NULL, n, o, results);
+}
+
+void spm_pretest_run_sharp(const spm_spectrum *const *spectra, const spm_spectrum *const *sharp,
+                           int n, const spm_pretest_opts *o, spm_pretest_result *results)
+{
     set_t set;
-    split_set(spectra, n, &set);
+    split_set(spectra, sharp, n, &set);
     for (int i = 0; i < n; i++)
-        run_one(spectra[i], i, &set, o, &results[i]);
+        run_one(spectra[i], sharp ? sharp[i] : NULL, i, &set, o, &results[i]);
     free(set.lights);
     free(set.refl);
     free(set.refl_index);

@@ -166,8 +166,9 @@ int spm_sb_tri(spm_scene_builder *b, const double p[3][3], int material, int lin
     double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
     double l2 = sqrt(e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]);
     /* The sine of the angle between the edges below ~1e-6 (MiniLight's epsilon)
-     * leaves no usable normal in float arithmetic. */
-    if (!(cross > 1e-6 * l1 * l2) || cross == 0.0) {
+     * leaves no usable normal in float arithmetic; nor does an area so small
+     * that the float cross product of its edges underflows. */
+    if (!(cross > 1e-6 * l1 * l2) || 0.5 * cross < 1e-24) {
         spm_errorf(err, "%s: degenerate triangle (zero area: its vertices coincide or lie on "
                         "one line)", where);
         return 1;

@@ -161,7 +161,11 @@ int spm_lex_is(const spm_lexer *lx, const char *w)
 
 int spm_lex_is_number(const spm_lexer *lx)
 {
-    return lx->type == SPM_TOK_WORD && strchr("0123456789+-.", lx->text[0]);
+    if (lx->type != SPM_TOK_WORD)
+        return 0;
+    char *end;
+    strtod(lx->text, &end); /* "inf" and "nan" count: they are refused as numbers later */
+    return strchr("0123456789+-.", lx->text[0]) || (end != lx->text && !*end);
 }
 
 int spm_lex_keyword(spm_lexer *lx, const char *w, spm_error *err)

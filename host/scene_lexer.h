@@ -43,7 +43,8 @@ void spm_lex_where(const spm_lexer *lx, char *buf, size_t size);
 
 /* Is the current token the word `w`? */
 int spm_lex_is(const spm_lexer *lx, const char *w);
-/* Does the current token look like the start of a number (digit, sign or '.')? */
+/* Does the current token look like a number (starts with a digit, sign or '.',
+ * or is one such as "inf" that strtod reads)? */
 int spm_lex_is_number(const spm_lexer *lx);
 
 /* Each of these checks the current token and, when it fits, advances past it.

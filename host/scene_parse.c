@@ -133,11 +133,13 @@ static int parse_inline(parser *p, spec_def *d)
 
 static int stmt_spectrum(parser *p)
 {
-    if (p->ndefs >= MAX_SPECTRA)
-        return spm_lex_expected(&p->lx, p->err, "no more spectrum definitions (limit reached)");
     char name[SPM_NAME_MAX];
     char where[600];
     where_now(p, where, sizeof where);
+    if (p->ndefs >= MAX_SPECTRA) {
+        spm_errorf(p->err, "%s: more than %d spectrum definitions", where, MAX_SPECTRA);
+        return 1;
+    }
     if (spm_lex_name(&p->lx, "a spectrum name", name, sizeof name, p->err))
         return 1;
     int prev = spm_names_get(&p->spectra, name);

@@ -5,6 +5,9 @@
 #include <stddef.h>
 #include "spm_shared.h"
 #include "util.h"
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef enum { SPM_KIND_REFLECTANCE = 0, SPM_KIND_EMISSION = 1 } spm_kind;
 
@@ -49,4 +52,7 @@ void spm_cmf_point(double lambda_nm, double out[3]);
 
 /* Path of a bundled data file: $SPECMIP_DATA/<rel> if set, else the source tree's. */
 const char *spm_data_path(const char *rel, char *buf, size_t bufsize);
+#ifdef __cplusplus
+}
+#endif
 #endif

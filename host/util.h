@@ -3,6 +3,9 @@
 #define SPM_UTIL_H
 #include <stddef.h>
 #include <stdarg.h>
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* Exit codes (README: 0 ok, 1 runtime failure, 2 usage/input error, 130 interrupted). */
 #define SPM_EXIT_OK 0
@@ -29,4 +32,7 @@ char *spm_xstrdup(const char *s);
 
 /* Monotonic wall clock in seconds. */
 double spm_now(void);
+#ifdef __cplusplus
+}
+#endif
 #endif

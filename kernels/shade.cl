@@ -69,6 +69,7 @@
  * lane's XYZ weight: CMF(380+j+f) / pdf / lanes (spectra piecewise constant). */
 inline void hero_lane(__global const float *hero, float x, uint *bin, float4 *w)
 {
+#pragma OPENCL FP_CONTRACT OFF /* rounds as the CPU reference's lerp */
     __global const float *cdf = hero + HERO_CDF;
     uint lo = 0, hi = SPM_TRUTH_BINS;
     while (hi - lo > 1u) {

@@ -77,7 +77,7 @@ static void identical(void)
  * catch a wrong white or a missing S_L. */
 static void lightness_shift(void)
 {
-    const double la[3] = {60, 20, -10}, lb[3] = {63, 20, -10};
+    const double la[3] = {60, 20, -10}, lb[3] = {62.5, 20, -10}; /* 2.5: away from bucket edges */
     spm_image a = make(4, 4), b = make(4, 4);
     for (int i = 0; i < 16; i++) {
         set_lab(&a, i, la, 1.0);
@@ -87,13 +87,13 @@ static void lightness_shift(void)
     spm_compare_result r;
     spm_error err = {{0}};
     CHECK(spm_compare_images(&a, &b, &o, &r, &err) == 0, "%s", err.msg);
-    double lbar = 61.5, d = (lbar - 50) * (lbar - 50);
+    double lbar = 61.25, d = (lbar - 50) * (lbar - 50);
     double sl = 1 + 0.015 * d / sqrt(20 + d);
-    CHECK_NEAR(r.deab.mean, 3.0, 1e-4, "dE*ab of a 3-unit lightness shift");
-    CHECK_NEAR(r.deab.max, 3.0, 1e-4, "dE*ab max");
-    CHECK_NEAR(r.de00.mean, 3.0 / sl, 1e-4, "dE00 of a 3-unit lightness shift");
-    CHECK_NEAR(r.de00.p99, 3.0 / sl, 1e-4, "dE00 p99");
-    CHECK(r.de00.buckets[2] == 16 && r.deab.buckets[3] == 16, "buckets: dE00 %.3f in [2,3), dEab in [3,4)",
+    CHECK_NEAR(r.deab.mean, 2.5, 1e-4, "dE*ab of a 2.5-unit lightness shift");
+    CHECK_NEAR(r.deab.max, 2.5, 1e-4, "dE*ab max");
+    CHECK_NEAR(r.de00.mean, 2.5 / sl, 1e-4, "dE00 of a 2.5-unit lightness shift");
+    CHECK_NEAR(r.de00.p99, 2.5 / sl, 1e-4, "dE00 p99");
+    CHECK(r.de00.buckets[2] == 16 && r.deab.buckets[2] == 16, "buckets: dE00 %.3f and dEab in [2,3)",
           r.de00.mean);
     spm_compare_result_free(&r);
     free(a.rgb);

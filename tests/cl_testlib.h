@@ -1,0 +1,97 @@
+/* Shared set-up of the OpenCL tests: the default scene at a small size, its
+ * geometry and tables, pass parameters, and record comparison helpers. */
+#ifndef SPM_CL_TESTLIB_H
+#define SPM_CL_TESTLIB_H
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "refcpu.h"
+#include "render_cl.h"
+
+typedef struct {
+    spm_scene scene;
+    spm_geometry geom;
+    spm_tables tables;
+} cl_test_scene;
+
+/* No OpenCL platform is a failure, with a line saying so (CI has PoCL). */
+static inline int cl_test_have_device(void)
+{
+    spm_cl_device *list;
+    int n;
+    spm_error err;
+    if (spm_cl_devices(&list, &n, &err)) {
+        printf("no OpenCL device, cannot test the OpenCL backend: %s\n", err.msg);
+        return 0;
+    }
+    free(list);
+    return 1;
+}
+
+static inline int cl_test_scene_open(cl_test_scene *s, int w, int h)
+{
+    spm_error err;
+    spm_pretest_opts po;
+    spm_quiet_warnings = 1;
+    spm_pretest_defaults(&po);
+    memset(s, 0, sizeof *s);
+    if (spm_scene_default(&s->scene, &err)) {
+        printf("default scene: %s\n", err.msg);
+        return 1;
+    }
+    s->scene.width = w;
+    s->scene.height = h;
+    if (spm_geometry_build(&s->scene, &s->geom, &err) ||
+        spm_tables_build(&s->scene, &po, &s->tables, &err)) {
+        printf("scene set-up: %s\n", err.msg);
+        return 1;
+    }
+    return 0;
+}
+
+static inline void cl_test_scene_close(cl_test_scene *s)
+{
+    spm_tables_free(&s->tables);
+    spm_geometry_free(&s->geom);
+    spm_scene_free(&s->scene);
+}
+
+static inline spm_trace_params cl_test_params(const cl_test_scene *s, spm_u32 seed, spm_u32 first,
+                                       spm_u32 spp)
+{
+    spm_trace_params p;
+    memset(&p, 0, sizeof p);
+    p.cam = s->geom.cam;
+    p.ntris = (spm_u32)s->geom.ntris;
+    p.nemitters = (spm_u32)s->geom.nemitters;
+    p.bg_up = s->tables.bg_up;
+    p.bg_down = s->tables.bg_down;
+    p.seed = seed;
+    p.first_sample = first;
+    p.spp_per_pass = spp;
+    return p;
+}
+
+static inline const uint8_t *cl_test_lvlk(const spm_tables *t, int mode)
+{
+    return mode == SPM_MODE_MLC ? t->mlc_lvlk : t->lvlk;
+}
+
+static inline uint64_t fnv(uint64_t h, const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ b[i]) * 1099511628211ull;
+    return h;
+}
+
+/* Hash of a record's meaningful part: head without padding, written vertices. */
+static inline uint64_t cl_test_path_hash(const spm_path *p)
+{
+    uint64_t h = 1469598103934665603ull;
+    h = fnv(h, &p->h, offsetof(spm_path_head, pad0));
+    spm_u32 n = p->h.nvert <= SPM_MAX_DEPTH ? p->h.nvert : SPM_MAX_DEPTH;
+    return fnv(h, p->v, n * sizeof p->v[0]);
+}
+#endif

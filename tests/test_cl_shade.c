@@ -1,0 +1,96 @@
+/* Each shade kernel on the CPU reference's records against the CPU shading,
+ * per path. Records and level bytes come from spm_ref_trace, so both sides
+ * shade exactly the same input. */
+#include "cl_testlib.h"
+#include "testutil.h"
+
+#define W 24
+#define H 24
+#define SPP 8
+#define SEED 11u
+
+/* Both sides compute the same products and sums in float, but not in the same
+ * order: the kernel fuses L += P*E*c into one fma (one rounding instead of
+ * two) and sums the XYZ dot product as vector lanes then a pairwise
+ * horizontal sum, where the CPU adds lanes left to right. Each rounding is
+ * half an ulp of its partial result: the products along a path of a few
+ * vertices differ by a few ulps, and re-ordering an n-lane sum of positive
+ * terms typically moves it by about log2(n) ulps. So the bound is
+ * 4 + 2 log2(lanes) ulps of the largest XYZ component (2^-23 relative each):
+ * 7 for rgb, 8 for hero, 17 for 80 bins, 21 for truth's 400. The largest
+ * component, not each, because rgb's matrix has negative entries whose
+ * cancellation can leave a component small against its terms. */
+static double ulps_allowed(int lanes)
+{
+    return 4.0 + 2.0 * log2((double)lanes);
+}
+
+static void check_mode(const cl_test_scene *s, int mode, const char *name, int lanes)
+{
+    const double allowed = ulps_allowed(lanes);
+    size_t n = (size_t)W * H * SPP;
+    spm_path *paths = spm_xcalloc(n, sizeof *paths);
+    uint8_t *levels = spm_xcalloc(n, 1);
+    float *ref = spm_xcalloc(3 * n, sizeof *ref), *got = spm_xcalloc(3 * n, sizeof *got);
+    spm_trace_params p = cl_test_params(s, SEED, 3 * SPP, SPP);
+    spm_ref_trace(&s->geom, s->tables.materials, cl_test_lvlk(&s->tables, mode), &p, paths, levels);
+    spm_ref_shade(&s->tables, mode, &p, paths, levels, n, ref);
+
+    spm_cl_renderer *r;
+    spm_error err;
+    if (spm_cl_create(0, &s->geom, &s->tables, mode, SEED, &r, &err)) {
+        CHECK(0, "%s: spm_cl_create: %s", name, err.msg);
+        goto done;
+    }
+    int rc = spm_cl_shade(r, p.first_sample, SPP, paths, levels, got, &err);
+    CHECK(rc == 0, "%s: spm_cl_shade: %s", name, err.msg);
+    spm_cl_destroy(r);
+
+    size_t bad = 0, nonzero = 0, worst_i = 0;
+    double worst = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        double m = 0.0;
+        for (int c = 0; c < 3; c++)
+            m = fmax(m, fabs((double)ref[3 * i + c]));
+        nonzero += m > 0.0;
+        double ulp = m > 0.0 ? m * ldexp(1.0, -23) : ldexp(1.0, -149);
+        for (int c = 0; c < 3; c++) {
+            double e = fabs((double)got[3 * i + c] - (double)ref[3 * i + c]) / ulp;
+            if (!(e <= allowed))
+                bad++;
+            if (!(e <= worst)) {
+                worst = e;
+                worst_i = i;
+            }
+        }
+    }
+    printf("%-5s: %zu paths (%zu non-black), worst %.2f ulps of the largest component "
+           "(path %zu)\n", name, n, nonzero, worst, worst_i);
+    CHECK(nonzero > n / 4, "%s: too few lit paths to compare", name);
+    CHECK(bad == 0, "%s: %zu components beyond %.1f ulps (worst %.1f at path %zu: "
+          "%g %g %g vs %g %g %g)", name, bad, allowed, worst, worst_i, got[3 * worst_i],
+          got[3 * worst_i + 1], got[3 * worst_i + 2], ref[3 * worst_i], ref[3 * worst_i + 1],
+          ref[3 * worst_i + 2]);
+done:
+    free(paths);
+    free(levels);
+    free(ref);
+    free(got);
+}
+
+int main(void)
+{
+    if (!cl_test_have_device())
+        return 1;
+    cl_test_scene s;
+    if (cl_test_scene_open(&s, W, H))
+        return 1;
+    static const char *names[SPM_MODE_COUNT] = {"truth", "ref", "ml", "mlc", "hero", "rgb"};
+    /* lanes per XYZ sum: truth 400; ref/ml/mlc at most level 0's 80 (+ spikes) */
+    int lanes[SPM_MODE_COUNT] = {SPM_TRUTH_BINS, SPM_L0_BINS, SPM_L0_BINS,
+                                 SPM_L0_BINS + SPM_MAX_SPIKES, SPM_HERO_LANES, 3};
+    for (int m = 0; m < SPM_MODE_COUNT; m++)
+        check_mode(&s, m, names[m], lanes[m]);
+    cl_test_scene_close(&s);
+    TEST_END();
+}

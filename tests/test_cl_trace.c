@@ -1,0 +1,134 @@
+/* The trace kernel against the CPU reference (same scene, seed, samples):
+ * per path the record's ids, counts and ending must be equal, its weights
+ * close, its level byte equal; and the records do not depend on the mode. */
+#include "cl_testlib.h"
+#include "testutil.h"
+
+#define W 32
+#define H 32
+#define SPP 8
+#define SEED 7u
+
+/* The kernel's ray arithmetic is the reference's operation by operation
+ * (contraction off, correctly rounded divide/sqrt); cos/sin may differ by a
+ * few ulps (OpenCL allows 4), so a bounce direction can differ in its last
+ * bits. That moves a weight by far less than 1e-4 relative unless a cosine
+ * is itself tiny (grazing), and flips a discrete decision (which triangle,
+ * shadowed or not) only for a ray within ulps of an edge. */
+#define WEIGHT_REL 1e-4
+/* Such paths must stay rare: with at most a few ulps of direction error per
+ * bounce, a flip needs a ray within ~1e-6 of an edge in a scene of a few
+ * dozen triangles; 1 in 1000 paths is a generous ceiling (measured: see the
+ * printed count), while a real transport mismatch diverges on most paths. */
+#define MAX_DIVERGENT_FRACTION 1e-3
+
+static int close_rel(float a, float b)
+{
+    float m = fabsf(a) > fabsf(b) ? fabsf(a) : fabsf(b);
+    return fabsf(a - b) <= WEIGHT_REL * m;
+}
+
+/* 0: same path; 1: diverged (discrete difference or a weight beyond tolerance). */
+static int path_differs(const spm_path *a, const spm_path *b)
+{
+    if (a->h.nvert != b->h.nvert || a->h.end != b->h.end || a->h.first_emit != b->h.first_emit ||
+        a->h.bg != b->h.bg || !close_rel(a->h.first_emit_c, b->h.first_emit_c) ||
+        !close_rel(a->h.bg_c, b->h.bg_c))
+        return 1;
+    for (spm_u32 j = 0; j < a->h.nvert && j < SPM_MAX_DEPTH; j++)
+        if (a->v[j].ids != b->v[j].ids || !close_rel(a->v[j].c, b->v[j].c))
+            return 1;
+    return 0;
+}
+
+static void compare_pass(const cl_test_scene *s, spm_cl_renderer *r, int mode, spm_u32 first)
+{
+    size_t n = (size_t)W * H * SPP;
+    spm_path *gp = spm_xcalloc(n, sizeof *gp), *cp = spm_xcalloc(n, sizeof *cp);
+    uint8_t *gl = spm_xcalloc(n, 1), *cl = spm_xcalloc(n, 1);
+    spm_error err;
+    int rc = spm_cl_trace(r, first, SPP, gp, gl, &err);
+    CHECK(rc == 0, "spm_cl_trace: %s", err.msg);
+    spm_trace_params p = cl_test_params(s, SEED, first, SPP);
+    spm_ref_trace(&s->geom, s->tables.materials, cl_test_lvlk(&s->tables, mode), &p, cp, cl);
+    size_t diverged = 0, level_diff = 0, exact = 0, vertices = 0, escaped = 0, lit = 0;
+    for (size_t i = 0; i < n; i++) {
+        int d = path_differs(&gp[i], &cp[i]);
+        diverged += d;
+        level_diff += !d && gl[i] != cl[i];
+        exact += cl_test_path_hash(&gp[i]) == cl_test_path_hash(&cp[i]);
+        vertices += cp[i].h.nvert;
+        escaped += cp[i].h.end == SPM_END_ESCAPED;
+        for (spm_u32 j = 0; j < cp[i].h.nvert; j++)
+            lit += (cp[i].v[j].ids >> 16) != SPM_NONE;
+    }
+    printf("first sample %u: %zu paths, %zu vertices, %zu lit vertices, %zu escaped; "
+           "%zu bit-identical records, %zu diverged (%.2g), %zu level bytes differ\n",
+           first, n, vertices, lit, escaped, exact, diverged, (double)diverged / (double)n,
+           level_diff);
+    /* the scene must exercise the comparison: bounces, lights, escapes */
+    CHECK(vertices > n && lit > n / 4, "too little transport to compare (%zu, %zu)", vertices, lit);
+    CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu of %zu paths diverged",
+          diverged, n);
+    CHECK(level_diff == 0, "%zu paths with equal records have different level bytes", level_diff);
+    free(gp);
+    free(cp);
+    free(gl);
+    free(cl);
+}
+
+/* Hash of the whole pass's records as the kernel writes them in `mode`. */
+static uint64_t mode_records_hash(const cl_test_scene *s, int mode)
+{
+    spm_cl_renderer *r;
+    spm_error err;
+    if (spm_cl_create(0, &s->geom, &s->tables, mode, SEED, &r, &err)) {
+        CHECK(0, "spm_cl_create(mode %d): %s", mode, err.msg);
+        return 0;
+    }
+    size_t n = (size_t)W * H * 2;
+    spm_path *gp = spm_xcalloc(n, sizeof *gp);
+    uint8_t *gl = spm_xcalloc(n, 1);
+    uint64_t h = 0;
+    if (spm_cl_trace(r, 0, 2, gp, gl, &err) == 0)
+        for (size_t i = 0; i < n; i++)
+            h = h * 31u + cl_test_path_hash(&gp[i]);
+    else
+        CHECK(0, "spm_cl_trace(mode %d): %s", mode, err.msg);
+    free(gp);
+    free(gl);
+    spm_cl_destroy(r);
+    return h;
+}
+
+int main(void)
+{
+    if (!cl_test_have_device())
+        return 1;
+    cl_test_scene s;
+    if (cl_test_scene_open(&s, W, H))
+        return 1;
+    spm_cl_renderer *r;
+    spm_error err;
+    int modes[] = {SPM_MODE_ML, SPM_MODE_MLC};
+    for (int m = 0; m < 2; m++) {
+        if (spm_cl_create(0, &s.geom, &s.tables, modes[m], SEED, &r, &err)) {
+            CHECK(0, "spm_cl_create: %s", err.msg);
+            continue;
+        }
+        compare_pass(&s, r, modes[m], 0);
+        if (m == 0)
+            compare_pass(&s, r, modes[m], SPP); /* a later pass: samples keyed by index */
+        spm_cl_destroy(r);
+    }
+
+    /* every mode shades the same records */
+    uint64_t h0 = mode_records_hash(&s, SPM_MODE_REF);
+    int others[] = {SPM_MODE_ML, SPM_MODE_MLC, SPM_MODE_RGB, SPM_MODE_HERO, SPM_MODE_TRUTH};
+    for (int i = 0; i < 5; i++) {
+        uint64_t h = mode_records_hash(&s, others[i]);
+        CHECK(h == h0, "records in mode %d differ from ref's", others[i]);
+    }
+    cl_test_scene_close(&s);
+    TEST_END();
+}

@@ -1,0 +1,240 @@
+/* CPU reference shade stage: every mode on a hand-made record against the
+ * shading formula evaluated in double, hero-wavelength placement and its
+ * convergence to ref. Float sums of at most 400 positive terms carry a
+ * relative error below 400 * 2^-24 = 2.4e-5: tolerance 1e-4 relative. */
+#include "colour.h"
+#include "spm_rng.h"
+#include "refcpu.h"
+#include "testutil.h"
+#include <stdlib.h>
+#include <string.h>
+
+#define NC 4
+#define REL 1e-4
+
+/* Colour c's value in lane l of a representation with n lanes: distinct per
+ * colour and lane, in (0, 1]. */
+static double val(int c, int l, int n)
+{
+    return 0.2 + 0.15 * c + 0.4 * (double)l / n;
+}
+
+static double weight(int ch, int l, int n)
+{
+    return (1.0 + ch + (double)((l * 7) % 5)) / n;
+}
+
+static float *table(int lanes, int stride)
+{
+    float *t = calloc((size_t)NC * stride, sizeof *t);
+    for (int c = 0; c < NC; c++)
+        for (int l = 0; l < lanes; l++)
+            t[c * stride + l] = (float)val(c, l, lanes);
+    return t;
+}
+
+static void make_tables(spm_tables *t)
+{
+    memset(t, 0, sizeof *t);
+    t->ncolours = NC;
+    t->nspikes = 3;
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        int nb = SPM_LEVEL_BINS(l);
+        t->lvl[l] = table(nb, nb);
+        t->mlc_lvl[l] = table(nb + t->nspikes, nb + SPM_MAX_SPIKES);
+        for (int ch = 0; ch < 3; ch++)
+            for (int b = 0; b < nb; b++)
+                t->cmf_lvl[l][ch][b] = (float)weight(ch, b, nb);
+    }
+    for (int ch = 0; ch < 3; ch++)
+        for (int k = 0; k < t->nspikes; k++)
+            t->spike_cmf[ch][k] = (float)(0.3 + 0.1 * k + ch);
+    t->truth = table(SPM_TRUTH_BINS, SPM_TRUTH_BINS);
+    t->rgb = table(3, 4);
+    for (int ch = 0; ch < 3; ch++)
+        for (int i = 0; i < SPM_TRUTH_BINS; i++)
+            t->cmf_truth[ch][i] = (float)weight(ch, i, SPM_TRUTH_BINS);
+    /* hero: density rising linearly across the range, CMF = 1 + ch */
+    double acc = 0, norm = 0;
+    for (int i = 0; i < SPM_TRUTH_BINS; i++)
+        norm += 1.0 + i / 200.0;
+    for (int i = 0; i < SPM_TRUTH_BINS; i++) {
+        t->hero_pdf[i] = (float)((1.0 + i / 200.0) / norm);
+        t->hero_cdf[i] = (float)acc;
+        acc += (1.0 + i / 200.0) / norm;
+    }
+    t->hero_cdf[SPM_TRUTH_BINS] = 1.0f;
+    for (int ch = 0; ch < 3; ch++)
+        for (int i = 0; i <= SPM_TRUTH_BINS; i++)
+            t->cmf_point[ch][i] = (float)(1 + ch) / SPM_TRUTH_BINS;
+}
+
+static void free_tables(spm_tables *t)
+{
+    for (int l = 0; l < SPM_NUM_LEVELS; l++)
+        free(t->lvl[l]), free(t->mlc_lvl[l]);
+    free(t->truth);
+    free(t->rgb);
+}
+
+/* first emission 2; vertices (refl 0, light 2, c 0.5), (refl 1, none),
+ * (refl 0, light 2, c 0.25); background 3 with weight 2. */
+static spm_path make_path(void)
+{
+    spm_path p;
+    memset(&p, 0, sizeof p);
+    p.h = (spm_path_head){3, SPM_END_ESCAPED, 2, 1.0f, 3, 2.0f, 0, 0};
+    p.v[0] = (spm_vertex){0u | (2u << 16), 0.5f};
+    p.v[1] = (spm_vertex){1u | (SPM_NONE << 16), 0.0f};
+    p.v[2] = (spm_vertex){0u | (2u << 16), 0.25f};
+    return p;
+}
+
+/* spm_path_head's formula in double for lane l of n. */
+static double expect_lane(int l, int n)
+{
+    double r0 = val(0, l, n), r1 = val(1, l, n), e = val(2, l, n), bg = val(3, l, n);
+    double L = e;
+    double P = r0;
+    L += P * e * 0.5;
+    P *= r1 * r0;
+    L += P * e * 0.25;
+    return L + P * bg * 2.0;
+}
+
+static void check_xyz(const float *xyz, const double *ex, const char *what)
+{
+    for (int ch = 0; ch < 3; ch++)
+        CHECK(fabs(xyz[ch] - ex[ch]) <= REL * fabs(ex[ch]), "%s: channel %d %.8g vs %.8g", what,
+              ch, xyz[ch], ex[ch]);
+}
+
+static void shade_one(const spm_tables *t, int mode, uint8_t level, float xyz[3])
+{
+    spm_trace_params p;
+    memset(&p, 0, sizeof p);
+    p.spp_per_pass = 1;
+    spm_path path = make_path();
+    spm_ref_shade(t, mode, &p, &path, &level, 1, xyz);
+}
+
+static void test_binned_modes(const spm_tables *t)
+{
+    float xyz[3];
+    double ex[3];
+    /* ref: level 0; ml: the path's level byte (set-by bits ignored) */
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        int nb = SPM_LEVEL_BINS(l);
+        for (int ch = 0; ch < 3; ch++) {
+            ex[ch] = 0;
+            for (int b = 0; b < nb; b++)
+                ex[ch] += expect_lane(b, nb) * weight(ch, b, nb);
+        }
+        char what[64];
+        snprintf(what, sizeof what, "ml at level %d", l);
+        shade_one(t, SPM_MODE_ML, (uint8_t)(l | (SPM_SETBY_REFLECTOR << SPM_SETBY_SHIFT)), xyz);
+        check_xyz(xyz, ex, what);
+        if (l == 0) {
+            shade_one(t, SPM_MODE_REF, 2, xyz); /* ref ignores the level byte */
+            check_xyz(xyz, ex, "ref");
+        }
+        /* mlc: smooth bins then the spike lanes */
+        int n = nb + t->nspikes;
+        for (int ch = 0; ch < 3; ch++) {
+            ex[ch] = 0;
+            for (int k = 0; k < n; k++)
+                ex[ch] += expect_lane(k, n) *
+                          (k < nb ? weight(ch, k, nb) : t->spike_cmf[ch][k - nb]);
+        }
+        snprintf(what, sizeof what, "mlc at level %d", l);
+        shade_one(t, SPM_MODE_MLC, (uint8_t)l, xyz);
+        check_xyz(xyz, ex, what);
+    }
+    for (int ch = 0; ch < 3; ch++) {
+        ex[ch] = 0;
+        for (int i = 0; i < SPM_TRUTH_BINS; i++)
+            ex[ch] += expect_lane(i, SPM_TRUTH_BINS) * weight(ch, i, SPM_TRUTH_BINS);
+    }
+    shade_one(t, SPM_MODE_TRUTH, 0, xyz);
+    check_xyz(xyz, ex, "truth");
+    /* rgb: linear sRGB lanes, XYZ through the sRGB matrix */
+    double rgb[3] = {expect_lane(0, 3), expect_lane(1, 3), expect_lane(2, 3)};
+    spm_linear_srgb_to_xyz(rgb, ex);
+    shade_one(t, SPM_MODE_RGB, 0, xyz);
+    check_xyz(xyz, ex, "rgb");
+}
+
+/* Hero lanes land where the inverse cdf puts them: u + i/4 (mod 1). */
+static void test_hero_lanes(const spm_tables *t)
+{
+    enum { N = 64 };
+    spm_trace_params p;
+    memset(&p, 0, sizeof p);
+    p.seed = 17u;
+    p.spp_per_pass = N;
+    p.first_sample = 5;
+    static spm_path paths[N];
+    float xyz[3 * N];
+    uint8_t lv[N] = {0};
+    for (int i = 0; i < N; i++)
+        paths[i] = make_path();
+    spm_ref_shade(t, SPM_MODE_HERO, &p, paths, lv, N, xyz);
+    int ok = 1;
+    for (int i = 0; i < N; i++) {
+        double u = spm_rng(p.seed, 0, p.first_sample + (spm_u32)i, SPM_DIM_HERO), ex[3] = {0};
+        for (int k = 0; k < SPM_HERO_LANES; k++) {
+            double xi = fmod(u + k / 4.0, 1.0);
+            /* invert the linear density pdf(x) ~ 1 + x/200 (x in nm from 380) */
+            double norm = 0;
+            for (int j = 0; j < SPM_TRUTH_BINS; j++)
+                norm += 1.0 + j / 200.0;
+            int j = 0;
+            double acc = 0;
+            while (j < SPM_TRUTH_BINS - 1 && acc + (1.0 + j / 200.0) / norm <= xi)
+                acc += (1.0 + j / 200.0) / norm, j++;
+            double pdf = (1.0 + j / 200.0) / norm;
+            int bin = j / 5;
+            for (int ch = 0; ch < 3; ch++)
+                ex[ch] += expect_lane(bin, SPM_L0_BINS) * ((1.0 + ch) / SPM_TRUTH_BINS) / pdf / 4;
+        }
+        for (int ch = 0; ch < 3; ch++)
+            ok &= fabs(xyz[3 * i + ch] - ex[ch]) <= REL * ex[ch];
+    }
+    CHECK(ok, "hero: lanes at frac(u + i/4) through the inverse cdf, divided by pdf and 4");
+}
+
+/* Hero converges to ref on the same record: CMF taken as constant per nm,
+ * E[value(lambda) cmf / pdf] = sum over bins of value * bin weight. */
+static void test_hero_converges(const spm_tables *t)
+{
+    enum { N = 20000 };
+    spm_trace_params p;
+    memset(&p, 0, sizeof p);
+    p.seed = 3u;
+    p.spp_per_pass = N;
+    spm_path *paths = malloc(N * sizeof *paths);
+    float *xyz = malloc(3 * N * sizeof *xyz);
+    uint8_t *lv = calloc(N, 1);
+    for (int i = 0; i < N; i++)
+        paths[i] = make_path();
+    spm_ref_shade(t, SPM_MODE_HERO, &p, paths, lv, N, xyz);
+    double s = 0, s2 = 0, ex = 0;
+    for (int i = 0; i < N; i++)
+        s += xyz[3 * i + 1], s2 += (double)xyz[3 * i + 1] * xyz[3 * i + 1];
+    double mean = s / N, sem = sqrt((s2 / N - mean * mean) / (N - 1));
+    for (int b = 0; b < SPM_L0_BINS; b++)
+        ex += expect_lane(b, SPM_L0_BINS) * 2.0 * 5 / SPM_TRUTH_BINS; /* Y: cmf 2/400 per nm */
+    CHECK(fabs(mean - ex) <= 5 * sem, "hero mean %.6f vs ref %.6f (sem %.2g)", mean, ex, sem);
+    free(paths), free(xyz), free(lv);
+}
+
+int main(void)
+{
+    spm_tables t;
+    make_tables(&t);
+    test_binned_modes(&t);
+    test_hero_lanes(&t);
+    test_hero_converges(&t);
+    free_tables(&t);
+    TEST_END();
+}
