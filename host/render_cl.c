@@ -202,7 +202,7 @@ static int upload_slot(spm_cl_renderer *r, const spm_tables *t, int slot, spm_er
 static int build(spm_cl_renderer *r, const spm_tables *t, const int need[NSLOTS], spm_error *err)
 {
     char defs[512];
-    int n = snprintf(defs, sizeof defs, "-DSPM_BVH_STACK=%d %s", SPM_BVH_STACK, getenv("XDEF") ? getenv("XDEF") : "");
+    int n = snprintf(defs, sizeof defs, "-DSPM_BVH_STACK=%d", SPM_BVH_STACK);
     for (int l = 0; l < SPM_NUM_LEVELS; l++)
         if (need[l])
             n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_L%d_NV=%d", l,
@@ -392,8 +392,7 @@ static int set_args(cl_kernel k, const char *name, int nargs, const size_t *size
 static int enqueue(spm_cl_renderer *r, cl_kernel k, const char *name, size_t offset, size_t n,
                    cl_event *ev, spm_error *err)
 {
-    size_t ls = getenv(k == r->k_trace ? "LS_T" : "LS_S") ? (size_t)atoi(getenv(k == r->k_trace ? "LS_T" : "LS_S")) : LOCAL_SIZE;
-    size_t off = offset, global = (n + ls - 1) / ls * ls, local = ls;
+    size_t off = offset, global = round_up(n), local = LOCAL_SIZE;
     char what[128];
     snprintf(what, sizeof what, "clEnqueueNDRangeKernel(%s)", name);
     return spm_cl_check(clEnqueueNDRangeKernel(r->cl.queue, k, 1, &off, &global, &local, 0, NULL, ev),
@@ -532,10 +531,7 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
     if (spp == 0 || reserve(r, n, err))
         return spp == 0 ? 0 : 1;
     cl_event ev_t = NULL, ev_s[NSLOTS] = {NULL}, ev_a = NULL;
-    double T0 = spm_now();
     int rc = run_trace(r, first_sample, spp, n, &ev_t, err);
-    clFinish(r->cl.queue);
-    double T1 = spm_now();
     if (!rc && uses_levels(r->mode))
         rc = spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->levels, CL_TRUE, 0, n, r->h_levels,
                                               1, &ev_t, NULL),
@@ -545,8 +541,6 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
     rc = rc || bucket(r, n, r->h_levels, off, err);
     double bucket_s = spm_now() - t0;
     rc = rc || run_shade(r, first_sample, spp, off, ev_s, err);
-    clFinish(r->cl.queue);
-    double T2 = spm_now();
     spm_u32 npix = (spm_u32)r->npix, counters[NCOUNTERS];
     if (!rc) {
         const size_t sz[] = {sizeof(cl_mem), sizeof(spm_u32), sizeof(spm_u32), sizeof(cl_mem),
@@ -562,8 +556,6 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
     rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->counters, CL_TRUE, 0,
                                                 sizeof counters, counters, 0, NULL, NULL),
                             "clEnqueueReadBuffer(counters)", err);
-    double T3 = spm_now();
-    if (getenv("CLDBG")) fprintf(stderr, "trace %.4f shade %.4f rest %.4f (ev trace %.4f)\n", T1-T0, T2-T1, T3-T2, spm_cl_event_seconds(ev_t));
     if (rc) {
         clFinish(r->cl.queue);
     } else {

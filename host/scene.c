@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #define MINILIGHT_ID "#MiniLight"
 
@@ -20,7 +21,13 @@ static int ends_with(const char *s, const char *suffix)
 
 int spm_scene_load(const char *path, spm_scene *out, spm_error *err)
 {
-    memset(out, 0, sizeof *out);
+    memset(out, 0, sizeof *out); /* a failed load leaves an empty scene to free */
+    out->bg_up = out->bg_down = -1;
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        spm_errorf(err, "%s: is a directory, not a scene file", path);
+        return 1;
+    }
     FILE *f = fopen(path, "rb");
     if (!f) {
         spm_errorf(err, "%s: cannot open: %s", path, strerror(errno));

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #define MAX_SPECTRA 4096
@@ -70,7 +71,12 @@ static int opt_scale(parser *p, int emission, double *scale)
 
 /* ---- spectra --------------------------------------------------------------- */
 
-static int file_exists(const char *path) { return access(path, R_OK) == 0; }
+/* Only regular files: a device such as /dev/zero would never end. */
+static int file_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode) && access(path, R_OK) == 0;
+}
 
 /* A spectrum file: absolute, or relative to the scene file, or in spectra/. */
 static int resolve_spectrum_file(parser *p, const char *name, const char *where, char *out,
@@ -81,7 +87,8 @@ static int resolve_spectrum_file(parser *p, const char *name, const char *where,
         snprintf(out, size, "%s", name);
         if (file_exists(out))
             return 0;
-        spm_errorf(p->err, "%s: spectrum file '%s' not found", where, name);
+        spm_errorf(p->err, "%s: spectrum file '%s' not found (or not a regular file)", where,
+                   name);
         return 1;
     }
     int n = snprintf(out, size, "%s/%s", p->dir, name);
