@@ -1,8 +1,8 @@
 /* Quick speed check of the OpenCL backend (not a test): the default Cornell
  * box at WxH with SPP samples, per mode wall time, paths/s and stage times.
- * Build: gcc -O2 -std=c11 -DCL_TARGET_OPENCL_VERSION=120 -Iinclude -Ihost \
+ * Build: gcc -O2 -std=gnu11 -DCL_TARGET_OPENCL_VERSION=120 -Iinclude -Ihost \
  *   tools/cl_bench.c build-X/libspm_core.a $(pkg-config --libs OpenImageIO) -lOpenCL -lstdc++ -lm -lpthread
- * Run:   SPECMIP_DATA=. ./cl_bench [W H SPP [modes...]] */
+ * Run:   SPECMIP_DATA=. ./cl_bench [W H SPP [modes...]]   (PER=n: samples per pass) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

@@ -1,0 +1,118 @@
+/* Shared set-up of the stability tests: render a bundled scene in-process on
+ * OpenCL device 0 (the same calls as `specmip render`), keep the image as
+ * linear sRGB and the run's statistics, and compare two renders as
+ * `specmip compare --blur 5` does. */
+#ifndef SPM_RENDER_TESTLIB_H
+#define SPM_RENDER_TESTLIB_H
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "colour.h"
+#include "compare.h"
+#include "render_setup.h"
+
+/* Called with the open set-up before it is closed (tables, pretest results). */
+typedef void (*rt_inspect_fn)(const spm_render_setup *s, void *ctx);
+
+typedef struct {
+    spm_image img;        /* linear sRGB, as an .exr output holds it */
+    spm_run_result run;   /* timings and per-level path counts (what --stats prints) */
+} rt_render_out;
+
+typedef struct {
+    const char *scene;    /* file name under scenes/ */
+    int mode;
+    int spp;
+    spm_u32 seed;
+    int size;             /* square image side */
+} rt_render_job;
+
+static inline void rt_scene_path(const char *name, char *path, size_t n)
+{
+    snprintf(path, n, "%s/scenes/%s", SPM_SOURCE_DIR, name);
+}
+
+/* 0, or prints why and returns 1. */
+static inline int rt_render(const rt_render_job *j, rt_render_out *o, rt_inspect_fn inspect,
+                            void *ctx)
+{
+    char path[1024];
+    rt_scene_path(j->scene, path, sizeof path);
+    spm_render_config cfg;
+    spm_render_config_defaults(&cfg);
+    cfg.scene_path = path;
+    cfg.mode = j->mode;
+    cfg.spp = j->spp;
+    cfg.seed = j->seed;
+    cfg.width = cfg.height = j->size;
+    spm_quiet_warnings = 1;
+    memset(o, 0, sizeof *o);
+    spm_render_setup s;
+    spm_error err;
+    err.msg[0] = 0;
+    if (spm_render_setup_open(&cfg, &s, &err)) {
+        printf("%s %s: set-up: %s\n", j->scene, spm_mode_name(j->mode), err.msg);
+        spm_render_setup_close(&s);
+        return 1;
+    }
+    size_t npix = (size_t)j->size * (size_t)j->size;
+    spm_film film;
+    int rc = spm_film_init(&film, j->size, j->size, &err);
+    if (!rc) {
+        spm_run_opts ro = {j->spp, spm_spp_per_pass(npix, j->spp), NULL, 0};
+        rc = spm_render_run(s.b, s.nb, npix, &ro, &film, &o->run, &err);
+    }
+    if (rc) {
+        printf("%s %s: render: %s\n", j->scene, spm_mode_name(j->mode), err.msg);
+    } else {
+        float *xyz = malloc(3 * npix * sizeof *xyz);
+        o->img.width = o->img.height = j->size;
+        o->img.rgb = malloc(3 * npix * sizeof *o->img.rgb);
+        spm_film_resolve(&film, xyz);
+        for (size_t i = 0; i < npix; i++) {
+            double x[3] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}, r[3];
+            spm_xyz_to_linear_srgb(x, r);
+            for (int c = 0; c < 3; c++)
+                o->img.rgb[3 * i + c] = (float)r[c];
+        }
+        free(xyz);
+        if (inspect)
+            inspect(&s, ctx);
+    }
+    spm_film_free(&film);
+    spm_render_setup_close(&s);
+    return rc ? 1 : 0;
+}
+
+/* ΔE00 statistics of b against the reference a after a 5x5 box blur (the
+ * inputs are left untouched). 0, or prints why and returns 1. */
+static inline int rt_compare(const spm_image *a, const spm_image *b, spm_de_stats *de00)
+{
+    size_t n = 3 * (size_t)a->width * (size_t)a->height;
+    spm_image ca = *a, cb = *b;
+    ca.rgb = malloc(n * sizeof(float));
+    cb.rgb = malloc(n * sizeof(float));
+    memcpy(ca.rgb, a->rgb, n * sizeof(float));
+    memcpy(cb.rgb, b->rgb, n * sizeof(float));
+    spm_compare_opts co = {5, 0.0};
+    spm_compare_result res;
+    memset(&res, 0, sizeof res);
+    spm_error err;
+    int rc = spm_compare_images(&ca, &cb, &co, &res, &err);
+    if (rc)
+        printf("compare: %s\n", err.msg);
+    else
+        *de00 = res.de00;
+    spm_compare_result_free(&res);
+    free(ca.rgb);
+    free(cb.rgb);
+    return rc ? 1 : 0;
+}
+
+/* Paths shaded at level l (all set-by reasons). */
+static inline unsigned long long rt_level_paths(const spm_run_result *r, int l)
+{
+    const uint64_t *lp = r->total.level_paths[l];
+    return (unsigned long long)(lp[0] + lp[1] + lp[2]);
+}
+#endif
