@@ -328,7 +328,7 @@ static void test_bvh_scenes(void)
 
     /* MiniLight's own Cornell box through the scene loader */
     char path[1024];
-    snprintf(path, sizeof path, "%s/../shared/data/minilight/cornellbox.ml.txt", SPM_SOURCE_DIR);
+    snprintf(path, sizeof path, "%s/tests/data/scenes/cornellbox.ml.txt", SPM_SOURCE_DIR);
     spm_error err;
     int rc = spm_scene_load(path, &s, &err);
     CHECK(rc == 0, "load %s: %s", path, err.msg);
