@@ -85,20 +85,23 @@ static int parse_devices(const char *s, spm_render_config *c)
         return 0;
     }
     const char *p = s;
-    while (*p) {
+    c->ndevices = 0; /* the last --device counts */
+    do {
         char *end;
         long v = strtol(p, &end, 10);
-        if (end == p || v < 0 || v > 255 || (*end && *end != ',') ||
+        if (end == p || v < 0 || v > 255 || (*end && (*end != ',' || !end[1])) ||
             c->ndevices >= SPM_MAX_BACKENDS) {
             fprintf(stderr,
-                    "specmip render: --device takes an index, a list like 0,2 or 'all', not '%s'\n",
-                    s);
+                    "specmip render: --device takes an index, a list like 0,2 (at most %d) or "
+                    "'all', not '%s'\n",
+                    SPM_MAX_BACKENDS, s);
             return 1;
         }
         c->devices[c->ndevices++] = (int)v;
         p = *end ? end + 1 : end;
-    }
-    return c->ndevices ? 0 : 1;
+    } while (*p);
+    c->all_devices = 0;
+    return 0;
 }
 
 int spm_cmd_render(int argc, char **argv)

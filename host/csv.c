@@ -1,6 +1,5 @@
 /* CSV spectra: '#' comment lines, a header of column names, then numeric rows.
  * Every error names the file and the line it was found on. */
-#define _POSIX_C_SOURCE 200809L /* getline */
 #include "csv.h"
 #include <ctype.h>
 #include <errno.h>
@@ -60,8 +59,11 @@ static int parse_row(spm_csv *c, char *line, int lineno, const char *path, spm_e
     }
     char **f = spm_xmalloc((size_t)n * sizeof *f);
     split(line, f, n);
-    c->data = spm_xrealloc(c->data, (c->nrows + 1) * (size_t)n * sizeof *c->data);
-    c->line = spm_xrealloc(c->line, (c->nrows + 1) * sizeof *c->line);
+    if ((c->nrows & (c->nrows - 1)) == 0) { /* 0 or a power of two: double the room */
+        size_t rows = c->nrows ? 2 * c->nrows : 1;
+        c->data = spm_xrealloc(c->data, rows * (size_t)n * sizeof *c->data);
+        c->line = spm_xrealloc(c->line, rows * sizeof *c->line);
+    }
     double *row = c->data + c->nrows * (size_t)n;
     for (int i = 0; i < n; i++) {
         char *end;
@@ -96,6 +98,39 @@ static void set_header(spm_csv *c, char *line)
     free(f);
 }
 
+/* Longest line kept: spectra rows are short, and a longer line (a 100 MB line,
+ * binary data) is refused without being held. Comment lines may be longer. */
+#define CSV_LINE_MAX 65536
+
+enum { LINE_OK, LINE_EOF, LINE_TOO_LONG, LINE_NUL };
+
+static int is_comment(const char *line)
+{
+    while (isspace((unsigned char)*line))
+        line++;
+    return *line == '#';
+}
+
+/* Reads one line (without its newline) into buf[CSV_LINE_MAX]. A comment is
+ * cut short at the buffer's end and skipped to the line's end; any other line
+ * that is too long or holds a NUL byte is refused, its rest left unread. */
+static int read_line(FILE *fp, char *buf)
+{
+    size_t n = 0;
+    int c;
+    while ((c = getc(fp)) != EOF && c != '\n') {
+        if (n + 1 == CSV_LINE_MAX || c == '\0') {
+            buf[n] = '\0';
+            if (!is_comment(buf))
+                return c == '\0' ? LINE_NUL : LINE_TOO_LONG;
+            continue;
+        }
+        buf[n++] = (char)c;
+    }
+    buf[n] = '\0';
+    return c == EOF && n == 0 ? LINE_EOF : LINE_OK;
+}
+
 int spm_csv_load(const char *path, spm_csv *out, spm_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -104,11 +139,17 @@ int spm_csv_load(const char *path, spm_csv *out, spm_error *err)
         spm_errorf(err, "%s:0: cannot open: %s", path, strerror(errno));
         return 1;
     }
-    char *line = NULL;
-    size_t cap = 0;
-    int lineno = 0, rc = 0;
-    while (getline(&line, &cap, fp) >= 0) {
+    char *line = spm_xmalloc(CSV_LINE_MAX);
+    int lineno = 0, rc = 0, got;
+    while ((got = read_line(fp, line)) != LINE_EOF) {
         lineno++;
+        if (got != LINE_OK) {
+            spm_errorf(err, "%s:%d: %s", path, lineno,
+                       got == LINE_NUL ? "NUL byte in a text line (binary data?)"
+                                       : "line longer than 65535 bytes (not a spectrum table)");
+            rc = 1;
+            break;
+        }
         if (is_blank_or_comment(line))
             continue;
         if (!out->names) {

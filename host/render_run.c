@@ -3,10 +3,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
+
+#define SPM_WAITING_BYTES_DEFAULT ((size_t)256 << 20)
 
 spm_u32 spm_spp_per_pass(size_t npix, int spp)
 {
+    if (spp < 1)
+        return 1;
     size_t want = (65536 + npix - 1) / (npix ? npix : 1);
     if (want < 1)
         want = 1;
@@ -20,10 +23,12 @@ typedef struct {
     pthread_mutex_t mu;
     pthread_cond_t changed;         /* a pass finished or was given back */
     int in_flight;                  /* passes being rendered now */
-    int npasses, next_pass, next_to_add;
+    int next_pass, next_to_add;
     int *retry, nretry;             /* passes a failed device left behind */
     float **done;                   /* finished pass images waiting for their turn */
+    int alive;                      /* backends that have not failed */
     /* fixed */
+    int npasses, window, nb;
     spm_backend **b;
     size_t npix;
     const spm_run_opts *o;
@@ -37,6 +42,42 @@ typedef struct {
     int idx;
 } worker_arg;
 
+enum { TAKE_NONE = -1, TAKE_WAIT = -2 };
+
+int spm_run_worth_taking(double t_me, const double *t_other, int n, int left)
+{
+    if (t_me <= 0)
+        return 1;
+    double rate = 0.0; /* the others' passes per second */
+    int fastest = 1;
+    for (int i = 0; i < n; i++)
+        if (t_other[i] > 0) {
+            rate += 1.0 / t_other[i];
+            fastest &= t_other[i] >= t_me; /* a tie: both may take */
+        }
+    return fastest || t_me * rate <= (double)left;
+}
+
+/* Caller holds mu. Seconds per pass of backend i so far; 0: not known. */
+static double pass_time(const run_state *s, int i)
+{
+    int n = s->r->passes_by_backend[i];
+    return n > 0 ? s->r->busy_s[i] / n : 0.0;
+}
+
+/* Caller holds mu. spm_run_worth_taking for backend idx against the others
+ * still working. */
+static int worth_taking(const run_state *s, int idx)
+{
+    double other[SPM_MAX_BACKENDS];
+    int n = 0;
+    for (int i = 0; i < s->nb; i++)
+        if (i != idx && !s->r->failed[i])
+            other[n++] = pass_time(s, i);
+    int left = s->npasses - s->next_pass + s->nretry;
+    return spm_run_worth_taking(pass_time(s, idx), other, n, left);
+}
+
 static spm_u32 pass_spp(const run_state *s, int pass)
 {
     int first = pass * (int)s->o->spp_per_pass;
@@ -44,16 +85,21 @@ static spm_u32 pass_spp(const run_state *s, int pass)
     return (spm_u32)(left < (int)s->o->spp_per_pass ? left : (int)s->o->spp_per_pass);
 }
 
-/* Caller holds mu. The next pass to render, or -1. */
-static int take_pass(run_state *s)
+/* Caller holds mu. The next pass to render, TAKE_WAIT when one may come
+ * later, or TAKE_NONE. A pass given back by a failed device goes first: it
+ * holds up the film. */
+static int take_pass(run_state *s, int idx)
 {
     if (s->o->stop && *s->o->stop)
-        return -1;
+        return TAKE_NONE;
+    if ((s->nretry > 0 || s->next_pass < s->npasses) && !worth_taking(s, idx))
+        return TAKE_WAIT; /* a faster device is due to finish it sooner */
     if (s->nretry > 0)
         return s->retry[--s->nretry];
     if (s->next_pass < s->npasses)
-        return s->next_pass++;
-    return -1;
+        return s->next_pass - s->next_to_add < s->window ? s->next_pass++ : TAKE_WAIT;
+    /* all handed out, but a pass in flight may yet fail and come back */
+    return s->in_flight > 0 ? TAKE_WAIT : TAKE_NONE;
 }
 
 static void progress_line(run_state *s)
@@ -68,19 +114,35 @@ static void progress_line(run_state *s)
         fputc('\n', stderr);
 }
 
+/* Caller holds mu (or is alone). */
+static void add_to_film(run_state *s, int p)
+{
+    spm_film_add_pass(s->film, s->done[p], (int)pass_spp(s, p));
+    s->r->spp_done += (int)pass_spp(s, p);
+    s->r->passes_in_film++;
+    free(s->done[p]);
+    s->done[p] = NULL;
+}
+
 /* Caller holds mu: add every finished pass that is next in order. */
 static void flush_in_order(run_state *s)
 {
     while (s->next_to_add < s->npasses && s->done[s->next_to_add]) {
-        int p = s->next_to_add;
-        spm_film_add_pass(s->film, s->done[p], (int)pass_spp(s, p));
-        s->r->spp_done += (int)pass_spp(s, p);
-        free(s->done[p]);
-        s->done[p] = NULL;
-        s->next_to_add++;
+        add_to_film(s, s->next_to_add++);
         if (s->o->progress)
             progress_line(s);
     }
+}
+
+/* Caller holds mu. The device is lost for this render: its pass goes back. */
+static void device_failed(run_state *s, int idx, int pass, const spm_error *err)
+{
+    s->alive--;
+    fprintf(stderr, "%sspecmip: device '%s' failed on pass %d: %s; %s\n",
+            s->o->progress ? "\n" : "", s->b[idx]->name, pass, err->msg,
+            s->alive ? "the other devices take over its work" : "no device is left");
+    s->retry[s->nretry++] = pass;
+    s->r->failed[idx] = 1;
 }
 
 static void *worker(void *argp)
@@ -90,12 +152,9 @@ static void *worker(void *argp)
     spm_backend *b = s->b[a->idx];
     for (;;) {
         pthread_mutex_lock(&s->mu);
-        int pass = take_pass(s);
-        /* nothing left to take, but a pass in flight may yet fail and come back */
-        while (pass < 0 && s->in_flight > 0 && !(s->o->stop && *s->o->stop)) {
+        int pass;
+        while ((pass = take_pass(s, a->idx)) == TAKE_WAIT)
             pthread_cond_wait(&s->changed, &s->mu);
-            pass = take_pass(s);
-        }
         if (pass >= 0)
             s->in_flight++;
         pthread_mutex_unlock(&s->mu);
@@ -106,72 +165,102 @@ static void *worker(void *argp)
         memset(&st, 0, sizeof st);
         spm_error err;
         err.msg[0] = 0;
+        double t0 = spm_now();
         int rc = b->pass(b, (spm_u32)pass * s->o->spp_per_pass, pass_spp(s, pass), img, &st, &err);
+        double busy = spm_now() - t0;
         pthread_mutex_lock(&s->mu);
         s->in_flight--;
-        pthread_cond_broadcast(&s->changed);
+        s->r->busy_s[a->idx] += busy;
         if (rc) {
-            /* the device is lost for this render: its pass goes back to the queue */
-            fprintf(stderr, "specmip: device '%s' failed: %s; its work goes to the other devices\n",
-                    b->name, err.msg);
-            s->retry[s->nretry++] = pass;
-            s->r->failed[a->idx] = 1;
+            device_failed(s, a->idx, pass, &err);
             free(img);
-            pthread_mutex_unlock(&s->mu);
-            break;
+        } else {
+            spm_pass_stats_add(&s->r->total, &st);
+            spm_pass_stats_add(&s->r->per_backend[a->idx], &st);
+            s->r->passes_by_backend[a->idx]++;
+            s->done[pass] = img;
+            flush_in_order(s);
         }
-        spm_pass_stats_add(&s->r->total, &st);
-        spm_pass_stats_add(&s->r->per_backend[a->idx], &st);
-        s->r->passes_by_backend[a->idx]++;
-        s->done[pass] = img;
-        flush_in_order(s);
+        pthread_cond_broadcast(&s->changed);
         pthread_mutex_unlock(&s->mu);
+        if (rc)
+            break;
     }
     return NULL;
+}
+
+/* One thread per backend; a thread that cannot be started leaves its backend
+ * out, and with no thread at all the caller's thread does the work. */
+static void run_workers(run_state *s, int nb)
+{
+    pthread_t th[SPM_MAX_BACKENDS];
+    worker_arg args[SPM_MAX_BACKENDS];
+    int started[SPM_MAX_BACKENDS], nstarted = 0;
+    for (int i = 0; i < nb; i++) {
+        args[i] = (worker_arg){s, i};
+        started[i] = nb > 1 && pthread_create(&th[i], NULL, worker, &args[i]) == 0;
+        nstarted += started[i];
+    }
+    if (!nstarted)
+        worker(&args[0]);
+    for (int i = 0; i < nb; i++)
+        if (started[i])
+            pthread_join(th[i], NULL);
 }
 
 int spm_render_run(spm_backend **b, int nb, size_t npix, const spm_run_opts *o, spm_film *film,
                    spm_run_result *r, spm_error *err)
 {
-    if (nb < 1 || nb > SPM_MAX_BACKENDS) {
-        spm_errorf(err, "between 1 and %d devices can render together (got %d)", SPM_MAX_BACKENDS,
-                   nb);
+    return spm_render_run_window(b, nb, npix, o, SPM_WAITING_BYTES_DEFAULT, film, r, err);
+}
+
+int spm_render_run_window(spm_backend **b, int nb, size_t npix, const spm_run_opts *o,
+                          size_t max_waiting_bytes, spm_film *film, spm_run_result *r,
+                          spm_error *err)
+{
+    memset(r, 0, sizeof *r);
+    if (nb < 1 || nb > SPM_MAX_BACKENDS || o->spp < 1 || o->spp_per_pass < 1 || npix < 1) {
+        spm_errorf(err, "render: %d devices (1 to %d), %d spp, %u spp per pass, %zu pixels", nb,
+                   SPM_MAX_BACKENDS, o->spp, o->spp_per_pass, npix);
         return 1;
     }
-    memset(r, 0, sizeof *r);
     run_state s;
     memset(&s, 0, sizeof s);
     pthread_mutex_init(&s.mu, NULL);
     pthread_cond_init(&s.changed, NULL);
     s.npasses = (o->spp + (int)o->spp_per_pass - 1) / (int)o->spp_per_pass;
-    s.retry = spm_xcalloc((size_t)s.npasses + 1, sizeof *s.retry);
-    s.done = spm_xcalloc((size_t)s.npasses + 1, sizeof *s.done);
+    /* the window of passes handed out ahead of the film (render_run.h) */
+    size_t fit = max_waiting_bytes / (npix * 3 * sizeof(float));
+    s.window = fit > (size_t)(2 * nb) ? (fit < (size_t)s.npasses ? (int)fit : s.npasses) : 2 * nb;
+    s.retry = spm_xcalloc((size_t)s.npasses, sizeof *s.retry);
+    s.done = spm_xcalloc((size_t)s.npasses, sizeof *s.done);
+    s.alive = nb;
+    s.nb = nb;
     s.b = b;
     s.npix = npix;
     s.o = o;
     s.film = film;
     s.r = r;
     s.t0 = spm_now();
-    pthread_t th[SPM_MAX_BACKENDS];
-    worker_arg args[SPM_MAX_BACKENDS];
-    for (int i = 0; i < nb; i++) {
-        args[i].s = &s;
-        args[i].idx = i;
-        pthread_create(&th[i], NULL, worker, &args[i]);
-    }
-    for (int i = 0; i < nb; i++)
-        pthread_join(th[i], NULL);
+    r->npasses = s.npasses;
+    run_workers(&s, nb);
     r->wall_s = spm_now() - s.t0;
-    r->interrupted = s.next_to_add < s.npasses && o->stop && *o->stop;
-    int incomplete = s.next_to_add < s.npasses && !r->interrupted;
-    for (int p = 0; p < s.npasses; p++)
-        free(s.done[p]);
+    /* Cut short (every device failed, or stopped with a pass given back):
+     * the passes finished beyond the gap still go in, in pass order. */
+    for (int p = s.next_to_add; p < s.npasses; p++)
+        if (s.done[p])
+            add_to_film(&s, p);
+    int complete = r->passes_in_film == s.npasses;
+    if (o->progress && !complete)
+        fputc('\n', stderr);
+    r->interrupted = !complete && o->stop && *o->stop;
     free(s.done);
     free(s.retry);
     pthread_mutex_destroy(&s.mu);
     pthread_cond_destroy(&s.changed);
-    if (incomplete) {
-        spm_errorf(err, "every device failed; %d of %d passes rendered", s.next_to_add, s.npasses);
+    if (!complete && !r->interrupted) {
+        spm_errorf(err, "every device failed; %d of %d passes rendered (%d of %d samples per pixel)",
+                   r->passes_in_film, s.npasses, r->spp_done, o->spp);
         return 1;
     }
     return 0;

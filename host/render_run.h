@@ -1,35 +1,63 @@
 /* The render loop: hands out passes to one or more backends (devices) running
  * in their own threads, and adds finished pass images to the film strictly in
- * pass order, so the image does not depend on which device rendered what. */
+ * pass order, so the image does not depend on which device rendered what.
+ *
+ * A chunk of work is one pass: samples [p*spp_per_pass, (p+1)*spp_per_pass)
+ * of every pixel. A device that fails is dropped for the rest of the render
+ * and its pass goes back to the queue for the others. */
 #ifndef SPM_RENDER_RUN_H
 #define SPM_RENDER_RUN_H
 #include <signal.h>
 #include "backend.h"
 #include "film.h"
 
+#define SPM_MAX_BACKENDS 16
+
 typedef struct {
-    int spp;                        /* samples per pixel in all */
-    spm_u32 spp_per_pass;           /* samples per pixel in one pass */
+    int spp;                        /* samples per pixel in all (>= 1) */
+    spm_u32 spp_per_pass;           /* samples per pixel in one pass (>= 1) */
     volatile sig_atomic_t *stop;    /* when set: finish passes in flight, hand out no more */
     int progress;                   /* print a progress line on stderr */
 } spm_run_opts;
 
 typedef struct {
     spm_pass_stats total;
-    spm_pass_stats per_backend[16];
-    int passes_by_backend[16];
-    int failed[16];                 /* a backend that failed: its passes went to the others */
+    spm_pass_stats per_backend[SPM_MAX_BACKENDS];
+    int passes_by_backend[SPM_MAX_BACKENDS];
+    double busy_s[SPM_MAX_BACKENDS]; /* wall time each backend spent rendering its passes */
+    int failed[SPM_MAX_BACKENDS];    /* a backend that failed: its passes went to the others */
     double wall_s;
+    int npasses;                    /* passes the render was cut into */
+    int passes_in_film;             /* passes added to the film (all of them unless cut short) */
     int spp_done;                   /* samples per pixel in the film */
     int interrupted;
 } spm_run_result;
-
-#define SPM_MAX_BACKENDS 16
 
 /* Samples per pixel in one pass: enough paths per pass to fill a device
  * (~64K), depending only on the image size so any device split gives the same passes. */
 spm_u32 spm_spp_per_pass(size_t npix, int spp);
 
+/* The end game: near the end a slow device leaves the last passes to faster
+ * ones rather than hold up the render with a pass of its own. A device that
+ * renders a pass in t_me seconds takes one if it has no estimate yet (t_me <=
+ * 0), if it is the fastest (the others' times t_other[0..n), 0 where unknown,
+ * are none faster: someone must take it), or if the others together
+ * would still be busy with the `left` passes not handed out when it is done:
+ * t_me * sum(1 / t_other) <= left. */
+int spm_run_worth_taking(double t_me, const double *t_other, int n, int left);
+
+/* Renders o->spp samples per pixel into film with backends b[0..nb). Returns 0;
+ * or 1 with err filled when every backend failed before the end (the film then
+ * holds every pass that was finished, added in pass order: nothing rendered is
+ * lost) or the arguments are wrong. An interruption (o->stop) returns 0 with
+ * r->interrupted set. r is filled in every case. */
 int spm_render_run(spm_backend **b, int nb, size_t npix, const spm_run_opts *o, spm_film *film,
                    spm_run_result *r, spm_error *err);
+
+/* Finished pass images wait for any earlier pass still in flight: a fast
+ * device runs ahead of a slow one by at most max_waiting_bytes of them (but
+ * always by two passes per device). spm_render_run allows 256 MiB. */
+int spm_render_run_window(spm_backend **b, int nb, size_t npix, const spm_run_opts *o,
+                          size_t max_waiting_bytes, spm_film *film, spm_run_result *r,
+                          spm_error *err);
 #endif

@@ -30,6 +30,8 @@ void spm_render_config_defaults(spm_render_config *c)
 
 typedef struct {
     int device;
+    char name[256];
+    const spm_render_config *c;
     const spm_backend_input *in;
     spm_backend *b;
     spm_error err;
@@ -38,59 +40,81 @@ typedef struct {
 static void *open_one(void *arg)
 {
     device_open *d = arg;
-    d->b = spm_backend_cl_create(d->device, d->in, &d->err);
+    d->b = (d->c->open_device ? d->c->open_device : spm_backend_cl_create)(d->device, d->in,
+                                                                          &d->err);
     return NULL;
 }
 
-/* Each device builds its program in its own thread: builds run concurrently.
- * A device that cannot be opened is reported; the render goes on with the
- * others, and fails only if none is left. */
-static int open_devices(const spm_render_config *c, const spm_backend_input *in,
-                        spm_render_setup *s, spm_error *err)
+/* The device indices to open, checked: unknown or repeated ones are input errors. */
+static int device_list(const spm_render_config *c, device_open *opens, int *n, spm_error *err)
 {
-    int list[SPM_MAX_BACKENDS], n = 0;
+    int list[SPM_MAX_BACKENDS];
+    *n = 0;
     if (c->all_devices) {
         spm_cl_device *devs;
         int ndev;
         if (spm_cl_devices(&devs, &ndev, err))
             return SPM_EXIT_RUNTIME;
         free(devs);
-        for (int i = 0; i < ndev && n < SPM_MAX_BACKENDS; i++)
-            list[n++] = i;
+        if (ndev > SPM_MAX_BACKENDS)
+            spm_warnf("%d devices; the first %d render", ndev, SPM_MAX_BACKENDS);
+        for (int i = 0; i < ndev && *n < SPM_MAX_BACKENDS; i++)
+            list[(*n)++] = i;
     } else if (c->ndevices) {
-        for (int i = 0; i < c->ndevices; i++)
-            list[n++] = c->devices[i];
+        for (int i = 0; i < c->ndevices && i < SPM_MAX_BACKENDS; i++)
+            list[(*n)++] = c->devices[i];
     } else {
-        list[n++] = 0;
+        list[(*n)++] = 0;
     }
-    for (int i = 0; i < n; i++) {
+    for (int i = 0; i < *n; i++) {
+        for (int j = 0; j < i; j++)
+            if (list[j] == list[i]) {
+                spm_errorf(err, "device %d is listed twice", list[i]);
+                return SPM_EXIT_INPUT;
+            }
         spm_cl_device d;
         if (spm_cl_device_get(list[i], &d, err)) /* unknown index: lists the available ones */
             return SPM_EXIT_INPUT;
+        memset(&opens[i], 0, sizeof opens[i]);
+        opens[i].device = list[i];
+        snprintf(opens[i].name, sizeof opens[i].name, "%s", d.name);
     }
+    return 0;
+}
+
+/* Each device builds its program in its own thread: builds run concurrently
+ * (a thread that cannot be started opens its device in this one). */
+static int open_devices(const spm_render_config *c, const spm_backend_input *in,
+                        spm_render_setup *s, spm_error *err)
+{
     device_open opens[SPM_MAX_BACKENDS];
+    int n, rc = device_list(c, opens, &n, err);
+    if (rc)
+        return rc;
     pthread_t th[SPM_MAX_BACKENDS];
+    int threaded[SPM_MAX_BACKENDS];
     for (int i = 0; i < n; i++) {
-        opens[i] = (device_open){list[i], in, NULL, {{0}}};
-        if (n == 1)
+        opens[i].c = c;
+        opens[i].in = in;
+        threaded[i] = n > 1 && pthread_create(&th[i], NULL, open_one, &opens[i]) == 0;
+        if (!threaded[i])
             open_one(&opens[i]);
-        else
-            pthread_create(&th[i], NULL, open_one, &opens[i]);
     }
-    if (n > 1)
-        for (int i = 0; i < n; i++)
+    for (int i = 0; i < n; i++)
+        if (threaded[i])
             pthread_join(th[i], NULL);
     for (int i = 0; i < n; i++) {
         if (opens[i].b)
             s->b[s->nb++] = opens[i].b;
         else if (n > 1)
-            fprintf(stderr, "specmip: device %d left out: %s\n", list[i], opens[i].err.msg);
+            fprintf(stderr, "specmip: device %d '%s' left out: %s\n", opens[i].device,
+                    opens[i].name, opens[i].err.msg);
         else
             *err = opens[i].err;
     }
     if (!s->nb) {
         if (n > 1)
-            spm_errorf(err, "no device could be opened");
+            spm_errorf(err, "none of the %d devices could be opened", n);
         return SPM_EXIT_RUNTIME;
     }
     return 0;

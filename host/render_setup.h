@@ -15,6 +15,9 @@ typedef struct {
     int devices[SPM_MAX_BACKENDS];
     int ndevices;             /* 0: device 0 */
     int all_devices;          /* --device all */
+    /* Opens one OpenCL device as a backend; NULL: spm_backend_cl_create (tests
+     * put one here that fails for a chosen device, as a kernel build would). */
+    spm_backend *(*open_device)(int device, const spm_backend_input *in, spm_error *err);
     spm_pretest_opts pretest;
     int verbose;
 } spm_render_config;
@@ -30,7 +33,10 @@ typedef struct {
 void spm_render_config_defaults(spm_render_config *c);
 const char *spm_mode_name(int mode);
 int spm_mode_parse(const char *s);  /* -1 if unknown */
-/* Returns 0, or an exit code (2 input error, 1 runtime) with err filled. */
+/* Returns 0, or an exit code (2 input error, 1 runtime) with err filled.
+ * Several devices are opened (programs built) concurrently; one that cannot be
+ * opened is reported by name on stderr and left out, and only when none is
+ * left is that an error. A device index listed twice is an input error. */
 int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_error *err);
 void spm_render_setup_close(spm_render_setup *s);
 #endif

@@ -2,6 +2,18 @@
 
 static double kernel_s(const spm_pass_stats *p) { return p->trace_s + p->shade_s + p->accum_s; }
 
+/* A device's own speed: its paths over the wall time it spent rendering them
+ * (not over the whole render, which would count its idle wait at the end). */
+static double device_rate(const spm_run_result *r, int i)
+{
+    return r->busy_s[i] > 0 ? (double)r->per_backend[i].paths / r->busy_s[i] : 0.0;
+}
+
+static double share(const spm_run_result *r, int i)
+{
+    return r->total.paths ? (double)r->per_backend[i].paths / (double)r->total.paths : 0.0;
+}
+
 static void json_string(FILE *f, const char *s)
 {
     fputc('"', f);
@@ -41,10 +53,11 @@ void spm_render_stats_text(FILE *f, const spm_render_config *c, const spm_render
     }
     for (int i = 0; i < s->nb; i++) {
         const spm_pass_stats *d = &r->per_backend[i];
-        fprintf(f, "device %d     %s: %llu paths (%.1f%%), kernel %.3f s, %.3f Mpaths/s%s\n", i,
-                s->b[i]->name, (unsigned long long)d->paths,
-                t->paths ? 100.0 * (double)d->paths / (double)t->paths : 0.0, kernel_s(d),
-                r->wall_s > 0 ? (double)d->paths / r->wall_s * 1e-6 : 0.0,
+        fprintf(f,
+                "device %d     %s: %llu paths (%.1f%%) in %d passes, kernel %.3f s, busy %.3f s, "
+                "%.3f Mpaths/s%s\n",
+                i, s->b[i]->name, (unsigned long long)d->paths, 100.0 * share(r, i),
+                r->passes_by_backend[i], kernel_s(d), r->busy_s[i], device_rate(r, i) * 1e-6,
                 r->failed[i] ? "  FAILED" : "");
     }
 }
@@ -64,6 +77,7 @@ void spm_render_stats_json(FILE *f, const spm_render_config *c, const spm_render
     fprintf(f, ", \"truncated\": %llu, \"nonfinite\": %llu, \"interrupted\": %s",
             (unsigned long long)t->truncated, (unsigned long long)t->nonfinite,
             r->interrupted ? "true" : "false");
+    fprintf(f, ", \"passes\": %d, \"passes_in_film\": %d", r->npasses, r->passes_in_film);
     fprintf(f, ", \"threshold\": %g, \"levels\": [", c->pretest.threshold);
     for (int l = 0; l < SPM_NUM_LEVELS; l++) {
         const uint64_t *lp = t->level_paths[l];
@@ -79,11 +93,11 @@ void spm_render_stats_json(FILE *f, const spm_render_config *c, const spm_render
         fprintf(f, "%s{\"name\": ", i ? ", " : "");
         json_string(f, s->b[i]->name);
         fprintf(f, ", \"paths\": %llu, \"share\": %.4f, \"passes\": %d, \"kernel_s\": %.6f, "
-                   "\"trace_s\": %.6f, \"shade_s\": %.6f, \"paths_per_s\": %.1f, \"failed\": %s}",
-                (unsigned long long)d->paths,
-                t->paths ? (double)d->paths / (double)t->paths : 0.0, r->passes_by_backend[i],
-                kernel_s(d), d->trace_s, d->shade_s,
-                r->wall_s > 0 ? (double)d->paths / r->wall_s : 0.0, r->failed[i] ? "true" : "false");
+                   "\"trace_s\": %.6f, \"shade_s\": %.6f, \"busy_s\": %.6f, "
+                   "\"paths_per_s\": %.1f, \"failed\": %s}",
+                (unsigned long long)d->paths, share(r, i), r->passes_by_backend[i], kernel_s(d),
+                d->trace_s, d->shade_s, r->busy_s[i], device_rate(r, i),
+                r->failed[i] ? "true" : "false");
     }
     fprintf(f, "]}\n");
 }

@@ -25,6 +25,7 @@ typedef struct {
     int spp;
     spm_u32 seed;
     int size;             /* square image side */
+    double threshold;     /* pretest threshold; 0: the default (2.0) */
 } rt_render_job;
 
 static inline void rt_scene_path(const char *name, char *path, size_t n)
@@ -45,6 +46,8 @@ static inline int rt_render(const rt_render_job *j, rt_render_out *o, rt_inspect
     cfg.spp = j->spp;
     cfg.seed = j->seed;
     cfg.width = cfg.height = j->size;
+    if (j->threshold > 0)
+        cfg.pretest.threshold = j->threshold;
     spm_quiet_warnings = 1;
     memset(o, 0, sizeof *o);
     spm_render_setup s;
@@ -85,8 +88,10 @@ static inline int rt_render(const rt_render_job *j, rt_render_out *o, rt_inspect
 }
 
 /* ΔE00 statistics of b against the reference a after a 5x5 box blur (the
- * inputs are left untouched). 0, or prints why and returns 1. */
-static inline int rt_compare(const spm_image *a, const spm_image *b, spm_de_stats *de00)
+ * inputs are left untouched); map (may be NULL) gets the per-pixel ΔE00, to
+ * free. 0, or prints why and returns 1. */
+static inline int rt_compare_map(const spm_image *a, const spm_image *b, spm_de_stats *de00,
+                                 double **map)
 {
     size_t n = 3 * (size_t)a->width * (size_t)a->height;
     spm_image ca = *a, cb = *b;
@@ -99,14 +104,36 @@ static inline int rt_compare(const spm_image *a, const spm_image *b, spm_de_stat
     memset(&res, 0, sizeof res);
     spm_error err;
     int rc = spm_compare_images(&ca, &cb, &co, &res, &err);
-    if (rc)
+    if (rc) {
         printf("compare: %s\n", err.msg);
-    else
+    } else {
         *de00 = res.de00;
+        if (map) {
+            *map = res.de00_map;
+            res.de00_map = NULL;
+        }
+    }
     spm_compare_result_free(&res);
     free(ca.rgb);
     free(cb.rgb);
     return rc ? 1 : 0;
+}
+
+static inline int rt_compare(const spm_image *a, const spm_image *b, spm_de_stats *de00)
+{
+    return rt_compare_map(a, b, de00, NULL);
+}
+
+/* Index of the scene colour whose name starts with `name` (emissions carry
+ * their scale, e.g. "f11*1000"), or -1. */
+static inline int rt_colour(const spm_scene *sc, const char *name)
+{
+    size_t n = strlen(name);
+    for (int i = 0; i < sc->ncolours; i++)
+        if (!strncmp(sc->colours[i].name, name, n) &&
+            (sc->colours[i].name[n] == 0 || sc->colours[i].name[n] == '*'))
+            return i;
+    return -1;
 }
 
 /* Paths shaded at level l (all set-by reasons). */

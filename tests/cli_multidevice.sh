@@ -1,0 +1,72 @@
+#!/bin/bash
+# specmip render on several OpenCL devices (PoCL's POCL_DEVICES makes them):
+# the same EXR as one device (bit for bit for devices of one kind), per-device
+# statistics, an injected device failure (SPECMIP_CL_FAIL) that the others
+# absorb, all devices failing (exit 1, finished passes written), bad --device.
+set -u
+BIN=$1
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+pass=0 fail=0
+check() {  # check WHAT COMMAND...
+    local what=$1; shift
+    if "$@"; then pass=$((pass + 1)); else fail=$((fail + 1)); echo "FAIL: $what" >&2; fi
+}
+same_exr() { idiff -fail 0 -warn 0 "$1" "$2" > /dev/null; }
+le() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; }
+
+# 128x96 at 24 spp: 6 spp per pass (spm_spp_per_pass), 4 passes to share out.
+R=(render --width 128 --height 96 --spp 24 --seed 3 --quiet)
+BB="basic basic"
+
+POCL_DEVICES=$BB "$BIN" "${R[@]}" --device 0 -o "$T/one.exr" 2> "$T/one.err"
+check "one device: exit 0" test $? -eq 0
+POCL_DEVICES=$BB "$BIN" "${R[@]}" --device all --json -o "$T/two.exr" > "$T/two.json" 2> "$T/two.err"
+check "two devices: exit 0" test $? -eq 0
+check "two devices: same EXR as one device" same_exr "$T/one.exr" "$T/two.exr"
+check "json: two devices" test "$(jq '.devices | length' "$T/two.json")" = 2
+check "json: every path counted" test "$(jq '[.devices[].paths] | add' "$T/two.json")" = $((128 * 96 * 24))
+check "json: shares add up to 1" le "$(jq '[.devices[].share] | add | . - 1 | fabs' "$T/two.json")" 1e-3
+check "json: 4 passes in all" test "$(jq '[.devices[].passes] | add' "$T/two.json")" = 4
+check "json: device names" test "$(jq -r '.devices[0].name' "$T/two.json" | grep -c basic)" = 1
+POCL_DEVICES=$BB "$BIN" "${R[@]}" --device 1,0 --stats -o "$T/list.exr" > "$T/list.txt"
+check "--device 1,0: same EXR" same_exr "$T/one.exr" "$T/list.exr"
+check "--stats: a line per device" test "$(grep -c '^device [01] .*Mpaths/s' "$T/list.txt")" = 2
+
+# Device 1 fails on its first pass: reported by name, device 0 renders it all.
+SPECMIP_CL_FAIL=1:0 POCL_DEVICES=$BB "$BIN" "${R[@]}" --device all --json -o "$T/fail1.exr" \
+    > "$T/fail1.json" 2> "$T/fail1.err"
+check "one device failing: exit 0" test $? -eq 0
+check "failure names the device" grep -q "device '1: basic.*failed" "$T/fail1.err"
+check "json: device 1 failed" test "$(jq '.devices[1].failed' "$T/fail1.json")" = true
+check "one device failing: same EXR" same_exr "$T/one.exr" "$T/fail1.exr"
+
+# The only device fails on its third pass: exit 1, its two passes (12 spp) written.
+SPECMIP_CL_FAIL=0:2 POCL_DEVICES=$BB "$BIN" "${R[@]}" --device 0 -o "$T/dead.exr" 2> "$T/dead.err"
+check "all devices failing: exit 1" test $? -eq 1
+check "all devices failing: says so" grep -q "every device failed; 2 of 4 passes" "$T/dead.err"
+POCL_DEVICES=$BB "$BIN" "${R[@]}" --spp 12 --device 0 -o "$T/half.exr"
+check "all devices failing: finished passes written" same_exr "$T/half.exr" "$T/dead.exr"
+
+# Bad --device values: exit 2 with a message, nothing rendered.
+for bad in 0,0 7 0,x 0, ""; do
+    POCL_DEVICES=$BB "$BIN" "${R[@]}" --device "$bad" -o "$T/bad.exr" 2> "$T/bad.err"
+    check "--device '$bad': exit 2" test $? -eq 2
+    check "--device '$bad': message" grep -q "device" "$T/bad.err"
+done
+check "bad --device: no image" test ! -e "$T/bad.exr"
+
+# Different kinds: only compiler floating point may differ. A split that lost
+# or repeated a pass would differ by the noise of 24 spp (several dE00); the
+# rare path flipped by a last-bit difference (test_multidevice_mixed: <= 1e-3
+# of paths) moves the blurred mean dE00 by far less than 0.1.
+PB="pthread basic"
+pth=$(POCL_DEVICES=$PB "$BIN" devices | grep -m1 'device [0-9]*: pthread' | sed 's/ *device \([0-9]*\):.*/\1/')
+POCL_DEVICES=$PB "$BIN" "${R[@]}" --device "$pth" -o "$T/pth.exr"
+POCL_DEVICES=$PB "$BIN" "${R[@]}" --device all -o "$T/mixed.exr"
+check "pthread + basic: exit 0" test $? -eq 0
+"$BIN" compare "$T/pth.exr" "$T/mixed.exr" --json > "$T/mixed.json"
+check "pthread + basic: mean dE00 below 0.1" le "$(jq .mean "$T/mixed.json")" 0.1
+
+echo "$pass passed, $fail failed"
+test "$fail" -eq 0

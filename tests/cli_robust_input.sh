@@ -1,0 +1,113 @@
+#!/bin/bash
+# Bad input through the CLI, without an OpenCL device (runs in the sanitizer
+# build too): inputs generated here (100 MB lines, random bytes, endless
+# devices) exit 2 naming the file, in bounded time (timeout) and memory (peak
+# RSS within 64 MB of a small bad input's); image sizes and outputs are checked
+# before rendering; a failed or killed run leaves an existing output as it
+# was; SIGTERM writes the image so far; a scene lit only by its sky is valid.
+# usage: bash tests/cli_robust_input.sh /path/to/specmip
+set -u
+BIN=${1:?usage: cli_robust_input.sh SPECMIP}
+HERE=$(cd "$(dirname "$0")" && pwd)
+ROOT=$(dirname "$HERE")
+export SPECMIP_DATA=${SPECMIP_DATA:-$ROOT}
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+SCENE_TAIL='camera position 0 1 -3 direction 0 0 1 fov 40
+spectrum flat equal
+material light emit flat 1
+tri light 0 0 0 1 0 0 0 1 0'
+
+# Peak RSS in KB of a command (GNU time writes it to $T/rss); sets $rc.
+measure() {
+  /usr/bin/time -f "%M" -o "$T/time" timeout 20 "$@" >/dev/null 2>"$T/err"; rc=$?
+  tail -n 1 "$T/time" > "$T/rss"  # a failing command adds a line before
+}
+
+# expect_bad NAME FILE CMD...: exit 2 and a message naming FILE (basename).
+expect_bad() {
+  local what=$1 file=$2; shift 2
+  measure "$@"
+  if [ $rc -eq 2 ] && grep -q "$(basename "$file")" "$T/err"; then ok
+  else bad "$what: rc $rc: $(head -c 300 "$T/err")"; fi
+}
+
+# 1. 100 MB lines (generated, not committed): a 100 MB token in a scene, a
+#    MiniLight file and a CSV row; memory stays near a small bad file's.
+expect_bad "small bad scene" "$ROOT/tests/bad-inputs/scene_truncated.scene" \
+  "$BIN" render "$ROOT/tests/bad-inputs/scene_truncated.scene" -o "$T/o.png"
+base_render=$(cat "$T/rss")
+expect_bad "small bad csv" "$ROOT/tests/bad-inputs/nan_value.csv" \
+  "$BIN" spectrum "$ROOT/tests/bad-inputs/nan_value.csv"
+base_spectrum=$(cat "$T/rss")
+big() { head -c $((100 << 20)) /dev/zero | tr '\0' "$1"; }
+{ echo "image 4 4"; printf 'spp '; big 7; echo; echo "$SCENE_TAIL"; } > "$T/long.scene"
+{ echo "#MiniLight"; big 9; echo; } > "$T/long.ml.txt"
+{ echo "wavelength_nm,value"; printf '380,'; big 1; echo; } > "$T/long.csv"
+for f in long.scene long.ml.txt; do
+  expect_bad "100 MB line in $f" "$f:2:" "$BIN" render "$T/$f" -o "$T/o.png"
+  [ "$(cat "$T/rss")" -lt $((base_render + 65536)) ] && ok || bad "$f: peak RSS $(cat "$T/rss") KB"
+done
+expect_bad "100 MB line in a CSV" "long.csv:2:" "$BIN" spectrum "$T/long.csv"
+[ "$(cat "$T/rss")" -lt $((base_spectrum + 65536)) ] && ok || bad "long.csv: peak RSS $(cat "$T/rss") KB"
+rm -f "$T"/long.*
+
+# 2. Binary garbage: 1 MB of random bytes as each kind of input, and devices
+#    that never end (as the scene and as a spectrum file a scene names).
+head -c $((1 << 20)) /dev/urandom > "$T/garbage.scene"
+cp "$T/garbage.scene" "$T/garbage.csv"
+{ echo "#MiniLight"; cat "$T/garbage.scene"; } > "$T/garbage.ml.txt"
+for f in garbage.scene garbage.ml.txt; do
+  expect_bad "$f" "$f" "$BIN" render "$T/$f" -o "$T/o.png"
+done
+expect_bad garbage.csv garbage.csv "$BIN" spectrum "$T/garbage.csv"
+for dev in /dev/zero /dev/urandom; do
+  expect_bad "scene $dev" "$dev" "$BIN" render "$dev" -o "$T/o.png"
+  expect_bad "spectrum $dev" "$dev" "$BIN" spectrum "$dev"
+  { echo "image 4 4"; echo "$SCENE_TAIL"; echo "spectrum d file $dev"; } > "$T/dev.scene"
+  expect_bad "scene naming $dev" dev.scene "$BIN" render "$T/dev.scene" -o "$T/o.png"
+done
+
+# 3. Refused before rendering: a render of a million samples per pixel on the
+#    CPU would outlast `timeout 20`, so exit 2 (not 124) shows nothing ran.
+slow=(--backend cpu --spp 1000000 --width 64 --height 64)
+touch "$T/file"
+for o in "$T/nodir/x.png" "$T/file/x.png" /proc/self/x.png "$T/x.bmp" "$T"; do
+  timeout 20 "$BIN" render "${slow[@]}" -o "$o" 2>"$T/err"; rc=$?
+  [ $rc -eq 2 ] && grep -q "$o" "$T/err" && ok || bad "output $o: rc $rc $(cat "$T/err")"
+done
+for size in "--width 0" "--height 16385" "--width -3" "--width 1e9" "--height 12x"; do
+  timeout 20 "$BIN" render $size "${slow[@]:0:4}" -o "$T/o.png" 2>"$T/err"; rc=$?
+  [ $rc -eq 2 ] && ok || bad "image size '$size': rc $rc"
+done
+
+# 4. Nothing lost: an existing output survives a bad scene, a bad second
+#    output, and a run killed (SIGKILL) in the middle of rendering.
+echo "precious" > "$T/keep.png"
+"$BIN" render "$ROOT/tests/bad-inputs/scene_truncated.scene" -o "$T/keep.png" 2>/dev/null
+"$BIN" render "${slow[@]}" -o "$T/keep.png" -o "$T/nodir/y.exr" 2>/dev/null
+"$BIN" render "${slow[@]}" -o "$T/keep.png" --quiet & pid=$!
+sleep 2
+kill -KILL $pid; wait $pid 2>/dev/null
+[ "$(cat "$T/keep.png")" = "precious" ] && ok || bad "an existing output was changed by a failed run"
+
+# 5. SIGTERM: the current pass ends, the image so far replaces the old file
+#    (a complete PNG and EXR), exit 130 as for SIGINT.
+echo "old" > "$T/term.png"
+"$BIN" render "${slow[@]}" -o "$T/term.png" -o "$T/term.exr" --quiet 2>"$T/err" & pid=$!
+sleep 2
+kill -TERM $pid; wait $pid; rc=$?
+[ $rc -eq 130 ] && ok || bad "SIGTERM exit code $rc"
+head -c 4 "$T/term.png" | grep -q PNG && ok || bad "SIGTERM: no PNG written"
+oiiotool "$T/term.exr" --printstats 2>/dev/null | grep -q "NanCount: 0 0 0" && ok || bad "SIGTERM: EXR unreadable or not finite"
+grep -q "interrupted after" "$T/err" && ok || bad "SIGTERM: no message $(cat "$T/err")"
+
+# 6. Valid stays valid: a scene lit only by its background renders.
+"$BIN" render "$ROOT/tests/data/scenes/sky_only.scene" --backend cpu --spp 2 -o "$T/sky.exr" --quiet
+[ $? -eq 0 ] && [ -s "$T/sky.exr" ] && ok || bad "sky-only scene refused"
+
+echo "$pass passed, $fail failed"
+[ $fail -eq 0 ]

@@ -1,0 +1,306 @@
+/* The render loop's scheduling with stand-in backends (no OpenCL): whatever
+ * the number of devices, their speeds and failures, the film equals the one
+ * device film bit for bit; a failed device's pass is rendered by another; when
+ * all fail, every finished pass is still in the film; a fast device runs ahead
+ * of a slow one only within the window; the end game's decision. */
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include "render_run.h"
+#include "testutil.h"
+
+#define W 7
+#define H 5
+#define NPIX (W * H)
+#define SPP 37
+#define SPP_PER_PASS 3 /* 13 passes, the last one of a single sample */
+#define NPASSES ((SPP + SPP_PER_PASS - 1) / SPP_PER_PASS)
+
+/* A sample's XYZ: a function of (pixel, sample) only, with all 24 mantissa
+ * bits in use so that any change of summation order shows in the film. */
+static float sample_value(size_t pix, spm_u32 sample, int c)
+{
+    spm_u32 h = (spm_u32)pix * 2654435761u ^ (sample + 1u) * 2246822519u ^ (spm_u32)c * 3266489917u;
+    h ^= h >> 15;
+    h *= 2246822519u;
+    h ^= h >> 13;
+    return (float)(h >> 8) * (1.0f / 16777216.0f) * 97.0f;
+}
+
+static void pass_image(spm_u32 first, spm_u32 spp, float *img)
+{
+    for (size_t i = 0; i < NPIX; i++)
+        for (int c = 0; c < 3; c++) {
+            float sum = 0.0f;
+            for (spm_u32 s = first; s < first + spp; s++)
+                sum += sample_value(i, s, c);
+            img[3 * i + c] = sum;
+        }
+}
+
+typedef struct {
+    int delay_us;               /* per pass: the device's speed */
+    int fail_at;                /* its pass number (counted per device) that fails; -1 never */
+    int first_delay_us;         /* extra on its first pass */
+    int passes;                 /* passes it was handed */
+    volatile sig_atomic_t *stop_after; /* set this flag after the device's second pass */
+    int done_first[NPASSES];    /* first samples of the passes it finished */
+    int ndone;
+} fake;
+
+static volatile int slow_busy;  /* the window test: the slow device is in its first pass */
+static int fast_while_slow;     /* passes another device finished meanwhile */
+
+static int fake_pass(spm_backend *b, spm_u32 first, spm_u32 spp, float *img, spm_pass_stats *st,
+                     spm_error *err)
+{
+    fake *f = b->impl;
+    int n = f->passes++;
+    if (n == f->fail_at) {
+        spm_errorf(err, "injected failure");
+        return 1;
+    }
+    if (n == 0 && f->first_delay_us) {
+        __atomic_store_n(&slow_busy, 1, __ATOMIC_SEQ_CST);
+        usleep((useconds_t)f->first_delay_us);
+        __atomic_store_n(&slow_busy, 0, __ATOMIC_SEQ_CST);
+    } else if (__atomic_load_n(&slow_busy, __ATOMIC_SEQ_CST)) {
+        __atomic_add_fetch(&fast_while_slow, 1, __ATOMIC_SEQ_CST);
+    }
+    usleep((useconds_t)f->delay_us);
+    pass_image(first, spp, img);
+    st->paths += (uint64_t)NPIX * spp;
+    f->done_first[f->ndone++] = (int)first;
+    if (f->stop_after && f->ndone == 2)
+        *f->stop_after = 1;
+    return 0;
+}
+
+static void fake_destroy(spm_backend *b) { (void)b; }
+
+static void make(spm_backend *b, fake *f, int delay_us, int fail_at)
+{
+    memset(f, 0, sizeof *f);
+    f->delay_us = delay_us;
+    f->fail_at = fail_at;
+    memset(b, 0, sizeof *b);
+    snprintf(b->name, sizeof b->name, "fake %d us", delay_us);
+    b->pass = fake_pass;
+    b->destroy = fake_destroy;
+    b->impl = f;
+}
+
+static int run(spm_backend *bs, int nb, volatile sig_atomic_t *stop, size_t window_bytes,
+               spm_film *film, spm_run_result *r, spm_error *err)
+{
+    spm_backend *b[SPM_MAX_BACKENDS];
+    for (int i = 0; i < nb; i++)
+        b[i] = &bs[i];
+    spm_run_opts o = {SPP, SPP_PER_PASS, stop, 0};
+    spm_film_init(film, W, H, err);
+    return window_bytes ? spm_render_run_window(b, nb, NPIX, &o, window_bytes, film, r, err)
+                        : spm_render_run(b, nb, NPIX, &o, film, r, err);
+}
+
+static int same_film(const spm_film *a, const spm_film *b)
+{
+    return a->samples == b->samples && !memcmp(a->sum, b->sum, sizeof(double) * 3 * NPIX);
+}
+
+/* The film of exactly the passes whose first samples are marked, added in pass order. */
+static void film_of(const int *marked, spm_film *film)
+{
+    spm_error err;
+    spm_film_init(film, W, H, &err);
+    float img[3 * NPIX];
+    for (int p = 0; p < NPASSES; p++) {
+        spm_u32 first = (spm_u32)p * SPP_PER_PASS, spp = SPP - first < SPP_PER_PASS ? SPP - first
+                                                                                     : SPP_PER_PASS;
+        if (marked[first]) {
+            pass_image(first, spp, img);
+            spm_film_add_pass(film, img, (int)spp);
+        }
+    }
+}
+
+static void splits(const spm_film *ref)
+{
+    spm_backend b[3];
+    fake f[3];
+    spm_film film;
+    spm_run_result r;
+    spm_error err;
+    /* unequal speeds: the devices take unequal shares, the film is the same */
+    make(&b[0], &f[0], 300, -1);
+    make(&b[1], &f[1], 1000, -1);
+    make(&b[2], &f[2], 0, -1);
+    int rc = run(b, 3, NULL, 0, &film, &r, &err);
+    CHECK(rc == 0, "3 devices: %s", err.msg);
+    CHECK(same_film(ref, &film), "3 devices: film differs from one device's");
+    CHECK(r.passes_by_backend[0] + r.passes_by_backend[1] + r.passes_by_backend[2] == NPASSES,
+          "passes %d+%d+%d", r.passes_by_backend[0], r.passes_by_backend[1], r.passes_by_backend[2]);
+    CHECK(r.total.paths == (uint64_t)NPIX * SPP && r.spp_done == SPP && r.passes_in_film == NPASSES,
+          "paths %llu, spp %d", (unsigned long long)r.total.paths, r.spp_done);
+    CHECK(!r.failed[0] && !r.failed[1] && !r.failed[2] && !r.interrupted, "no failure flagged");
+    spm_film_free(&film);
+
+    /* device 1 fails on its second pass: device 0 renders it */
+    make(&b[0], &f[0], 200, -1);
+    make(&b[1], &f[1], 200, 1);
+    rc = run(b, 2, NULL, 0, &film, &r, &err);
+    CHECK(rc == 0, "one device failing: %s", err.msg);
+    CHECK(same_film(ref, &film), "one device failing: film differs from one device's");
+    CHECK(r.failed[1] && !r.failed[0], "failed flags %d %d", r.failed[0], r.failed[1]);
+    CHECK(r.passes_by_backend[1] == 1 && r.passes_by_backend[0] == NPASSES - 1,
+          "passes %d + %d", r.passes_by_backend[0], r.passes_by_backend[1]);
+    spm_film_free(&film);
+
+    /* a device failing on its very first pass */
+    make(&b[0], &f[0], 0, 0);
+    make(&b[1], &f[1], 0, -1);
+    rc = run(b, 2, NULL, 0, &film, &r, &err);
+    CHECK(rc == 0 && same_film(ref, &film) && r.passes_by_backend[1] == NPASSES,
+          "first device failing at once: rc %d, passes %d", rc, r.passes_by_backend[1]);
+    spm_film_free(&film);
+}
+
+/* Every device fails: an error, and the film holds every finished pass (also
+ * those after a pass that was never rendered), in pass order. */
+static void all_fail(void)
+{
+    spm_backend b[2];
+    fake f[2];
+    spm_film film, want;
+    spm_run_result r;
+    spm_error err;
+    make(&b[0], &f[0], 500, 4);
+    make(&b[1], &f[1], 100, 3);
+    int rc = run(b, 2, NULL, 0, &film, &r, &err);
+    CHECK(rc == 1, "all devices failed, rc %d", rc);
+    CHECK(strstr(err.msg, "every device failed") != NULL, "message '%s'", err.msg);
+    CHECK(r.failed[0] && r.failed[1], "failed flags %d %d", r.failed[0], r.failed[1]);
+    int marked[SPP] = {0}, spp = 0;
+    for (int k = 0; k < 2; k++)
+        for (int i = 0; i < f[k].ndone; i++) {
+            marked[f[k].done_first[i]] = 1;
+            spp += SPP - f[k].done_first[i] < SPP_PER_PASS ? SPP - f[k].done_first[i] : SPP_PER_PASS;
+        }
+    CHECK(r.passes_in_film == f[0].ndone + f[1].ndone && r.passes_in_film == 7,
+          "%d passes in the film, %d + %d finished", r.passes_in_film, f[0].ndone, f[1].ndone);
+    CHECK(r.spp_done == spp && film.samples == spp, "spp %d, film %lld, finished %d", r.spp_done,
+          film.samples, spp);
+    film_of(marked, &want);
+    CHECK(same_film(&want, &film), "film is not the finished passes in order");
+    spm_film_free(&film);
+    spm_film_free(&want);
+}
+
+/* Stopping: passes in flight finish, no more are handed out, no error. */
+static void stopped(void)
+{
+    spm_backend b[2];
+    fake f[2];
+    spm_film film, want;
+    spm_run_result r;
+    spm_error err;
+    volatile sig_atomic_t stop = 0;
+    make(&b[0], &f[0], 1000, -1);
+    make(&b[1], &f[1], 1000, -1);
+    f[0].stop_after = &stop;
+    int rc = run(b, 2, &stop, 0, &film, &r, &err);
+    CHECK(rc == 0 && r.interrupted, "stop: rc %d interrupted %d", rc, r.interrupted);
+    CHECK(r.passes_in_film >= 2 && r.passes_in_film < NPASSES, "%d passes", r.passes_in_film);
+    int marked[SPP] = {0};
+    for (int p = 0; p < r.passes_in_film; p++)
+        marked[p * SPP_PER_PASS] = 1; /* a prefix: nothing failed */
+    film_of(marked, &want);
+    CHECK(same_film(&want, &film), "stopped film is not the first passes");
+    spm_film_free(&film);
+    spm_film_free(&want);
+}
+
+/* A slow first pass on one device: with a window of 2 passes per device the
+ * other finishes at most 4 passes meanwhile (without one, all 12 others). */
+static void window(const spm_film *ref)
+{
+    spm_backend b[2];
+    fake f[2];
+    spm_film film;
+    spm_run_result r;
+    spm_error err;
+    make(&b[0], &f[0], 0, -1);
+    make(&b[1], &f[1], 0, -1);
+    f[0].first_delay_us = 300000;
+    fast_while_slow = 0;
+    int rc = run(b, 2, NULL, 1, &film, &r, &err);
+    CHECK(rc == 0 && same_film(ref, &film), "window: rc %d", rc);
+    CHECK(fast_while_slow <= 4, "%d passes finished while one was in flight (window 4)",
+          fast_while_slow);
+    spm_film_free(&film);
+}
+
+/* The end game's decision (render_run.h): t_me * sum(1/t_other) <= left. */
+static void end_game(void)
+{
+    double fast = 0.002, slow = 0.010, unknown = 0.0, three[2] = {0.004, 0.004};
+    CHECK(spm_run_worth_taking(0.0, &fast, 1, 1), "no estimate yet: takes");
+    CHECK(spm_run_worth_taking(fast, &slow, 1, 1), "the fastest takes the last pass");
+    CHECK(spm_run_worth_taking(slow, &fast, 1, 5), "slow device, 5 left: takes (5 fast passes = 1 slow)");
+    CHECK(!spm_run_worth_taking(slow, &fast, 1, 4), "slow device, 4 left: leaves them to the fast one");
+    CHECK(spm_run_worth_taking(slow, &unknown, 1, 1), "other speed unknown: takes");
+    CHECK(spm_run_worth_taking(0.004, three, 2, 1), "equal speeds, 1 left: takes (a tie)");
+    CHECK(!spm_run_worth_taking(0.008, three, 2, 3), "half speed of two others, 3 left: leaves them");
+    CHECK(spm_run_worth_taking(0.008, three, 2, 4), "half speed of two others, 4 left: takes");
+}
+
+static void arguments(void)
+{
+    /* passes depend only on the image size (and spp, as a cap) */
+    CHECK(spm_spp_per_pass(65536, 100) == 1, "65536 px: %u", spm_spp_per_pass(65536, 100));
+    CHECK(spm_spp_per_pass(4096, 100) == 16, "4096 px: %u", spm_spp_per_pass(4096, 100));
+    CHECK(spm_spp_per_pass(4096, 5) == 5, "4096 px, 5 spp: %u", spm_spp_per_pass(4096, 5));
+    CHECK(spm_spp_per_pass(1 << 22, 4) == 1, "4M px: %u", spm_spp_per_pass(1 << 22, 4));
+    CHECK(spm_spp_per_pass(100, 0) == 1, "0 spp: %u", spm_spp_per_pass(100, 0));
+    spm_backend b;
+    fake f;
+    spm_film film;
+    spm_run_result r;
+    spm_error err;
+    make(&b, &f, 0, -1);
+    spm_backend *bp = &b;
+    spm_run_opts o = {SPP, 0, NULL, 0};
+    spm_film_init(&film, W, H, &err);
+    CHECK(spm_render_run(&bp, 1, NPIX, &o, &film, &r, &err) == 1, "0 spp per pass accepted");
+    o.spp_per_pass = 1;
+    CHECK(spm_render_run(&bp, 0, NPIX, &o, &film, &r, &err) == 1, "0 devices accepted");
+    CHECK(film.samples == 0, "film touched by a refused render");
+    spm_film_free(&film);
+}
+
+int main(void)
+{
+    alarm(60); /* a scheduling deadlock fails the test instead of hanging it */
+    spm_backend b;
+    fake f;
+    spm_film ref;
+    spm_run_result r;
+    spm_error err;
+    make(&b, &f, 0, -1);
+    CHECK(run(&b, 1, NULL, 0, &ref, &r, &err) == 0, "one device: %s", err.msg);
+    int all[SPP];
+    for (int i = 0; i < SPP; i++)
+        all[i] = 1;
+    spm_film direct;
+    film_of(all, &direct);
+    CHECK(same_film(&direct, &ref), "one device film is not the passes in order");
+    spm_film_free(&direct);
+    splits(&ref);
+    all_fail();
+    stopped();
+    window(&ref);
+    end_game();
+    arguments();
+    spm_film_free(&ref);
+    TEST_END();
+}
