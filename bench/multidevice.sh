@@ -9,8 +9,12 @@
 # Runs are interleaved (a, b, c, a, b, c, ...) so load from other work on the
 # machine falls on every configuration alike; each reports its best of REPEAT
 # runs (other work only ever slows a run down) and the spread (worst/best).
-# Paths/s is the render loop's (paths / wall time of the passes): program
-# builds are left out, the first pass's kernel compilation is in.
+# A device's idle time (wall - busy) is what the split's imbalance at the end
+# cost it. Paths/s is the render loop's (paths / wall time of the passes): program
+# builds are left out, the first pass's kernel compilation is in. Each line
+# also shows the cores the render got (process CPU s / wall s) and the paths
+# per CPU second: on a busy machine the first falls short of the devices'
+# thread count, while the second shows whether splitting cost any work.
 # usage: bench/multidevice.sh [path/to/specmip]   (default build/specmip)
 # env:   SCENE (the default Cornell box), SIZE (256), SPP (64), REPEAT (3),
 #        OUT (a temporary directory)
@@ -57,15 +61,18 @@ def best(name):
 def line(label, name):
     b, spread = best(name)
     print(f"  {label:<28} {b['paths_per_s'] / 1e6:7.3f} Mpaths/s  (wall {b['wall_s']:.2f} s, "
-          f"worst run {spread:.2f} of best)")
+          f"worst run {spread:.2f} of best; {b['cpu_s'] / b['wall_s']:.2f} cores, "
+          f"{b['paths'] / b['cpu_s'] / 1e6:.3f} Mpaths per CPU s)")
     return b
 
 print(f"\n1. POCL_DEVICES='basic basic'  ({n} runs each, best)")
 one = line("one device (--device 0)", "bb_one")
 two = line("two devices (--device all)", "bb_two")
 for d in two["devices"]:
-    print(f"     {d['name'][:40]:<40} share {d['share']:.3f}  {d['paths_per_s'] / 1e6:.3f} Mpaths/s busy")
-print(f"  two / one = {two['paths_per_s'] / one['paths_per_s']:.2f}x   (goal >= 1.8x)")
+    print(f"     {d['name'][:40]:<40} share {d['share']:.3f}  {d['paths_per_s'] / 1e6:.3f} Mpaths/s busy"
+          f"  idle {two['wall_s'] - d['busy_s']:.3f} s")
+print(f"  two / one = {two['paths_per_s'] / one['paths_per_s']:.2f}x   (goal >= 1.8x); "
+      f"per CPU second {two['paths'] / two['cpu_s'] / (one['paths'] / one['cpu_s']):.2f}x")
 
 print(f"\n2. POCL_DEVICES='pthread basic'")
 p = line("pthread alone", "pb_pthread")
@@ -77,7 +84,7 @@ for d in both["devices"]:
     print(f"     {d['name'][:40]:<40} share {d['share']:.3f}  "
           f"(speed share alone {alone[kind] / sum(alone.values()):.3f}, "
           f"in the joint run {d['paths_per_s'] / sum(x['paths_per_s'] for x in both['devices']):.3f})"
-          f"  {d['passes']} passes")
+          f"  {d['passes']} passes, idle {both['wall_s'] - d['busy_s']:.3f} s")
 print(f"  both / pthread alone = {both['paths_per_s'] / p['paths_per_s']:.2f}x   (goal >= 1.0x)")
 PY
 echo

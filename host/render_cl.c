@@ -16,6 +16,8 @@ static const char *slot_kernel[NSLOTS] = {"spm_shade_l0",    "spm_shade_l1",  "s
  * amortises the per-group cost and keeps the last group's waste small). */
 #define LOCAL_SIZE 64
 #define NCOUNTERS 4 /* truncated paths, BVH stack overflows, non-finite samples */
+/* How far ahead a CPU work-item prefetches a record (kernels/shade.cl). */
+#define PREFETCH_AHEAD 16
 
 struct spm_cl_renderer {
     spm_cl_ctx cl;
@@ -30,10 +32,10 @@ struct spm_cl_renderer {
     cl_mem tris, nodes, emitters, mats, lvlk;
     /* per-pass buffers, grown on demand */
     size_t cap;
-    cl_mem paths, levels, idx, xyz, pass, counters;
+    cl_mem paths, levels, idx, ident, xyz, pass, counters;
     uint8_t *h_levels;
-    spm_u32 *h_idx;
-    size_t ident_n; /* h_idx/idx hold the identity for this many paths (modes without levels) */
+    spm_u32 *h_idx; /* bucket indices, the source of idx's non-blocking upload */
+    size_t lhist[256]; /* ml, mlc: the pass's level bytes counted by value (bucket()) */
     spm_u32 zero[NCOUNTERS];
     long npasses;
     long fail_pass; /* SPECMIP_CL_FAIL: this pass fails (-1: never) */
@@ -212,7 +214,9 @@ static int build(spm_cl_renderer *r, const spm_tables *t, const int need[NSLOTS]
     if (need[SLOT_RGB])
         n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_RGB");
     if (need[SLOT_HERO])
-        snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_HERO");
+        n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_HERO");
+    if (r->cl.dev.type & CL_DEVICE_TYPE_CPU)
+        snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_PREFETCH=%d", PREFETCH_AHEAD);
     const char *files[] = {"kernels/trace.cl", "kernels/shade.cl"};
     if (spm_cl_build(&r->cl, files, 2, defs, &r->prog, err))
         return 1;
@@ -332,7 +336,7 @@ void spm_cl_destroy(spm_cl_renderer *r)
     if (r->prog)
         clReleaseProgram(r->prog);
     cl_mem *ms[] = {&r->hero, &r->tris,  &r->nodes, &r->emitters, &r->mats, &r->lvlk,
-                    &r->paths, &r->levels, &r->idx, &r->xyz, &r->pass, &r->counters};
+                    &r->paths, &r->levels, &r->idx, &r->ident, &r->xyz, &r->pass, &r->counters};
     for (size_t i = 0; i < sizeof ms / sizeof *ms; i++)
         release(ms[i]);
     spm_cl_ctx_release(&r->cl);
@@ -354,18 +358,22 @@ static int reserve(spm_cl_renderer *r, size_t n, spm_error *err)
     release(&r->paths);
     release(&r->levels);
     release(&r->idx);
+    release(&r->ident);
     release(&r->xyz);
     r->cap = 0;
-    r->ident_n = 0;
+    r->h_idx = spm_xrealloc(r->h_idx, n * sizeof *r->h_idx);
+    for (size_t i = 0; i < n; i++)
+        r->h_idx[i] = (spm_u32)i;
     if (new_buffer(r, &r->paths, CL_MEM_READ_WRITE, n * sizeof(spm_path), NULL, "path records",
                    err) ||
         new_buffer(r, &r->levels, CL_MEM_READ_WRITE, n, NULL, "level bytes", err) ||
+        new_buffer(r, &r->ident, CL_MEM_READ_ONLY, n * sizeof(spm_u32), r->h_idx,
+                   "identity indices", err) ||
         new_buffer(r, &r->idx, CL_MEM_READ_ONLY, n * sizeof(spm_u32), NULL, "bucket indices",
                    err) ||
         new_buffer(r, &r->xyz, CL_MEM_READ_WRITE, n * 3 * sizeof(float), NULL, "path XYZ", err))
         return 1;
     r->h_levels = spm_xrealloc(r->h_levels, n);
-    r->h_idx = spm_xrealloc(r->h_idx, n * sizeof *r->h_idx);
     r->cap = n;
     return 0;
 }
@@ -418,48 +426,75 @@ static int run_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size
     return enqueue(r, r->k_trace, "spm_trace", 0, n, ev, err);
 }
 
-/* Counting sort of the paths by shade kernel, stable (ascending path index in
- * a bucket). Modes without levels: one bucket, the identity. */
-static int bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t off[NSLOTS + 1],
-                  spm_error *err)
+/* Which shade kernel a mode without levels uses for every path. */
+static int mode_slot(int mode)
 {
-    memset(off, 0, (NSLOTS + 1) * sizeof *off);
+    return mode == SPM_MODE_TRUTH ? SLOT_TRUTH
+           : mode == SPM_MODE_RGB ? SLOT_RGB
+           : mode == SPM_MODE_HERO ? SLOT_HERO
+                                   : 0;
+}
+
+/* h[b] = how many of the n bytes equal b. Four partial counts: with one, a run
+ * of equal bytes (every path at one level) chains each increment to the last
+ * through memory, 3.5x slower (measured). */
+static void byte_histogram(const uint8_t *v, size_t n, size_t h[256])
+{
+    size_t part[4][256] = {{0}};
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        part[0][v[i]]++;
+        part[1][v[i + 1]]++;
+        part[2][v[i + 2]]++;
+        part[3][v[i + 3]]++;
+    }
+    for (; i < n; i++)
+        part[0][v[i]]++;
+    for (int b = 0; b < 256; b++)
+        h[b] = part[0][b] + part[1][b] + part[2][b] + part[3][b];
+}
+
+/* Bucket the n paths by shade kernel: slot s shades entries off[s] ..
+ * off[s+1] of the index list *ids. When one kernel takes every path (modes
+ * without levels, and ml scenes whose paths all get one level, like the
+ * default Cornell box) the list is the identity, on the device since
+ * reserve(): no sort and no upload. Otherwise a stable counting sort goes to
+ * r->idx (a non-blocking upload: h_idx is not rewritten before the pass ends). */
+static int bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t off[NSLOTS + 1],
+                  cl_mem *ids, spm_error *err)
+{
+    size_t cnt[NSLOTS] = {0};
     if (!uses_levels(r->mode)) {
-        int slot = r->mode == SPM_MODE_TRUTH ? SLOT_TRUTH
-                   : r->mode == SPM_MODE_RGB ? SLOT_RGB
-                   : r->mode == SPM_MODE_HERO ? SLOT_HERO
-                                              : 0;
-        for (int s = slot + 1; s <= NSLOTS; s++)
-            off[s] = n;
-        if (r->ident_n < n) {
-            for (size_t i = 0; i < n; i++)
-                r->h_idx[i] = (spm_u32)i;
-            r->ident_n = n;
-            CK(clEnqueueWriteBuffer(r->cl.queue, r->idx, CL_FALSE, 0, n * sizeof(spm_u32),
-                                    r->h_idx, 0, NULL, NULL),
-               "clEnqueueWriteBuffer(bucket indices)");
+        cnt[mode_slot(r->mode)] = n;
+    } else {
+        size_t lc[SPM_LEVEL_MASK + 1] = {0};
+        byte_histogram(levels, n, r->lhist);
+        for (int b = 0; b < 256; b++)
+            lc[b & SPM_LEVEL_MASK] += r->lhist[b];
+        for (int l = 0; l <= (int)SPM_LEVEL_MASK; l++) {
+            if (lc[l] && (l >= SPM_NUM_LEVELS || !r->k_shade[l])) {
+                spm_errorf(err, "%zu paths need level %d, which this scene's program does not have",
+                           lc[l], l);
+                return 1;
+            }
+            if (l < SPM_NUM_LEVELS)
+                cnt[l] = lc[l];
         }
+    }
+    int used = 0;
+    off[0] = 0;
+    for (int s = 0; s < NSLOTS; s++) {
+        off[s + 1] = off[s] + cnt[s];
+        used += cnt[s] > 0;
+    }
+    *ids = r->ident;
+    if (used <= 1)
         return 0;
-    }
-    size_t cnt[SPM_LEVEL_MASK + 1] = {0};
-    for (size_t i = 0; i < n; i++)
-        cnt[levels[i] & SPM_LEVEL_MASK]++;
-    for (int l = 0; l <= (int)SPM_LEVEL_MASK; l++) {
-        if (cnt[l] && (l >= SPM_NUM_LEVELS || !r->k_shade[l])) {
-            spm_errorf(err, "%zu paths need level %d, which this scene's program does not have",
-                       cnt[l], l);
-            return 1;
-        }
-        if (l < SPM_NUM_LEVELS)
-            off[l + 1] = off[l] + cnt[l];
-    }
-    for (int s = SPM_NUM_LEVELS + 1; s <= NSLOTS; s++)
-        off[s] = n;
     size_t pos[SPM_NUM_LEVELS];
     memcpy(pos, off, sizeof pos);
     for (size_t i = 0; i < n; i++)
         r->h_idx[pos[levels[i] & SPM_LEVEL_MASK]++] = (spm_u32)i;
-    r->ident_n = 0;
+    *ids = r->idx;
     CK(clEnqueueWriteBuffer(r->cl.queue, r->idx, CL_FALSE, 0, n * sizeof(spm_u32), r->h_idx, 0,
                             NULL, NULL),
        "clEnqueueWriteBuffer(bucket indices)");
@@ -468,25 +503,32 @@ static int bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t of
 
 /* Enqueue the shade kernel of every non-empty bucket; events in ev[slot]. */
 static int run_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp,
-                     const size_t off[NSLOTS + 1], cl_event ev[NSLOTS], spm_error *err)
+                     const size_t off[NSLOTS + 1], cl_mem ids, cl_event ev[NSLOTS],
+                     spm_error *err)
 {
     for (int s = 0; s < NSLOTS; s++) {
         ev[s] = NULL;
         size_t cnt = off[s + 1] - off[s];
         if (!cnt)
             continue;
-        spm_u32 end = (spm_u32)off[s + 1];
+        /* The bucket's start is an argument, not a global offset: PoCL 3.1
+         * matches a finished launch to its compiled work-group function by
+         * local size only, so zero- and non-zero-offset launches of one
+         * kernel in flight at once (two devices) corrupt its reference
+         * counts (an assertion in pocl_release_dlhandle_cache). */
+        spm_u32 begin = (spm_u32)off[s], end = (spm_u32)off[s + 1];
         spm_u32 seed = r->params.seed;
-        /* shade_body.clh: (paths, idx, n, tab, cmf [, hero, seed, spp, first_sample], xyz) */
+        /* shade_body.clh: (paths, idx, begin, end, tab, cmf [, hero, seed, spp,
+         * first_sample], xyz) */
         const size_t m = sizeof(cl_mem), u = sizeof(spm_u32);
-        const size_t sz_hero[] = {m, m, u, m, m, m, u, u, u, m};
-        const void *val_hero[] = {&r->paths, &r->idx, &end, &r->tab[s], &r->cmf[s],
-                                  &r->hero,  &seed,   &spp, &first_sample, &r->xyz};
-        const size_t sz[] = {m, m, u, m, m, m};
-        const void *val[] = {&r->paths, &r->idx, &end, &r->tab[s], &r->cmf[s], &r->xyz};
-        int rc = s == SLOT_HERO ? set_args(r->k_shade[s], slot_kernel[s], 10, sz_hero, val_hero, err)
-                                : set_args(r->k_shade[s], slot_kernel[s], 6, sz, val, err);
-        if (rc || enqueue(r, r->k_shade[s], slot_kernel[s], off[s], cnt, &ev[s], err))
+        const size_t sz_hero[] = {m, m, u, u, m, m, m, u, u, u, m};
+        const void *val_hero[] = {&r->paths, &ids, &begin, &end, &r->tab[s], &r->cmf[s],
+                                  &r->hero,  &seed, &spp,  &first_sample, &r->xyz};
+        const size_t sz[] = {m, m, u, u, m, m, m};
+        const void *val[] = {&r->paths, &ids, &begin, &end, &r->tab[s], &r->cmf[s], &r->xyz};
+        int rc = s == SLOT_HERO ? set_args(r->k_shade[s], slot_kernel[s], 11, sz_hero, val_hero, err)
+                                : set_args(r->k_shade[s], slot_kernel[s], 7, sz, val, err);
+        if (rc || enqueue(r, r->k_shade[s], slot_kernel[s], 0, cnt, &ev[s], err))
             return 1;
     }
     return 0;
@@ -505,18 +547,17 @@ static double release_events(cl_event *ev, int n)
 }
 
 /* Paths per level and set-by (as spm_count_levels: level 0, none, in modes
- * without levels). Levels were checked by bucket(). */
-static void count_levels(const spm_cl_renderer *r, const uint8_t *levels, size_t n,
-                         spm_pass_stats *st)
+ * without levels), from bucket()'s histogram; it checked the levels. */
+static void count_levels(const spm_cl_renderer *r, size_t n, spm_pass_stats *st)
 {
     st->paths += n;
     if (!uses_levels(r->mode)) {
         st->level_paths[0][SPM_SETBY_NONE] += n;
         return;
     }
-    for (size_t i = 0; i < n; i++) {
-        spm_u32 by = (levels[i] >> SPM_SETBY_SHIFT) & 3u;
-        st->level_paths[levels[i] & SPM_LEVEL_MASK][by > 2 ? 0 : by]++;
+    for (int b = 0; b < 256; b++) {
+        spm_u32 by = ((spm_u32)b >> SPM_SETBY_SHIFT) & 3u;
+        st->level_paths[b & SPM_LEVEL_MASK][by > 2 ? 0 : by] += r->lhist[b];
     }
 }
 
@@ -538,9 +579,10 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
                           "clEnqueueReadBuffer(level bytes)", err);
     double t0 = spm_now();
     size_t off[NSLOTS + 1];
-    rc = rc || bucket(r, n, r->h_levels, off, err);
+    cl_mem ids = NULL;
+    rc = rc || bucket(r, n, r->h_levels, off, &ids, err);
     double bucket_s = spm_now() - t0;
-    rc = rc || run_shade(r, first_sample, spp, off, ev_s, err);
+    rc = rc || run_shade(r, first_sample, spp, off, ids, ev_s, err);
     spm_u32 npix = (spm_u32)r->npix, counters[NCOUNTERS];
     if (!rc) {
         const size_t sz[] = {sizeof(cl_mem), sizeof(spm_u32), sizeof(spm_u32), sizeof(cl_mem),
@@ -559,7 +601,7 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
     if (rc) {
         clFinish(r->cl.queue);
     } else {
-        count_levels(r, r->h_levels, n, st);
+        count_levels(r, n, st);
         st->truncated += counters[0];
         st->nonfinite += counters[2];
         if (counters[1]) {
@@ -601,12 +643,14 @@ int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const sp
         return 1;
     cl_event ev[NSLOTS] = {NULL};
     size_t off[NSLOTS + 1];
+    cl_mem ids = NULL;
     r->params.first_sample = first_sample;
     r->params.spp_per_pass = spp;
     int rc = spm_cl_check(clEnqueueWriteBuffer(r->cl.queue, r->paths, CL_FALSE, 0,
                                                n * sizeof(spm_path), paths, 0, NULL, NULL),
                           "clEnqueueWriteBuffer(path records)", err) ||
-             bucket(r, n, levels, off, err) || run_shade(r, first_sample, spp, off, ev, err) ||
+             bucket(r, n, levels, off, &ids, err) ||
+             run_shade(r, first_sample, spp, off, ids, ev, err) ||
              spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->xyz, CL_TRUE, 0,
                                               n * 3 * sizeof(float), xyz, 0, NULL, NULL),
                           "clEnqueueReadBuffer(path XYZ)", err);

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #define SPM_WAITING_BYTES_DEFAULT ((size_t)256 << 20)
 
@@ -27,6 +28,7 @@ typedef struct {
     int *retry, nretry;             /* passes a failed device left behind */
     float **done;                   /* finished pass images waiting for their turn */
     int alive;                      /* backends that have not failed */
+    double started[SPM_MAX_BACKENDS]; /* when each one's pass in flight began; 0: idle */
     /* fixed */
     int npasses, window, nb;
     spm_backend **b;
@@ -44,7 +46,14 @@ typedef struct {
 
 enum { TAKE_NONE = -1, TAKE_WAIT = -2 };
 
-int spm_run_worth_taking(double t_me, const double *t_other, int n, int left)
+static double cpu_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+int spm_run_worth_taking(double t_me, const double *t_other, int n, double work)
 {
     if (t_me <= 0)
         return 1;
@@ -55,7 +64,7 @@ int spm_run_worth_taking(double t_me, const double *t_other, int n, int left)
             rate += 1.0 / t_other[i];
             fastest &= t_other[i] >= t_me; /* a tie: both may take */
         }
-    return fastest || t_me * rate <= (double)left;
+    return fastest || t_me * rate <= work;
 }
 
 /* Caller holds mu. Seconds per pass of backend i so far; 0: not known. */
@@ -69,13 +78,20 @@ static double pass_time(const run_state *s, int i)
  * still working. */
 static int worth_taking(const run_state *s, int idx)
 {
-    double other[SPM_MAX_BACKENDS];
+    double other[SPM_MAX_BACKENDS], now = spm_now();
+    double work = s->npasses - s->next_pass + s->nretry;
     int n = 0;
-    for (int i = 0; i < s->nb; i++)
-        if (i != idx && !s->r->failed[i])
-            other[n++] = pass_time(s, i);
-    int left = s->npasses - s->next_pass + s->nretry;
-    return spm_run_worth_taking(pass_time(s, idx), other, n, left);
+    for (int i = 0; i < s->nb; i++) {
+        if (i == idx || s->r->failed[i])
+            continue;
+        double t = pass_time(s, i);
+        other[n++] = t;
+        if (t > 0 && s->started[i] > 0) { /* the part of its pass still to do */
+            double rest = 1.0 - (now - s->started[i]) / t;
+            work += rest > 0 ? rest : 0;
+        }
+    }
+    return spm_run_worth_taking(pass_time(s, idx), other, n, work);
 }
 
 static spm_u32 pass_spp(const run_state *s, int pass)
@@ -155,8 +171,10 @@ static void *worker(void *argp)
         int pass;
         while ((pass = take_pass(s, a->idx)) == TAKE_WAIT)
             pthread_cond_wait(&s->changed, &s->mu);
-        if (pass >= 0)
+        if (pass >= 0) {
             s->in_flight++;
+            s->started[a->idx] = spm_now();
+        }
         pthread_mutex_unlock(&s->mu);
         if (pass < 0)
             break;
@@ -170,6 +188,7 @@ static void *worker(void *argp)
         double busy = spm_now() - t0;
         pthread_mutex_lock(&s->mu);
         s->in_flight--;
+        s->started[a->idx] = 0;
         s->r->busy_s[a->idx] += busy;
         if (rc) {
             device_failed(s, a->idx, pass, &err);
@@ -200,9 +219,19 @@ static void run_workers(run_state *s, int nb)
         args[i] = (worker_arg){s, i};
         started[i] = nb > 1 && pthread_create(&th[i], NULL, worker, &args[i]) == 0;
         nstarted += started[i];
+        if (nb > 1 && !started[i]) {
+            pthread_mutex_lock(&s->mu);
+            spm_warnf("no thread for device '%s': it is left out", s->b[i]->name);
+            s->r->failed[i] = 1;
+            s->alive--;
+            pthread_mutex_unlock(&s->mu);
+        }
     }
-    if (!nstarted)
+    if (!nstarted) {
+        s->r->failed[0] = 0;
+        s->alive = 1;
         worker(&args[0]);
+    }
     for (int i = 0; i < nb; i++)
         if (started[i])
             pthread_join(th[i], NULL);
@@ -242,9 +271,11 @@ int spm_render_run_window(spm_backend **b, int nb, size_t npix, const spm_run_op
     s.film = film;
     s.r = r;
     s.t0 = spm_now();
+    double cpu0 = cpu_now();
     r->npasses = s.npasses;
     run_workers(&s, nb);
     r->wall_s = spm_now() - s.t0;
+    r->cpu_s = cpu_now() - cpu0;
     /* Cut short (every device failed, or stopped with a pass given back):
      * the passes finished beyond the gap still go in, in pass order. */
     for (int p = s.next_to_add; p < s.npasses; p++)

@@ -27,6 +27,8 @@ typedef struct {
     double busy_s[SPM_MAX_BACKENDS]; /* wall time each backend spent rendering its passes */
     int failed[SPM_MAX_BACKENDS];    /* a backend that failed: its passes went to the others */
     double wall_s;
+    double cpu_s;                   /* process CPU time meanwhile: a CPU device's kernels count,
+                                       so cpu_s / wall_s shows how many cores the render had */
     int npasses;                    /* passes the render was cut into */
     int passes_in_film;             /* passes added to the film (all of them unless cut short) */
     int spp_done;                   /* samples per pixel in the film */
@@ -41,10 +43,11 @@ spm_u32 spm_spp_per_pass(size_t npix, int spp);
  * ones rather than hold up the render with a pass of its own. A device that
  * renders a pass in t_me seconds takes one if it has no estimate yet (t_me <=
  * 0), if it is the fastest (the others' times t_other[0..n), 0 where unknown,
- * are none faster: someone must take it), or if the others together
- * would still be busy with the `left` passes not handed out when it is done:
- * t_me * sum(1 / t_other) <= left. */
-int spm_run_worth_taking(double t_me, const double *t_other, int n, int left);
+ * are none faster: someone must take it), or if the others together would
+ * still be busy when it is done: t_me * sum(1 / t_other) <= work, where work
+ * counts in passes what the others have ahead of them (the passes not handed
+ * out and the unfinished part of those they are rendering). */
+int spm_run_worth_taking(double t_me, const double *t_other, int n, double work);
 
 /* Renders o->spp samples per pixel into film with backends b[0..nb). Returns 0;
  * or 1 with err filled when every backend failed before the end (the film then

@@ -144,7 +144,9 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
     }
     spm_backend_input in = {&s->geom, &s->tables, c->mode, c->seed};
     if (c->use_cpu) {
-        s->b[s->nb++] = spm_backend_cpu_create(&in, err);
+        if (!(s->b[0] = spm_backend_cpu_create(&in, err)))
+            return SPM_EXIT_RUNTIME;
+        s->nb = 1;
         return 0;
     }
     return open_devices(c, &in, s, err);

@@ -34,8 +34,8 @@ void spm_render_stats_text(FILE *f, const spm_render_config *c, const spm_render
     const spm_pass_stats *t = &r->total;
     fprintf(f, "scene        %s (%dx%d, %d spp, mode %s, seed %u)\n", s->scene.path, s->scene.width,
             s->scene.height, r->spp_done, spm_mode_name(c->mode), c->seed);
-    fprintf(f, "wall         %.3f s   %.3f Mpaths/s\n", r->wall_s,
-            r->wall_s > 0 ? (double)t->paths / r->wall_s * 1e-6 : 0.0);
+    fprintf(f, "wall         %.3f s   %.3f Mpaths/s   process CPU %.3f s\n", r->wall_s,
+            r->wall_s > 0 ? (double)t->paths / r->wall_s * 1e-6 : 0.0, r->cpu_s);
     fprintf(f, "stages       trace %.3f s   shade %.3f s   accumulate %.3f s\n", t->trace_s,
             t->shade_s, t->accum_s);
     fprintf(f, "paths        %llu   truncated %llu   non-finite %llu\n",
@@ -70,8 +70,8 @@ void spm_render_stats_json(FILE *f, const spm_render_config *c, const spm_render
     json_string(f, s->scene.path);
     fprintf(f, ", \"mode\": \"%s\", \"width\": %d, \"height\": %d, \"spp\": %d, \"seed\": %u",
             spm_mode_name(c->mode), s->scene.width, s->scene.height, r->spp_done, c->seed);
-    fprintf(f, ", \"wall_s\": %.6f, \"trace_s\": %.6f, \"shade_s\": %.6f, \"accum_s\": %.6f",
-            r->wall_s, t->trace_s, t->shade_s, t->accum_s);
+    fprintf(f, ", \"wall_s\": %.6f, \"cpu_s\": %.6f, \"trace_s\": %.6f, \"shade_s\": %.6f, \"accum_s\": %.6f",
+            r->wall_s, r->cpu_s, t->trace_s, t->shade_s, t->accum_s);
     fprintf(f, ", \"kernel_s\": %.6f, \"paths\": %llu, \"paths_per_s\": %.1f", kernel_s(t),
             (unsigned long long)t->paths, r->wall_s > 0 ? (double)t->paths / r->wall_s : 0.0);
     fprintf(f, ", \"truncated\": %llu, \"nonfinite\": %llu, \"interrupted\": %s",

@@ -33,6 +33,15 @@ POCL_DEVICES=$BB "$BIN" "${R[@]}" --device 1,0 --stats -o "$T/list.exr" > "$T/li
 check "--device 1,0: same EXR" same_exr "$T/one.exr" "$T/list.exr"
 check "--stats: a line per device" test "$(grep -c '^device [01] .*Mpaths/s' "$T/list.txt")" = 2
 
+# A scene whose paths take several levels: every pass launches the shade
+# kernels over buckets of varying size, concurrently on both devices (PoCL
+# shares compiled kernels between devices whose programs are identical).
+SPIKY=${SPECMIP_DATA:-.}/scenes/cornell_spiky.scene
+POCL_DEVICES=$BB "$BIN" "${R[@]}" "$SPIKY" --device 0 -o "$T/spiky1.exr"
+POCL_DEVICES=$BB "$BIN" "${R[@]}" "$SPIKY" --device all -o "$T/spiky2.exr" 2> "$T/spiky2.err"
+check "levels, two devices: exit 0" test $? -eq 0
+check "levels, two devices: same EXR as one device" same_exr "$T/spiky1.exr" "$T/spiky2.exr"
+
 # Device 1 fails on its first pass: reported by name, device 0 renders it all.
 SPECMIP_CL_FAIL=1:0 POCL_DEVICES=$BB "$BIN" "${R[@]}" --device all --json -o "$T/fail1.exr" \
     > "$T/fail1.json" 2> "$T/fail1.err"

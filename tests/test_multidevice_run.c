@@ -240,18 +240,20 @@ static void window(const spm_film *ref)
     spm_film_free(&film);
 }
 
-/* The end game's decision (render_run.h): t_me * sum(1/t_other) <= left. */
+/* The end game's decision (render_run.h): t_me * sum(1/t_other) <= work. */
 static void end_game(void)
 {
-    double fast = 0.002, slow = 0.010, unknown = 0.0, three[2] = {0.004, 0.004};
+    double fast = 0.002, slow = 0.010, unknown = 0.0, two[2] = {0.004, 0.004};
     CHECK(spm_run_worth_taking(0.0, &fast, 1, 1), "no estimate yet: takes");
-    CHECK(spm_run_worth_taking(fast, &slow, 1, 1), "the fastest takes the last pass");
-    CHECK(spm_run_worth_taking(slow, &fast, 1, 5), "slow device, 5 left: takes (5 fast passes = 1 slow)");
-    CHECK(!spm_run_worth_taking(slow, &fast, 1, 4), "slow device, 4 left: leaves them to the fast one");
-    CHECK(spm_run_worth_taking(slow, &unknown, 1, 1), "other speed unknown: takes");
-    CHECK(spm_run_worth_taking(0.004, three, 2, 1), "equal speeds, 1 left: takes (a tie)");
-    CHECK(!spm_run_worth_taking(0.008, three, 2, 3), "half speed of two others, 3 left: leaves them");
-    CHECK(spm_run_worth_taking(0.008, three, 2, 4), "half speed of two others, 4 left: takes");
+    CHECK(spm_run_worth_taking(fast, &slow, 1, 0), "the fastest takes the last pass");
+    CHECK(spm_run_worth_taking(slow, &fast, 1, 5), "slow device, 5 passes ahead of the fast one: takes");
+    CHECK(!spm_run_worth_taking(slow, &fast, 1, 4.5), "slow device, 4.5 passes ahead: leaves them");
+    CHECK(spm_run_worth_taking(slow, &unknown, 1, 0), "other speed unknown: takes");
+    CHECK(spm_run_worth_taking(0.004, two, 2, 0), "equal speeds: takes (a tie)");
+    CHECK(spm_run_worth_taking(0.0041, &two[0], 1, 1.5),
+          "a hair slower than the other, which is mid-pass: takes the last one");
+    CHECK(!spm_run_worth_taking(0.008, two, 2, 3.5), "half the speed of two others, 3.5 ahead: leaves");
+    CHECK(spm_run_worth_taking(0.008, two, 2, 4), "half the speed of two others, 4 ahead: takes");
 }
 
 static void arguments(void)

@@ -65,13 +65,15 @@ set xtics rotate by -30 font ",8"
 set key default
 set key inside top left font ",8"
 unset xlabel
-set ylabel "mean dE00"
-set yrange [0:*]
+set ylabel "mean dE00 (log scale; 0 not drawn)"
+set logscale y
+set yrange [0.01:*]
 set title "against ref (5 nm)"
 plot for [i = 2:words(modes) + 1] dat."/bias_ref.dat" using i:xtic(1) title columnheader(i)
 set title "against truth (1 nm)"
 plot for [i = 2:words(modes) + 1] dat."/bias_truth.dat" using i:xtic(1) title columnheader(i)
 unset multiplot
+unset logscale y
 
 # 3. the threshold sweep: time relative to ref (left) and the dE00 it buys (right)
 if (sweep) {

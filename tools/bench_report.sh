@@ -29,6 +29,13 @@ for m in $lvmodes; do awk -v what=levels -v mode=$m -f "$tools/bench_tables.awk"
 gnuplot -e "csv='$csv'; out='$out'; sel='$sel'; scenes='$scenes'; modes='$modes'; nsc=$nsc; \
             dat='$tmp'; sweep=$sweep; lvmodes='$lvmodes'" "$tools/bench_plots.gp"
 
+# Fewer colours (if ImageMagick is there): the charts are committed to docs/.
+if command -v convert > /dev/null; then
+    for f in time_error bias threshold levels; do
+        [ -s "$out/$f.png" ] && convert "$out/$f.png" -colors 64 "PNG8:$tmp/$f.png" && mv "$tmp/$f.png" "$out/$f.png"
+    done
+fi
+
 ops="" opsmeta=""
 [ -s "$dir/ops.csv" ] && ops=$dir/ops.csv opsmeta=$dir/ops_meta.txt
 awk -v meta="$dir/bench_meta.txt" -v ops="$ops" -v opsmeta="$opsmeta" -f "$tools/bench_results.awk" "$csv" > "$tmp/RESULTS.md"

@@ -57,7 +57,7 @@ END {
             printf "| %s | %.3g M | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n", m, pps / 1e6, x, sh, get(row, "bias_ref_mean"), get(row, "bias_ref_max"), get(row, "bias_truth_mean"), get(row, "bias_truth_max"), get(row, "err_mean")
             if (m == "ref") continue
             # where it loses (rules stated in the section below)
-            if (x > 0 && x < 1) lose[++nl] = sprintf("**%s** on %s: %.2f× ref's paths/s — slower than the 5 nm reference.", m, s, x)
+            if (x > 0 && x < 0.9 && m != "truth") lose[++nl] = sprintf("**%s** on %s: %.2f× ref's paths/s — slower than the 5 nm reference.", m, s, x)
             if (ref != "" && get(row, "bias_truth_mean") - get(ref, "bias_truth_mean") > 0.5) lose[++nl] = sprintf("**%s** on %s: mean ΔE00 vs truth (same paths) %.2f, ref's %.2f.", m, s, get(row, "bias_truth_mean"), get(ref, "bias_truth_mean"))
             if (get(row, "bias_ref_max") + 0 >= 5 && m != "truth") lose[++nl] = sprintf("**%s** on %s: max ΔE00 vs ref %.1f — some pixels are visibly off.", m, s, get(row, "bias_ref_max"))
         }
@@ -69,10 +69,12 @@ END {
     print ""
     print "## Where a method loses"
     print ""
-    print "Listed by rule, at each scene's largest spp: slower than ref (× ref < 1); a mean ΔE00"
-    print "against truth more than 0.5 above ref's (the method's own error); a max ΔE00 against ref"
-    print "of 5 or more (the top bucket of the thesis' tables). `hero` is compared with the same"
-    print "seed but draws its own wavelengths, so its ΔE00 against ref includes colour noise."
+    print "Listed by rule, at each scene's largest spp: more than 10% slower than ref (× ref < 0.9;"
+    print "smaller differences are not called, as repeated runs on the shared machine vary by about"
+    print "that much; truth is the yardstick, not a contender); a mean ΔE00 against truth more than"
+    print "0.5 above ref's (the method's own error); a max ΔE00 against ref of 5 or more (the top"
+    print "bucket of the thesis' tables). `hero` is compared with the same seed but draws its own"
+    print "wavelengths, so its ΔE00 against ref and truth includes colour noise."
     print ""
     if (!nl) print "Nothing in this run met a rule."
     for (j = 1; j <= nl; j++) print "- " lose[j]

@@ -1,7 +1,9 @@
 #include "fuzz_input.h"
 #include "util.h"
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static char dir[256];
@@ -15,11 +17,9 @@ const char *spm_fuzz_write(const char *name, const uint8_t *data, size_t size)
         if (fixed)
             snprintf(dir, sizeof dir, "%s", fixed);
         else
-            snprintf(dir, sizeof dir, "%s/specmip-fuzz-%d", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp",
-                 (int)getpid());
-        char cmd[300];
-        snprintf(cmd, sizeof cmd, "mkdir -p '%s'", dir);
-        if (system(cmd) != 0)
+            snprintf(dir, sizeof dir, "%s/specmip-fuzz-%d",
+                     getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp", (int)getpid());
+        if (mkdir(dir, 0700) != 0 && errno != EEXIST)
             return NULL;
         spm_quiet_warnings = 1; /* warnings are not findings */
     }
