@@ -511,11 +511,13 @@ static int run_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp,
         size_t cnt = off[s + 1] - off[s];
         if (!cnt)
             continue;
-        /* The bucket's start is an argument, not a global offset: PoCL 3.1
-         * matches a finished launch to its compiled work-group function by
-         * local size only, so zero- and non-zero-offset launches of one
-         * kernel in flight at once (two devices) corrupt its reference
-         * counts (an assertion in pocl_release_dlhandle_cache). */
+        /* Every launch has offset 0 and the pass's size, the bucket being
+         * arguments (items past its end return at once): PoCL 3.1 compiles a
+         * kernel once per offset class and per larger grid, but matches a
+         * finished launch to those versions by local size only, so launches
+         * of two versions in flight at once (two devices) corrupt their
+         * reference counts (an assertion in pocl_release_dlhandle_cache).
+         * The cost: empty work-groups when ml splits a pass (~0.2 us each). */
         spm_u32 begin = (spm_u32)off[s], end = (spm_u32)off[s + 1];
         spm_u32 seed = r->params.seed;
         /* shade_body.clh: (paths, idx, begin, end, tab, cmf [, hero, seed, spp,
@@ -528,7 +530,7 @@ static int run_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp,
         const void *val[] = {&r->paths, &ids, &begin, &end, &r->tab[s], &r->cmf[s], &r->xyz};
         int rc = s == SLOT_HERO ? set_args(r->k_shade[s], slot_kernel[s], 11, sz_hero, val_hero, err)
                                 : set_args(r->k_shade[s], slot_kernel[s], 7, sz, val, err);
-        if (rc || enqueue(r, r->k_shade[s], slot_kernel[s], 0, cnt, &ev[s], err))
+        if (rc || enqueue(r, r->k_shade[s], slot_kernel[s], 0, off[NSLOTS], &ev[s], err))
             return 1;
     }
     return 0;
