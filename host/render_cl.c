@@ -15,6 +15,7 @@ static const char *slot_kernel[NSLOTS] = {"spm_shade_l0",    "spm_shade_l1",  "s
 /* Work-group size asked for (PoCL runs a group's work-items in one thread; 64
  * amortises the per-group cost and keeps the last group's waste small). */
 #define LOCAL_SIZE 64
+#define SHADE_LOCAL_SIZE (getenv("SPM_X_LOCAL") ? (size_t)atoi(getenv("SPM_X_LOCAL")) : 64) /* EXPERIMENT */
 #define NCOUNTERS 4 /* truncated paths, BVH stack overflows, non-finite samples */
 /* How far ahead a CPU work-item prefetches a record (kernels/shade.cl). */
 #define PREFETCH_AHEAD 16
@@ -32,7 +33,8 @@ struct spm_cl_renderer {
     cl_mem tris, nodes, emitters, mats, lvlk;
     /* per-pass buffers, grown on demand */
     size_t cap;
-    cl_mem paths, levels, idx, ident, xyz, pass, counters;
+    cl_mem heads, verts; /* the pass's records, device layout (spm_shared.h) */
+    cl_mem levels, idx, ident, xyz, pass, counters;
     uint8_t *h_levels;
     spm_u32 *h_idx; /* bucket indices, the source of idx's non-blocking upload */
     size_t lhist[256]; /* ml, mlc: the pass's level bytes counted by value (bucket()) */
@@ -215,8 +217,16 @@ static int build(spm_cl_renderer *r, const spm_tables *t, const int need[NSLOTS]
         n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_RGB");
     if (need[SLOT_HERO])
         n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_HERO");
-    if (r->cl.dev.type & CL_DEVICE_TYPE_CPU)
-        snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_PREFETCH=%d", PREFETCH_AHEAD);
+    /* The device's index makes each device's program text distinct: PoCL
+     * otherwise shares one compiled kernel between same-kind devices, and two
+     * devices launching it at once can break its reference counts (an
+     * assertion in pocl_release_dlhandle_cache). */
+    n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_DEVICE_INDEX=%d", r->cl.dev.index);
+    /* EXPERIMENT knobs (temporary) */
+    if (getenv("SPM_X_PREFETCH"))
+        n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_PREFETCH=%s", getenv("SPM_X_PREFETCH"));
+    if (getenv("SPM_X_HINT"))
+        n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_VEC_HINT");
     const char *files[] = {"kernels/trace.cl", "kernels/shade.cl"};
     if (spm_cl_build(&r->cl, files, 2, defs, &r->prog, err))
         return 1;
@@ -336,7 +346,8 @@ void spm_cl_destroy(spm_cl_renderer *r)
     if (r->prog)
         clReleaseProgram(r->prog);
     cl_mem *ms[] = {&r->hero, &r->tris,  &r->nodes, &r->emitters, &r->mats, &r->lvlk,
-                    &r->paths, &r->levels, &r->idx, &r->ident, &r->xyz, &r->pass, &r->counters};
+                    &r->heads, &r->verts, &r->levels, &r->idx, &r->ident, &r->xyz, &r->pass,
+                    &r->counters};
     for (size_t i = 0; i < sizeof ms / sizeof *ms; i++)
         release(ms[i]);
     spm_cl_ctx_release(&r->cl);
@@ -355,7 +366,8 @@ static int reserve(spm_cl_renderer *r, size_t n, spm_error *err)
 {
     if (n <= r->cap)
         return 0;
-    release(&r->paths);
+    release(&r->heads);
+    release(&r->verts);
     release(&r->levels);
     release(&r->idx);
     release(&r->ident);
@@ -364,8 +376,11 @@ static int reserve(spm_cl_renderer *r, size_t n, spm_error *err)
     r->h_idx = spm_xrealloc(r->h_idx, n * sizeof *r->h_idx);
     for (size_t i = 0; i < n; i++)
         r->h_idx[i] = (spm_u32)i;
-    if (new_buffer(r, &r->paths, CL_MEM_READ_WRITE, n * sizeof(spm_path), NULL, "path records",
-                   err) ||
+    /* the vertex slabs have room for every depth; only those reached are touched */
+    if (new_buffer(r, &r->heads, CL_MEM_READ_WRITE, n * sizeof(spm_dev_head), NULL,
+                   "path record headers", err) ||
+        new_buffer(r, &r->verts, CL_MEM_READ_WRITE, n * SPM_MAX_DEPTH * sizeof(spm_vertex), NULL,
+                   "path records", err) ||
         new_buffer(r, &r->levels, CL_MEM_READ_WRITE, n, NULL, "level bytes", err) ||
         new_buffer(r, &r->ident, CL_MEM_READ_ONLY, n * sizeof(spm_u32), r->h_idx,
                    "identity indices", err) ||
@@ -378,9 +393,9 @@ static int reserve(spm_cl_renderer *r, size_t n, spm_error *err)
     return 0;
 }
 
-static size_t round_up(size_t n)
+static size_t round_up(size_t n, size_t local)
 {
-    return (n + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
+    return (n + local - 1) / local * local;
 }
 
 static int set_args(cl_kernel k, const char *name, int nargs, const size_t *sizes,
@@ -398,9 +413,9 @@ static int set_args(cl_kernel k, const char *name, int nargs, const size_t *size
 }
 
 static int enqueue(spm_cl_renderer *r, cl_kernel k, const char *name, size_t offset, size_t n,
-                   cl_event *ev, spm_error *err)
+                   size_t local, cl_event *ev, spm_error *err)
 {
-    size_t off = offset, global = round_up(n), local = LOCAL_SIZE;
+    size_t off = offset, global = round_up(n, local);
     char what[128];
     snprintf(what, sizeof what, "clEnqueueNDRangeKernel(%s)", name);
     return spm_cl_check(clEnqueueNDRangeKernel(r->cl.queue, k, 1, &off, &global, &local, 0, NULL, ev),
@@ -418,12 +433,13 @@ static int run_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size
        "clEnqueueWriteBuffer(counters)");
     const size_t sz[] = {sizeof(cl_mem), sizeof(cl_mem), sizeof(cl_mem), sizeof(cl_mem),
                          sizeof(cl_mem), sizeof r->params, sizeof(spm_u32), sizeof(spm_u32),
-                         sizeof(cl_mem), sizeof(cl_mem), sizeof(cl_mem)};
-    const void *val[] = {&r->tris, &r->nodes, &r->emitters, &r->mats, &r->lvlk, &r->params,
-                         &r->init_level, &npaths, &r->paths, &r->levels, &r->counters};
-    if (set_args(r->k_trace, "spm_trace", 11, sz, val, err))
+                         sizeof(cl_mem), sizeof(cl_mem), sizeof(cl_mem), sizeof(cl_mem)};
+    const void *val[] = {&r->tris,   &r->nodes, &r->emitters, &r->mats,
+                         &r->lvlk,   &r->params, &r->init_level, &npaths,
+                         &r->heads, &r->verts, &r->levels, &r->counters};
+    if (set_args(r->k_trace, "spm_trace", 12, sz, val, err))
         return 1;
-    return enqueue(r, r->k_trace, "spm_trace", 0, n, ev, err);
+    return enqueue(r, r->k_trace, "spm_trace", 0, n, LOCAL_SIZE, ev, err);
 }
 
 /* Which shade kernel a mode without levels uses for every path. */
@@ -519,18 +535,20 @@ static int run_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp,
          * reference counts (an assertion in pocl_release_dlhandle_cache).
          * The cost: empty work-groups when ml splits a pass (~0.2 us each). */
         spm_u32 begin = (spm_u32)off[s], end = (spm_u32)off[s + 1];
-        spm_u32 seed = r->params.seed;
-        /* shade_body.clh: (paths, idx, begin, end, tab, cmf [, hero, seed, spp,
-         * first_sample], xyz) */
+        spm_u32 npaths = (spm_u32)off[NSLOTS], seed = r->params.seed;
+        /* shade_body.clh: (heads, verts, npaths, idx, begin, end, tab, cmf [, hero,
+         * seed, spp, first_sample], xyz) */
         const size_t m = sizeof(cl_mem), u = sizeof(spm_u32);
-        const size_t sz_hero[] = {m, m, u, u, m, m, m, u, u, u, m};
-        const void *val_hero[] = {&r->paths, &ids, &begin, &end, &r->tab[s], &r->cmf[s],
-                                  &r->hero,  &seed, &spp,  &first_sample, &r->xyz};
-        const size_t sz[] = {m, m, u, u, m, m, m};
-        const void *val[] = {&r->paths, &ids, &begin, &end, &r->tab[s], &r->cmf[s], &r->xyz};
-        int rc = s == SLOT_HERO ? set_args(r->k_shade[s], slot_kernel[s], 11, sz_hero, val_hero, err)
-                                : set_args(r->k_shade[s], slot_kernel[s], 7, sz, val, err);
-        if (rc || enqueue(r, r->k_shade[s], slot_kernel[s], 0, off[NSLOTS], &ev[s], err))
+        const size_t sz_hero[] = {m, m, u, m, u, u, m, m, m, u, u, u, m};
+        const void *val_hero[] = {&r->heads,  &r->verts, &npaths, &ids, &begin,
+                                  &end,       &r->tab[s], &r->cmf[s], &r->hero, &seed,
+                                  &spp,       &first_sample, &r->xyz};
+        const size_t sz[] = {m, m, u, m, u, u, m, m, m};
+        const void *val[] = {&r->heads, &r->verts, &npaths,    &ids,    &begin,
+                             &end,      &r->tab[s], &r->cmf[s], &r->xyz};
+        int rc = s == SLOT_HERO ? set_args(r->k_shade[s], slot_kernel[s], 13, sz_hero, val_hero, err)
+                                : set_args(r->k_shade[s], slot_kernel[s], 9, sz, val, err);
+        if (rc || enqueue(r, r->k_shade[s], slot_kernel[s], 0, off[NSLOTS], SHADE_LOCAL_SIZE, &ev[s], err))
             return 1;
     }
     return 0;
@@ -591,7 +609,7 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
                              sizeof(cl_mem)};
         const void *val[] = {&r->xyz, &npix, &spp, &r->pass, &r->counters};
         rc = set_args(r->k_accum, "spm_accumulate", 5, sz, val, err) ||
-             enqueue(r, r->k_accum, "spm_accumulate", 0, r->npix, &ev_a, err);
+             enqueue(r, r->k_accum, "spm_accumulate", 0, r->npix, LOCAL_SIZE, &ev_a, err);
     }
     rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->pass, CL_FALSE, 0,
                                                 r->npix * 3 * sizeof(float), pass_xyz, 0, NULL,
@@ -618,6 +636,19 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
     return rc;
 }
 
+/* The test hooks speak spm_path arrays; the device keeps the layout of
+ * spm_shared.h ("path records on the device"). Vertices past a path's nvert
+ * come back zero. */
+static spm_u32 max_nvert(const spm_dev_head *h, size_t n)
+{
+    spm_u32 m = 0;
+    for (size_t i = 0; i < n; i++) {
+        spm_u32 nv = h[i].nvert_end & 0xFFFFu;
+        m = nv > m ? nv : m;
+    }
+    return m < SPM_MAX_DEPTH ? m : SPM_MAX_DEPTH;
+}
+
 int spm_cl_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, spm_path *paths,
                  uint8_t *levels, spm_error *err)
 {
@@ -625,15 +656,32 @@ int spm_cl_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, spm_path
     if (reserve(r, n, err))
         return 1;
     cl_event ev = NULL;
+    spm_dev_head *h = spm_xcalloc(n, sizeof *h);
+    spm_vertex *v = NULL;
     int rc = run_trace(r, first_sample, spp, n, &ev, err) ||
-             spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->paths, CL_FALSE, 0,
-                                              n * sizeof(spm_path), paths, 0, NULL, NULL),
-                          "clEnqueueReadBuffer(path records)", err) ||
+             spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->heads, CL_FALSE, 0, n * sizeof *h,
+                                              h, 0, NULL, NULL),
+                          "clEnqueueReadBuffer(path record headers)", err) ||
              spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->levels, CL_TRUE, 0, n, levels, 0,
                                               NULL, NULL),
                           "clEnqueueReadBuffer(level bytes)", err);
+    size_t depth = rc ? 0 : max_nvert(h, n);
+    if (depth) { /* only the slabs some path reached */
+        v = spm_xcalloc(depth * n, sizeof *v);
+        rc = spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->verts, CL_TRUE, 0,
+                                              depth * n * sizeof *v, v, 0, NULL, NULL),
+                          "clEnqueueReadBuffer(path records)", err);
+    }
     clFinish(r->cl.queue);
     release_events(&ev, 1);
+    for (size_t i = 0; !rc && i < n; i++) {
+        memset(&paths[i], 0, sizeof paths[i]);
+        paths[i].h = spm_dev_head_unpack(&h[i]);
+        for (spm_u32 j = 0; j < paths[i].h.nvert && j < SPM_MAX_DEPTH; j++)
+            paths[i].v[j] = v[(size_t)j * n + i];
+    }
+    free(h);
+    free(v);
     return rc;
 }
 
@@ -643,14 +691,25 @@ int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const sp
     size_t n = r->npix * spp;
     if (reserve(r, n, err))
         return 1;
+    spm_dev_head *h = spm_xcalloc(n, sizeof *h);
+    for (size_t i = 0; i < n; i++)
+        h[i] = spm_dev_head_pack(&paths[i].h);
+    size_t depth = max_nvert(h, n);
+    spm_vertex *v = spm_xcalloc(depth * n + 1, sizeof *v);
+    for (size_t i = 0; i < n; i++)
+        for (spm_u32 j = 0; j < paths[i].h.nvert && j < SPM_MAX_DEPTH; j++)
+            v[(size_t)j * n + i] = paths[i].v[j];
     cl_event ev[NSLOTS] = {NULL};
     size_t off[NSLOTS + 1];
     cl_mem ids = NULL;
     r->params.first_sample = first_sample;
     r->params.spp_per_pass = spp;
-    int rc = spm_cl_check(clEnqueueWriteBuffer(r->cl.queue, r->paths, CL_FALSE, 0,
-                                               n * sizeof(spm_path), paths, 0, NULL, NULL),
-                          "clEnqueueWriteBuffer(path records)", err) ||
+    int rc = spm_cl_check(clEnqueueWriteBuffer(r->cl.queue, r->heads, CL_FALSE, 0, n * sizeof *h,
+                                               h, 0, NULL, NULL),
+                          "clEnqueueWriteBuffer(path record headers)", err) ||
+             (depth && spm_cl_check(clEnqueueWriteBuffer(r->cl.queue, r->verts, CL_FALSE, 0,
+                                                         depth * n * sizeof *v, v, 0, NULL, NULL),
+                                    "clEnqueueWriteBuffer(path records)", err)) ||
              bucket(r, n, levels, off, &ids, err) ||
              run_shade(r, first_sample, spp, off, ids, ev, err) ||
              spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->xyz, CL_TRUE, 0,
@@ -658,6 +717,8 @@ int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const sp
                           "clEnqueueReadBuffer(path XYZ)", err);
     clFinish(r->cl.queue);
     release_events(ev, NSLOTS);
+    free(h);
+    free(v);
     return rc;
 }
 

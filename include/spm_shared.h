@@ -80,6 +80,50 @@ typedef struct {
     spm_vertex v[SPM_MAX_DEPTH];
 } spm_path;
 
+/* ---- path records on the device (OpenCL backend) --------------------------
+ * The same records, laid out for the device as structure of arrays,
+ * vertex-major. For a pass of n paths, path i is
+ *   heads[i]          spm_dev_head (16 bytes: four headers per cache line)
+ *   verts[j * n + i]  its vertex j, for j < nvert
+ * so work-items i, i+1, ... read neighbouring memory, and a path costs memory
+ * traffic in proportion to its own length: an spm_path is 544 bytes however
+ * short the path (default-scene paths average 1.6 vertices), and read that way
+ * ~60% of the shade stage was waiting for memory. The vertex buffer has room
+ * for SPM_MAX_DEPTH slabs of n vertices; slab j is touched only if some path
+ * of the pass reaches depth j. The host converts from and to spm_path arrays
+ * (render_cl.h's test hooks) with the two helpers below, losslessly: colour
+ * ids fit 16 bits (spm_vertex packs them so too) and nvert <= SPM_MAX_DEPTH. */
+typedef struct {
+    spm_u32 colours;   /* first_emit (low 16 bits) | bg << 16 */
+    spm_u32 nvert_end; /* nvert (low 16 bits) | end << 16 */
+    float first_emit_c;
+    float bg_c;
+} spm_dev_head;
+
+SPM_INLINE spm_dev_head spm_dev_head_pack(const spm_path_head *h)
+{
+    spm_dev_head d;
+    d.colours = (h->first_emit & 0xFFFFu) | (h->bg << 16);
+    d.nvert_end = (h->nvert & 0xFFFFu) | (h->end << 16);
+    d.first_emit_c = h->first_emit_c;
+    d.bg_c = h->bg_c;
+    return d;
+}
+
+SPM_INLINE spm_path_head spm_dev_head_unpack(const spm_dev_head *d)
+{
+    spm_path_head h;
+    h.nvert = d->nvert_end & 0xFFFFu;
+    h.end = d->nvert_end >> 16;
+    h.first_emit = d->colours & 0xFFFFu;
+    h.first_emit_c = d->first_emit_c;
+    h.bg = d->colours >> 16;
+    h.bg_c = d->bg_c;
+    h.pad0 = 0;
+    h.pad1 = 0;
+    return h;
+}
+
 /* Per-path level byte written by the trace stage (the level feeler):
  * bits 0-2 the finest level the path's colours need, bits 4-5 what set it. */
 #define SPM_LEVEL_MASK 0x07u

@@ -19,20 +19,15 @@
 #define HSUM8(v) HSUM4((v).lo + (v).hi)
 #define HSUM16(v) HSUM8((v).lo + (v).hi)
 
-/* SPM_SHADE_PREFETCH=d (the host sets it for CPU devices): each work-item asks
- * for the record of the path d work-items ahead. A CPU runs a work-group's
- * items one after another, and a record (544-byte stride, read through a
- * branchy loop) is a cache miss the core otherwise waits for: without it,
- * shading is 2x slower (measured). Clang's builtin, because OpenCL's
- * prefetch() made PoCL 3.1 slower still. Uses the kernel's paths and idx. */
+/* SPM_SHADE_PREFETCH=d (experiment): each work-item asks for the header and
+ * first vertex of the path d work-items ahead. Uses the kernel's heads, verts, idx. */
 #if defined(SPM_SHADE_PREFETCH) && defined(__clang__)
 #define SB_PREFETCH(i, n)                                                              \
     do {                                                                               \
         uint ahead_ = (i) + SPM_SHADE_PREFETCH;                                        \
         if (ahead_ < (n)) {                                                            \
-            __global const char *q_ = (__global const char *)&paths[idx[ahead_]];      \
-            __builtin_prefetch(q_);      /* the header and the first vertices */       \
-            __builtin_prefetch(q_ + 64); /* the rest when the record straddles lines */ \
+            __builtin_prefetch(&heads[idx[ahead_]]);                                   \
+            __builtin_prefetch(&verts[idx[ahead_]]);                                   \
         }                                                                              \
     } while (0)
 #else

@@ -1,5 +1,6 @@
 /* The trace stage: one work-item per path of a pass. MiniLight's transport
- * (DESIGN.md "The kernels"), written as path records (spm_shared.h) plus the
+ * (DESIGN.md "The kernels"), written as path records (spm_shared.h, in the
+ * device layout: header array and vertex-major vertex slabs) plus the
  * per-path level byte (the level feeler). Colour never enters here.
  *
  * Floating point: contraction is off in this file, and vector helpers spell
@@ -153,8 +154,8 @@ inline void feel(__global const uchar *lvlk, uint c, uint k, uint by, uint *leve
 __kernel void spm_trace(__global const spm_tri *tris, __global const spm_bvh_node *nodes,
                         __global const uint *emitters, __global const spm_material *mats,
                         __global const uchar *lvlk, const spm_trace_params p, uint init_level,
-                        uint npaths, __global spm_path *paths, __global uchar *levels,
-                        __global uint *counters)
+                        uint npaths, __global spm_dev_head *heads, __global spm_vertex *verts,
+                        __global uchar *levels, __global uint *counters)
 {
     uint gid = get_global_id(0);
     if (gid >= npaths)
@@ -162,7 +163,7 @@ __kernel void spm_trace(__global const spm_tri *tris, __global const spm_bvh_nod
     uint pixel = gid / p.spp_per_pass;
     uint sample = p.first_sample + gid % p.spp_per_pass;
     uint seed = p.seed;
-    __global spm_path *rec = &paths[gid];
+    __global spm_vertex *vrec = &verts[gid]; /* vertex j at vrec[j * npaths] (spm_shared.h) */
 
     /* camera ray (spm_shared.h: spm_camera) */
     uint px = pixel % (uint)p.cam.width, py = pixel / (uint)p.cam.width;
@@ -256,8 +257,9 @@ __kernel void spm_trace(__global const spm_tri *tris, __global const spm_bvh_nod
         if (eid != SPM_NONE)
             feel(lvlk, eid, 1u, SPM_SETBY_EMITTER, &level, &setby);
         seen[j] = (ushort)refl;
-        rec->v[j].ids = (refl & 0xFFFFu) | (eid << 16);
-        rec->v[j].c = c;
+        __global spm_vertex *vx = &vrec[(size_t)j * npaths];
+        vx->ids = (refl & 0xFFFFu) | (eid << 16);
+        vx->c = c;
 
         /* Russian roulette on the level-0 mean reflectance */
         if (!(spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_RR) < m.mean)) {
@@ -281,6 +283,6 @@ __kernel void spm_trace(__global const spm_tri *tris, __global const spm_bvh_nod
     hd.nvert = j;
     if (hd.end == SPM_END_TRUNCATED)
         atomic_inc(&counters[0]);
-    rec->h = hd;
+    heads[gid] = spm_dev_head_pack(&hd);
     levels[gid] = (uchar)(level | (setby << SPM_SETBY_SHIFT));
 }
