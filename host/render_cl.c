@@ -15,10 +15,7 @@ static const char *slot_kernel[NSLOTS] = {"spm_shade_l0",    "spm_shade_l1",  "s
 /* Work-group size asked for (PoCL runs a group's work-items in one thread; 64
  * amortises the per-group cost and keeps the last group's waste small). */
 #define LOCAL_SIZE 64
-#define SHADE_LOCAL_SIZE (getenv("SPM_X_LOCAL") ? (size_t)atoi(getenv("SPM_X_LOCAL")) : 64) /* EXPERIMENT */
 #define NCOUNTERS 4 /* truncated paths, BVH stack overflows, non-finite samples */
-/* How far ahead a CPU work-item prefetches a record (kernels/shade.cl). */
-#define PREFETCH_AHEAD 16
 
 struct spm_cl_renderer {
     spm_cl_ctx cl;
@@ -222,11 +219,6 @@ static int build(spm_cl_renderer *r, const spm_tables *t, const int need[NSLOTS]
      * devices launching it at once can break its reference counts (an
      * assertion in pocl_release_dlhandle_cache). */
     n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_DEVICE_INDEX=%d", r->cl.dev.index);
-    /* EXPERIMENT knobs (temporary) */
-    if (getenv("SPM_X_PREFETCH"))
-        n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_PREFETCH=%s", getenv("SPM_X_PREFETCH"));
-    if (getenv("SPM_X_HINT"))
-        n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_VEC_HINT");
     const char *files[] = {"kernels/trace.cl", "kernels/shade.cl"};
     if (spm_cl_build(&r->cl, files, 2, defs, &r->prog, err))
         return 1;
@@ -393,9 +385,9 @@ static int reserve(spm_cl_renderer *r, size_t n, spm_error *err)
     return 0;
 }
 
-static size_t round_up(size_t n, size_t local)
+static size_t round_up(size_t n)
 {
-    return (n + local - 1) / local * local;
+    return (n + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
 }
 
 static int set_args(cl_kernel k, const char *name, int nargs, const size_t *sizes,
@@ -413,9 +405,9 @@ static int set_args(cl_kernel k, const char *name, int nargs, const size_t *size
 }
 
 static int enqueue(spm_cl_renderer *r, cl_kernel k, const char *name, size_t offset, size_t n,
-                   size_t local, cl_event *ev, spm_error *err)
+                   cl_event *ev, spm_error *err)
 {
-    size_t off = offset, global = round_up(n, local);
+    size_t off = offset, global = round_up(n), local = LOCAL_SIZE;
     char what[128];
     snprintf(what, sizeof what, "clEnqueueNDRangeKernel(%s)", name);
     return spm_cl_check(clEnqueueNDRangeKernel(r->cl.queue, k, 1, &off, &global, &local, 0, NULL, ev),
@@ -439,7 +431,7 @@ static int run_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size
                          &r->heads, &r->verts, &r->levels, &r->counters};
     if (set_args(r->k_trace, "spm_trace", 12, sz, val, err))
         return 1;
-    return enqueue(r, r->k_trace, "spm_trace", 0, n, LOCAL_SIZE, ev, err);
+    return enqueue(r, r->k_trace, "spm_trace", 0, n, ev, err);
 }
 
 /* Which shade kernel a mode without levels uses for every path. */
@@ -533,7 +525,10 @@ static int run_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp,
          * finished launch to those versions by local size only, so launches
          * of two versions in flight at once (two devices) corrupt their
          * reference counts (an assertion in pocl_release_dlhandle_cache).
-         * The cost: empty work-groups when ml splits a pass (~0.2 us each). */
+         * build() now keeps devices from sharing kernels (SPM_DEVICE_INDEX);
+         * this stays as the second guard because its cost, empty work-groups
+         * when ml splits a pass, was below the noise on cornell_spiky (two
+         * buckets a pass: shade time the same launched either way). */
         spm_u32 begin = (spm_u32)off[s], end = (spm_u32)off[s + 1];
         spm_u32 npaths = (spm_u32)off[NSLOTS], seed = r->params.seed;
         /* shade_body.clh: (heads, verts, npaths, idx, begin, end, tab, cmf [, hero,
@@ -548,7 +543,7 @@ static int run_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp,
                              &end,      &r->tab[s], &r->cmf[s], &r->xyz};
         int rc = s == SLOT_HERO ? set_args(r->k_shade[s], slot_kernel[s], 13, sz_hero, val_hero, err)
                                 : set_args(r->k_shade[s], slot_kernel[s], 9, sz, val, err);
-        if (rc || enqueue(r, r->k_shade[s], slot_kernel[s], 0, off[NSLOTS], SHADE_LOCAL_SIZE, &ev[s], err))
+        if (rc || enqueue(r, r->k_shade[s], slot_kernel[s], 0, off[NSLOTS], &ev[s], err))
             return 1;
     }
     return 0;
@@ -609,7 +604,7 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
                              sizeof(cl_mem)};
         const void *val[] = {&r->xyz, &npix, &spp, &r->pass, &r->counters};
         rc = set_args(r->k_accum, "spm_accumulate", 5, sz, val, err) ||
-             enqueue(r, r->k_accum, "spm_accumulate", 0, r->npix, LOCAL_SIZE, &ev_a, err);
+             enqueue(r, r->k_accum, "spm_accumulate", 0, r->npix, &ev_a, err);
     }
     rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->pass, CL_FALSE, 0,
                                                 r->npix * 3 * sizeof(float), pass_xyz, 0, NULL,

@@ -7,7 +7,6 @@
  *   SPM_SHADE_TRUTH      400 1 nm bins = 25 x float16
  *   SPM_SHADE_RGB        3 components in a float4, XYZ by the sRGB matrix
  *   SPM_SHADE_HERO       4 wavelengths in a float4, gathered from level 0
- *   SPM_SHADE_PREFETCH=d software prefetch distance (CPU devices, see below)
  * Contraction is left on: fma() is what the body asks for anyway. */
 #include "spm_shared.h"
 #include "spm_rng.h"
@@ -18,21 +17,6 @@
 #define HSUM4(v) HSUM2((v).lo + (v).hi)
 #define HSUM8(v) HSUM4((v).lo + (v).hi)
 #define HSUM16(v) HSUM8((v).lo + (v).hi)
-
-/* SPM_SHADE_PREFETCH=d (experiment): each work-item asks for the header and
- * first vertex of the path d work-items ahead. Uses the kernel's heads, verts, idx. */
-#if defined(SPM_SHADE_PREFETCH) && defined(__clang__)
-#define SB_PREFETCH(i, n)                                                              \
-    do {                                                                               \
-        uint ahead_ = (i) + SPM_SHADE_PREFETCH;                                        \
-        if (ahead_ < (n)) {                                                            \
-            __builtin_prefetch(&heads[idx[ahead_]]);                                   \
-            __builtin_prefetch(&verts[idx[ahead_]]);                                   \
-        }                                                                              \
-    } while (0)
-#else
-#define SB_PREFETCH(i, n)
-#endif
 
 #ifdef SPM_SHADE_L0_NV
 #define SB_NAME spm_shade_l0
