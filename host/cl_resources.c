@@ -16,9 +16,12 @@ void spm_cl_footprint_of(const spm_geometry *g, const spm_tables *t, size_t npix
 {
     spm_cl_footprint f = {0, "nothing", 0};
     size_t n = paths_per_pass, nc = (size_t)t->ncolours;
-    /* per pass (render_cl.c reserve() and the pass image) */
-    add(&f, n * sizeof(spm_path), "path records");
+    /* per pass (render_cl.c reserve() and the pass image): headers and
+     * vertex slabs with room for every depth */
+    add(&f, n * sizeof(spm_dev_head), "path record headers");
+    add(&f, n * SPM_MAX_DEPTH * sizeof(spm_vertex), "path records");
     add(&f, n, "level bytes");
+    add(&f, n * sizeof(spm_u32), "identity indices");
     add(&f, n * sizeof(spm_u32), "bucket indices");
     add(&f, n * 3 * sizeof(float), "path XYZ");
     add(&f, npix * 3 * sizeof(float), "pass image");

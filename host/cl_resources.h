@@ -1,8 +1,9 @@
 /* Device memory a render needs, checked against the device's limits before
  * the OpenCL backend is created, so that an image or scene too large for the
  * device is refused with a clear sentence before any buffer or kernel exists.
- * The sizes follow host/render_cl.c's buffers: per pass (records, level
- * bytes, bucket indices, per-path XYZ for every path; the pass image), and
+ * The sizes follow host/render_cl.c's buffers: per pass (record headers,
+ * vertex slabs, level bytes, identity and bucket indices, per-path XYZ for
+ * every path; the pass image), and
  * per scene (triangles, BVH, emitters, materials, level table, colour tables). */
 #ifndef SPM_CL_RESOURCES_H
 #define SPM_CL_RESOURCES_H

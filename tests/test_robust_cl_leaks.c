@@ -105,7 +105,7 @@ int main(void)
 
     /* Error paths. A 16384 x 16384 pass image (3 GB) fails in create after the
      * context and scene buffers exist; 8192 x 8192 creates, but its first
-     * pass cannot get its path records (36 GB). Both only if the device's
+     * pass cannot get its path records (32 GB). Both only if the device's
      * largest buffer is below those sizes, as it is on every device known here. */
     spm_cl_device dev;
     spm_error err;
@@ -125,7 +125,7 @@ int main(void)
             float *img = calloc((size_t)8192 * 8192 * 3, sizeof *img);
             spm_pass_stats st;
             memset(&st, 0, sizeof st);
-            CHECK(img && spm_cl_pass(r, 0, 1, img, &st, &err) != 0, "36 GB of records accepted");
+            CHECK(img && spm_cl_pass(r, 0, 1, img, &st, &err) != 0, "32 GB of records accepted");
             printf("%s\n", err.msg);
             free(img);
             spm_cl_destroy(r);

@@ -31,17 +31,19 @@ int main(void)
     spm_error err;
     spm_cl_device pocl = device(2.0, 4.379); /* this machine's PoCL device */
 
-    /* 1920x1080, one sample a pass: 2.07M paths of 544-byte records, ~1.1 GB */
+    /* 1920x1080, one sample a pass: 2.07M paths, each a vertex slab of
+     * SPM_MAX_DEPTH vertices (~1 GB together) */
     size_t npix = 1920 * 1080;
     spm_cl_footprint_of(&g, &t, npix, npix, &f);
     CHECK(strcmp(f.largest_what, "path records") == 0, "largest is %s", f.largest_what);
-    CHECK(f.largest == npix * sizeof(spm_path), "records %zu", f.largest);
-    /* everything else (per path 1 + 4 + 12 bytes, the pass image, the scene)
-     * is counted on top: total exceeds the records by at least the per-path rest */
-    CHECK(f.total >= f.largest + npix * 17 + npix * 12, "total %zu", f.total);
+    CHECK(f.largest == npix * SPM_MAX_DEPTH * sizeof(spm_vertex), "records %zu", f.largest);
+    /* everything else (per path a header, a level byte, two indices, XYZ;
+     * the pass image; the scene) is counted on top */
+    size_t per_path_rest = sizeof(spm_dev_head) + 1 + 2 * sizeof(spm_u32) + 3 * sizeof(float);
+    CHECK(f.total >= f.largest + npix * per_path_rest + npix * 12, "total %zu", f.total);
     CHECK(spm_cl_footprint_check(&pocl, &f, 1920, 1080, npix, &err) == 0, "%s", err.msg);
 
-    /* 4096x4096: 8.5 GB of records in one buffer */
+    /* 4096x4096: 8 GB of vertex slabs in one buffer */
     npix = 4096 * 4096;
     spm_cl_footprint_of(&g, &t, npix, npix, &f);
     CHECK(spm_cl_footprint_check(&pocl, &f, 4096, 4096, npix, &err) != 0, "4096^2 refused");
