@@ -235,7 +235,7 @@ int spm_cmd_render(int argc, char **argv)
         spm_render_setup_close(&s);
         return rc;
     }
-    int spp = cfg.spp ? cfg.spp : (s.scene.spp > 0 ? s.scene.spp : 16);
+    int spp = spm_render_spp(&cfg, &s.scene);
     size_t npix = (size_t)s.scene.width * (size_t)s.scene.height;
     spm_film film;
     if (spm_film_init(&film, s.scene.width, s.scene.height, &err)) {

@@ -1,6 +1,8 @@
 /* Writing a film or XYZ image in the format its extension names. */
 #include "output.h"
 #include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -55,6 +57,21 @@ int spm_output_check(const char *path, spm_error *err)
     } else if (access(dir, W_OK | X_OK) != 0) {
         spm_errorf(err, "%s: output directory '%s' is not writable: %s", path, dir, strerror(errno));
         rc = 1;
+    } else {
+        /* access() says yes to root everywhere (/proc, /sys, read-only mounts):
+         * only creating a file tells */
+        size_t n = strlen(dir) + 64;
+        char *probe = spm_xmalloc(n);
+        snprintf(probe, n, "%s/.specmip-probe-%ld", dir, (long)getpid());
+        int fd = open(probe, O_WRONLY | O_CREAT | O_EXCL, 0600);
+        if (fd < 0) {
+            spm_errorf(err, "%s: cannot create files in '%s': %s", path, dir, strerror(errno));
+            rc = 1;
+        } else {
+            close(fd);
+            unlink(probe);
+        }
+        free(probe);
     }
     free(dir);
     return rc;

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "cl_resources.h"
 #include "clhost.h"
 
 static const char *mode_names[SPM_MODE_COUNT] = {"truth", "ref", "ml", "mlc", "hero", "rgb"};
@@ -45,9 +46,21 @@ static void *open_one(void *arg)
     return NULL;
 }
 
-/* The device indices to open, checked: unknown or repeated ones are input errors. */
-static int device_list(const spm_render_config *c, device_open *opens, int *n, spm_error *err)
+int spm_render_spp(const spm_render_config *c, const spm_scene *sc)
 {
+    return c->spp ? c->spp : (sc->spp > 0 ? sc->spp : 16);
+}
+
+/* The device indices to open, checked: unknown or repeated ones are input
+ * errors, and so is a render too large for a device's memory (said before any
+ * buffer or program exists). */
+static int device_list(const spm_render_config *c, const spm_render_setup *s, device_open *opens,
+                       int *n, spm_error *err)
+{
+    size_t npix = (size_t)s->scene.width * (size_t)s->scene.height;
+    size_t ppp = npix * spm_spp_per_pass(npix, spm_render_spp(c, &s->scene));
+    spm_cl_footprint fp;
+    spm_cl_footprint_of(&s->geom, &s->tables, npix, ppp, &fp);
     int list[SPM_MAX_BACKENDS];
     *n = 0;
     if (c->all_devices) {
@@ -75,6 +88,8 @@ static int device_list(const spm_render_config *c, device_open *opens, int *n, s
         spm_cl_device d;
         if (spm_cl_device_get(list[i], &d, err)) /* unknown index: lists the available ones */
             return SPM_EXIT_INPUT;
+        if (spm_cl_footprint_check(&d, &fp, s->scene.width, s->scene.height, ppp, err))
+            return SPM_EXIT_INPUT;
         memset(&opens[i], 0, sizeof opens[i]);
         opens[i].device = list[i];
         snprintf(opens[i].name, sizeof opens[i].name, "%s", d.name);
@@ -88,7 +103,7 @@ static int open_devices(const spm_render_config *c, const spm_backend_input *in,
                         spm_render_setup *s, spm_error *err)
 {
     device_open opens[SPM_MAX_BACKENDS];
-    int n, rc = device_list(c, opens, &n, err);
+    int n, rc = device_list(c, s, opens, &n, err);
     if (rc)
         return rc;
     pthread_t th[SPM_MAX_BACKENDS];

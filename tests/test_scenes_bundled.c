@@ -1,4 +1,4 @@
-/* Every bundled scene (scenes/*.scene) loads and is sane, and the failure
+/* Every bundled scene (every .scene file in scenes/) loads and is sane, and the failure
  * scenes are built as their header comments say: the metameric pair matches
  * under one light only, the saturated wall needs finer levels the more often
  * a path meets it, and the narrow line is one spike. */
