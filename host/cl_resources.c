@@ -2,41 +2,58 @@
 #include "cl_resources.h"
 #include <stdio.h>
 
-static void add(spm_cl_footprint *f, size_t bytes, const char *what)
+size_t spm_cl_batch_pixels(size_t npix, size_t spp, size_t batch_paths)
+{
+    size_t b = spp ? batch_paths / spp : npix;
+    if (b < 1)
+        b = 1;
+    return b < npix ? b : npix;
+}
+
+size_t spm_cl_batch_room(size_t npix, size_t spp, size_t batch_paths)
+{
+    size_t bpix = spm_cl_batch_pixels(npix, spp, batch_paths), n = bpix * (spp ? spp : 1);
+    return bpix < npix && n < batch_paths ? batch_paths : n;
+}
+
+static void add(spm_cl_footprint *f, size_t bytes, const char *what, int scene)
 {
     f->total += bytes;
     if (bytes > f->largest) {
         f->largest = bytes;
         f->largest_what = what;
+        f->largest_is_scene = scene;
     }
 }
 
 void spm_cl_footprint_of(const spm_geometry *g, const spm_tables *t, size_t npix,
                          size_t paths_per_pass, spm_cl_footprint *out)
 {
-    spm_cl_footprint f = {0, "nothing", 0};
-    size_t n = paths_per_pass, nc = (size_t)t->ncolours;
-    /* per pass (render_cl.c reserve() and the pass image): headers and
-     * vertex slabs with room for every depth */
-    add(&f, n * sizeof(spm_dev_head), "path record headers");
-    add(&f, n * SPM_MAX_DEPTH * sizeof(spm_vertex), "path records");
-    add(&f, n, "level bytes");
-    add(&f, n * sizeof(spm_u32), "identity indices");
-    add(&f, n * sizeof(spm_u32), "bucket indices");
-    add(&f, n * 3 * sizeof(float), "path XYZ");
-    add(&f, npix * 3 * sizeof(float), "pass image");
+    spm_cl_footprint f = {0, "nothing", 0, 0, 0};
+    size_t spp = npix ? paths_per_pass / npix : 0, nc = (size_t)t->ncolours;
+    size_t n = spm_cl_batch_room(npix, spp ? spp : 1, SPM_CL_BATCH_PATHS);
+    f.batch_paths = n;
+    /* per batch (render_cl.c reserve()): headers and vertex slabs with room
+     * for every depth; the batch's pixel sums (at most one pixel a path) */
+    add(&f, n * sizeof(spm_dev_head), "path record headers", 0);
+    add(&f, n * SPM_MAX_DEPTH * sizeof(spm_vertex), "path records", 0);
+    add(&f, n, "level bytes", 0);
+    add(&f, n * sizeof(spm_u32), "identity indices", 0);
+    add(&f, n * sizeof(spm_u32), "bucket indices", 0);
+    add(&f, n * 3 * sizeof(float), "path XYZ", 0);
+    add(&f, n * 3 * sizeof(float), "batch image", 0);
     /* per scene (render_cl.c upload_scene()) */
-    add(&f, (size_t)g->ntris * sizeof(spm_tri), "triangles");
-    add(&f, (size_t)g->nnodes * sizeof(spm_bvh_node), "BVH");
-    add(&f, (size_t)g->nemitters * sizeof(spm_u32), "emitters");
-    add(&f, (size_t)t->nmaterials * sizeof(spm_material), "materials");
-    add(&f, nc * SPM_PRETEST_KMAX, "level table");
+    add(&f, (size_t)g->ntris * sizeof(spm_tri), "triangles", 1);
+    add(&f, (size_t)g->nnodes * sizeof(spm_bvh_node), "BVH", 1);
+    add(&f, (size_t)g->nemitters * sizeof(spm_u32), "emitters", 1);
+    add(&f, (size_t)t->nmaterials * sizeof(spm_material), "materials", 1);
+    add(&f, nc * SPM_PRETEST_KMAX, "level table", 1);
     /* colour tables and weights of every kernel: levels with their spike lanes
      * (whole vectors), truth, rgb, hero */
     size_t rows = nc + 3, floats = SPM_TRUTH_BINS + 4 + SPM_L0_BINS + 4 * (SPM_TRUTH_BINS + 1);
     for (int l = 0; l < SPM_NUM_LEVELS; l++)
         floats += (size_t)SPM_LEVEL_BINS(l) + SPM_MAX_SPIKES + (16 >> l);
-    add(&f, rows * floats * sizeof(float), "colour tables");
+    add(&f, rows * floats * sizeof(float), "colour tables", 1);
     *out = f;
 }
 
@@ -45,23 +62,31 @@ static double gb(size_t bytes)
     return (double)bytes / (1024.0 * 1024.0 * 1024.0);
 }
 
+/* What to do about it: a scene buffer needs a smaller scene; a batch's
+ * buffers are already the smallest the renderer cuts a pass into. */
+static const char *advice(const spm_cl_footprint *f)
+{
+    return f->largest_is_scene ? "render a smaller scene or use a larger device"
+                               : "use a device with more memory";
+}
+
 int spm_cl_footprint_check(const spm_cl_device *dev, const spm_cl_footprint *f, int width,
                            int height, size_t paths_per_pass, spm_error *err)
 {
     if (f->largest > dev->max_alloc) {
         spm_errorf(err,
-                   "a %dx%d image needs %.2f GB in one device buffer (%s for %zu paths a pass); "
-                   "device '%s' allows %.2f GB per buffer: render a smaller image",
-                   width, height, gb(f->largest), f->largest_what, paths_per_pass, dev->name,
-                   gb((size_t)dev->max_alloc));
+                   "a %dx%d render needs %.2f GB in one device buffer (%s; %zu paths a pass in "
+                   "batches of %zu); device '%s' allows %.2f GB per buffer: %s",
+                   width, height, gb(f->largest), f->largest_what, paths_per_pass, f->batch_paths,
+                   dev->name, gb((size_t)dev->max_alloc), advice(f));
         return 1;
     }
     if (f->total > dev->global_mem) {
         spm_errorf(err,
-                   "a %dx%d image needs %.2f GB of device memory (%zu paths a pass); "
-                   "device '%s' has %.2f GB: render a smaller image",
-                   width, height, gb(f->total), paths_per_pass, dev->name,
-                   gb((size_t)dev->global_mem));
+                   "a %dx%d render needs %.2f GB of device memory (%zu paths a pass in batches "
+                   "of %zu); device '%s' has %.2f GB: %s",
+                   width, height, gb(f->total), paths_per_pass, f->batch_paths, dev->name,
+                   gb((size_t)dev->global_mem), advice(f));
         return 1;
     }
     return 0;

@@ -12,18 +12,13 @@
 #include "bench_ops.h"
 #include "bench_report.h"
 #include "bench_study.h"
+#include "cli_args.h"
 #include "commands.h"
 #include "render_setup.h"
 #include "spectrum.h"
 
 #define MAX_SCENES 64
 
-static volatile sig_atomic_t stop_flag;
-static void on_signal(int sig)
-{
-    (void)sig;
-    stop_flag = 1;
-}
 
 static void usage(FILE *f)
 {
@@ -66,20 +61,6 @@ static int fail(const char *fmt, const char *a, const char *b)
     fprintf(stderr, fmt, a, b);
     fprintf(stderr, "\n");
     return SPM_EXIT_INPUT;
-}
-
-static int parse_int(const char *opt, const char *s, long lo, long hi, long *out)
-{
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (!*s || *end || errno || v < lo || v > hi) {
-        fprintf(stderr, "specmip bench: %s needs a whole number from %ld to %ld, not '%s'\n", opt,
-                lo, hi, s);
-        return 1;
-    }
-    *out = v;
-    return 0;
 }
 
 /* "a,b,c" -> numbers in [lo, hi], at most max of them */
@@ -199,7 +180,7 @@ static int parse_args(int argc, char **argv, options *o)
             p->nspp = nl;
             o->have_spp = 1;
         } else if (!strcmp(a, "--truth-spp") || !strcmp(a, "--sweep-spp")) {
-            if (parse_int(a, v, 1, 1 << 20, &n))
+            if (spm_arg_long("bench", a, v, 1, 1 << 20, &n))
                 return SPM_EXIT_INPUT;
             if (!strcmp(a, "--truth-spp")) {
                 p->truth_spp = (int)n;
@@ -230,17 +211,17 @@ static int parse_args(int argc, char **argv, options *o)
                 return SPM_EXIT_INPUT;
             p->pretest.threshold = list[0];
         } else if (!strcmp(a, "--blur")) {
-            if (parse_int(a, v, 0, 99, &n))
+            if (spm_arg_long("bench", a, v, 0, 99, &n))
                 return SPM_EXIT_INPUT;
             if (n > 1 && n % 2 == 0)
                 return fail("--blur needs an odd window (or 0 for none), not '%s'%s", v, "");
             p->blur = (int)n;
         } else if (!strcmp(a, "--repeat")) {
-            if (parse_int(a, v, 1, 100, &n))
+            if (spm_arg_long("bench", a, v, 1, 100, &n))
                 return SPM_EXIT_INPUT;
             p->repeat = (int)n;
         } else if (!strcmp(a, "--seed")) {
-            if (parse_int(a, v, 0, 0xfffffffdL, &n))
+            if (spm_arg_long("bench", a, v, 0, 0xfffffffdL, &n))
                 return SPM_EXIT_INPUT;
             p->seed = (spm_u32)n;
         } else if (!strcmp(a, "--backend")) {
@@ -248,13 +229,13 @@ static int parse_args(int argc, char **argv, options *o)
                 return fail("--backend is opencl or cpu, not '%s'%s", v, "");
             p->use_cpu = !strcmp(v, "cpu");
         } else if (!strcmp(a, "--device")) {
-            if (parse_int(a, v, 0, 255, &n))
+            if (spm_arg_long("bench", a, v, 0, 255, &n))
                 return SPM_EXIT_INPUT;
             p->device = (int)n;
         } else if (!strcmp(a, "--out")) {
             o->out = v;
         } else if (!strcmp(a, "--ops-items") || !strcmp(a, "--ops-iters")) {
-            if (parse_int(a, v, 1, 1 << 24, &n))
+            if (spm_arg_long("bench", a, v, 1, 1 << 24, &n))
                 return SPM_EXIT_INPUT;
             *(!strcmp(a, "--ops-items") ? &o->ops_items : &o->ops_iters) = (int)n;
         } else if (a[0] == '-') {
@@ -347,7 +328,7 @@ int spm_cmd_bench(int argc, char **argv)
     p->repeat = 3;
     p->seed = 1;
     p->progress = isatty(2);
-    p->stop = &stop_flag;
+    p->stop = &spm_stop_flag;
     spm_pretest_defaults(&p->pretest);
     int rc = parse_args(argc, argv, &o);
     glob_t g;
@@ -362,11 +343,7 @@ int spm_cmd_bench(int argc, char **argv)
         return rc < 0 ? SPM_EXIT_OK : rc;
     }
     spm_bench_write_meta(o.out, o.ops ? "ops" : "bench", p->use_cpu, p->device, argc, argv);
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    spm_catch_interrupts();
     spm_error err;
     err.msg[0] = 0;
     if (o.ops) {
@@ -392,8 +369,7 @@ int spm_cmd_bench(int argc, char **argv)
     }
     if (o.ops && rc)
         fprintf(stderr, "specmip bench: %s\n", err.msg);
-    signal(SIGINT, SIG_DFL);
-    signal(SIGTERM, SIG_DFL);
+    spm_release_interrupts();
     if (rc == SPM_EXIT_INTERRUPTED)
         fprintf(stderr, "specmip bench: interrupted; finished rows kept\n");
     globfree(&g);

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include "cli_args.h"
 #include "commands.h"
 #include "output.h"
 #include "render_setup.h"
@@ -11,12 +12,6 @@
 
 #define MAX_OUTPUTS 4
 
-static volatile sig_atomic_t stop_flag;
-static void on_signal(int sig)
-{
-    (void)sig;
-    stop_flag = 1;
-}
 
 static void usage(FILE *f)
 {
@@ -50,32 +45,6 @@ static void usage(FILE *f)
         "  --verbose              print the pretest's level table\n"
         "Ctrl-C (or SIGTERM) ends the current pass, writes the image so far and exits 130.\n",
         MAX_OUTPUTS);
-}
-
-static int parse_int(const char *opt, const char *s, long lo, long hi, long *out)
-{
-    char *end;
-    long v = strtol(s, &end, 10);
-    if (!*s || *end || v < lo || v > hi) {
-        fprintf(stderr, "specmip render: %s needs a whole number from %ld to %ld, not '%s'\n", opt,
-                lo, hi, s);
-        return 1;
-    }
-    *out = v;
-    return 0;
-}
-
-static int parse_double(const char *opt, const char *s, double lo, double hi, double *out)
-{
-    char *end;
-    double v = strtod(s, &end);
-    if (!*s || *end || !(v >= lo && v <= hi)) {
-        fprintf(stderr, "specmip render: %s needs a number from %g to %g, not '%s'\n", opt, lo, hi,
-                s);
-        return 1;
-    }
-    *out = v;
-    return 0;
 }
 
 static int parse_devices(const char *s, spm_render_config *c)
@@ -143,17 +112,17 @@ int spm_cmd_render(int argc, char **argv)
             }
         } else if (!strcmp(a, "--spp")) {
             NEED_VALUE;
-            if (parse_int(a, v, 1, 1 << 24, &n))
+            if (spm_arg_long("render", a, v, 1, 1 << 24, &n))
                 return SPM_EXIT_INPUT;
             cfg.spp = (int)n;
         } else if (!strcmp(a, "--seed")) {
             NEED_VALUE;
-            if (parse_int(a, v, 0, 0xffffffffL, &n))
+            if (spm_arg_long("render", a, v, 0, 0xffffffffL, &n))
                 return SPM_EXIT_INPUT;
             cfg.seed = (spm_u32)n;
         } else if (!strcmp(a, "--width") || !strcmp(a, "--height")) {
             NEED_VALUE;
-            if (parse_int(a, v, 1, 16384, &n))
+            if (spm_arg_long("render", a, v, 1, 16384, &n))
                 return SPM_EXIT_INPUT;
             *(a[2] == 'w' ? &cfg.width : &cfg.height) = (int)n;
         } else if (!strcmp(a, "--backend")) {
@@ -169,7 +138,7 @@ int spm_cmd_render(int argc, char **argv)
                 return SPM_EXIT_INPUT;
         } else if (!strcmp(a, "--threshold")) {
             NEED_VALUE;
-            if (parse_double(a, v, 0.0, 1000.0, &d))
+            if (spm_arg_double("render", a, v, 0.0, 1000.0, &d))
                 return SPM_EXIT_INPUT;
             cfg.pretest.threshold = d;
         } else if (!strcmp(a, "--metric")) {
@@ -184,7 +153,7 @@ int spm_cmd_render(int argc, char **argv)
             }
         } else if (!strcmp(a, "--coarsest-level")) {
             NEED_VALUE;
-            if (parse_int(a, v, 0, SPM_NUM_LEVELS - 1, &n))
+            if (spm_arg_long("render", a, v, 0, SPM_NUM_LEVELS - 1, &n))
                 return SPM_EXIT_INPUT;
             cfg.pretest.coarsest_level = (int)n;
         } else if (!strcmp(a, "--tonemap") || !strcmp(a, "--exposure")) {
@@ -243,16 +212,11 @@ int spm_cmd_render(int argc, char **argv)
         spm_render_setup_close(&s);
         return SPM_EXIT_INPUT;
     }
-    spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), &stop_flag, progress};
+    spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), &spm_stop_flag, progress};
     spm_run_result res;
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    spm_catch_interrupts();
     rc = spm_render_run(s.b, s.nb, npix, &ro, &film, &res, &err);
-    signal(SIGINT, SIG_DFL);
-    signal(SIGTERM, SIG_DFL);
+    spm_release_interrupts();
     if (rc) {
         fprintf(stderr, "specmip render: %s\n", err.msg);
         rc = SPM_EXIT_RUNTIME;

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "cl_resources.h"
 #include "colour.h"
 #include "refcpu.h"
 
@@ -28,10 +29,11 @@ struct spm_cl_renderer {
     cl_kernel k_shade[NSLOTS]; /* NULL: not compiled */
     cl_mem tab[NSLOTS], cmf[NSLOTS], hero;
     cl_mem tris, nodes, emitters, mats, lvlk;
-    /* per-pass buffers, grown on demand */
+    /* per-batch buffers (room for cap paths), grown on demand */
     size_t cap;
-    cl_mem heads, verts; /* the pass's records, device layout (spm_shared.h) */
-    cl_mem levels, idx, ident, xyz, pass, counters;
+    size_t batch_paths; /* a batch's paths, at most (SPM_CL_BATCH_PATHS; test hook) */
+    cl_mem heads, verts; /* the batch's records, device layout (spm_shared.h) */
+    cl_mem levels, idx, ident, xyz, pass, counters; /* pass: the batch's pixel sums */
     uint8_t *h_levels;
     spm_u32 *h_idx; /* bucket indices, the source of idx's non-blocking upload */
     size_t lhist[256]; /* ml, mlc: the pass's level bytes counted by value (bucket()) */
@@ -282,6 +284,7 @@ int spm_cl_create(int device, const spm_geometry *g, const spm_tables *t, int mo
     spm_cl_renderer *r = spm_xcalloc(1, sizeof *r);
     r->mode = mode;
     r->npix = (size_t)g->cam.width * (size_t)g->cam.height;
+    r->batch_paths = SPM_CL_BATCH_PATHS;
     parse_fail_env(r, device);
     spm_trace_params *p = &r->params;
     p->cam = g->cam;
@@ -301,8 +304,6 @@ int spm_cl_create(int device, const spm_geometry *g, const spm_tables *t, int mo
             rc = upload_slot(r, t, s, err);
     rc = rc || new_buffer(r, &r->counters, CL_MEM_READ_WRITE, sizeof r->zero, NULL, "counters",
                           err) ||
-         new_buffer(r, &r->pass, CL_MEM_WRITE_ONLY, r->npix * 3 * sizeof(float), NULL,
-                    "pass image", err) ||
          build(r, t, need, err);
     if (rc) {
         spm_cl_destroy(r);
@@ -353,7 +354,7 @@ const spm_cl_device *spm_cl_renderer_device(const spm_cl_renderer *r)
     return &r->cl.dev;
 }
 
-/* Per-pass buffers for n paths; only grows. */
+/* Per-batch buffers for n paths (and up to n pixels); only grows. */
 static int reserve(spm_cl_renderer *r, size_t n, spm_error *err)
 {
     if (n <= r->cap)
@@ -364,6 +365,7 @@ static int reserve(spm_cl_renderer *r, size_t n, spm_error *err)
     release(&r->idx);
     release(&r->ident);
     release(&r->xyz);
+    release(&r->pass);
     r->cap = 0;
     r->h_idx = spm_xrealloc(r->h_idx, n * sizeof *r->h_idx);
     for (size_t i = 0; i < n; i++)
@@ -378,7 +380,9 @@ static int reserve(spm_cl_renderer *r, size_t n, spm_error *err)
                    "identity indices", err) ||
         new_buffer(r, &r->idx, CL_MEM_READ_ONLY, n * sizeof(spm_u32), NULL, "bucket indices",
                    err) ||
-        new_buffer(r, &r->xyz, CL_MEM_READ_WRITE, n * 3 * sizeof(float), NULL, "path XYZ", err))
+        new_buffer(r, &r->xyz, CL_MEM_READ_WRITE, n * 3 * sizeof(float), NULL, "path XYZ", err) ||
+        new_buffer(r, &r->pass, CL_MEM_WRITE_ONLY, n * 3 * sizeof(float), NULL, "batch image",
+                   err))
         return 1;
     r->h_levels = spm_xrealloc(r->h_levels, n);
     r->cap = n;
@@ -414,24 +418,53 @@ static int enqueue(spm_cl_renderer *r, cl_kernel k, const char *name, size_t off
                         what, err);
 }
 
-static int run_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t n,
-                     cl_event *ev, spm_error *err)
+/* One batch of a pass: pixels first_pixel .. first_pixel + npix - 1, spp
+ * samples each from first_sample, n = npix * spp paths whose records are
+ * indexed from 0. Every trace and shade launch of a pass has `launch`
+ * work-items, a full batch (see run_shade), and every accumulate launch
+ * launch / spp. */
+typedef struct {
+    spm_u32 first_sample, spp, first_pixel, npix;
+    size_t n, launch;
+} batch;
+
+/* A pass's batch size in pixels (cl_resources.h), with the buffers for it. */
+static int plan(spm_cl_renderer *r, spm_u32 spp, size_t *bpix, spm_error *err)
 {
-    r->params.first_sample = first_sample;
-    r->params.spp_per_pass = spp;
-    spm_u32 npaths = (spm_u32)n;
+    *bpix = spm_cl_batch_pixels(r->npix, spp, r->batch_paths);
+    return reserve(r, spm_cl_batch_room(r->npix, spp, r->batch_paths), err);
+}
+
+/* The batch of a pass cut into batches of bpix pixels that starts at pixel p0. */
+static batch batch_at(const spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t p0,
+                      size_t bpix)
+{
+    size_t np = r->npix - p0 < bpix ? r->npix - p0 : bpix;
+    batch b = {first_sample, spp, (spm_u32)p0, (spm_u32)np, np * spp, bpix * spp};
+    return b;
+}
+
+static int zero_counters(spm_cl_renderer *r, spm_error *err)
+{
     CK(clEnqueueWriteBuffer(r->cl.queue, r->counters, CL_FALSE, 0, sizeof r->zero, r->zero, 0,
                             NULL, NULL),
        "clEnqueueWriteBuffer(counters)");
-    const size_t sz[] = {sizeof(cl_mem), sizeof(cl_mem), sizeof(cl_mem), sizeof(cl_mem),
-                         sizeof(cl_mem), sizeof r->params, sizeof(spm_u32), sizeof(spm_u32),
-                         sizeof(cl_mem), sizeof(cl_mem), sizeof(cl_mem), sizeof(cl_mem)};
-    const void *val[] = {&r->tris,   &r->nodes, &r->emitters, &r->mats,
-                         &r->lvlk,   &r->params, &r->init_level, &npaths,
-                         &r->heads, &r->verts, &r->levels, &r->counters};
-    if (set_args(r->k_trace, "spm_trace", 12, sz, val, err))
+    return 0;
+}
+
+static int run_trace(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_error *err)
+{
+    r->params.first_sample = b->first_sample;
+    r->params.spp_per_pass = b->spp;
+    spm_u32 npaths = (spm_u32)b->n;
+    const size_t m = sizeof(cl_mem), u = sizeof(spm_u32);
+    const size_t sz[] = {m, m, m, m, m, sizeof r->params, u, u, m, m, m, m, u};
+    const void *val[] = {&r->tris,  &r->nodes, &r->emitters, &r->mats,     &r->lvlk,
+                         &r->params, &r->init_level, &npaths, &r->heads, &r->verts,
+                         &r->levels, &r->counters, &b->first_pixel};
+    if (set_args(r->k_trace, "spm_trace", 13, sz, val, err))
         return 1;
-    return enqueue(r, r->k_trace, "spm_trace", 0, n, ev, err);
+    return enqueue(r, r->k_trace, "spm_trace", 0, b->launch, ev, err);
 }
 
 /* Which shade kernel a mode without levels uses for every path. */
@@ -510,16 +543,15 @@ static int bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t of
 }
 
 /* Enqueue the shade kernel of every non-empty bucket; events in ev[slot]. */
-static int run_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp,
-                     const size_t off[NSLOTS + 1], cl_mem ids, cl_event ev[NSLOTS],
-                     spm_error *err)
+static int run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOTS + 1], cl_mem ids,
+                     cl_event ev[NSLOTS], spm_error *err)
 {
     for (int s = 0; s < NSLOTS; s++) {
         ev[s] = NULL;
         size_t cnt = off[s + 1] - off[s];
         if (!cnt)
             continue;
-        /* Every launch has offset 0 and the pass's size, the bucket being
+        /* Every launch has offset 0 and a full batch's size, the bucket being
          * arguments (items past its end return at once): PoCL 3.1 compiles a
          * kernel once per offset class and per larger grid, but matches a
          * finished launch to those versions by local size only, so launches
@@ -528,22 +560,24 @@ static int run_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp,
          * build() now keeps devices from sharing kernels (SPM_DEVICE_INDEX);
          * this stays as the second guard because its cost, empty work-groups
          * when ml splits a pass, was below the noise on cornell_spiky (two
-         * buckets a pass: shade time the same launched either way). */
+         * buckets a pass: shade time the same launched either way). The last
+         * batch of a pass is launched at full size too, for the same reason. */
         spm_u32 begin = (spm_u32)off[s], end = (spm_u32)off[s + 1];
-        spm_u32 npaths = (spm_u32)off[NSLOTS], seed = r->params.seed;
+        spm_u32 npaths = (spm_u32)b->n, seed = r->params.seed;
         /* shade_body.clh: (heads, verts, npaths, idx, begin, end, tab, cmf [, hero,
-         * seed, spp, first_sample], xyz) */
+         * seed, spp, first_sample, first_pixel], xyz) */
         const size_t m = sizeof(cl_mem), u = sizeof(spm_u32);
-        const size_t sz_hero[] = {m, m, u, m, u, u, m, m, m, u, u, u, m};
-        const void *val_hero[] = {&r->heads,  &r->verts, &npaths, &ids, &begin,
-                                  &end,       &r->tab[s], &r->cmf[s], &r->hero, &seed,
-                                  &spp,       &first_sample, &r->xyz};
+        const size_t sz_hero[] = {m, m, u, m, u, u, m, m, m, u, u, u, u, m};
+        const void *val_hero[] = {&r->heads, &r->verts,  &npaths,    &ids,
+                                  &begin,    &end,       &r->tab[s], &r->cmf[s],
+                                  &r->hero,  &seed,      &b->spp,    &b->first_sample,
+                                  &b->first_pixel, &r->xyz};
         const size_t sz[] = {m, m, u, m, u, u, m, m, m};
         const void *val[] = {&r->heads, &r->verts, &npaths,    &ids,    &begin,
                              &end,      &r->tab[s], &r->cmf[s], &r->xyz};
-        int rc = s == SLOT_HERO ? set_args(r->k_shade[s], slot_kernel[s], 13, sz_hero, val_hero, err)
+        int rc = s == SLOT_HERO ? set_args(r->k_shade[s], slot_kernel[s], 14, sz_hero, val_hero, err)
                                 : set_args(r->k_shade[s], slot_kernel[s], 9, sz, val, err);
-        if (rc || enqueue(r, r->k_shade[s], slot_kernel[s], 0, off[NSLOTS], &ev[s], err))
+        if (rc || enqueue(r, r->k_shade[s], slot_kernel[s], 0, b->launch, &ev[s], err))
             return 1;
     }
     return 0;

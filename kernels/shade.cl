@@ -95,12 +95,13 @@ inline void hero_lane(__global const float *hero, float x, uint *bin, float4 *w)
 #define SB_NAME spm_shade_hero
 #define SB_W 4
 #define SB_NV 1
-#define SB_EXTRA_ARGS , __global const float *hero, uint seed, uint spp, uint first_sample
+/* first_pixel: the batch's first pixel (path pi of the batch is pixel first_pixel + pi / spp) */
+#define SB_EXTRA_ARGS , __global const float *hero, uint seed, uint spp, uint first_sample, uint first_pixel
 #define SB_PREPARE                                                                     \
     uint hb[4];                                                                        \
     float4 hw[4];                                                                      \
     {                                                                                  \
-        float u = spm_rng(seed, pi / spp, first_sample + pi % spp, SPM_DIM_HERO);      \
+        float u = spm_rng(seed, first_pixel + pi / spp, first_sample + pi % spp, SPM_DIM_HERO); \
         for (int l = 0; l < SPM_HERO_LANES; l++) {                                     \
             float x = u + (float)l / (float)SPM_HERO_LANES;                                   \
             hero_lane(hero, x >= 1.0f ? x - 1.0f : x, &hb[l], &hw[l]);                 \

@@ -64,20 +64,37 @@ inline int tri_hit(__global const spm_tri *tr, float3 o, float3 d, float *t_out)
 
 /* Slab test: entry distance, or INFINITY when the box is missed or lies
  * beyond tmax. The exit is widened by a few ulps so a flat box (a wall)
- * whose faces the ray touches is not lost to rounding. */
+ * whose faces the ray touches is not lost to rounding. No operand is NaN
+ * (finite boxes and origins, finite reciprocals), so plain compares give
+ * fmin/fmax's values without their NaN handling. */
+inline float min2(float a, float b)
+{
+    return b < a ? b : a;
+}
+
+inline float max2(float a, float b)
+{
+    return b > a ? b : a;
+}
+
 inline float box_entry(__global const spm_bvh_node *nd, float3 o, float3 inv, float tmax)
 {
     float3 t0 = (ld3(nd->bmin) - o) * inv;
     float3 t1 = (ld3(nd->bmax) - o) * inv;
-    float3 lo = fmin(t0, t1), hi = fmax(t0, t1);
-    float enter = fmax(fmax(lo.x, lo.y), fmax(lo.z, 0.0f));
-    float leave = fmin(fmin(hi.x, hi.y), hi.z) * 1.0000005f;
+    float3 lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
+    float enter = max2(max2(lo.x, lo.y), max2(lo.z, 0.0f));
+    float leave = min2(min2(hi.x, hi.y), hi.z) * 1.0000005f;
     return (enter <= leave && enter <= tmax) ? enter : INFINITY;
 }
 
-/* Closest hit ignoring triangle `skip`: index or -1. */
-int intersect(__global const spm_bvh_node *nodes, __global const spm_tri *tris, float3 o,
-              float3 d, uint skip, float *t_out, __global uint *counters)
+/* Traversal keeping the closest hit other than triangle `skip`, starting
+ * from the hit (hit, best): an exact tie goes to the lower index, so the
+ * visiting order does not matter. Returns the final hit's index (`hit` when
+ * nothing beats it; -1 for none). With `any`, returns at the first
+ * triangle that beats the start: the caller only needs to know whether one
+ * exists (a shadow ray), and the result is then some such triangle. */
+int traverse(__global const spm_bvh_node *nodes, __global const spm_tri *tris, float3 o, float3 d,
+             uint skip, float best, int hit, int any, float *t_out, __global uint *counters)
 {
     /* a zero component gets a huge reciprocal, not infinity (no 0 * inf NaN) */
     float3 inv = (float3)(1.0f / (d.x != 0.0f ? d.x : 1e-30f), 1.0f / (d.y != 0.0f ? d.y : 1e-30f),
@@ -85,23 +102,24 @@ int intersect(__global const spm_bvh_node *nodes, __global const spm_tri *tris, 
     uint st_node[SPM_BVH_STACK];
     float st_t[SPM_BVH_STACK];
     int sp = 0;
-    float best = INFINITY;
-    int hit = -1;
+    int start = hit;
     uint node = 0;
+    *t_out = best;
     if (box_entry(&nodes[0], o, inv, best) == INFINITY)
-        return -1;
+        return hit;
     for (;;) {
         uint count = nodes[node].count, first = nodes[node].first;
         if (count > 0) {
             for (uint i = first; i < first + count; i++) {
                 float t;
-                /* an exact tie goes to the lower index: visiting order does not matter */
                 if (i != skip && tri_hit(&tris[i], o, d, &t) &&
                     (t < best || (t == best && (int)i < hit))) {
                     best = t;
                     hit = (int)i;
                 }
             }
+            if (any && hit != start)
+                return hit;
         } else {
             float ta = box_entry(&nodes[first], o, inv, best);
             float tb = box_entry(&nodes[first + 1], o, inv, best);
@@ -140,6 +158,27 @@ int intersect(__global const spm_bvh_node *nodes, __global const spm_tri *tris, 
     }
 }
 
+/* Closest hit ignoring triangle `skip`: index or -1. */
+inline int intersect(__global const spm_bvh_node *nodes, __global const spm_tri *tris, float3 o,
+                     float3 d, uint skip, float *t_out, __global uint *counters)
+{
+    return traverse(nodes, tris, o, d, skip, INFINITY, -1, 0, t_out, counters);
+}
+
+/* The shadow test "the closest hit other than `skip` is emitter triangle ei,
+ * or nothing": returns what intersect() would, or another occluder. When ei
+ * itself is hit at te, the closest hit is ei exactly when no other triangle
+ * hits at t < te or at t == te with a lower index, which is the traversal's
+ * rule started from (te, ei); when ei is not hit, any hit at all occludes. */
+inline int shadow_hit(__global const spm_bvh_node *nodes, __global const spm_tri *tris, float3 o,
+                      float3 d, uint skip, uint ei, __global uint *counters)
+{
+    float te, t;
+    if (ei != skip && tri_hit(&tris[ei], o, d, &te))
+        return traverse(nodes, tris, o, d, skip, te, (int)ei, 1, &t, counters);
+    return traverse(nodes, tris, o, d, skip, INFINITY, -1, 1, &t, counters);
+}
+
 /* Level feeler: one colour met; lvlk[c*8 + min(k,8) - 1] (k = occurrence count). */
 inline void feel(__global const uchar *lvlk, uint c, uint k, uint by, uint *level, uint *setby)
 {
@@ -150,17 +189,20 @@ inline void feel(__global const uchar *lvlk, uint c, uint k, uint by, uint *leve
     }
 }
 
-/* counters[0]: truncated paths; counters[1]: BVH stack overflows. */
+/* One batch of a pass: npaths paths, the samples of pixels first_pixel ...
+ * (records indexed from 0 within the batch).
+ * counters[0]: truncated paths; counters[1]: BVH stack overflows. */
 __kernel void spm_trace(__global const spm_tri *tris, __global const spm_bvh_node *nodes,
                         __global const uint *emitters, __global const spm_material *mats,
                         __global const uchar *lvlk, const spm_trace_params p, uint init_level,
                         uint npaths, __global spm_dev_head *heads, __global spm_vertex *verts,
-                        __global uchar *levels, __global uint *counters)
+                        __global uchar *levels, __global uint *counters,
+                        uint first_pixel)
 {
     uint gid = get_global_id(0);
     if (gid >= npaths)
         return;
-    uint pixel = gid / p.spp_per_pass;
+    uint pixel = first_pixel + gid / p.spp_per_pass; /* the batch starts at first_pixel */
     uint sample = p.first_sample + gid % p.spp_per_pass;
     uint seed = p.seed;
     __global spm_vertex *vrec = &verts[gid]; /* vertex j at vrec[j * npaths] (spm_shared.h) */
@@ -231,8 +273,7 @@ __kernel void spm_trace(__global const spm_tri *tris, __global const spm_bvh_nod
             float3 ep = ld3(et->v0) + ld3(et->e1) * a + ld3(et->e2) * b;
             float3 ev = ep - pos;
             float3 ed = unit3(ev);
-            float st;
-            int sh = intersect(nodes, tris, pos, ed, (uint)hit, &st, counters);
+            int sh = shadow_hit(nodes, tris, pos, ed, (uint)hit, ei, counters);
             float cos_e = -dot3(ed, ld3(et->n));
             float cos_i = dot3(ed, n), cos_o = dot3(back, n);
             /* unoccluded, front face, light and viewer on the same side */

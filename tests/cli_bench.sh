@@ -2,16 +2,7 @@
 # specmip bench on one tiny scene: the CSV read back (header, rows, finite
 # numbers, invariants), the charts (PNG files), RESULTS.md, an interrupted
 # study keeping its finished rows, and exit 2 on bad options.
-set -u
-BIN=$1
-DATA=${SPECMIP_DATA:-$(cd "$(dirname "$0")/.." && pwd)}
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-pass=0 fail=0
-check() {  # check WHAT COMMAND...
-    local what=$1; shift
-    if "$@"; then pass=$((pass + 1)); else fail=$((fail + 1)); echo "FAIL: $what" >&2; fi
-}
+source "$(dirname "$0")/lib_cli.sh"
 col() {  # col CSV NAME: the values of column NAME, one per line
     awk -F, -v n="$2" 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == n) c = i; next } { print $c }' "$1"
 }
@@ -85,5 +76,4 @@ expect_exit2 "unknown option" "unknown option" --frobnicate
 expect_exit2 "missing scene" "nonexistent.scene" --scenes "$T/nonexistent.scene" --size 8x8 --spp 1 \
     --truth-spp 1 --thresholds none
 
-echo "$pass passed, $fail failed"
-test $fail -eq 0
+finish

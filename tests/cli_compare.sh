@@ -1,15 +1,7 @@
 #!/bin/bash
 # specmip compare on images made with oiiotool: known differences in the JSON,
 # 8-bit decoding, the heat map, and exit code 2 with a clear message on bad input.
-set -u
-BIN=$1
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-pass=0 fail=0
-check() {  # check WHAT COMMAND...
-    local what=$1; shift
-    if "$@"; then pass=$((pass + 1)); else fail=$((fail + 1)); echo "FAIL: $what" >&2; fi
-}
+source "$(dirname "$0")/lib_cli.sh"
 near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; exit !(d <= t && -d <= t) }'; }
 
 # Reference: uniform linear grey 1 (so Yn = 1 and L* = 100). Test image: the grey
@@ -71,5 +63,4 @@ expect_exit2 "one image" "two images" "$T/a.exr"
 check "--help exits 0" test $? -eq 0
 check "--help names --white-y" grep -q -- "--white-y" "$T/help.txt"
 
-echo "$pass passed, $fail failed"
-test $fail -eq 0
+finish

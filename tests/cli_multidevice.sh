@@ -3,15 +3,7 @@
 # the same EXR as one device (bit for bit for devices of one kind), per-device
 # statistics, an injected device failure (SPECMIP_CL_FAIL) that the others
 # absorb, all devices failing (exit 1, finished passes written), bad --device.
-set -u
-BIN=$1
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-pass=0 fail=0
-check() {  # check WHAT COMMAND...
-    local what=$1; shift
-    if "$@"; then pass=$((pass + 1)); else fail=$((fail + 1)); echo "FAIL: $what" >&2; fi
-}
+source "$(dirname "$0")/lib_cli.sh"
 same_exr() { idiff -fail 0 -warn 0 "$1" "$2" > /dev/null; }
 le() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; }
 
@@ -78,5 +70,4 @@ check "pthread + basic: exit 0" test $? -eq 0
 "$BIN" compare "$T/pth.exr" "$T/mixed.exr" --json > "$T/mixed.json"
 check "pthread + basic: mean dE00 below 0.1" le "$(jq .mean "$T/mixed.json")" 0.1
 
-echo "$pass passed, $fail failed"
-test "$fail" -eq 0
+finish

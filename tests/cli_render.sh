@@ -4,16 +4,7 @@
 # file:line; SIGINT writes the image so far and exits 130; the same seed gives
 # the same image; the CPU reference backend renders too.
 # usage: bash tests/cli_render.sh /path/to/specmip
-set -u
-BIN=${1:?usage: cli_render.sh SPECMIP}
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(dirname "$HERE")
-export SPECMIP_DATA=${SPECMIP_DATA:-$ROOT}
-pass=0 fail=0
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+source "$(dirname "$0")/lib_cli.sh"
 
 # 1. No arguments: the default scene into specmip.png and specmip.exr in the
 #    current directory (at a reduced spp through nothing but the defaults would
@@ -94,5 +85,4 @@ assert d["paths"] == 32 * 32, d["paths"]
 assert sum(l["paths"] for l in d["levels"]) == d["paths"]
 PY
 
-echo "$pass passed, $fail failed"
-[ $fail -eq 0 ]
+finish

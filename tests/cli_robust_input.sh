@@ -6,16 +6,7 @@
 # before rendering; a failed or killed run leaves an existing output as it
 # was; SIGTERM writes the image so far; a scene lit only by its sky is valid.
 # usage: bash tests/cli_robust_input.sh /path/to/specmip
-set -u
-BIN=${1:?usage: cli_robust_input.sh SPECMIP}
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(dirname "$HERE")
-export SPECMIP_DATA=${SPECMIP_DATA:-$ROOT}
-pass=0 fail=0
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+source "$(dirname "$0")/lib_cli.sh"
 SCENE_TAIL='camera position 0 1 -3 direction 0 0 1 fov 40
 spectrum flat equal
 material light emit flat 1
@@ -109,5 +100,4 @@ grep -q "interrupted after" "$T/err" && ok || bad "SIGTERM: no message $(cat "$T
 "$BIN" render "$ROOT/tests/data/scenes/sky_only.scene" --backend cpu --spp 2 -o "$T/sky.exr" --quiet
 [ $? -eq 0 ] && [ -s "$T/sky.exr" ] && ok || bad "sky-only scene refused"
 
-echo "$pass passed, $fail failed"
-[ $fail -eq 0 ]
+finish

@@ -3,14 +3,7 @@
 # every tests/bad-inputs/*.csv exits 2 naming the file and the line that its
 # first comment line announces ("... line N ...").
 # usage: bash tests/cli_spectrum.sh /path/to/specmip
-set -u
-BIN=${1:?usage: cli_spectrum.sh SPECMIP}
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(dirname "$HERE")
-export SPECMIP_DATA=${SPECMIP_DATA:-$ROOT}
-pass=0 fail=0
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+source "$(dirname "$0")/lib_cli.sh"
 
 # One reflectance, checked in Python: keys present, white patch near Y = 88.7
 # (Ohta's white_9_5 under D65, /work/shared/data/README.md), levels ordered.
@@ -63,5 +56,4 @@ for f in "$ROOT"/tests/bad-inputs/*.csv; do
 done
 [ $n -ge 7 ] && ok || bad "only $n bad inputs"
 
-echo "$pass passed, $fail failed"
-[ $fail -eq 0 ]
+finish

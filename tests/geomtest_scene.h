@@ -134,18 +134,6 @@ static inline void ts_tables(const spm_scene *s, spm_tables *t)
     }
 }
 
-static inline void ts_tables_free(spm_tables *t)
-{
-    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
-        free(t->lvl[l]);
-        free(t->mlc_lvl[l]);
-    }
-    free(t->truth);
-    free(t->rgb);
-    free(t->lvlk);
-    free(t->mlc_lvlk);
-    free(t->materials);
-}
 
 static inline spm_trace_params ts_params(const spm_scene *s, const spm_geometry *g, spm_u32 spp,
                                   spm_u32 seed)

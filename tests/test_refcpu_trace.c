@@ -38,7 +38,7 @@ static void world_box(world *w, double rho)
 
 static void world_free(world *w)
 {
-    ts_tables_free(&w->t);
+    spm_tables_free(&w->t);
     spm_geometry_free(&w->g);
     ts_free(&w->s);
 }

@@ -41,7 +41,7 @@ static stats render(const spm_scene *s, spm_u32 spp, spm_u32 seed)
     st.mean = sum / (double)n;
     st.sem = sqrt(fmax(0.0, sum2 / (double)n - st.mean * st.mean) / (double)(n - 1));
     free(paths), free(levels), free(xyz);
-    ts_tables_free(&t);
+    spm_tables_free(&t);
     spm_geometry_free(&g);
     return st;
 }
@@ -233,7 +233,7 @@ static void test_background(void)
               paths[i].h.end == SPM_END_ESCAPED;
     }
     CHECK(ok, "sky above the horizon (top rows), ground below");
-    ts_tables_free(&t);
+    spm_tables_free(&t);
     spm_geometry_free(&g);
 
     /* inside, looking up through the open side: the sky, exactly */
