@@ -1,14 +1,17 @@
-/* The CPU reference as a backend: trace and shade in plain scalar C. */
-#include "backend.h"
+/* The CPU reference as a backend: trace and shade in plain scalar C, a pass
+ * in batches of whole pixels (backend_cpu.h). */
+#include "backend_cpu.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "cl_resources.h"
 #include "refcpu.h"
 
 typedef struct {
     spm_backend_input in;
-    spm_path *paths;
+    size_t batch_paths;
+    spm_path *paths; /* one batch's records, level bytes and XYZ */
     uint8_t *levels;
     float *xyz;
     size_t cap;
@@ -61,6 +64,32 @@ void spm_accumulate_pass(const float *xyz, size_t npix, spm_u32 spp, float *pass
     }
 }
 
+/* Room for n paths; only grows. */
+static void reserve(cpu_impl *c, size_t n)
+{
+    if (n <= c->cap)
+        return;
+    free(c->paths);
+    free(c->levels);
+    free(c->xyz);
+    c->paths = spm_xmalloc(n * sizeof *c->paths);
+    c->levels = spm_xmalloc(n);
+    c->xyz = spm_xmalloc(n * 3 * sizeof(float));
+    c->cap = n;
+}
+
+/* Paths [i0, i0 + n) of the pass into the batch buffers. The reference's
+ * range tracer indexes the pass's arrays (refcpu.h); the batch buffers stand
+ * for entries i0 .. i0 + n - 1 of them, the only ones it touches. */
+static void trace_batch(cpu_impl *c, const spm_trace_params *p, int start_level, size_t i0,
+                        size_t n)
+{
+    const spm_tables *t = c->in.tables;
+    const uint8_t *lvlk = c->in.mode == SPM_MODE_MLC ? t->mlc_lvlk : t->lvlk;
+    spm_ref_trace_range(c->in.geom, t->materials, lvlk, start_level, p, i0, i0 + n,
+                        c->paths - i0, c->levels - i0);
+}
+
 static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                     spm_pass_stats *st, spm_error *err)
 {
@@ -69,16 +98,14 @@ static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pa
     const spm_geometry *g = c->in.geom;
     const spm_tables *t = c->in.tables;
     size_t npix = (size_t)g->cam.width * (size_t)g->cam.height;
-    size_t n = npix * spp;
-    if (n > c->cap) {
-        free(c->paths);
-        free(c->levels);
-        free(c->xyz);
-        c->paths = spm_xmalloc(n * sizeof *c->paths);
-        c->levels = spm_xmalloc(n);
-        c->xyz = spm_xmalloc(n * 3 * sizeof(float));
-        c->cap = n;
-    }
+    if (spp == 0)
+        return 0;
+    /* Hero keys each path's wavelengths by its index in the pass, and the
+     * reference's shading (refcpu.h) counts indices from its first record:
+     * hero shades a whole pass at once. */
+    size_t batch = c->in.mode == SPM_MODE_HERO ? npix * spp : c->batch_paths;
+    size_t bpix = spm_cl_batch_pixels(npix, spp, batch);
+    reserve(c, spm_cl_batch_room(npix, spp, batch));
     spm_trace_params p;
     memset(&p, 0, sizeof p);
     p.cam = g->cam;
@@ -89,18 +116,34 @@ static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pa
     p.seed = c->in.seed;
     p.spp_per_pass = spp;
     p.first_sample = first_sample;
-    const uint8_t *lvlk = c->in.mode == SPM_MODE_MLC ? t->mlc_lvlk : t->lvlk;
-    double t0 = spm_now();
-    spm_ref_trace(g, t->materials, lvlk, &p, c->paths, c->levels);
-    double t1 = spm_now();
-    spm_ref_shade(t, c->in.mode, &p, c->paths, c->levels, n, c->xyz);
-    double t2 = spm_now();
-    spm_accumulate_pass(c->xyz, npix, spp, pass_xyz, st);
-    spm_count_levels(c->in.mode, c->paths, c->levels, n, st);
-    st->trace_s += t1 - t0;
-    st->shade_s += t2 - t1;
-    st->accum_s += spm_now() - t2;
+    int start = spm_ref_level_start(g, t->materials,
+                                    c->in.mode == SPM_MODE_MLC ? t->mlc_lvlk : t->lvlk, &p);
+    for (size_t p0 = 0; p0 < npix; p0 += bpix) {
+        size_t nb = npix - p0 < bpix ? npix - p0 : bpix, n = nb * spp;
+        double t0 = spm_now();
+        trace_batch(c, &p, start, p0 * spp, n);
+        double t1 = spm_now();
+        spm_ref_shade(t, c->in.mode, &p, c->paths, c->levels, n, c->xyz);
+        double t2 = spm_now();
+        spm_accumulate_pass(c->xyz, nb, spp, &pass_xyz[3 * p0], st);
+        spm_count_levels(c->in.mode, c->paths, c->levels, n, st);
+        st->trace_s += t1 - t0;
+        st->shade_s += t2 - t1;
+        st->accum_s += spm_now() - t2;
+    }
     return 0;
+}
+
+void spm_backend_cpu_set_batch_paths(spm_backend *b, size_t paths)
+{
+    cpu_impl *c = b->impl;
+    c->batch_paths = paths ? paths : SPM_CPU_BATCH_PATHS;
+}
+
+size_t spm_backend_cpu_batch_capacity(const spm_backend *b)
+{
+    const cpu_impl *c = b->impl;
+    return c->cap;
 }
 
 static void cpu_destroy(spm_backend *b)
@@ -119,6 +162,7 @@ spm_backend *spm_backend_cpu_create(const spm_backend_input *in, spm_error *err)
     spm_backend *b = spm_xcalloc(1, sizeof *b);
     cpu_impl *c = spm_xcalloc(1, sizeof *c);
     c->in = *in;
+    c->batch_paths = SPM_CPU_BATCH_PATHS;
     b->impl = c;
     b->pass = cpu_pass;
     b->destroy = cpu_destroy;

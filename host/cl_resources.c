@@ -57,9 +57,15 @@ void spm_cl_footprint_of(const spm_geometry *g, const spm_tables *t, size_t npix
     *out = f;
 }
 
-static double gb(size_t bytes)
+/* "1.50 GB" or "128.0 MB": a batch's buffers are well under a gigabyte. */
+static const char *size_str(size_t bytes, char buf[32])
 {
-    return (double)bytes / (1024.0 * 1024.0 * 1024.0);
+    double mb = (double)bytes / (1024.0 * 1024.0);
+    if (mb >= 1024.0)
+        snprintf(buf, 32, "%.2f GB", mb / 1024.0);
+    else
+        snprintf(buf, 32, "%.1f MB", mb);
+    return buf;
 }
 
 /* What to do about it: a scene buffer needs a smaller scene; a batch's
@@ -73,20 +79,21 @@ static const char *advice(const spm_cl_footprint *f)
 int spm_cl_footprint_check(const spm_cl_device *dev, const spm_cl_footprint *f, int width,
                            int height, size_t paths_per_pass, spm_error *err)
 {
+    char need[32], have[32];
     if (f->largest > dev->max_alloc) {
         spm_errorf(err,
-                   "a %dx%d render needs %.2f GB in one device buffer (%s; %zu paths a pass in "
-                   "batches of %zu); device '%s' allows %.2f GB per buffer: %s",
-                   width, height, gb(f->largest), f->largest_what, paths_per_pass, f->batch_paths,
-                   dev->name, gb((size_t)dev->max_alloc), advice(f));
+                   "a %dx%d render needs %s in one device buffer (%s; %zu paths a pass in "
+                   "batches of %zu); device '%s' allows %s per buffer: %s",
+                   width, height, size_str(f->largest, need), f->largest_what, paths_per_pass,
+                   f->batch_paths, dev->name, size_str((size_t)dev->max_alloc, have), advice(f));
         return 1;
     }
     if (f->total > dev->global_mem) {
         spm_errorf(err,
-                   "a %dx%d render needs %.2f GB of device memory (%zu paths a pass in batches "
-                   "of %zu); device '%s' has %.2f GB: %s",
-                   width, height, gb(f->total), paths_per_pass, f->batch_paths, dev->name,
-                   gb((size_t)dev->global_mem), advice(f));
+                   "a %dx%d render needs %s of device memory (%zu paths a pass in batches "
+                   "of %zu); device '%s' has %s: %s",
+                   width, height, size_str(f->total, need), paths_per_pass, f->batch_paths,
+                   dev->name, size_str((size_t)dev->global_mem, have), advice(f));
         return 1;
     }
     return 0;

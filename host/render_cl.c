@@ -500,7 +500,8 @@ static void byte_histogram(const uint8_t *v, size_t n, size_t h[256])
  * without levels, and ml scenes whose paths all get one level, like the
  * default Cornell box) the list is the identity, on the device since
  * reserve(): no sort and no upload. Otherwise a stable counting sort goes to
- * r->idx (a non-blocking upload: h_idx is not rewritten before the pass ends). */
+ * r->idx (a non-blocking upload: h_idx is not rewritten before the batch's
+ * blocking read-back). */
 static int bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t off[NSLOTS + 1],
                   cl_mem *ids, spm_error *err)
 {
@@ -610,6 +611,49 @@ static void count_levels(const spm_cl_renderer *r, size_t n, spm_pass_stats *st)
     }
 }
 
+/* One batch through trace -> bucket -> shade -> accumulate, its pixel sums
+ * read into batch_xyz (b->npix * 3 floats). The read waits for the batch, so
+ * its stage times can be taken from the events, and the bucket indices'
+ * upload (bucket()) is done before the next batch rewrites them. */
+static int pass_batch(spm_cl_renderer *r, const batch *b, float *batch_xyz, spm_pass_stats *st,
+                      spm_error *err)
+{
+    cl_event ev_t = NULL, ev_s[NSLOTS] = {NULL}, ev_a = NULL;
+    int rc = run_trace(r, b, &ev_t, err);
+    if (!rc && uses_levels(r->mode))
+        rc = spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->levels, CL_TRUE, 0, b->n,
+                                              r->h_levels, 1, &ev_t, NULL),
+                          "clEnqueueReadBuffer(level bytes)", err);
+    double t0 = spm_now();
+    size_t off[NSLOTS + 1];
+    cl_mem ids = NULL;
+    rc = rc || bucket(r, b->n, r->h_levels, off, &ids, err);
+    double bucket_s = spm_now() - t0;
+    rc = rc || run_shade(r, b, off, ids, ev_s, err);
+    if (!rc) {
+        const size_t m = sizeof(cl_mem), u = sizeof(spm_u32);
+        const size_t sz[] = {m, u, u, m, m};
+        const void *val[] = {&r->xyz, &b->npix, &b->spp, &r->pass, &r->counters};
+        rc = set_args(r->k_accum, "spm_accumulate", 5, sz, val, err) ||
+             enqueue(r, r->k_accum, "spm_accumulate", 0, b->launch / b->spp, &ev_a, err);
+    }
+    rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->pass, CL_TRUE, 0,
+                                                (size_t)b->npix * 3 * sizeof(float), batch_xyz, 0,
+                                                NULL, NULL),
+                            "clEnqueueReadBuffer(batch image)", err);
+    if (rc)
+        clFinish(r->cl.queue);
+    else
+        count_levels(r, b->n, st);
+    st->trace_s += release_events(&ev_t, 1);
+    st->shade_s += release_events(ev_s, NSLOTS) + bucket_s;
+    st->accum_s += release_events(&ev_a, 1);
+    return rc;
+}
+
+/* The pass image is the concatenation of its batches' pixel sums: a pixel's
+ * samples are summed in sample order within one batch, so the image is the
+ * same however the pass is cut. */
 int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                 spm_pass_stats *st, spm_error *err)
 {
@@ -617,52 +661,42 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
         spm_errorf(err, "clEnqueueNDRangeKernel(spm_trace): injected failure (SPECMIP_CL_FAIL)");
         return 1;
     }
-    size_t n = r->npix * spp;
-    if (spp == 0 || reserve(r, n, err))
-        return spp == 0 ? 0 : 1;
-    cl_event ev_t = NULL, ev_s[NSLOTS] = {NULL}, ev_a = NULL;
-    int rc = run_trace(r, first_sample, spp, n, &ev_t, err);
-    if (!rc && uses_levels(r->mode))
-        rc = spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->levels, CL_TRUE, 0, n, r->h_levels,
-                                              1, &ev_t, NULL),
-                          "clEnqueueReadBuffer(level bytes)", err);
-    double t0 = spm_now();
-    size_t off[NSLOTS + 1];
-    cl_mem ids = NULL;
-    rc = rc || bucket(r, n, r->h_levels, off, &ids, err);
-    double bucket_s = spm_now() - t0;
-    rc = rc || run_shade(r, first_sample, spp, off, ids, ev_s, err);
-    spm_u32 npix = (spm_u32)r->npix, counters[NCOUNTERS];
-    if (!rc) {
-        const size_t sz[] = {sizeof(cl_mem), sizeof(spm_u32), sizeof(spm_u32), sizeof(cl_mem),
-                             sizeof(cl_mem)};
-        const void *val[] = {&r->xyz, &npix, &spp, &r->pass, &r->counters};
-        rc = set_args(r->k_accum, "spm_accumulate", 5, sz, val, err) ||
-             enqueue(r, r->k_accum, "spm_accumulate", 0, r->npix, &ev_a, err);
+    size_t bpix;
+    if (spp == 0)
+        return 0;
+    if (plan(r, spp, &bpix, err) || zero_counters(r, err))
+        return 1;
+    int rc = 0;
+    for (size_t p0 = 0; !rc && p0 < r->npix; p0 += bpix) {
+        batch b = batch_at(r, first_sample, spp, p0, bpix);
+        rc = pass_batch(r, &b, &pass_xyz[3 * p0], st, err);
     }
-    rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->pass, CL_FALSE, 0,
-                                                r->npix * 3 * sizeof(float), pass_xyz, 0, NULL,
-                                                NULL),
-                            "clEnqueueReadBuffer(pass image)", err);
+    spm_u32 counters[NCOUNTERS];
     rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->counters, CL_TRUE, 0,
                                                 sizeof counters, counters, 0, NULL, NULL),
                             "clEnqueueReadBuffer(counters)", err);
     if (rc) {
         clFinish(r->cl.queue);
-    } else {
-        count_levels(r, n, st);
-        st->truncated += counters[0];
-        st->nonfinite += counters[2];
-        if (counters[1]) {
-            spm_errorf(err, "BVH traversal stack overflow in %u rays (kernel stack %d)",
-                       counters[1], SPM_BVH_STACK);
-            rc = 1;
-        }
+        return 1;
     }
-    st->trace_s += release_events(&ev_t, 1);
-    st->shade_s += release_events(ev_s, NSLOTS) + bucket_s;
-    st->accum_s += release_events(&ev_a, 1);
-    return rc;
+    st->truncated += counters[0];
+    st->nonfinite += counters[2];
+    if (counters[1]) {
+        spm_errorf(err, "BVH traversal stack overflow in %u rays (kernel stack %d)", counters[1],
+                   SPM_BVH_STACK);
+        return 1;
+    }
+    return 0;
+}
+
+void spm_cl_set_batch_paths(spm_cl_renderer *r, size_t paths)
+{
+    r->batch_paths = paths ? paths : SPM_CL_BATCH_PATHS;
+}
+
+size_t spm_cl_batch_capacity(const spm_cl_renderer *r)
+{
+    return r->cap;
 }
 
 /* The test hooks speak spm_path arrays; the device keeps the layout of
@@ -678,16 +712,15 @@ static spm_u32 max_nvert(const spm_dev_head *h, size_t n)
     return m < SPM_MAX_DEPTH ? m : SPM_MAX_DEPTH;
 }
 
-int spm_cl_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, spm_path *paths,
-                 uint8_t *levels, spm_error *err)
+/* Trace one batch and read its records into paths[0 .. b->n) and levels;
+ * h (room for b->n headers) is scratch. */
+static int trace_batch(spm_cl_renderer *r, const batch *b, spm_dev_head *h, spm_path *paths,
+                       uint8_t *levels, spm_error *err)
 {
-    size_t n = r->npix * spp;
-    if (reserve(r, n, err))
-        return 1;
+    size_t n = b->n;
     cl_event ev = NULL;
-    spm_dev_head *h = spm_xcalloc(n, sizeof *h);
     spm_vertex *v = NULL;
-    int rc = run_trace(r, first_sample, spp, n, &ev, err) ||
+    int rc = run_trace(r, b, &ev, err) ||
              spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->heads, CL_FALSE, 0, n * sizeof *h,
                                               h, 0, NULL, NULL),
                           "clEnqueueReadBuffer(path record headers)", err) ||
@@ -709,17 +742,33 @@ int spm_cl_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, spm_path
         for (spm_u32 j = 0; j < paths[i].h.nvert && j < SPM_MAX_DEPTH; j++)
             paths[i].v[j] = v[(size_t)j * n + i];
     }
-    free(h);
     free(v);
     return rc;
 }
 
-int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const spm_path *paths,
-                 const uint8_t *levels, float *xyz, spm_error *err)
+int spm_cl_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, spm_path *paths,
+                 uint8_t *levels, spm_error *err)
 {
-    size_t n = r->npix * spp;
-    if (reserve(r, n, err))
+    size_t bpix;
+    if (spp == 0)
+        return 0;
+    if (plan(r, spp, &bpix, err) || zero_counters(r, err))
         return 1;
+    spm_dev_head *h = spm_xcalloc(r->cap, sizeof *h);
+    int rc = 0;
+    for (size_t p0 = 0; !rc && p0 < r->npix; p0 += bpix) {
+        batch b = batch_at(r, first_sample, spp, p0, bpix);
+        rc = trace_batch(r, &b, h, &paths[p0 * spp], &levels[p0 * spp], err);
+    }
+    free(h);
+    return rc;
+}
+
+/* Shade one batch's given records (b->n of them) into xyz. */
+static int shade_batch(spm_cl_renderer *r, const batch *b, const spm_path *paths,
+                       const uint8_t *levels, float *xyz, spm_error *err)
+{
+    size_t n = b->n;
     spm_dev_head *h = spm_xcalloc(n, sizeof *h);
     for (size_t i = 0; i < n; i++)
         h[i] = spm_dev_head_pack(&paths[i].h);
@@ -731,16 +780,13 @@ int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const sp
     cl_event ev[NSLOTS] = {NULL};
     size_t off[NSLOTS + 1];
     cl_mem ids = NULL;
-    r->params.first_sample = first_sample;
-    r->params.spp_per_pass = spp;
     int rc = spm_cl_check(clEnqueueWriteBuffer(r->cl.queue, r->heads, CL_FALSE, 0, n * sizeof *h,
                                                h, 0, NULL, NULL),
                           "clEnqueueWriteBuffer(path record headers)", err) ||
              (depth && spm_cl_check(clEnqueueWriteBuffer(r->cl.queue, r->verts, CL_FALSE, 0,
                                                          depth * n * sizeof *v, v, 0, NULL, NULL),
                                     "clEnqueueWriteBuffer(path records)", err)) ||
-             bucket(r, n, levels, off, &ids, err) ||
-             run_shade(r, first_sample, spp, off, ids, ev, err) ||
+             bucket(r, n, levels, off, &ids, err) || run_shade(r, b, off, ids, ev, err) ||
              spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->xyz, CL_TRUE, 0,
                                               n * 3 * sizeof(float), xyz, 0, NULL, NULL),
                           "clEnqueueReadBuffer(path XYZ)", err);
@@ -748,6 +794,23 @@ int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const sp
     release_events(ev, NSLOTS);
     free(h);
     free(v);
+    return rc;
+}
+
+int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const spm_path *paths,
+                 const uint8_t *levels, float *xyz, spm_error *err)
+{
+    size_t bpix;
+    if (spp == 0)
+        return 0;
+    if (plan(r, spp, &bpix, err))
+        return 1;
+    int rc = 0;
+    for (size_t p0 = 0; !rc && p0 < r->npix; p0 += bpix) {
+        batch b = batch_at(r, first_sample, spp, p0, bpix);
+        size_t i0 = p0 * spp;
+        rc = shade_batch(r, &b, &paths[i0], &levels[i0], &xyz[3 * i0], err);
+    }
     return rc;
 }
 

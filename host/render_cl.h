@@ -1,8 +1,11 @@
-/* The OpenCL render backend: one device, one scene, one mode. A pass traces
- * npix * spp paths (kernel `spm_trace`), buckets them by level on the host,
- * shades each bucket with its level's kernel (or all paths with the mode's
- * kernel), and sums each pixel's samples in sample order (`spm_accumulate`).
- * Buffers live as long as the handle and grow only when a pass needs more.
+/* The OpenCL render backend: one device, one scene, one mode. A pass of
+ * npix * spp paths is cut into batches of whole pixels (cl_resources.h:
+ * SPM_CL_BATCH_PATHS paths at most, a pixel's samples in one batch); each
+ * batch is traced (kernel `spm_trace`), bucketed by level on the host, shaded
+ * bucket by bucket with its level's kernel (or all with the mode's kernel),
+ * and its pixels' samples summed in sample order (`spm_accumulate`), so the
+ * pass image does not depend on the batch size. Buffers hold one batch, live
+ * as long as the handle and grow only when a pass needs more.
  * Each handle has its own context, queue and program: handles may run in
  * parallel threads (one per device); one handle must not be used by two
  * threads at once. Every function returns 0 or fills err (never exits). */
@@ -34,13 +37,19 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
                 spm_pass_stats *st, spm_error *err);
 
 /* Test hooks. Trace only: the pass's records and level bytes read back
- * (npix * spp of each). */
+ * (npix * spp of each, batch by batch). */
 int spm_cl_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, spm_path *paths,
                  uint8_t *levels, spm_error *err);
-/* Shade given records (n = npix * spp, uploaded) in the handle's mode, with the
- * pass parameters hero needs; per-path XYZ read back (3 floats per path). */
+/* Shade given records (n = npix * spp, uploaded batch by batch) in the
+ * handle's mode, with the pass parameters hero needs; per-path XYZ read back
+ * (3 floats per path). */
 int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const spm_path *paths,
                  const uint8_t *levels, float *xyz, spm_error *err);
+/* Batches of at most `paths` paths from the next pass on (0: the default,
+ * SPM_CL_BATCH_PATHS); a batch is still at least one pixel. */
+void spm_cl_set_batch_paths(spm_cl_renderer *r, size_t paths);
+/* Paths the per-batch device buffers have room for now (0 before a pass). */
+size_t spm_cl_batch_capacity(const spm_cl_renderer *r);
 
 /* Failure injection for multi-device tests: SPECMIP_CL_FAIL="DEV:PASS" makes
  * device DEV's pass number PASS (0-based, counted per handle) fail with an

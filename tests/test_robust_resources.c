@@ -1,7 +1,9 @@
-/* The device memory check (cl_resources.h) against made-up devices: an
- * image whose path records exceed the largest buffer is refused naming the
- * image, the buffer and the device; one within every buffer limit but over
- * the global memory is refused too; a usual image fits a usual device. */
+/* The device memory check (cl_resources.h) against made-up devices. A pass is
+ * rendered in batches, so the per-pass buffers do not grow with the image:
+ * a 4096x4096 image needs what a 1920x1080 one needs and fits this
+ * machine's device. What is still refused, naming the render, the buffer and
+ * the device: a batch's records over a small device's largest buffer, a
+ * scene over it, and a sum over the global memory. Also the batch sizing. */
 #include "cl_resources.h"
 #include "testutil.h"
 #include <string.h>
@@ -16,8 +18,22 @@ static spm_cl_device device(double alloc_gb, double global_gb)
     return d;
 }
 
+static void batch_sizing(void)
+{
+    const size_t B = 100;
+    CHECK(spm_cl_batch_pixels(1000, 3, B) == 33, "33 pixels of 3 paths in 100");
+    CHECK(spm_cl_batch_pixels(10, 3, B) == 10, "a small pass is one batch");
+    CHECK(spm_cl_batch_pixels(1000, 500, B) == 1, "a pixel is never split");
+    /* a cut pass keeps room for a full batch (a later pass of 2 spp takes 100) */
+    CHECK(spm_cl_batch_room(1000, 3, B) == 100, "room %zu", spm_cl_batch_room(1000, 3, B));
+    CHECK(spm_cl_batch_pixels(1000, 2, B) * 2 <= spm_cl_batch_room(1000, 3, B), "2 spp fits");
+    CHECK(spm_cl_batch_room(10, 3, B) == 30, "uncut pass: its own size");
+    CHECK(spm_cl_batch_room(1000, 500, B) == 500, "one pixel of 500 samples");
+}
+
 int main(void)
 {
+    batch_sizing();
     spm_geometry g;
     spm_tables t;
     memset(&g, 0, sizeof g);
@@ -27,34 +43,53 @@ int main(void)
     g.nemitters = 100;
     t.ncolours = 300;
     t.nmaterials = 300;
-    spm_cl_footprint f;
+    spm_cl_footprint f, f4k;
     spm_error err;
     spm_cl_device pocl = device(2.0, 4.379); /* this machine's PoCL device */
 
-    /* 1920x1080, one sample a pass: 2.07M paths, each a vertex slab of
-     * SPM_MAX_DEPTH vertices (~1 GB together) */
+    /* 1920x1080, one sample a pass: 2.07M paths in batches of
+     * SPM_CL_BATCH_PATHS, each path a vertex slab of SPM_MAX_DEPTH vertices */
     size_t npix = 1920 * 1080;
     spm_cl_footprint_of(&g, &t, npix, npix, &f);
+    CHECK(f.batch_paths == SPM_CL_BATCH_PATHS, "batch %zu", f.batch_paths);
     CHECK(strcmp(f.largest_what, "path records") == 0, "largest is %s", f.largest_what);
-    CHECK(f.largest == npix * SPM_MAX_DEPTH * sizeof(spm_vertex), "records %zu", f.largest);
-    /* everything else (per path a header, a level byte, two indices, XYZ;
-     * the pass image; the scene) is counted on top */
-    size_t per_path_rest = sizeof(spm_dev_head) + 1 + 2 * sizeof(spm_u32) + 3 * sizeof(float);
-    CHECK(f.total >= f.largest + npix * per_path_rest + npix * 12, "total %zu", f.total);
+    CHECK(f.largest == SPM_CL_BATCH_PATHS * SPM_MAX_DEPTH * sizeof(spm_vertex), "records %zu",
+          f.largest);
+    /* everything else (per path a header, a level byte, two indices, XYZ, a
+     * batch-image entry; the scene) is counted on top */
+    size_t per_path_rest = sizeof(spm_dev_head) + 1 + 2 * sizeof(spm_u32) + 6 * sizeof(float);
+    size_t scene = g.ntris * sizeof(spm_tri) + g.nnodes * sizeof(spm_bvh_node);
+    CHECK(f.total >= f.largest + f.batch_paths * per_path_rest + scene, "total %zu", f.total);
     CHECK(spm_cl_footprint_check(&pocl, &f, 1920, 1080, npix, &err) == 0, "%s", err.msg);
 
-    /* 4096x4096: 8 GB of vertex slabs in one buffer */
-    npix = 4096 * 4096;
-    spm_cl_footprint_of(&g, &t, npix, npix, &f);
-    CHECK(spm_cl_footprint_check(&pocl, &f, 4096, 4096, npix, &err) != 0, "4096^2 refused");
-    CHECK(strstr(err.msg, "4096x4096") && strstr(err.msg, "path records") &&
-              strstr(err.msg, "test device") && strstr(err.msg, "per buffer"),
+    /* 4096x4096 (8 GB of records in one pass, refused before batching): the same footprint */
+    spm_cl_footprint_of(&g, &t, (size_t)4096 * 4096, (size_t)4096 * 4096, &f4k);
+    CHECK(f4k.total == f.total && f4k.largest == f.largest, "4096^2: %zu bytes", f4k.total);
+    CHECK(spm_cl_footprint_check(&pocl, &f4k, 4096, 4096, (size_t)4096 * 4096, &err) == 0,
+          "4096^2 refused: %s", err.msg);
+
+    /* a pass smaller than a batch is one batch of its own size */
+    spm_cl_footprint_of(&g, &t, 256 * 256, 256 * 256, &f4k);
+    CHECK(f4k.batch_paths == 256 * 256, "256^2 batch %zu", f4k.batch_paths);
+
+    /* a device whose largest buffer (64 MB) is below one batch's records */
+    spm_cl_device tiny = device(1.0 / 16, 4.0);
+    CHECK(spm_cl_footprint_check(&tiny, &f, 1920, 1080, npix, &err) != 0, "batch refused");
+    CHECK(strstr(err.msg, "1920x1080") && strstr(err.msg, "path records") &&
+              strstr(err.msg, "test device") && strstr(err.msg, "per buffer") &&
+              strstr(err.msg, "more memory"),
           "%s", err.msg);
     printf("%s\n", err.msg);
 
+    /* a scene whose triangles alone exceed the device's largest buffer */
+    g.ntris = 2 * (size_t)(pocl.max_alloc / sizeof(spm_tri));
+    spm_cl_footprint_of(&g, &t, npix, npix, &f4k);
+    CHECK(spm_cl_footprint_check(&pocl, &f4k, 1920, 1080, npix, &err) != 0, "scene refused");
+    CHECK(strstr(err.msg, "triangles") && strstr(err.msg, "smaller scene"), "%s", err.msg);
+    printf("%s\n", err.msg);
+    g.ntris = 100000;
+
     /* every buffer within a generous per-buffer limit, the sum over the memory */
-    npix = 1920 * 1080;
-    spm_cl_footprint_of(&g, &t, npix, npix, &f);
     spm_cl_device small = device(2.0, (double)f.total / 1073741824.0 * 0.99);
     CHECK(spm_cl_footprint_check(&small, &f, 1920, 1080, npix, &err) != 0, "total refused");
     CHECK(strstr(err.msg, "device memory") != NULL, "%s", err.msg);
