@@ -78,16 +78,14 @@ static void reserve(cpu_impl *c, size_t n)
     c->cap = n;
 }
 
-/* Paths [i0, i0 + n) of the pass into the batch buffers. The reference's
- * range tracer indexes the pass's arrays (refcpu.h); the batch buffers stand
- * for entries i0 .. i0 + n - 1 of them, the only ones it touches. */
+/* Paths [i0, i0 + n) of the pass into the batch buffers. */
 static void trace_batch(cpu_impl *c, const spm_trace_params *p, int start_level, size_t i0,
                         size_t n)
 {
     const spm_tables *t = c->in.tables;
     const uint8_t *lvlk = c->in.mode == SPM_MODE_MLC ? t->mlc_lvlk : t->lvlk;
     spm_ref_trace_range(c->in.geom, t->materials, lvlk, start_level, p, i0, i0 + n,
-                        c->paths - i0, c->levels - i0);
+                        c->paths, c->levels);
 }
 
 static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
@@ -100,10 +98,7 @@ static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pa
     size_t npix = (size_t)g->cam.width * (size_t)g->cam.height;
     if (spp == 0)
         return 0;
-    /* Hero keys each path's wavelengths by its index in the pass, and the
-     * reference's shading (refcpu.h) counts indices from its first record:
-     * hero shades a whole pass at once. */
-    size_t batch = c->in.mode == SPM_MODE_HERO ? npix * spp : c->batch_paths;
+    size_t batch = c->batch_paths;
     size_t bpix = spm_cl_batch_pixels(npix, spp, batch);
     reserve(c, spm_cl_batch_room(npix, spp, batch));
     spm_trace_params p;
@@ -123,7 +118,7 @@ static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pa
         double t0 = spm_now();
         trace_batch(c, &p, start, p0 * spp, n);
         double t1 = spm_now();
-        spm_ref_shade(t, c->in.mode, &p, c->paths, c->levels, n, c->xyz);
+        spm_ref_shade(t, c->in.mode, &p, p0 * spp, c->paths, c->levels, n, c->xyz);
         double t2 = spm_now();
         spm_accumulate_pass(c->xyz, nb, spp, &pass_xyz[3 * p0], st);
         spm_count_levels(c->in.mode, c->paths, c->levels, n, st);

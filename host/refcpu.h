@@ -15,9 +15,10 @@ void spm_ref_trace(const spm_geometry *g, const spm_material *mats, const uint8_
                    const spm_trace_params *p, spm_path *paths, uint8_t *levels);
 
 /* Shade n records in `mode` to XYZ (3 floats per path). ml/mlc use each path's
- * level byte; hero needs the pass parameters for its wavelength offsets. */
-void spm_ref_shade(const spm_tables *t, int mode, const spm_trace_params *p, const spm_path *paths,
-                   const uint8_t *levels, size_t n, float *xyz);
+ * level byte; hero keys its wavelength offsets by (pixel, sample), so it needs
+ * the pass parameters and `first`, the pass index of paths[0] (0 for a whole pass). */
+void spm_ref_shade(const spm_tables *t, int mode, const spm_trace_params *p, size_t first,
+                   const spm_path *paths, const uint8_t *levels, size_t n, float *xyz);
 
 /* Added by the reference's owner. ------------------------------------------
  * Record conventions: a weight is 0 whenever its colour is SPM_NONE
@@ -42,8 +43,8 @@ static inline void spm_ref_path_key(const spm_trace_params *p, size_t i, spm_u32
  * use, so every path's level is one the scene compiles. */
 int spm_ref_level_start(const spm_geometry *g, const spm_material *mats, const uint8_t *lvlk,
                         const spm_trace_params *p);
-/* Paths [begin, end) of the pass (paths[i], levels[i] at absolute index i),
- * e.g. one slice per thread; start_level from spm_ref_level_start. */
+/* Paths [begin, end) of the pass into paths[0 .. end-begin-1] and likewise
+ * levels (a batch or a slice per thread); start_level from spm_ref_level_start. */
 void spm_ref_trace_range(const spm_geometry *g, const spm_material *mats, const uint8_t *lvlk,
                          int start_level, const spm_trace_params *p, size_t begin, size_t end,
                          spm_path *paths, uint8_t *levels);

@@ -173,8 +173,8 @@ static int path_level(int mode, const uint8_t *levels, size_t i)
     return l < SPM_NUM_LEVELS ? l : SPM_NUM_LEVELS - 1;
 }
 
-void spm_ref_shade(const spm_tables *t, int mode, const spm_trace_params *p, const spm_path *paths,
-                   const uint8_t *levels, size_t n, float *xyz)
+void spm_ref_shade(const spm_tables *t, int mode, const spm_trace_params *p, size_t first,
+                   const spm_path *paths, const uint8_t *levels, size_t n, float *xyz)
 {
     shade_setup s;
     switch (mode) {
@@ -187,7 +187,7 @@ void spm_ref_shade(const spm_tables *t, int mode, const spm_trace_params *p, con
     for (size_t i = 0; i < n; i++) {
         if (mode == SPM_MODE_HERO) {
             spm_u32 pixel, sample;
-            spm_ref_path_key(p, i, &pixel, &sample);
+            spm_ref_path_key(p, first + i, &pixel, &sample);
             setup_hero_path(t, spm_rng(p->seed, pixel, sample, SPM_DIM_HERO), &s);
         }
         const lanes *v = &s.lv[path_level(mode, levels, i)];

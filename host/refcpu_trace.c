@@ -216,7 +216,7 @@ void spm_ref_trace_range(const spm_geometry *g, const spm_material *mats, const 
                          spm_path *paths, uint8_t *levels)
 {
     for (size_t i = begin; i < end; i++)
-        levels[i] = trace_path(g, mats, lvlk, start_level, p, i, &paths[i]);
+        levels[i - begin] = trace_path(g, mats, lvlk, start_level, p, i, &paths[i - begin]);
 }
 
 void spm_ref_trace(const spm_geometry *g, const spm_material *mats, const uint8_t *lvlk,

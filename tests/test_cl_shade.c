@@ -34,7 +34,7 @@ static void check_mode(const cl_test_scene *s, int mode, const char *name, int l
     float *ref = spm_xcalloc(3 * n, sizeof *ref), *got = spm_xcalloc(3 * n, sizeof *got);
     spm_trace_params p = cl_test_params(s, SEED, 3 * SPP, SPP);
     spm_ref_trace(&s->geom, s->tables.materials, cl_test_lvlk(&s->tables, mode), &p, paths, levels);
-    spm_ref_shade(&s->tables, mode, &p, paths, levels, n, ref);
+    spm_ref_shade(&s->tables, mode, &p, 0, paths, levels, n, ref);
 
     spm_cl_renderer *r;
     spm_error err;

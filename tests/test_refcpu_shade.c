@@ -115,7 +115,7 @@ static void shade_one(const spm_tables *t, int mode, uint8_t level, float xyz[3]
     memset(&p, 0, sizeof p);
     p.spp_per_pass = 1;
     spm_path path = make_path();
-    spm_ref_shade(t, mode, &p, &path, &level, 1, xyz);
+    spm_ref_shade(t, mode, &p, 0, &path, &level, 1, xyz);
 }
 
 static void test_binned_modes(const spm_tables *t)
@@ -178,7 +178,7 @@ static void test_hero_lanes(const spm_tables *t)
     uint8_t lv[N] = {0};
     for (int i = 0; i < N; i++)
         paths[i] = make_path();
-    spm_ref_shade(t, SPM_MODE_HERO, &p, paths, lv, N, xyz);
+    spm_ref_shade(t, SPM_MODE_HERO, &p, 0, paths, lv, N, xyz);
     int ok = 1;
     for (int i = 0; i < N; i++) {
         double u = spm_rng(p.seed, 0, p.first_sample + (spm_u32)i, SPM_DIM_HERO), ex[3] = {0};
@@ -217,7 +217,7 @@ static void test_hero_converges(const spm_tables *t)
     uint8_t *lv = calloc(N, 1);
     for (int i = 0; i < N; i++)
         paths[i] = make_path();
-    spm_ref_shade(t, SPM_MODE_HERO, &p, paths, lv, N, xyz);
+    spm_ref_shade(t, SPM_MODE_HERO, &p, 0, paths, lv, N, xyz);
     double s = 0, s2 = 0, ex = 0;
     for (int i = 0; i < N; i++)
         s += xyz[3 * i + 1], s2 += (double)xyz[3 * i + 1] * xyz[3 * i + 1];

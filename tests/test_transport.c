@@ -30,7 +30,7 @@ static stats render(const spm_scene *s, spm_u32 spp, spm_u32 seed)
     uint8_t *levels = malloc(n);
     float *xyz = malloc(3 * n * sizeof *xyz);
     spm_ref_trace(&g, t.materials, t.lvlk, &p, paths, levels);
-    spm_ref_shade(&t, SPM_MODE_REF, &p, paths, levels, n, xyz);
+    spm_ref_shade(&t, SPM_MODE_REF, &p, 0, paths, levels, n, xyz);
     double sum = 0, sum2 = 0;
     for (size_t i = 0; i < n; i++) {
         double y = xyz[3 * i + 1];
@@ -54,6 +54,8 @@ static stats render(const spm_scene *s, spm_u32 spp, spm_u32 seed)
  * sees an emitting triangle): E + sum_j rho^j rho E = E / (1 - rho).
  * Biases: truncation at 64 vertices (relative rho^64 < 1e-6) and the d^2
  * clamp (only within 1e-3 of an edge) are far below the tolerance. */
+/* resolve > 0: also require the standard error to be below resolve * expect,
+ * so the check has power. */
 static void check_glowing(spm_scene *s, double rho, double e, spm_u32 spp, double resolve,
                           const char *name)
 {
@@ -65,13 +67,19 @@ static void check_glowing(spm_scene *s, double rho, double e, spm_u32 spp, doubl
     CHECK(fabs(st.mean - expect) <= 5.0 * st.sem,
           "%s rho %.2f E %.2f: mean %.5f expected %.5f (sem %.5f, %ld paths)", name, rho, e,
           st.mean, expect, st.sem, st.n);
-    CHECK(st.sem < resolve * expect, "%s: the test resolves %g: sem %.5f", name, resolve, st.sem);
+    if (resolve > 0.0)
+        CHECK(st.sem < resolve * expect, "%s: the test resolves %g: sem %.5f", name, resolve,
+              st.sem);
     printf("%s rho %.2f E %.2f: %.5f (expected %.5f, sem %.5f)\n", name, rho, e, st.mean, expect,
            st.sem);
 }
 
-/* The box: next-event estimation near its edges has a heavy tail
- * (cos cos / d^2 between perpendicular walls), hence the looser resolution. */
+/* The box: next-event estimation near its edges has infinite variance. A point
+ * at distance h from an edge sampling the perpendicular wall at distance s from
+ * it has f = h s / (h^2 + s^2)^2, whose second moment over s grows as h^-3, and
+ * that does not integrate over h. So its sample standard error says little (one
+ * rare near-edge sample moves it 10x) and the box checks only the mean; the
+ * sphere, whose facets meet at shallow angles, carries the resolution check. */
 static void test_glowing_box(double rho, double e)
 {
     spm_scene s;
@@ -79,7 +87,7 @@ static void test_glowing_box(double rho, double e)
     int m = ts_material(&s, ts_colour(&s, SPM_KIND_REFLECTANCE, rho),
                         ts_colour(&s, SPM_KIND_EMISSION, e));
     ts_box(&s, m, (float[]){-1, -1, -1}, (float[]){1, 1, 1}, 0);
-    check_glowing(&s, rho, e, 12000, 0.005, "glowing box");
+    check_glowing(&s, rho, e, 12000, 0.0, "glowing box");
     ts_free(&s);
 }
 
@@ -224,7 +232,7 @@ static void test_background(void)
     uint8_t levels[128];
     float xyz[3 * 128];
     spm_ref_trace(&g, t.materials, t.lvlk, &p, paths, levels);
-    spm_ref_shade(&t, SPM_MODE_REF, &p, paths, levels, 128, xyz);
+    spm_ref_shade(&t, SPM_MODE_REF, &p, 0, paths, levels, 128, xyz);
     int ok = 1;
     for (int i = 0; i < 128; i++) {
         int row = i / 8 / 4;
