@@ -2,6 +2,7 @@
  * per path. Records and level bytes come from spm_ref_trace, so both sides
  * shade exactly the same input. */
 #include "cl_testlib.h"
+#include "render_setup.h"
 #include "testutil.h"
 
 #define W 24
@@ -85,12 +86,11 @@ int main(void)
     cl_test_scene s;
     if (cl_test_scene_open(&s, W, H))
         return 1;
-    static const char *names[SPM_MODE_COUNT] = {"truth", "ref", "ml", "mlc", "hero", "rgb"};
     /* lanes per XYZ sum: truth 400; ref/ml/mlc at most level 0's 80 (+ spikes) */
     int lanes[SPM_MODE_COUNT] = {SPM_TRUTH_BINS, SPM_L0_BINS, SPM_L0_BINS,
                                  SPM_L0_BINS + SPM_MAX_SPIKES, SPM_HERO_LANES, 3};
     for (int m = 0; m < SPM_MODE_COUNT; m++)
-        check_mode(&s, m, names[m], lanes[m]);
+        check_mode(&s, m, spm_mode_name(m), lanes[m]);
     cl_test_scene_close(&s);
     TEST_END();
 }
