@@ -8,7 +8,7 @@
 # env:   SCENE (scenes/cornell_spiky.scene), SIZE (256), SPP (64),
 #        REPEAT (3: each mode's best shade time and paths/s of REPEAT runs, as
 #        other work on the machine only ever slows a run down),
-#        MODES ("mlc ml ref hero rgb truth"), OUT (a temporary directory)
+#        MODES (default every mode, `specmip modes`), OUT (a temporary directory)
 set -eu
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BIN=${1:-$ROOT/build/specmip}
@@ -17,9 +17,9 @@ SCENE=${SCENE:-$ROOT/scenes/cornell_spiky.scene}
 SIZE=${SIZE:-256}
 SPP=${SPP:-64}
 REPEAT=${REPEAT:-3}
-MODES=${MODES:-"mlc ml ref hero rgb truth"}
 OUT=${OUT:-$(mktemp -d)}
 [ -x "$BIN" ] || { echo "bench/methods.sh: no specmip binary at $BIN" >&2; exit 2; }
+MODES=${MODES:-$("$BIN" modes | cut -f1 | tr '\n' ' ')}
 mkdir -p "$OUT"
 
 # ref first: the others are compared with its image

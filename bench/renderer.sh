@@ -13,7 +13,7 @@
 # usage: bench/renderer.sh [path/to/specmip]   (default build/specmip)
 # env:   SCENE (a scene file; default the built-in Cornell box),
 #        SIZE (256), SPP (64), SEED (1), REPEAT (3 rounds),
-#        MODES ("ref ml rgb truth hero mlc"), DEVICE (0), OUT (a temporary directory)
+#        MODES (default every mode, `specmip modes`), DEVICE (0), OUT (a temporary directory)
 set -eu
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BIN=${1:-$ROOT/build/specmip}
@@ -22,11 +22,11 @@ SIZE=${SIZE:-256}
 SPP=${SPP:-64}
 SEED=${SEED:-1}
 REPEAT=${REPEAT:-3}
-MODES=${MODES:-"ref ml rgb truth hero mlc"}
 DEVICE=${DEVICE:-0}
 OUT=${OUT:-$(mktemp -d)}
 SCENE=${SCENE:-}
 [ -x "$BIN" ] || { echo "bench/renderer.sh: no specmip binary at $BIN" >&2; exit 2; }
+MODES=${MODES:-$("$BIN" modes | cut -f1 | tr '\n' ' ')}
 for m in ref ml rgb; do
     printf '%s\n' $MODES | grep -qx "$m" || { echo "bench/renderer.sh: MODES must include $m" >&2; exit 2; }
 done

@@ -4,19 +4,7 @@
  * reference are backends; the render loop does not know which it drives. */
 #ifndef SPM_BACKEND_H
 #define SPM_BACKEND_H
-#include <stdint.h>
-#include "geometry.h"
-#include "tables.h"
-
-typedef struct {
-    double trace_s, shade_s, accum_s;  /* stage times: kernel (event) time or CPU time */
-    uint64_t paths;
-    uint64_t level_paths[SPM_NUM_LEVELS][3]; /* paths shaded at each level, by SPM_SETBY_* */
-    uint64_t truncated;                      /* paths that hit SPM_MAX_DEPTH */
-    uint64_t nonfinite;                      /* samples with NaN/Inf XYZ, left out of the film */
-} spm_pass_stats;
-
-void spm_pass_stats_add(spm_pass_stats *into, const spm_pass_stats *s);
+#include "render_plan.h"
 
 typedef struct spm_backend spm_backend;
 struct spm_backend {
@@ -27,23 +15,9 @@ struct spm_backend {
     void *impl;
 };
 
-/* What every backend is built from. */
-typedef struct {
-    const spm_geometry *geom;
-    const spm_tables *tables;
-    int mode;       /* enum spm_mode */
-    spm_u32 seed;
-} spm_backend_input;
-
-spm_backend *spm_backend_cpu_create(const spm_backend_input *in, spm_error *err);
-/* OpenCL device `device` (index as `specmip devices` lists them). NULL on failure. */
-spm_backend *spm_backend_cl_create(int device, const spm_backend_input *in, spm_error *err);
-/* Per-path statistics shared by the backends: level counts from the level
- * bytes (all paths counted at level 0 in modes other than ml/mlc). */
-void spm_count_levels(int mode, const spm_path *paths, const uint8_t *levels, size_t n,
-                      spm_pass_stats *st);
-/* Sum each pixel's samples (contiguous, in sample order) into pass_xyz,
- * leaving out and counting non-finite samples. */
-void spm_accumulate_pass(const float *xyz, size_t npix, spm_u32 spp, float *pass_xyz,
-                         spm_pass_stats *st);
+/* Every backend is built from a render plan (render_plan.h), which must
+ * outlive it. NULL on failure, with err filled. */
+spm_backend *spm_backend_cpu_create(const spm_render_plan *plan, spm_error *err);
+/* OpenCL device `device` (index as `specmip devices` lists them). */
+spm_backend *spm_backend_cl_create(int device, const spm_render_plan *plan, spm_error *err);
 #endif

@@ -1,6 +1,6 @@
 /* The CPU reference backend's batching (backend.h creates it). A pass is
  * traced and shaded in batches of whole pixels, like the OpenCL backend
- * (cl_resources.h), so its memory stays bounded whatever the image size. */
+ * (render_plan.h), so its memory stays bounded whatever the image size. */
 #ifndef SPM_BACKEND_CPU_H
 #define SPM_BACKEND_CPU_H
 #include <stddef.h>

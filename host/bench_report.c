@@ -7,6 +7,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "clhost.h"
+#include "modes.h"
 #include "spectrum.h"
 #include "util.h"
 
@@ -36,6 +37,12 @@ void spm_bench_write_meta(const char *dir, const char *what, int use_cpu, int de
         fprintf(f, "\nload: %.2f %.2f %.2f (1, 5, 15 min)", load[0], load[1], load[2]);
     fprintf(f, "\n");
     fclose(f);
+    /* the report's scripts take the modes from here (`specmip modes`) */
+    snprintf(path, sizeof path, "%s/modes.tsv", dir);
+    if ((f = fopen(path, "w"))) {
+        spm_modes_print(f, 0);
+        fclose(f);
+    }
 }
 
 int spm_bench_report(const char *dir)

@@ -23,6 +23,7 @@ typedef struct {
     int bmode[MAX_BACKENDS_PER_SCENE];
     spm_u32 bseed[MAX_BACKENDS_PER_SCENE];
     int owned[MAX_BACKENDS_PER_SCENE]; /* 0: the setup's own, closed with it */
+    spm_render_plan plan[MAX_BACKENDS_PER_SCENE]; /* an owned backend's plan */
     int nb;
 } scene_run;
 
@@ -86,13 +87,17 @@ static spm_backend *backend_for(const spm_bench_plan *p, scene_run *r, int mode,
         spm_errorf(err, "too many backends for one scene");
         return NULL;
     }
-    spm_backend_input in = {&r->s.geom, &r->s.tables, mode, seed};
-    spm_backend *b = p->use_cpu ? spm_backend_cpu_create(&in, err)
-                                : spm_backend_cl_create(p->device, &in, err);
-    if (!b)
+    spm_render_plan *plan = &r->plan[r->nb];
+    if (spm_render_plan_init(plan, &r->s.geom, &r->s.tables, mode, seed, err))
         return NULL;
-    if (warm_up(b, r->npix, err)) {
+    spm_backend *b = p->use_cpu ? spm_backend_cpu_create(plan, err)
+                                : spm_backend_cl_create(p->device, plan, err);
+    if (b && warm_up(b, r->npix, err)) {
         b->destroy(b);
+        b = NULL;
+    }
+    if (!b) {
+        spm_render_plan_free(plan);
         return NULL;
     }
     add_backend(r, b, mode, seed, 1);
@@ -167,8 +172,10 @@ static int open_scene(const spm_bench_plan *p, const char *path, int mode, doubl
 static void close_scene(scene_run *r)
 {
     for (int i = 0; i < r->nb; i++)
-        if (r->owned[i])
+        if (r->owned[i]) {
             r->b[i]->destroy(r->b[i]);
+            spm_render_plan_free(&r->plan[i]);
+        }
     spm_render_setup_close(&r->s);
 }
 

@@ -1,20 +1,8 @@
 /* Device memory footprint of a render (cl_resources.h). */
 #include "cl_resources.h"
 #include <stdio.h>
-
-size_t spm_cl_batch_pixels(size_t npix, size_t spp, size_t batch_paths)
-{
-    size_t b = spp ? batch_paths / spp : npix;
-    if (b < 1)
-        b = 1;
-    return b < npix ? b : npix;
-}
-
-size_t spm_cl_batch_room(size_t npix, size_t spp, size_t batch_paths)
-{
-    size_t bpix = spm_cl_batch_pixels(npix, spp, batch_paths), n = bpix * (spp ? spp : 1);
-    return bpix < npix && n < batch_paths ? batch_paths : n;
-}
+#include "modes.h"
+#include "render_plan.h"
 
 static void add(spm_cl_footprint *f, size_t bytes, const char *what, int scene)
 {
@@ -31,7 +19,7 @@ void spm_cl_footprint_of(const spm_geometry *g, const spm_tables *t, size_t npix
 {
     spm_cl_footprint f = {0, "nothing", 0, 0, 0};
     size_t spp = npix ? paths_per_pass / npix : 0, nc = (size_t)t->ncolours;
-    size_t n = spm_cl_batch_room(npix, spp ? spp : 1, SPM_CL_BATCH_PATHS);
+    size_t n = spm_batch_room(npix, spp ? spp : 1, SPM_CL_BATCH_PATHS);
     f.batch_paths = n;
     /* per batch (render_cl.c reserve()): headers and vertex slabs with room
      * for every depth; the batch's pixel sums (at most one pixel a path) */
@@ -48,12 +36,13 @@ void spm_cl_footprint_of(const spm_geometry *g, const spm_tables *t, size_t npix
     add(&f, (size_t)g->nemitters * sizeof(spm_u32), "emitters", 1);
     add(&f, (size_t)t->nmaterials * sizeof(spm_material), "materials", 1);
     add(&f, nc * SPM_PRETEST_KMAX, "level table", 1);
-    /* colour tables and weights of every kernel: levels with their spike lanes
-     * (whole vectors), truth, rgb, hero */
-    size_t rows = nc + 3, floats = SPM_TRUTH_BINS + 4 + SPM_L0_BINS + 4 * (SPM_TRUTH_BINS + 1);
-    for (int l = 0; l < SPM_NUM_LEVELS; l++)
-        floats += (size_t)SPM_LEVEL_BINS(l) + SPM_MAX_SPIKES + (16 >> l);
-    add(&f, rows * floats * sizeof(float), "colour tables", 1);
+    /* shade tables: those of the mode with the largest */
+    size_t tables = 0;
+    for (int m = 0; m < SPM_MODE_COUNT; m++) {
+        size_t b = spm_mode_footprint(&spm_modes[m], t);
+        tables = b > tables ? b : tables;
+    }
+    add(&f, tables, "colour tables", 1);
     *out = f;
 }
 

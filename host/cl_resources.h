@@ -23,14 +23,6 @@
  * same on every device: a multi-device render shares out the same batches. */
 #define SPM_CL_BATCH_PATHS ((size_t)1 << 18)
 
-/* Pixels in one batch of a pass with spp samples per pixel: as many as keep
- * the batch within batch_paths paths, at least 1, at most npix. */
-size_t spm_cl_batch_pixels(size_t npix, size_t spp, size_t batch_paths);
-/* Paths the per-batch buffers have room for: one batch; once a pass is cut
- * into several, a full batch_paths, so that a pass of fewer samples per pixel
- * (the last one) needs no more room. */
-size_t spm_cl_batch_room(size_t npix, size_t spp, size_t batch_paths);
-
 typedef struct {
     size_t largest;          /* the largest single buffer, bytes */
     const char *largest_what; /* its name, as render_cl.c calls it */
@@ -41,8 +33,9 @@ typedef struct {
 
 /* The footprint of rendering npix pixels with paths_per_pass paths a pass
  * (npix times the samples per pixel of a pass), in batches of at most
- * SPM_CL_BATCH_PATHS paths. Colour tables are counted as if every shade
- * kernel were built (an upper bound: a few hundred KB even for large scenes). */
+ * SPM_CL_BATCH_PATHS paths. Colour tables are counted as for the mode whose
+ * tables are largest (modes.h spm_mode_footprint; an upper bound: a few
+ * hundred KB even for large scenes). */
 void spm_cl_footprint_of(const spm_geometry *g, const spm_tables *t, size_t npix,
                          size_t paths_per_pass, spm_cl_footprint *out);
 

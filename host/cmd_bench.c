@@ -30,7 +30,7 @@ static void usage(FILE *f)
         "against a converged truth of another seed with the noise floors), then charts\n"
         "(DIR/*.png) and DIR/RESULTS.md through tools/bench_report.sh (gnuplot).\n\n"
         "  --scenes A,B,...   scene files (default: the bundled scenes/*.scene)\n"
-        "  --modes M,...      modes with rows (default truth,ref,ml,mlc,hero,rgb;\n"
+        "  --modes M,...      modes with rows (default: every mode, 'specmip modes';\n"
         "                     truth and ref are always rendered: the others are measured on them)\n"
         "  --spp N,...        samples per pixel, ascending (default 1,4,16,64)\n"
         "  --truth-spp N      spp of the converged truth (default 1024)\n"
@@ -113,11 +113,12 @@ static int parse_modes(const char *s, spm_bench_plan *p)
     if (n <= 0)
         return fail("--modes takes modes separated by commas, not '%s'%s", s, "");
     p->nmodes = 0;
+    char list[256];
     for (int i = 0; i < n; i++) {
         int m = spm_mode_parse(names[i]);
         if (m < 0)
-            return fail("unknown mode '%s' in --modes (truth, ref, ml, mlc, hero, rgb)%s", names[i],
-                        "");
+            return fail("unknown mode '%s' in --modes (%s)", names[i],
+                        spm_mode_list(", ", list, sizeof list));
         for (int j = 0; j < p->nmodes; j++)
             if (p->modes[j] == m)
                 return fail("mode '%s' twice in --modes%s", names[i], "");

@@ -21,10 +21,10 @@ static void usage(FILE *f)
         "Cornell box (ColorChecker walls, equal-energy light).\n\n"
         "  -o, --output FILE      image to write; .exr (linear sRGB, float) or .png (tone-mapped sRGB);\n"
         "                         may be given up to %d times (default: specmip.png and specmip.exr)\n"
-        "  --mode M               truth | ref | ml | mlc | hero | rgb   (default ml)\n"
-        "                           truth: 1 nm bins; ref: 5 nm bins; ml: Spectral Mipmapping;\n"
-        "                           mlc: ml + Composite Model spike lanes; hero: 4 hero wavelengths;\n"
-        "                           rgb: three components\n"
+        "  --mode M               spectral mode (default ml; 'specmip modes' lists them):\n",
+        MAX_OUTPUTS);
+    spm_modes_help(f, 27);
+    fprintf(f,
         "  --spp N                samples per pixel (default: the scene's, else 16)\n"
         "  --seed S               random seed (default 1); the same seed gives the same paths\n"
         "  --width W, --height H  image size (default: the scene's)\n"
@@ -43,8 +43,7 @@ static void usage(FILE *f)
         "  --progress             progress line on stderr even when it is not a terminal\n"
         "  --quiet                no progress line\n"
         "  --verbose              print the pretest's level table\n"
-        "Ctrl-C (or SIGTERM) ends the current pass, writes the image so far and exits 130.\n",
-        MAX_OUTPUTS);
+        "Ctrl-C (or SIGTERM) ends the current pass, writes the image so far and exits 130.\n");
 }
 
 static int parse_devices(const char *s, spm_render_config *c)
@@ -107,7 +106,9 @@ int spm_cmd_render(int argc, char **argv)
         } else if (!strcmp(a, "--mode")) {
             NEED_VALUE;
             if ((cfg.mode = spm_mode_parse(v)) < 0) {
-                fprintf(stderr, "specmip render: unknown mode '%s' (truth, ref, ml, mlc, hero, rgb)\n", v);
+                char names[256];
+                fprintf(stderr, "specmip render: unknown mode '%s' (%s)\n", v,
+                        spm_mode_list(", ", names, sizeof names));
                 return SPM_EXIT_INPUT;
             }
         } else if (!strcmp(a, "--spp")) {

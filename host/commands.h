@@ -8,4 +8,5 @@ int spm_cmd_spectrum(int argc, char **argv);
 int spm_cmd_devices(int argc, char **argv);
 int spm_cmd_compare(int argc, char **argv);
 int spm_cmd_bench(int argc, char **argv);
+int spm_cmd_modes(int argc, char **argv);
 #endif

@@ -28,15 +28,14 @@ int spm_bvh_intersect(const spm_geometry *g, const float o[3], const float d[3],
 int spm_brute_intersect(const spm_geometry *g, const float o[3], const float d[3], spm_u32 skip,
                         float *t_out);
 
-/* Added by the geometry owner. Both intersectors use MiniLight's Moller-Trumbore
- * test in float and break an exact tie in t by the lower triangle index, so the
- * answer does not depend on the traversal order. nnodes == 0 when there are no
- * triangles. The BVH is at most SPM_BVH_STACK levels deep (a traversal stack of
- * that many entries suffices); node boxes are padded so a float slab test is
- * conservative. */
-#define SPM_BVH_STACK 64
-/* Builds g->nodes from g->tris (binned SAH, leaves of at most 4 triangles) and
- * reorders g->tris into leaf order. Called by spm_geometry_build. */
+/* Both intersectors use MiniLight's Moller-Trumbore test in float and break an
+ * exact tie in t by the lower triangle index, so the answer does not depend on
+ * the traversal order. nnodes == 0 when there are no triangles. The BVH is at
+ * most SPM_BVH_STACK levels deep (spm_shared.h); node boxes are padded so a
+ * float slab test is conservative. */
+/* Builds g->nodes from g->tris (binned SAH, leaves of at most 2 triangles:
+ * bvh_build.c LEAF_MAX) and reorders g->tris into leaf order. Called by
+ * spm_geometry_build. */
 int spm_bvh_build(spm_geometry *g, spm_error *err);
 /* MiniLight's ray-triangle test: hit distance t >= 0 or -1 for a miss. */
 float spm_tri_intersect(const spm_tri *t, const float o[3], const float d[3]);

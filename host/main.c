@@ -14,6 +14,7 @@ static const struct {
     {"devices", spm_cmd_devices, "list OpenCL platforms and devices"},
     {"compare", spm_cmd_compare, "colour difference statistics between two images"},
     {"bench", spm_cmd_bench, "speed/accuracy study: CSV and charts"},
+    {"modes", spm_cmd_modes, "list the spectral modes (--json for scripts)"},
 };
 
 static void usage(FILE *f)

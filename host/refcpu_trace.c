@@ -5,6 +5,7 @@
  *   next-event estimation, Russian roulette, cosine-weighted bounce;
  *   a ray that hits nothing records the background and ends the path. */
 #include "refcpu.h"
+#include "render_plan.h"
 #include "geometry_vec3.h"
 #include "spm_rng.h"
 
@@ -24,29 +25,6 @@ static void feel(feeler *f, const uint8_t *lvlk, spm_u32 colour, int k, spm_u32 
     int l = lvlk[colour * SPM_PRETEST_KMAX + (spm_u32)(kk - 1)];
     if (l < f->level)
         f->level = l, f->setby = who;
-}
-
-static int colour_start(const uint8_t *lvlk, spm_u32 c, int start)
-{
-    if (c == SPM_NONE)
-        return start;
-    int l = lvlk[c * SPM_PRETEST_KMAX]; /* k = 1: a colour's coarsest level */
-    return l > start ? l : start;
-}
-
-int spm_ref_level_start(const spm_geometry *g, const spm_material *mats, const uint8_t *lvlk,
-                        const spm_trace_params *p)
-{
-    int start = 0;
-    if (!lvlk)
-        return 0;
-    for (int i = 0; i < g->ntris; i++) {
-        const spm_material *m = &mats[g->tris[i].material];
-        start = colour_start(lvlk, m->refl, start);
-        start = colour_start(lvlk, m->emit, start);
-    }
-    start = colour_start(lvlk, p->bg_up, start);
-    return colour_start(lvlk, p->bg_down, start);
 }
 
 /* MiniLight's camera: jittered position in pixel (x, y), y = 0 at the top. */
@@ -223,6 +201,6 @@ void spm_ref_trace(const spm_geometry *g, const spm_material *mats, const uint8_
                    const spm_trace_params *p, spm_path *paths, uint8_t *levels)
 {
     size_t n = (size_t)p->cam.width * (size_t)p->cam.height * p->spp_per_pass;
-    int start = spm_ref_level_start(g, mats, lvlk, p);
+    int start = spm_plan_level_start(g, mats, lvlk, p);
     spm_ref_trace_range(g, mats, lvlk, start, p, 0, n, paths, levels);
 }

@@ -5,29 +5,33 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cl_resources.h"
-#include "colour.h"
-#include "refcpu.h"
+#include "spm_kernel_args.h"
 
-/* Shade kernels: levels 0..3, then the modes with their own representation. */
-enum { SLOT_TRUTH = SPM_NUM_LEVELS, SLOT_RGB, SLOT_HERO, NSLOTS };
-static const char *slot_kernel[NSLOTS] = {"spm_shade_l0",    "spm_shade_l1",  "spm_shade_l2",
-                                          "spm_shade_l3",    "spm_shade_truth", "spm_shade_rgb",
-                                          "spm_shade_hero"};
+/* Kernels and shade tables by slot: a levelled mode's levels, else slot 0
+ * (modes.h). */
+#define NSLOTS SPM_NUM_LEVELS
 /* Work-group size asked for (PoCL runs a group's work-items in one thread; 64
  * amortises the per-group cost and keeps the last group's waste small). */
 #define LOCAL_SIZE 64
-#define NCOUNTERS 4 /* truncated paths, BVH stack overflows, non-finite samples */
+
+/* Host mirrors of the kernels' parameter lists (spm_kernel_args.h). */
+#define ARG_FIELD(dev, host, name) host name;
+typedef struct { SPM_TRACE_ARGS(ARG_FIELD, ) } trace_args;
+typedef struct { SPM_SHADE_ARGS(ARG_FIELD, ) } shade_args;
+typedef struct { SPM_SHADE_PATH_ARGS(ARG_FIELD, ) } shade_path_args;
+typedef struct { SPM_ACCUM_ARGS(ARG_FIELD, ) } accum_args;
 
 struct spm_cl_renderer {
     spm_cl_ctx cl;
-    int mode;
+    const spm_mode_desc *mode;
     size_t npix;
     spm_trace_params params;
     spm_u32 init_level;
     cl_program prog;
     cl_kernel k_trace, k_accum;
     cl_kernel k_shade[NSLOTS]; /* NULL: not compiled */
-    cl_mem tab[NSLOTS], cmf[NSLOTS], hero;
+    char kname[NSLOTS][64];
+    cl_mem tab[NSLOTS], cmf[NSLOTS], extra;
     cl_mem tris, nodes, emitters, mats, lvlk;
     /* per-batch buffers (room for cap paths), grown on demand */
     size_t cap;
@@ -36,8 +40,8 @@ struct spm_cl_renderer {
     cl_mem levels, idx, ident, xyz, pass, counters; /* pass: the batch's pixel sums */
     uint8_t *h_levels;
     spm_u32 *h_idx; /* bucket indices, the source of idx's non-blocking upload */
-    size_t lhist[256]; /* ml, mlc: the pass's level bytes counted by value (bucket()) */
-    spm_u32 zero[NCOUNTERS];
+    size_t lhist[256]; /* levelled modes: the pass's level bytes counted by value (bucket()) */
+    spm_u32 zero[SPM_NCOUNTERS];
     long npasses;
     long fail_pass; /* SPECMIP_CL_FAIL: this pass fails (-1: never) */
 };
@@ -47,11 +51,6 @@ struct spm_cl_renderer {
         if (spm_cl_check((call), what, err)) \
             return 1;                      \
     } while (0)
-
-static int uses_levels(int mode)
-{
-    return mode == SPM_MODE_ML || mode == SPM_MODE_MLC;
-}
 
 static int new_buffer(spm_cl_renderer *r, cl_mem *m, cl_mem_flags fl, size_t bytes,
                       const void *host, const char *what, spm_error *err)
@@ -72,155 +71,40 @@ static int new_buffer(spm_cl_renderer *r, cl_mem *m, cl_mem_flags fl, size_t byt
     return spm_cl_check(rc, buf, err);
 }
 
-static const uint8_t *lvlk_of(const spm_tables *t, int mode)
+/* One slot's shade table (modes.h), in the layout shade_body.clh reads; a
+ * mode with per-path weights gets a placeholder weight buffer (its kernel
+ * never reads it) and its extra table. */
+static int upload_slot(spm_cl_renderer *r, const spm_shade_table *tab, int slot, spm_error *err)
 {
-    return mode == SPM_MODE_MLC ? t->mlc_lvlk : t->lvlk;
+    static const float no_weights[4];
+    size_t rows = (size_t)tab->ncolours * (size_t)tab->stride;
+    size_t nw = tab->w ? 3 * (size_t)tab->stride : 4;
+    return new_buffer(r, &r->tab[slot], CL_MEM_READ_ONLY, rows * sizeof(float), tab->rows,
+                      "colour table", err) ||
+           new_buffer(r, &r->cmf[slot], CL_MEM_READ_ONLY, nw * sizeof(float),
+                      tab->w ? tab->w : no_weights, "XYZ weights", err) ||
+           (tab->extra && !r->extra &&
+            new_buffer(r, &r->extra, CL_MEM_READ_ONLY, tab->nextra * sizeof(float), tab->extra,
+                       "hero tables", err));
 }
 
-/* Vectors per colour in level l's kernel: 5, plus in mlc the spike lanes
- * rounded up to whole vectors of the level's width. */
-static int level_nv(const spm_tables *t, int mode, int l)
-{
-    int w = 16 >> l;
-    return SPM_VECS_PER_LEVEL + (mode == SPM_MODE_MLC ? (t->nspikes + w - 1) / w : 0);
-}
-
-/* Which shade kernels the mode needs. ml/mlc: every level a path can get,
- * i.e. the start level and every per-occurrence level of a colour in use. */
-static void need_colour(const uint8_t *lk, const spm_tables *t, spm_u32 c, spm_u32 init,
-                        int need[NSLOTS])
-{
-    if (c == SPM_NONE || (int)c >= t->ncolours)
-        return;
-    for (int k = 0; k < SPM_PRETEST_KMAX; k++) {
-        spm_u32 l = lk[c * SPM_PRETEST_KMAX + (spm_u32)k];
-        if (l <= init)
-            need[l] = 1;
-    }
-}
-
-static void needed_slots(const spm_tables *t, int mode, spm_u32 init, int need[NSLOTS])
-{
-    memset(need, 0, NSLOTS * sizeof *need);
-    if (mode == SPM_MODE_TRUTH)
-        need[SLOT_TRUTH] = 1;
-    else if (mode == SPM_MODE_RGB)
-        need[SLOT_RGB] = 1;
-    else if (mode == SPM_MODE_HERO)
-        need[SLOT_HERO] = 1;
-    else if (mode == SPM_MODE_REF)
-        need[0] = 1;
-    if (!uses_levels(mode))
-        return;
-    const uint8_t *lk = lvlk_of(t, mode);
-    need[init] = 1;
-    need_colour(lk, t, t->bg_up, init, need);
-    need_colour(lk, t, t->bg_down, init, need);
-    for (int m = 0; m < t->nmaterials; m++) {
-        need_colour(lk, t, t->materials[m].refl, init, need);
-        need_colour(lk, t, t->materials[m].emit, init, need);
-    }
-}
-
-/* Row-major table of ncolours rows: each row's `src_n` floats copied to a row of
- * `dst_n` floats (rest zero). Also used for the XYZ weights (3 rows). */
-static float *repack(const float *src, int rows, int src_stride, int src_n, int dst_n)
-{
-    float *o = spm_xcalloc((size_t)rows * (size_t)dst_n + 1, sizeof *o);
-    for (int r = 0; r < rows; r++)
-        memcpy(&o[(size_t)r * dst_n], &src[(size_t)r * src_stride], (size_t)src_n * sizeof *o);
-    return o;
-}
-
-/* The shade tables of one slot: colour rows and XYZ weight rows in the
- * layout shade_body.clh reads (rows of nv vectors). */
-static int upload_slot(spm_cl_renderer *r, const spm_tables *t, int slot, spm_error *err)
-{
-    int nc = t->ncolours, mode = r->mode;
-    float *tab = NULL, *cmf = NULL;
-    size_t tab_n = 0, cmf_n = 0;
-    if (slot < SPM_NUM_LEVELS) {
-        int l = slot, bins = SPM_LEVEL_BINS(l), nv = level_nv(t, mode, l), row = nv * (16 >> l);
-        if (mode == SPM_MODE_MLC) {
-            int ns = t->nspikes;
-            tab = repack(t->mlc_lvl[l], nc, SPM_MLC_STRIDE(l), bins + ns, row);
-            float w[3 * (SPM_L0_BINS + SPM_MAX_SPIKES)];
-            for (int ch = 0; ch < 3; ch++) {
-                memcpy(&w[ch * row], t->cmf_lvl[l][ch], (size_t)bins * sizeof *w);
-                memset(&w[ch * row + bins], 0, (size_t)(row - bins) * sizeof *w);
-                memcpy(&w[ch * row + bins], t->spike_cmf[ch], (size_t)ns * sizeof *w);
-            }
-            cmf = repack(w, 3, row, row, row);
-        } else {
-            tab = repack(t->lvl[l], nc, bins, bins, row);
-            cmf = repack(&t->cmf_lvl[l][0][0], 3, SPM_L0_BINS, bins, row);
-        }
-        tab_n = (size_t)nc * row;
-        cmf_n = 3 * (size_t)row;
-    } else if (slot == SLOT_TRUTH) {
-        tab = repack(t->truth, nc, SPM_TRUTH_BINS, SPM_TRUTH_BINS, SPM_TRUTH_BINS);
-        cmf = repack(&t->cmf_truth[0][0], 3, SPM_TRUTH_BINS, SPM_TRUTH_BINS, SPM_TRUTH_BINS);
-        tab_n = (size_t)nc * SPM_TRUTH_BINS;
-        cmf_n = 3 * SPM_TRUTH_BINS;
-    } else if (slot == SLOT_RGB) {
-        /* XYZ from linear sRGB with the colour module's own matrix */
-        tab = repack(t->rgb, nc, 4, 3, 4);
-        cmf = spm_xcalloc(12, sizeof *cmf);
-        for (int c = 0; c < 3; c++) {
-            double rgb[3] = {c == 0, c == 1, c == 2}, xyz[3];
-            spm_linear_srgb_to_xyz(rgb, xyz);
-            for (int ch = 0; ch < 3; ch++)
-                cmf[ch * 4 + c] = (float)xyz[ch];
-        }
-        tab_n = (size_t)nc * 4;
-        cmf_n = 12;
-    } else { /* hero: level-0 values, gathered per wavelength */
-        tab = repack(t->lvl[0], nc, SPM_L0_BINS, SPM_L0_BINS, SPM_L0_BINS);
-        tab_n = (size_t)nc * SPM_L0_BINS;
-        cmf = spm_xcalloc(4, sizeof *cmf); /* unused: the weights are per wavelength */
-        cmf_n = 4;
-        /* kernels/shade.cl HERO_*: CDF, density per nm, CMF at 380..780 nm */
-        size_t hn = (SPM_TRUTH_BINS + 1) + SPM_TRUTH_BINS + 3 * (SPM_TRUTH_BINS + 1);
-        float *h = spm_xcalloc(hn, sizeof *h);
-        memcpy(h, t->hero_cdf, sizeof t->hero_cdf);
-        memcpy(h + SPM_TRUTH_BINS + 1, t->hero_pdf, sizeof t->hero_pdf);
-        memcpy(h + 2 * SPM_TRUTH_BINS + 1, t->cmf_point, sizeof t->cmf_point);
-        int rc = new_buffer(r, &r->hero, CL_MEM_READ_ONLY, hn * sizeof *h, h, "hero tables", err);
-        free(h);
-        if (rc) {
-            free(tab);
-            free(cmf);
-            return 1;
-        }
-    }
-    int rc = new_buffer(r, &r->tab[slot], CL_MEM_READ_ONLY, tab_n * sizeof *tab, tab,
-                        "colour table", err) ||
-             new_buffer(r, &r->cmf[slot], CL_MEM_READ_ONLY, cmf_n * sizeof *cmf, cmf,
-                        "XYZ weights", err);
-    free(tab);
-    free(cmf);
-    return rc;
-}
-
-static int build(spm_cl_renderer *r, const spm_tables *t, const int need[NSLOTS], spm_error *err)
+static int build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *err)
 {
     char defs[512];
-    int n = snprintf(defs, sizeof defs, "-DSPM_BVH_STACK=%d", SPM_BVH_STACK);
-    for (int l = 0; l < SPM_NUM_LEVELS; l++)
-        if (need[l])
-            n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_L%d_NV=%d", l,
-                          level_nv(t, r->mode, l));
-    if (need[SLOT_TRUTH])
-        n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_TRUTH");
-    if (need[SLOT_RGB])
-        n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_RGB");
-    if (need[SLOT_HERO])
-        n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_SHADE_HERO");
+    int n = 0;
+    defs[0] = '\0';
+    for (int s = 0; s < plan->nslots; s++)
+        if (plan->used[s]) {
+            char define[96];
+            spm_mode_kernel(r->mode, plan->tables, s, r->kname[s], sizeof r->kname[s], define,
+                            sizeof define);
+            n += snprintf(defs + n, sizeof defs - (size_t)n, "-D%s ", define);
+        }
     /* The device's index makes each device's program text distinct: PoCL
      * otherwise shares one compiled kernel between same-kind devices, and two
      * devices launching it at once can break its reference counts (an
      * assertion in pocl_release_dlhandle_cache). */
-    n += snprintf(defs + n, sizeof defs - (size_t)n, " -DSPM_DEVICE_INDEX=%d", r->cl.dev.index);
+    n += snprintf(defs + n, sizeof defs - (size_t)n, "-DSPM_DEVICE_INDEX=%d", r->cl.dev.index);
     const char *files[] = {"kernels/trace.cl", "kernels/shade.cl"};
     if (spm_cl_build(&r->cl, files, 2, defs, &r->prog, err))
         return 1;
@@ -229,19 +113,20 @@ static int build(spm_cl_renderer *r, const spm_tables *t, const int need[NSLOTS]
     CK(rc, "clCreateKernel(spm_trace)");
     r->k_accum = clCreateKernel(r->prog, "spm_accumulate", &rc);
     CK(rc, "clCreateKernel(spm_accumulate)");
-    for (int s = 0; s < NSLOTS; s++)
-        if (need[s]) {
+    for (int s = 0; s < plan->nslots; s++)
+        if (plan->used[s]) {
             char what[96];
-            snprintf(what, sizeof what, "clCreateKernel(%s)", slot_kernel[s]);
-            r->k_shade[s] = clCreateKernel(r->prog, slot_kernel[s], &rc);
+            snprintf(what, sizeof what, "clCreateKernel(%s)", r->kname[s]);
+            r->k_shade[s] = clCreateKernel(r->prog, r->kname[s], &rc);
             CK(rc, what);
         }
     return 0;
 }
 
-static int upload_scene(spm_cl_renderer *r, const spm_geometry *g, const spm_tables *t,
-                        spm_error *err)
+static int upload_scene(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *err)
 {
+    const spm_geometry *g = plan->geom;
+    const spm_tables *t = plan->tables;
     size_t nlk = (size_t)t->ncolours * SPM_PRETEST_KMAX;
     return new_buffer(r, &r->tris, CL_MEM_READ_ONLY, (size_t)g->ntris * sizeof(spm_tri), g->tris,
                       "triangles", err) ||
@@ -251,7 +136,7 @@ static int upload_scene(spm_cl_renderer *r, const spm_geometry *g, const spm_tab
                       g->emitters, "emitters", err) ||
            new_buffer(r, &r->mats, CL_MEM_READ_ONLY, (size_t)t->nmaterials * sizeof(spm_material),
                       t->materials, "materials", err) ||
-           new_buffer(r, &r->lvlk, CL_MEM_READ_ONLY, nlk, lvlk_of(t, r->mode), "level table", err);
+           new_buffer(r, &r->lvlk, CL_MEM_READ_ONLY, nlk, plan->lvlk, "level table", err);
 }
 
 static void parse_fail_env(spm_cl_renderer *r, int device)
@@ -264,53 +149,42 @@ static void parse_fail_env(spm_cl_renderer *r, int device)
         r->fail_pass = pass;
 }
 
-int spm_cl_create(int device, const spm_geometry *g, const spm_tables *t, int mode, spm_u32 seed,
-                  spm_cl_renderer **out, spm_error *err)
+int spm_cl_create_plan(int device, const spm_render_plan *plan, spm_cl_renderer **out,
+                       spm_error *err)
 {
     *out = NULL;
-    if (mode < 0 || mode >= SPM_MODE_COUNT) {
-        spm_errorf(err, "unknown render mode %d", mode);
-        return 1;
-    }
-    if (g->nnodes < 1 || g->cam.width < 1 || g->cam.height < 1) {
-        spm_errorf(err, "nothing to render (empty BVH or image size %dx%d)", g->cam.width,
-                   g->cam.height);
-        return 1;
-    }
-    if (mode == SPM_MODE_MLC && !t->mlc_lvlk) {
-        spm_errorf(err, "mlc mode needs the Composite Model tables");
-        return 1;
-    }
     spm_cl_renderer *r = spm_xcalloc(1, sizeof *r);
-    r->mode = mode;
-    r->npix = (size_t)g->cam.width * (size_t)g->cam.height;
+    r->mode = plan->mode;
+    r->npix = plan->npix;
     r->batch_paths = SPM_CL_BATCH_PATHS;
     parse_fail_env(r, device);
-    spm_trace_params *p = &r->params;
-    p->cam = g->cam;
-    p->ntris = (spm_u32)g->ntris;
-    p->nemitters = (spm_u32)g->nemitters;
-    p->bg_up = t->bg_up;
-    p->bg_down = t->bg_down;
-    p->seed = seed;
-    r->init_level = (spm_u32)spm_ref_level_start(g, t->materials, lvlk_of(t, mode), p);
-    if (r->init_level >= SPM_NUM_LEVELS)
-        r->init_level = SPM_NUM_LEVELS - 1;
-    int need[NSLOTS];
-    needed_slots(t, mode, r->init_level, need);
-    int rc = spm_cl_ctx_create(device, &r->cl, err) || upload_scene(r, g, t, err);
-    for (int s = 0; s < NSLOTS && !rc; s++)
-        if (need[s])
-            rc = upload_slot(r, t, s, err);
+    r->params = plan->params;
+    r->init_level = plan->start_level;
+    int rc = spm_cl_ctx_create(device, &r->cl, err) || upload_scene(r, plan, err);
+    for (int s = 0; s < plan->nslots && !rc; s++)
+        if (plan->used[s])
+            rc = upload_slot(r, &plan->shade[s], s, err);
     rc = rc || new_buffer(r, &r->counters, CL_MEM_READ_WRITE, sizeof r->zero, NULL, "counters",
                           err) ||
-         build(r, t, need, err);
+         build(r, plan, err);
     if (rc) {
         spm_cl_destroy(r);
         return 1;
     }
     *out = r;
     return 0;
+}
+
+int spm_cl_create(int device, const spm_geometry *g, const spm_tables *t, int mode, spm_u32 seed,
+                  spm_cl_renderer **out, spm_error *err)
+{
+    spm_render_plan plan;
+    *out = NULL;
+    if (spm_render_plan_init(&plan, g, t, mode, seed, err))
+        return 1;
+    int rc = spm_cl_create_plan(device, &plan, out, err);
+    spm_render_plan_free(&plan);
+    return rc;
 }
 
 static void release(cl_mem *m)
@@ -338,7 +212,7 @@ void spm_cl_destroy(spm_cl_renderer *r)
         clReleaseKernel(r->k_accum);
     if (r->prog)
         clReleaseProgram(r->prog);
-    cl_mem *ms[] = {&r->hero, &r->tris,  &r->nodes, &r->emitters, &r->mats, &r->lvlk,
+    cl_mem *ms[] = {&r->extra, &r->tris,  &r->nodes, &r->emitters, &r->mats, &r->lvlk,
                     &r->heads, &r->verts, &r->levels, &r->idx, &r->ident, &r->xyz, &r->pass,
                     &r->counters};
     for (size_t i = 0; i < sizeof ms / sizeof *ms; i++)
@@ -394,19 +268,31 @@ static size_t round_up(size_t n)
     return (n + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
 }
 
-static int set_args(cl_kernel k, const char *name, int nargs, const size_t *sizes,
-                    const void *const *vals, spm_error *err)
+static int set_arg(cl_kernel k, const char *name, cl_uint i, size_t size, const void *val,
+                   spm_error *err)
 {
-    for (int i = 0; i < nargs; i++) {
-        cl_int rc = clSetKernelArg(k, (cl_uint)i, sizes[i], vals[i]);
-        if (rc != CL_SUCCESS) {
-            char what[128];
-            snprintf(what, sizeof what, "clSetKernelArg(%s, %d)", name, i);
-            return spm_cl_check(rc, what, err);
-        }
-    }
-    return 0;
+    cl_int rc = clSetKernelArg(k, i, size, val);
+    if (rc == CL_SUCCESS)
+        return 0;
+    char what[128];
+    snprintf(what, sizeof what, "clSetKernelArg(%s, %u)", name, i);
+    return spm_cl_check(rc, what, err);
 }
+
+/* Sets kernel k's arguments from *a, a struct of one of the lists of
+ * spm_kernel_args.h, from argument *i on; *i is left past them. */
+#define SET_ARG(dev, host, name) rc = rc || set_arg(k, kname, (*i)++, sizeof a->name, &a->name, err);
+#define DEFINE_SETTER(fn, type, LIST)                                                      \
+    static int fn(cl_kernel k, const char *kname, const type *a, cl_uint *i, spm_error *err) \
+    {                                                                                      \
+        int rc = 0;                                                                        \
+        LIST(SET_ARG, )                                                                    \
+        return rc;                                                                         \
+    }
+DEFINE_SETTER(set_trace_args, trace_args, SPM_TRACE_ARGS)
+DEFINE_SETTER(set_shade_args, shade_args, SPM_SHADE_ARGS)
+DEFINE_SETTER(set_shade_path_args, shade_path_args, SPM_SHADE_PATH_ARGS)
+DEFINE_SETTER(set_accum_args, accum_args, SPM_ACCUM_ARGS)
 
 static int enqueue(spm_cl_renderer *r, cl_kernel k, const char *name, size_t offset, size_t n,
                    cl_event *ev, spm_error *err)
@@ -429,10 +315,10 @@ typedef struct {
 } batch;
 
 /* A pass's batch size in pixels (cl_resources.h), with the buffers for it. */
-static int plan(spm_cl_renderer *r, spm_u32 spp, size_t *bpix, spm_error *err)
+static int plan_pass(spm_cl_renderer *r, spm_u32 spp, size_t *bpix, spm_error *err)
 {
-    *bpix = spm_cl_batch_pixels(r->npix, spp, r->batch_paths);
-    return reserve(r, spm_cl_batch_room(r->npix, spp, r->batch_paths), err);
+    *bpix = spm_batch_pixels(r->npix, spp, r->batch_paths);
+    return reserve(r, spm_batch_room(r->npix, spp, r->batch_paths), err);
 }
 
 /* The batch of a pass cut into batches of bpix pixels that starts at pixel p0. */
@@ -456,24 +342,12 @@ static int run_trace(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_error
 {
     r->params.first_sample = b->first_sample;
     r->params.spp_per_pass = b->spp;
-    spm_u32 npaths = (spm_u32)b->n;
-    const size_t m = sizeof(cl_mem), u = sizeof(spm_u32);
-    const size_t sz[] = {m, m, m, m, m, sizeof r->params, u, u, m, m, m, m, u};
-    const void *val[] = {&r->tris,  &r->nodes, &r->emitters, &r->mats,     &r->lvlk,
-                         &r->params, &r->init_level, &npaths, &r->heads, &r->verts,
-                         &r->levels, &r->counters, &b->first_pixel};
-    if (set_args(r->k_trace, "spm_trace", 13, sz, val, err))
-        return 1;
-    return enqueue(r, r->k_trace, "spm_trace", 0, b->launch, ev, err);
-}
-
-/* Which shade kernel a mode without levels uses for every path. */
-static int mode_slot(int mode)
-{
-    return mode == SPM_MODE_TRUTH ? SLOT_TRUTH
-           : mode == SPM_MODE_RGB ? SLOT_RGB
-           : mode == SPM_MODE_HERO ? SLOT_HERO
-                                   : 0;
+    trace_args a = {r->tris,  r->nodes, r->emitters,     r->mats, r->lvlk,
+                    r->params, r->init_level, (spm_u32)b->n, r->heads, r->verts,
+                    r->levels, r->counters, b->first_pixel};
+    cl_uint i = 0;
+    return set_trace_args(r->k_trace, "spm_trace", &a, &i, err) ||
+           enqueue(r, r->k_trace, "spm_trace", 0, b->launch, ev, err);
 }
 
 /* h[b] = how many of the n bytes equal b. Four partial counts: with one, a run
@@ -497,7 +371,7 @@ static void byte_histogram(const uint8_t *v, size_t n, size_t h[256])
 
 /* Bucket the n paths by shade kernel: slot s shades entries off[s] ..
  * off[s+1] of the index list *ids. When one kernel takes every path (modes
- * without levels, and ml scenes whose paths all get one level, like the
+ * without levels: slot 0, and ml scenes whose paths all get one level, like the
  * default Cornell box) the list is the identity, on the device since
  * reserve(): no sort and no upload. Otherwise a stable counting sort goes to
  * r->idx (a non-blocking upload: h_idx is not rewritten before the batch's
@@ -506,8 +380,8 @@ static int bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t of
                   cl_mem *ids, spm_error *err)
 {
     size_t cnt[NSLOTS] = {0};
-    if (!uses_levels(r->mode)) {
-        cnt[mode_slot(r->mode)] = n;
+    if (!r->mode->levelled) {
+        cnt[0] = n;
     } else {
         size_t lc[SPM_LEVEL_MASK + 1] = {0};
         byte_histogram(levels, n, r->lhist);
@@ -563,22 +437,13 @@ static int run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOTS
          * when ml splits a pass, was below the noise on cornell_spiky (two
          * buckets a pass: shade time the same launched either way). The last
          * batch of a pass is launched at full size too, for the same reason. */
-        spm_u32 begin = (spm_u32)off[s], end = (spm_u32)off[s + 1];
-        spm_u32 npaths = (spm_u32)b->n, seed = r->params.seed;
-        /* shade_body.clh: (heads, verts, npaths, idx, begin, end, tab, cmf [, hero,
-         * seed, spp, first_sample, first_pixel], xyz) */
-        const size_t m = sizeof(cl_mem), u = sizeof(spm_u32);
-        const size_t sz_hero[] = {m, m, u, m, u, u, m, m, m, u, u, u, u, m};
-        const void *val_hero[] = {&r->heads, &r->verts,  &npaths,    &ids,
-                                  &begin,    &end,       &r->tab[s], &r->cmf[s],
-                                  &r->hero,  &seed,      &b->spp,    &b->first_sample,
-                                  &b->first_pixel, &r->xyz};
-        const size_t sz[] = {m, m, u, m, u, u, m, m, m};
-        const void *val[] = {&r->heads, &r->verts, &npaths,    &ids,    &begin,
-                             &end,      &r->tab[s], &r->cmf[s], &r->xyz};
-        int rc = s == SLOT_HERO ? set_args(r->k_shade[s], slot_kernel[s], 14, sz_hero, val_hero, err)
-                                : set_args(r->k_shade[s], slot_kernel[s], 9, sz, val, err);
-        if (rc || enqueue(r, r->k_shade[s], slot_kernel[s], 0, b->launch, &ev[s], err))
+        shade_args a = {r->heads, r->verts,  (spm_u32)b->n, ids,     (spm_u32)off[s],
+                        (spm_u32)off[s + 1], r->tab[s], r->cmf[s], r->xyz};
+        shade_path_args pa = {r->extra, r->params.seed, b->spp, b->first_sample, b->first_pixel};
+        cl_uint i = 0;
+        int rc = set_shade_args(r->k_shade[s], r->kname[s], &a, &i, err) ||
+                 (r->mode->per_path && set_shade_path_args(r->k_shade[s], r->kname[s], &pa, &i, err));
+        if (rc || enqueue(r, r->k_shade[s], r->kname[s], 0, b->launch, &ev[s], err))
             return 1;
     }
     return 0;
@@ -596,21 +461,6 @@ static double release_events(cl_event *ev, int n)
     return s;
 }
 
-/* Paths per level and set-by (as spm_count_levels: level 0, none, in modes
- * without levels), from bucket()'s histogram; it checked the levels. */
-static void count_levels(const spm_cl_renderer *r, size_t n, spm_pass_stats *st)
-{
-    st->paths += n;
-    if (!uses_levels(r->mode)) {
-        st->level_paths[0][SPM_SETBY_NONE] += n;
-        return;
-    }
-    for (int b = 0; b < 256; b++) {
-        spm_u32 by = ((spm_u32)b >> SPM_SETBY_SHIFT) & 3u;
-        st->level_paths[b & SPM_LEVEL_MASK][by > 2 ? 0 : by] += r->lhist[b];
-    }
-}
-
 /* One batch through trace -> bucket -> shade -> accumulate, its pixel sums
  * read into batch_xyz (b->npix * 3 floats). The read waits for the batch, so
  * its stage times can be taken from the events, and the bucket indices'
@@ -620,7 +470,7 @@ static int pass_batch(spm_cl_renderer *r, const batch *b, float *batch_xyz, spm_
 {
     cl_event ev_t = NULL, ev_s[NSLOTS] = {NULL}, ev_a = NULL;
     int rc = run_trace(r, b, &ev_t, err);
-    if (!rc && uses_levels(r->mode))
+    if (!rc && r->mode->levelled)
         rc = spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->levels, CL_TRUE, 0, b->n,
                                               r->h_levels, 1, &ev_t, NULL),
                           "clEnqueueReadBuffer(level bytes)", err);
@@ -631,10 +481,9 @@ static int pass_batch(spm_cl_renderer *r, const batch *b, float *batch_xyz, spm_
     double bucket_s = spm_now() - t0;
     rc = rc || run_shade(r, b, off, ids, ev_s, err);
     if (!rc) {
-        const size_t m = sizeof(cl_mem), u = sizeof(spm_u32);
-        const size_t sz[] = {m, u, u, m, m};
-        const void *val[] = {&r->xyz, &b->npix, &b->spp, &r->pass, &r->counters};
-        rc = set_args(r->k_accum, "spm_accumulate", 5, sz, val, err) ||
+        accum_args a = {r->xyz, b->npix, b->spp, r->pass, r->counters};
+        cl_uint i = 0;
+        rc = set_accum_args(r->k_accum, "spm_accumulate", &a, &i, err) ||
              enqueue(r, r->k_accum, "spm_accumulate", 0, b->launch / b->spp, &ev_a, err);
     }
     rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->pass, CL_TRUE, 0,
@@ -643,8 +492,8 @@ static int pass_batch(spm_cl_renderer *r, const batch *b, float *batch_xyz, spm_
                             "clEnqueueReadBuffer(batch image)", err);
     if (rc)
         clFinish(r->cl.queue);
-    else
-        count_levels(r, b->n, st);
+    else /* bucket() checked the levels and counted them by value */
+        spm_count_levels_hist(r->mode, r->lhist, b->n, st);
     st->trace_s += release_events(&ev_t, 1);
     st->shade_s += release_events(ev_s, NSLOTS) + bucket_s;
     st->accum_s += release_events(&ev_a, 1);
@@ -664,14 +513,14 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
     size_t bpix;
     if (spp == 0)
         return 0;
-    if (plan(r, spp, &bpix, err) || zero_counters(r, err))
+    if (plan_pass(r, spp, &bpix, err) || zero_counters(r, err))
         return 1;
     int rc = 0;
     for (size_t p0 = 0; !rc && p0 < r->npix; p0 += bpix) {
         batch b = batch_at(r, first_sample, spp, p0, bpix);
         rc = pass_batch(r, &b, &pass_xyz[3 * p0], st, err);
     }
-    spm_u32 counters[NCOUNTERS];
+    spm_u32 counters[SPM_NCOUNTERS];
     rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->counters, CL_TRUE, 0,
                                                 sizeof counters, counters, 0, NULL, NULL),
                             "clEnqueueReadBuffer(counters)", err);
@@ -679,11 +528,11 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
         clFinish(r->cl.queue);
         return 1;
     }
-    st->truncated += counters[0];
-    st->nonfinite += counters[2];
-    if (counters[1]) {
-        spm_errorf(err, "BVH traversal stack overflow in %u rays (kernel stack %d)", counters[1],
-                   SPM_BVH_STACK);
+    st->truncated += counters[SPM_COUNTER_TRUNCATED];
+    st->nonfinite += counters[SPM_COUNTER_NONFINITE];
+    if (counters[SPM_COUNTER_STACK]) {
+        spm_errorf(err, "BVH traversal stack overflow in %u rays (kernel stack %d)",
+                   counters[SPM_COUNTER_STACK], SPM_BVH_STACK);
         return 1;
     }
     return 0;
@@ -752,7 +601,7 @@ int spm_cl_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, spm_path
     size_t bpix;
     if (spp == 0)
         return 0;
-    if (plan(r, spp, &bpix, err) || zero_counters(r, err))
+    if (plan_pass(r, spp, &bpix, err) || zero_counters(r, err))
         return 1;
     spm_dev_head *h = spm_xcalloc(r->cap, sizeof *h);
     int rc = 0;
@@ -803,7 +652,7 @@ int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const sp
     size_t bpix;
     if (spp == 0)
         return 0;
-    if (plan(r, spp, &bpix, err))
+    if (plan_pass(r, spp, &bpix, err))
         return 1;
     int rc = 0;
     for (size_t p0 = 0; !rc && p0 < r->npix; p0 += bpix) {
@@ -827,10 +676,10 @@ static void backend_destroy(spm_backend *b)
     free(b);
 }
 
-spm_backend *spm_backend_cl_create(int device, const spm_backend_input *in, spm_error *err)
+spm_backend *spm_backend_cl_create(int device, const spm_render_plan *plan, spm_error *err)
 {
     spm_cl_renderer *r;
-    if (spm_cl_create(device, in->geom, in->tables, in->mode, in->seed, &r, err))
+    if (spm_cl_create_plan(device, plan, &r, err))
         return NULL;
     spm_backend *b = spm_xcalloc(1, sizeof *b);
     b->impl = r;

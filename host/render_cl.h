@@ -1,6 +1,6 @@
 /* The OpenCL render backend: one device, one scene, one mode. A pass of
- * npix * spp paths is cut into batches of whole pixels (cl_resources.h:
- * SPM_CL_BATCH_PATHS paths at most, a pixel's samples in one batch); each
+ * npix * spp paths is cut into batches of whole pixels (render_plan.h;
+ * SPM_CL_BATCH_PATHS paths at most, cl_resources.h); each
  * batch is traced (kernel `spm_trace`), bucketed by level on the host, shaded
  * bucket by bucket with its level's kernel (or all with the mode's kernel),
  * and its pixels' samples summed in sample order (`spm_accumulate`), so the
@@ -18,9 +18,13 @@
 
 typedef struct spm_cl_renderer spm_cl_renderer;
 
-/* Uploads geometry and tables, builds the program with -D for exactly the
- * shade kernels the mode needs (ml/mlc: the levels the scene's colours can
- * ask for). g and t are copied to the device: the caller may free them after. */
+/* Uploads the plan's geometry, level table and shade tables, and builds the
+ * program with -D for exactly the shade kernels the plan uses (levelled
+ * modes: the levels the scene's colours can ask for). Everything is copied to
+ * the device: the caller may free the plan after. */
+int spm_cl_create_plan(int device, const spm_render_plan *plan, spm_cl_renderer **out,
+                       spm_error *err);
+/* The same with a plan made from g, t, mode and seed for the call. */
 int spm_cl_create(int device, const spm_geometry *g, const spm_tables *t, int mode, spm_u32 seed,
                   spm_cl_renderer **out, spm_error *err);
 void spm_cl_destroy(spm_cl_renderer *r);

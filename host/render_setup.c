@@ -6,21 +6,6 @@
 #include "cl_resources.h"
 #include "clhost.h"
 
-static const char *mode_names[SPM_MODE_COUNT] = {"truth", "ref", "ml", "mlc", "hero", "rgb"};
-
-const char *spm_mode_name(int mode)
-{
-    return mode >= 0 && mode < SPM_MODE_COUNT ? mode_names[mode] : "?";
-}
-
-int spm_mode_parse(const char *s)
-{
-    for (int m = 0; m < SPM_MODE_COUNT; m++)
-        if (!strcmp(s, mode_names[m]))
-            return m;
-    return -1;
-}
-
 void spm_render_config_defaults(spm_render_config *c)
 {
     memset(c, 0, sizeof *c);
@@ -33,7 +18,7 @@ typedef struct {
     int device;
     char name[256];
     const spm_render_config *c;
-    const spm_backend_input *in;
+    const spm_render_plan *plan;
     spm_backend *b;
     spm_error err;
 } device_open;
@@ -41,7 +26,7 @@ typedef struct {
 static void *open_one(void *arg)
 {
     device_open *d = arg;
-    d->b = (d->c->open_device ? d->c->open_device : spm_backend_cl_create)(d->device, d->in,
+    d->b = (d->c->open_device ? d->c->open_device : spm_backend_cl_create)(d->device, d->plan,
                                                                           &d->err);
     return NULL;
 }
@@ -99,7 +84,7 @@ static int device_list(const spm_render_config *c, const spm_render_setup *s, de
 
 /* Each device builds its program in its own thread: builds run concurrently
  * (a thread that cannot be started opens its device in this one). */
-static int open_devices(const spm_render_config *c, const spm_backend_input *in,
+static int open_devices(const spm_render_config *c, const spm_render_plan *plan,
                         spm_render_setup *s, spm_error *err)
 {
     device_open opens[SPM_MAX_BACKENDS];
@@ -110,7 +95,7 @@ static int open_devices(const spm_render_config *c, const spm_backend_input *in,
     int threaded[SPM_MAX_BACKENDS];
     for (int i = 0; i < n; i++) {
         opens[i].c = c;
-        opens[i].in = in;
+        opens[i].plan = plan;
         threaded[i] = n > 1 && pthread_create(&th[i], NULL, open_one, &opens[i]) == 0;
         if (!threaded[i])
             open_one(&opens[i]);
@@ -157,20 +142,22 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
         spm_pretest_print(stderr, names, s->tables.pretest, s->scene.ncolours, &c->pretest);
         free((void *)names);
     }
-    spm_backend_input in = {&s->geom, &s->tables, c->mode, c->seed};
+    if (spm_render_plan_init(&s->plan, &s->geom, &s->tables, c->mode, c->seed, err))
+        return SPM_EXIT_INPUT;
     if (c->use_cpu) {
-        if (!(s->b[0] = spm_backend_cpu_create(&in, err)))
+        if (!(s->b[0] = spm_backend_cpu_create(&s->plan, err)))
             return SPM_EXIT_RUNTIME;
         s->nb = 1;
         return 0;
     }
-    return open_devices(c, &in, s, err);
+    return open_devices(c, &s->plan, s, err);
 }
 
 void spm_render_setup_close(spm_render_setup *s)
 {
     for (int i = 0; i < s->nb; i++)
         s->b[i]->destroy(s->b[i]);
+    spm_render_plan_free(&s->plan);
     spm_tables_free(&s->tables);
     spm_geometry_free(&s->geom);
     spm_scene_free(&s->scene);

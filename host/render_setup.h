@@ -3,6 +3,7 @@
 #ifndef SPM_RENDER_SETUP_H
 #define SPM_RENDER_SETUP_H
 #include "backend.h"
+#include "modes.h"
 #include "render_run.h"
 
 typedef struct {
@@ -17,7 +18,7 @@ typedef struct {
     int all_devices;          /* --device all */
     /* Opens one OpenCL device as a backend; NULL: spm_backend_cl_create (tests
      * put one here that fails for a chosen device, as a kernel build would). */
-    spm_backend *(*open_device)(int device, const spm_backend_input *in, spm_error *err);
+    spm_backend *(*open_device)(int device, const spm_render_plan *plan, spm_error *err);
     spm_pretest_opts pretest;
     int verbose;
 } spm_render_config;
@@ -26,13 +27,12 @@ typedef struct {
     spm_scene scene;
     spm_geometry geom;
     spm_tables tables;
+    spm_render_plan plan;     /* what every backend renders */
     spm_backend *b[SPM_MAX_BACKENDS];
     int nb;
 } spm_render_setup;
 
 void spm_render_config_defaults(spm_render_config *c);
-const char *spm_mode_name(int mode);
-int spm_mode_parse(const char *s);  /* -1 if unknown */
 /* Samples per pixel: --spp, else the scene's, else 16. */
 int spm_render_spp(const spm_render_config *c, const spm_scene *sc);
 /* Returns 0, or an exit code (2 input error, 1 runtime) with err filled.

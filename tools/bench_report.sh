@@ -21,7 +21,10 @@ scenes=$($sel -v kind=main -v cols=scene "$csv" | awk '!s[$0]++' | tr '\n' ' ')
 modes=$($sel -v kind=main -v cols=mode "$csv" | awk '!s[$0]++' | tr '\n' ' ')
 nsc=$(echo $scenes | wc -w)
 sweep=$($sel -v kind=sweep -v cols=scene "$csv" | head -1 | wc -l)
-lvmodes=$(for m in ml mlc; do case " $modes " in *" $m "*) printf '%s ' $m;; esac; done)
+# the levelled modes among them, from the bench's copy of `specmip modes`
+[ -s "$dir/modes.tsv" ] || { echo "bench_report.sh: no $dir/modes.tsv (written by specmip bench)" >&2; exit 2; }
+lvmodes=$(for m in $(awk -F'\t' '$2 == "levelled" { print $1 }' "$dir/modes.tsv"); do
+    case " $modes " in *" $m "*) printf '%s ' $m;; esac; done)
 
 for w in bias_ref bias_truth; do awk -v what=$w -f "$tools/bench_tables.awk" "$csv" > "$tmp/$w.dat"; done
 for m in $lvmodes; do awk -v what=levels -v mode=$m -f "$tools/bench_tables.awk" "$csv" > "$tmp/levels_$m.dat"; done
