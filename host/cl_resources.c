@@ -1,6 +1,7 @@
 /* Device memory footprint of a render (cl_resources.h). */
 #include "cl_resources.h"
 #include <stdio.h>
+#include "cl_buffers.h"
 #include "modes.h"
 #include "render_plan.h"
 
@@ -18,24 +19,16 @@ void spm_cl_footprint_of(const spm_geometry *g, const spm_tables *t, size_t npix
                          size_t paths_per_pass, spm_cl_footprint *out)
 {
     spm_cl_footprint f = {0, "nothing", 0, 0, 0};
-    size_t spp = npix ? paths_per_pass / npix : 0, nc = (size_t)t->ncolours;
+    size_t spp = npix ? paths_per_pass / npix : 0;
     size_t n = spm_batch_room(npix, spp ? spp : 1, SPM_CL_BATCH_PATHS);
     f.batch_paths = n;
-    /* per batch (render_cl.c reserve()): headers and vertex slabs with room
-     * for every depth; the batch's pixel sums (at most one pixel a path) */
-    add(&f, n * sizeof(spm_dev_head), "path record headers", 0);
-    add(&f, n * SPM_MAX_DEPTH * sizeof(spm_vertex), "path records", 0);
-    add(&f, n, "level bytes", 0);
-    add(&f, n * sizeof(spm_u32), "identity indices", 0);
-    add(&f, n * sizeof(spm_u32), "bucket indices", 0);
-    add(&f, n * 3 * sizeof(float), "path XYZ", 0);
-    add(&f, n * 3 * sizeof(float), "batch image", 0);
-    /* per scene (render_cl.c upload_scene()) */
-    add(&f, (size_t)g->ntris * sizeof(spm_tri), "triangles", 1);
-    add(&f, (size_t)g->nnodes * sizeof(spm_bvh_node), "BVH", 1);
-    add(&f, (size_t)g->nemitters * sizeof(spm_u32), "emitters", 1);
-    add(&f, (size_t)t->nmaterials * sizeof(spm_material), "materials", 1);
-    add(&f, nc * SPM_PRETEST_KMAX, "level table", 1);
+    /* the backend's buffers (cl_buffers.h) */
+#define BATCH(field, what, per_path, flags, init) add(&f, n * (per_path), what, 0);
+    SPM_CL_BATCH_BUFFERS(BATCH)
+    const uint8_t *lvlk = t->lvlk; /* the size is the same whichever level table */
+#define SCENE(field, what, bytes, host) add(&f, bytes, what, 1);
+    SPM_CL_SCENE_BUFFERS(SCENE)
+    (void)lvlk;
     /* shade tables: those of the mode with the largest */
     size_t tables = 0;
     for (int m = 0; m < SPM_MODE_COUNT; m++) {

@@ -4,10 +4,11 @@
  *
  * A pass is traced and shaded in batches of whole pixels (a pixel's samples
  * stay together), so the per-pass buffers hold one batch, whatever the image
- * size. The sizes follow host/render_cl.c's buffers: per batch (record
- * headers, vertex slabs, level bytes, identity and bucket indices, per-path
- * XYZ, the batch's pixel sums), and per scene (triangles, BVH, emitters,
- * materials, level table, colour tables). The pass image lives on the host. */
+ * size. The buffers are the backend's own lists (cl_buffers.h): per batch
+ * (record headers, vertex slabs, level bytes, identity and bucket indices,
+ * per-path XYZ, the batch's pixel sums) and per scene (triangles, BVH,
+ * emitters, materials, level table), plus the mode's shade tables. The pass
+ * image lives on the host. */
 #ifndef SPM_CL_RESOURCES_H
 #define SPM_CL_RESOURCES_H
 #include <stddef.h>
