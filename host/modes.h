@@ -12,6 +12,18 @@
 #include <stdio.h>
 #include "tables.h"
 
+/* The modes, in the order of spm_modes[] (host only: a kernel is compiled for
+ * one mode and never asks which). */
+enum spm_mode {
+    SPM_MODE_TRUTH = 0,
+    SPM_MODE_REF = 1,
+    SPM_MODE_ML = 2,
+    SPM_MODE_MLC = 3,
+    SPM_MODE_HERO = 4,
+    SPM_MODE_RGB = 5,
+    SPM_MODE_COUNT = 6
+};
+
 /* One shade table: a row of `stride` floats per colour, of which the first
  * `lanes` are the colour's values in the mode's lanes (bins, spike lanes, RGB
  * channels), the rest zero; and XYZ weights, three rows of `stride` floats

@@ -36,17 +36,6 @@ typedef int32_t spm_i32;
 /* mlc tables hold, per colour and level, the smooth bins then the spike lanes */
 #define SPM_MLC_STRIDE(l) (SPM_LEVEL_BINS(l) + SPM_MAX_SPIKES)
 
-/* ---- render modes ------------------------------------------------------- */
-enum spm_mode {
-    SPM_MODE_TRUTH = 0,
-    SPM_MODE_REF = 1,
-    SPM_MODE_ML = 2,
-    SPM_MODE_MLC = 3,
-    SPM_MODE_HERO = 4,
-    SPM_MODE_RGB = 5,
-    SPM_MODE_COUNT = 6
-};
-
 /* ---- path records ------------------------------------------------------- */
 #define SPM_MAX_DEPTH 64        /* vertices per path record (same in both backends) */
 #define SPM_NONE 0xFFFFu        /* "no colour" in a 16-bit colour id */
