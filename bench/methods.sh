@@ -1,5 +1,5 @@
 #!/bin/bash
-# Issue 4 benchmark (not a test): the spectral methods side by side on one
+# Benchmark (not a test): the spectral methods side by side on one
 # scene - shade-stage time and whole-render paths/s of each mode, and its bias
 # against ref (same seed: same paths, ΔE00 of 5x5-blurred images). The goal is
 # an mlc shade stage >= 1.3x faster than ml's on the spiky scene at equal or

@@ -1,5 +1,5 @@
 #!/bin/bash
-# Issue 3 benchmark (not a test): the default Cornell box in every mode on the
+# Benchmark (not a test): the default Cornell box in every mode on the
 # OpenCL device (PoCL here), same seed, side by side. Per mode: paths/s (camera
 # samples per second of whole-render wall time), trace-stage and shade-stage
 # time (event profiling; the host's level bucketing counts as shade); then the
@@ -8,7 +8,7 @@
 # The machine is shared, so the modes run round-robin (one render of each per
 # round: a busy moment slows a whole round, not one mode), ratios are taken
 # within a round, and each figure is the median of the rounds with its range.
-# With mlc among the modes, also shade mlc/ml (issue 4's goal, >= 1.3, is for
+# With mlc among the modes, also shade mlc/ml (the goal, >= 1.3, is for
 # SCENE=scenes/cornell_spiky.scene).
 # usage: bench/renderer.sh [path/to/specmip]   (default build/specmip)
 # env:   SCENE (a scene file; default the built-in Cornell box),

@@ -1,4 +1,4 @@
-/* The speed/accuracy study behind `specmip bench` (issue 6): for each scene,
+/* The speed/accuracy study behind `specmip bench`: for each scene,
  * every mode at several spp with the same seed (timed side by side), compared
  * against ref and truth of that seed (bias) and against a converged truth of
  * other seeds (error); then ml over a range of pretest thresholds. */

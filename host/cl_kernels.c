@@ -81,11 +81,12 @@ int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOT
          * finished launch to those versions by local size only, so launches
          * of two versions in flight at once (two devices) corrupt their
          * reference counts (an assertion in pocl_release_dlhandle_cache).
-         * spm_clr_build() now keeps devices from sharing kernels (SPM_DEVICE_INDEX);
-         * this stays as the second guard because its cost, empty work-groups
-         * when ml splits a pass, was below the noise on cornell_spiky (two
-         * buckets a pass: shade time the same launched either way). The last
-         * batch of a pass is launched at full size too, for the same reason. */
+         * spm_clr_build() keeps devices from sharing kernels
+         * (SPM_DEVICE_INDEX); this is a second guard, kept because its cost,
+         * empty work-groups when ml splits a pass, was below the noise on
+         * cornell_spiky (two buckets a pass: shade time the same launched
+         * either way). The last batch of a pass is launched at full size too,
+         * for the same reason. */
         shade_args a = {r->heads, r->verts,  (spm_u32)b->n, ids,     (spm_u32)off[s],
                         (spm_u32)off[s + 1], r->tab[s], r->cmf[s], r->xyz};
         shade_path_args pa = {r->extra, r->params.seed, b->spp, b->first_sample, b->first_pixel};

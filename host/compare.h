@@ -1,4 +1,4 @@
-/* Colour difference between two images (DESIGN.md "Comparing images"):
+/* Colour difference between two images (docs/METHODS.md "Comparing images"):
  * optional N x N box blur of both (linear light), one white for both (D65
  * chromaticity, Yn = 99.9th percentile of the first image's Y after the blur unless
  * given), per-pixel CIEDE2000 and Delta E*ab, and their statistics. */

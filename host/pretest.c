@@ -1,4 +1,4 @@
-/* Pretests (DESIGN.md "Choosing levels"): a spectrum's own sampling error at
+/* Pretests (docs/METHODS.md "Choosing levels"): a spectrum's own sampling error at
  * each level, measured in products where every other factor stays at level 0,
  * after normalising both products to Y = 50 against a D65 white of Y = 100. */
 #include "pretest.h"

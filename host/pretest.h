@@ -1,5 +1,5 @@
 /* Pretests: the coarsest spectral level each spectrum may use under a
- * colour-difference threshold (DESIGN.md "Choosing levels"). */
+ * colour-difference threshold (docs/METHODS.md "Choosing levels"). */
 #ifndef SPM_PRETEST_H
 #define SPM_PRETEST_H
 #include "spectrum.h"

@@ -8,7 +8,7 @@
 
 /* A concrete spectrum the renderer uses. Reflectances have their scale applied
  * (and stay <= 1); emissions are normalised to luminance Y = 1 and then
- * multiplied by their scale (DESIGN.md), so a scale is a luminance. */
+ * multiplied by their scale (docs/METHODS.md), so a scale is a luminance. */
 typedef struct {
     char name[SPM_NAME_MAX];
     spm_spectrum s;

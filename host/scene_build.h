@@ -46,7 +46,7 @@ int spm_sb_camera(spm_scene_builder *b, const double eye[3], const double dir[3]
 /* Reflectance `shape` times `scale`; more than 1 anywhere is an error. */
 int spm_sb_reflectance(const spm_spectrum *shape, double scale, const char *where,
                        spm_spectrum *out, spm_error *err);
-/* Emission `shape` normalised to luminance 1, times `luminance` (DESIGN.md). */
+/* Emission `shape` normalised to luminance 1, times `luminance` (docs/METHODS.md). */
 int spm_sb_emission(const spm_spectrum *shape, double luminance, const char *where,
                     spm_spectrum *out, spm_error *err);
 

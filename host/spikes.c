@@ -1,5 +1,5 @@
 /* Composite Model: two-pass Gaussian spike detector on the 1 nm truth bins and
- * the scene-wide spike pattern table (thesis 6.2.2; DESIGN.md "Modes"). */
+ * the scene-wide spike pattern table (thesis 6.2.2; docs/METHODS.md "Modes"). */
 #include "spikes.h"
 #include <math.h>
 #include <stdlib.h>

@@ -1,4 +1,4 @@
-/* Composite Model spike detection (DESIGN.md "Modes", mlc): split a spectrum
+/* Composite Model spike detection (docs/METHODS.md "Modes", mlc): split a spectrum
  * into a smooth part and a few spikes (centroid wavelength, energy), and merge
  * several lights' spikes into the scene-wide pattern table of spike lanes. */
 #ifndef SPM_SPIKES_H

@@ -1,5 +1,5 @@
 /* The trace stage: one work-item per path of a pass. MiniLight's transport
- * (DESIGN.md "The kernels"), written as path records (spm_shared.h, in the
+ * (docs/METHODS.md "Paths"), written as path records (spm_shared.h, in the
  * device layout: header array and vertex-major vertex slabs) plus the
  * per-path level byte (the level feeler). Colour never enters here.
  *
