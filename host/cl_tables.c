@@ -31,13 +31,13 @@ static int upload_slot(spm_cl_renderer *r, const spm_shade_table *tab, int slot,
     static const float no_weights[4];
     size_t rows = (size_t)tab->ncolours * (size_t)tab->stride;
     size_t nw = tab->w ? 3 * (size_t)tab->stride : 4;
-    return spm_clr_new_buffer(r, &r->tab[slot], CL_MEM_READ_ONLY, rows * sizeof(float), tab->rows,
-                      "colour table", err) ||
+    return spm_clr_new_buffer(r, &r->tab[slot], CL_MEM_READ_ONLY, rows * sizeof(float),
+                              tab->rows, "colour table", err) ||
            spm_clr_new_buffer(r, &r->cmf[slot], CL_MEM_READ_ONLY, nw * sizeof(float),
-                      tab->w ? tab->w : no_weights, "XYZ weights", err) ||
+                              tab->w ? tab->w : no_weights, "XYZ weights", err) ||
            (tab->extra && !r->extra &&
-            spm_clr_new_buffer(r, &r->extra, CL_MEM_READ_ONLY, tab->nextra * sizeof(float), tab->extra,
-                       "hero tables", err));
+            spm_clr_new_buffer(r, &r->extra, CL_MEM_READ_ONLY, tab->nextra * sizeof(float),
+                               tab->extra, "per-path tables", err));
 }
 
 int spm_clr_upload(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *err)
