@@ -92,10 +92,10 @@ PY
 done
 
 # 6. kernel compilation is part of "kernel build", not of "render": on an
-#    empty kernel cache PoCL compiles at the first launch of each kernel too
-#    (0.34 s of a 0.35 s render of this size on main). The render of 192
-#    paths then takes microseconds, the build seconds; 10x is a wide margin
-#    either way (measured: render 0.002 s, kernel build 1.6 s).
+#    empty kernel cache PoCL compiles again at the first launch of each
+#    kernel. Measured here without the warm-up launch: render 0.50 s of a
+#    1.0 s kernel build (ratio 0.46-0.59); with it: render 0.0003 s, kernel
+#    build 1.7-2.0 s (ratio 0.00015). A 0.1 ratio leaves wide margins both ways.
 POCL_CACHE_DIR=$T/cold "$BIN" "${R[@]}" --spp 1 -o "$T/cold.exr" --json >"$T/cold.json" || bad "cold render"
 python3 - "$T/cold.json" <<'PY' && ok || bad "kernel compilation inside the render: $(cat "$T/cold.json")"
 import json, sys
