@@ -28,6 +28,7 @@ void spm_pass_stats_add(spm_pass_stats *a, const spm_pass_stats *s)
             a->level_paths[l][k] += s->level_paths[l][k];
     a->truncated += s->truncated;
     a->nonfinite += s->nonfinite;
+    a->untimed += s->untimed;
 }
 
 void spm_count_levels(int mode, const spm_path *paths, const uint8_t *levels, size_t n,

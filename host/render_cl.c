@@ -264,6 +264,8 @@ static void parse_fail_env(spm_cl_renderer *r, int device)
         r->fail_pass = pass;
 }
 
+static int warm_up(spm_cl_renderer *r, spm_error *err);
+
 int spm_cl_create(int device, const spm_geometry *g, const spm_tables *t, int mode, spm_u32 seed,
                   spm_cl_renderer **out, spm_error *err)
 {
@@ -304,7 +306,7 @@ int spm_cl_create(int device, const spm_geometry *g, const spm_tables *t, int mo
             rc = upload_slot(r, t, s, err);
     rc = rc || new_buffer(r, &r->counters, CL_MEM_READ_WRITE, sizeof r->zero, NULL, "counters",
                           err) ||
-         build(r, t, need, err);
+         build(r, t, need, err) || warm_up(r, err);
     if (rc) {
         spm_cl_destroy(r);
         return 1;
@@ -543,14 +545,15 @@ static int bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t of
     return 0;
 }
 
-/* Enqueue the shade kernel of every non-empty bucket; events in ev[slot]. */
+/* Enqueue the shade kernel of every non-empty bucket (every kernel the
+ * program has, when `all`); events in ev[slot]. */
 static int run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOTS + 1], cl_mem ids,
-                     cl_event ev[NSLOTS], spm_error *err)
+                     int all, cl_event ev[NSLOTS], spm_error *err)
 {
     for (int s = 0; s < NSLOTS; s++) {
         ev[s] = NULL;
         size_t cnt = off[s + 1] - off[s];
-        if (!cnt)
+        if (!cnt && !(all && r->k_shade[s]))
             continue;
         /* Every launch has offset 0 and a full batch's size, the bucket being
          * arguments (items past its end return at once): PoCL 3.1 compiles a
@@ -584,12 +587,17 @@ static int run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOTS
     return 0;
 }
 
-static double release_events(cl_event *ev, int n)
+/* The events' kernel seconds; those without a time are counted in *untimed. */
+static double release_events(cl_event *ev, int n, uint64_t *untimed)
 {
     double s = 0.0;
     for (int i = 0; i < n; i++)
         if (ev[i]) {
-            s += spm_cl_event_seconds(ev[i]);
+            double t = spm_cl_event_seconds(ev[i]);
+            if (t >= 0)
+                s += t;
+            else if (untimed)
+                (*untimed)++;
             clReleaseEvent(ev[i]);
             ev[i] = NULL;
         }
@@ -629,7 +637,7 @@ static int pass_batch(spm_cl_renderer *r, const batch *b, float *batch_xyz, spm_
     cl_mem ids = NULL;
     rc = rc || bucket(r, b->n, r->h_levels, off, &ids, err);
     double bucket_s = spm_now() - t0;
-    rc = rc || run_shade(r, b, off, ids, ev_s, err);
+    rc = rc || run_shade(r, b, off, ids, 0, ev_s, err);
     if (!rc) {
         const size_t m = sizeof(cl_mem), u = sizeof(spm_u32);
         const size_t sz[] = {m, u, u, m, m};
@@ -645,9 +653,31 @@ static int pass_batch(spm_cl_renderer *r, const batch *b, float *batch_xyz, spm_
         clFinish(r->cl.queue);
     else
         count_levels(r, b->n, st);
-    st->trace_s += release_events(&ev_t, 1);
-    st->shade_s += release_events(ev_s, NSLOTS) + bucket_s;
-    st->accum_s += release_events(&ev_a, 1);
+    st->trace_s += release_events(&ev_t, 1, &st->untimed);
+    st->shade_s += release_events(ev_s, NSLOTS, &st->untimed) + bucket_s;
+    st->accum_s += release_events(&ev_a, 1, &st->untimed);
+    return rc;
+}
+
+/* PoCL compiles a kernel for the shape of its launches (local size, zero
+ * offset, a grid under 2^32 items) at the first launch, not in clBuildProgram:
+ * on a cold cache that is most of the build, and it would land in the first
+ * pass. So every kernel is launched once here, in the shape every pass uses,
+ * with nothing to do (no path, no pixel: each work-item returns at once). */
+static int warm_up(spm_cl_renderer *r, spm_error *err)
+{
+    batch b = {0, 1, 0, 0, 0, LOCAL_SIZE};
+    cl_event ev[NSLOTS + 2] = {NULL};
+    size_t off[NSLOTS + 1] = {0};
+    spm_u32 none = 0, one = 1;
+    const size_t m = sizeof(cl_mem), u = sizeof(spm_u32);
+    const size_t sz[] = {m, u, u, m, m};
+    const void *val[] = {&r->xyz, &none, &one, &r->pass, &r->counters};
+    int rc = run_trace(r, &b, &ev[NSLOTS], err) || run_shade(r, &b, off, r->ident, 1, ev, err) ||
+             set_args(r->k_accum, "spm_accumulate", 5, sz, val, err) ||
+             enqueue(r, r->k_accum, "spm_accumulate", 0, LOCAL_SIZE, &ev[NSLOTS + 1], err) ||
+             spm_cl_check(clFinish(r->cl.queue), "clFinish(warm-up)", err);
+    release_events(ev, NSLOTS + 2, NULL);
     return rc;
 }
 
@@ -735,7 +765,7 @@ static int trace_batch(spm_cl_renderer *r, const batch *b, spm_dev_head *h, spm_
                           "clEnqueueReadBuffer(path records)", err);
     }
     clFinish(r->cl.queue);
-    release_events(&ev, 1);
+    release_events(&ev, 1, NULL);
     for (size_t i = 0; !rc && i < n; i++) {
         memset(&paths[i], 0, sizeof paths[i]);
         paths[i].h = spm_dev_head_unpack(&h[i]);
@@ -786,12 +816,12 @@ static int shade_batch(spm_cl_renderer *r, const batch *b, const spm_path *paths
              (depth && spm_cl_check(clEnqueueWriteBuffer(r->cl.queue, r->verts, CL_FALSE, 0,
                                                          depth * n * sizeof *v, v, 0, NULL, NULL),
                                     "clEnqueueWriteBuffer(path records)", err)) ||
-             bucket(r, n, levels, off, &ids, err) || run_shade(r, b, off, ids, ev, err) ||
+             bucket(r, n, levels, off, &ids, err) || run_shade(r, b, off, ids, 0, ev, err) ||
              spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->xyz, CL_TRUE, 0,
                                               n * 3 * sizeof(float), xyz, 0, NULL, NULL),
                           "clEnqueueReadBuffer(path XYZ)", err);
     clFinish(r->cl.queue);
-    release_events(ev, NSLOTS);
+    release_events(ev, NSLOTS, NULL);
     free(h);
     free(v);
     return rc;

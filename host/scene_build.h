@@ -6,7 +6,8 @@
 #include "scene.h"
 #include "scene_names.h"
 
-#define SPM_SCENE_MAX_SIDE 16384        /* image width and height */
+/* image width and height, and samples per pixel: in a scene and on the command line */
+#define SPM_SCENE_MAX_SIDE 16384
 #define SPM_SCENE_MAX_SPP (1 << 20)
 #define SPM_SCENE_MAX_TRIS (1 << 24)    /* MiniLight's limit */
 #define SPM_SCENE_MAX_COLOURS 4096      /* ids are 16-bit on the device; pretests cost per colour */
