@@ -75,17 +75,6 @@ for size in "--width 0" "--height 16385" "--width -3" "--width 1e9" "--height 12
   [ $rc -eq 2 ] && ok || bad "image size '$size': rc $rc"
 done
 
-# rendering PID ERR: true once the render PID has finished a pass (its
-# --progress line in ERR), false if it ends first or 60 s go by.
-rendering() {
-  local i
-  for i in $(seq 600); do
-    grep -q "pass [1-9][0-9]*/" "$2" 2>/dev/null && return 0
-    kill -0 "$1" 2>/dev/null || return 1
-    sleep 0.1
-  done
-  return 1
-}
 # kept WHAT: the existing output is as it was and no temporary file is left.
 kept() {
   [ "$(cat "$T/keep.png")" = "precious" ] && ok || bad "$1: an existing output was changed"
