@@ -8,7 +8,7 @@
 source "$(dirname "$0")/lib_cli.sh"
 
 # One reflectance, checked in Python: keys present, white patch near Y = 88.7
-# (Ohta's white_9_5 under D65, /work/shared/data/README.md), levels ordered.
+# (Ohta's white_9_5 under D65), near neutral, the four levels and their bins.
 out=$("$BIN" spectrum "$ROOT/spectra/colorchecker_n_ohta.csv" --column white_9_5 --json)
 if [ $? -eq 0 ] && python3 -c '
 import json, sys
