@@ -75,21 +75,33 @@ for size in "--width 0" "--height 16385" "--width -3" "--width 1e9" "--height 12
   [ $rc -eq 2 ] && ok || bad "image size '$size': rc $rc"
 done
 
+# kept WHAT: the existing output is as it was and no temporary file is left.
+kept() {
+  [ "$(cat "$T/keep.png")" = "precious" ] && ok || bad "$1: an existing output was changed"
+  local tmp; tmp=$(find "$T" -name '*spmtmp*')
+  [ -z "$tmp" ] && ok || bad "$1: temporary file left: $tmp"
+}
+
 # 4. Nothing lost: an existing output survives a bad scene, a bad second
 #    output, and a run killed (SIGKILL) in the middle of rendering.
 echo "precious" > "$T/keep.png"
-"$BIN" render "$ROOT/tests/bad-inputs/scene_truncated.scene" -o "$T/keep.png" 2>/dev/null
-"$BIN" render "${slow[@]}" -o "$T/keep.png" -o "$T/nodir/y.exr" 2>/dev/null
-"$BIN" render "${slow[@]}" -o "$T/keep.png" --quiet & pid=$!
-sleep 2
-kill -KILL $pid; wait $pid 2>/dev/null
-[ "$(cat "$T/keep.png")" = "precious" ] && ok || bad "an existing output was changed by a failed run"
+"$BIN" render "$ROOT/tests/bad-inputs/scene_truncated.scene" -o "$T/keep.png" 2>/dev/null; rc=$?
+[ $rc -eq 2 ] && ok || bad "bad scene over an existing output: exit $rc"
+kept "bad scene"
+"$BIN" render "${slow[@]}" -o "$T/keep.png" -o "$T/nodir/y.exr" 2>/dev/null; rc=$?
+[ $rc -eq 2 ] && ok || bad "bad second output: exit $rc"
+kept "bad second output"
+"$BIN" render "${slow[@]}" -o "$T/keep.png" --progress 2>"$T/kill.err" & pid=$!
+rendering $pid "$T/kill.err" && ok || bad "SIGKILL: the render never got under way: $(tr '\r' '\n' < "$T/kill.err" | tail -n 2)"
+kill -KILL $pid; wait $pid 2>/dev/null; rc=$?
+[ $rc -eq 137 ] && ok || bad "SIGKILL: exit status $rc: the render was not running when killed"
+kept "SIGKILL in the render"
 
 # 5. SIGTERM: the current pass ends, the image so far replaces the old file
 #    (a complete PNG and EXR), exit 130 as for SIGINT.
 echo "old" > "$T/term.png"
-"$BIN" render "${slow[@]}" -o "$T/term.png" -o "$T/term.exr" --quiet 2>"$T/err" & pid=$!
-sleep 2
+"$BIN" render "${slow[@]}" -o "$T/term.png" -o "$T/term.exr" --progress 2>"$T/err" & pid=$!
+rendering $pid "$T/err" && ok || bad "SIGTERM: the render never got under way: $(tr '\r' '\n' < "$T/err" | tail -n 2)"
 kill -TERM $pid; wait $pid; rc=$?
 [ $rc -eq 130 ] && ok || bad "SIGTERM exit code $rc"
 head -c 4 "$T/term.png" | grep -q PNG && ok || bad "SIGTERM: no PNG written"
