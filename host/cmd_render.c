@@ -221,6 +221,7 @@ int spm_cmd_render(int argc, char **argv)
         fprintf(stderr, "specmip render: %s\n", err.msg);
         rc = SPM_EXIT_RUNTIME;
     }
+    spm_render_warn_dropped(&res, &film);
     /* whatever converged is written, also after an interruption or a lost device */
     if (res.spp_done > 0)
         for (int i = 0; i < nout; i++)
