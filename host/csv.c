@@ -88,11 +88,12 @@ static int parse_row(spm_csv *c, char *line, int lineno, const char *path, spm_e
     return 0;
 }
 
+/* A finite number (a column may be called "nan" or "inf", never "380"). */
 static int is_number(const char *s)
 {
     char *end;
-    strtod(s, &end);
-    return end != s && *end == '\0';
+    double v = strtod(s, &end);
+    return end != s && *end == '\0' && isfinite(v);
 }
 
 /* The header: column names, none of them a number (a file whose first row is

@@ -118,6 +118,14 @@ light_scene 1e38; rc=$?
 light_scene 1e-38; rc=$?
 [ $rc -eq 0 ] && grep -q "light.scene:5:.*so faint" "$T/err" && ok ||
   bad "emission 1e-38: rc $rc, no warning naming line 5: $(cat "$T/err")"
+# samples that overflow one by one (the light 5 cm from a wall, the camera between)
+printf '%s\n' "image 8 8" "camera position -1 0.5 0.03 direction 0 0 1 fov 90" "spectrum flat equal" \
+  "material hot emit flat 2e38" "material wall reflect flat 0.5" \
+  "quad wall -5 -1 0.05  5 -1 0.05  5 4 0.05  -5 4 0.05" "tri hot -1.5 0 0  -0.5 0 0  -1 1.5 0" \
+  > "$T/hot.scene"
+"$BIN" render "$T/hot.scene" --backend cpu --spp 8 -o "$T/hot.exr" --quiet 2>"$T/err"; rc=$?
+[ $rc -eq 0 ] && grep -q "of the samples (.*) were NaN or infinite and were left out" "$T/err" && ok ||
+  bad "non-finite samples: rc $rc, no warning: $(cat "$T/err")"
 for e in 1 1e-37 1e37; do
   light_scene $e; rc=$?
   [ $rc -eq 0 ] && [ ! -s "$T/err" ] && ok || bad "emission $e: rc $rc, stderr: $(cat "$T/err")"
