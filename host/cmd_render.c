@@ -231,6 +231,7 @@ int spm_cmd_render(int argc, char **argv)
         fprintf(stderr, "specmip render: %s\n", err.msg);
         rc = SPM_EXIT_RUNTIME;
     }
+    spm_render_warn_dropped(&res, &film);
     /* whatever converged is written, also after an interruption or a lost device */
     spm_render_meta meta;
     spm_render_meta_make(&cfg, &s, &res, s.times.render_s, &meta);

@@ -166,3 +166,27 @@ void spm_render_stats_json(FILE *f, const spm_render_config *c, const spm_render
     }
     fprintf(f, "]}\n");
 }
+
+int spm_render_warn_dropped(const spm_run_result *r, const spm_film *film)
+{
+    uint64_t samples = r->total.paths, bad = r->total.nonfinite;
+    uint64_t sums = (uint64_t)film->width * (uint64_t)film->height * (uint64_t)r->passes_in_film;
+    int warned = 0;
+    if (samples && (double)bad > SPM_DROPPED_WARN * (double)samples) {
+        spm_warnf("%.3g%% of the samples (%llu of %llu) were NaN or infinite and were left out: "
+                  "the image is darker than the scene (an emission too bright for float "
+                  "arithmetic?)",
+                  100.0 * (double)bad / (double)samples, (unsigned long long)bad,
+                  (unsigned long long)samples);
+        warned = 1;
+    }
+    if (sums && (double)film->nonfinite > SPM_DROPPED_WARN * (double)sums) {
+        spm_warnf("%.3g%% of the pixels' pass sums (%lld of %llu) overflowed to infinity and were "
+                  "left out: the image is darker than the scene (an emission too bright for "
+                  "float arithmetic?)",
+                  100.0 * (double)film->nonfinite / (double)sums, film->nonfinite,
+                  (unsigned long long)sums);
+        warned = 1;
+    }
+    return warned;
+}

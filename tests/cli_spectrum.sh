@@ -3,7 +3,7 @@
 # the levels table and the pretest's choice agree with a recomputation from
 # the colours it prints at each level;
 # every tests/bad-inputs/*.csv exits 2 naming the file and the line that its
-# first comment line announces ("... line N ...").
+# first comment line announces ("... line N ..."); a directory is refused as one.
 # usage: bash tests/cli_spectrum.sh /path/to/specmip
 source "$(dirname "$0")/lib_cli.sh"
 
@@ -161,5 +161,12 @@ for f in "$ROOT"/tests/bad-inputs/*.csv; do
     else bad "$name: exit $rc, message '$msg', expected '$name:$line:'"; fi
 done
 [ $n -ge 7 ] && ok || bad "only $n bad inputs"
+
+# A directory is named as one, given as the spectrum and as a scene's spectrum file.
+msg=$("$BIN" spectrum "$T" 2>&1 >/dev/null); rc=$?
+[ $rc -eq 2 ] && [[ "$msg" == *"$T: is a directory"* ]] && ok || bad "directory as a spectrum: exit $rc, '$msg'"
+msg=$("$BIN" render "$ROOT/tests/bad-inputs/scene_directory_spectrum.scene" -o "$T/x.png" 2>&1); rc=$?
+[ $rc -eq 2 ] && [[ "$msg" == *"scene_directory_spectrum.scene:6:"*"is a directory"* ]] && ok ||
+  bad "directory as a scene's spectrum file: exit $rc, '$msg'"
 
 finish
