@@ -51,7 +51,7 @@ print(f"{'mode':6} {'shade_s':>9} {'vs ml':>6} {'Mpaths/s':>9} {'dE00 mean':>10}
 for m in modes:
     s, c = st[m], cmp[m]
     speed = f"{ml_shade / s['shade_s']:6.2f}" if ml_shade and s["shade_s"] > 0 else "     -"
-    lv = "/".join(str(l["paths"]) for l in s["levels"])
+    lv = "/".join(str(l["paths"]) for l in s["levels"]) if s["levels"] else "-"  # ml, mlc only
     print(f"{m:6} {s['shade_s']:9.4f} {speed} {s['paths_per_s'] * 1e-6:9.3f} {c['mean']:10.3f} {c['max']:9.3f}  {lv}")
 if "ml" in st and "mlc" in st:
     sp = ml_shade / st["mlc"]["shade_s"]

@@ -37,6 +37,10 @@ static int time_kernel(spm_cl_ctx *c, cl_kernel k, size_t items, double *best, s
         clReleaseEvent(ev);
         if (spm_cl_check(rc, "clWaitForEvents(opbench)", err))
             return 1;
+        if (s < 0) {
+            spm_errorf(err, "device '%s' gives no kernel times (profiling)", c->dev.name);
+            return 1;
+        }
         if (r > 0 && s < *best)
             *best = s;
     }

@@ -48,11 +48,14 @@ int spm_brute_intersect(const spm_geometry *g, const float o[3], const float d[3
     return best;
 }
 
+_Thread_local unsigned long long spm_bvh_nodes_tested;
+
 /* Slab test over [0, tmax]; the entry distance in *tnear. Zero direction
  * components get a huge reciprocal instead of infinity (no 0 * inf NaN). */
 static int box_hit(const spm_bvh_node *n, const float o[3], const float inv[3], float tmax,
                    float *tnear)
 {
+    spm_bvh_nodes_tested++;
     float t0 = 0.0f, t1 = tmax;
     for (int i = 0; i < 3; i++) {
         float a = (n->bmin[i] - o[i]) * inv[i], b = (n->bmax[i] - o[i]) * inv[i];

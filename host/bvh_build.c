@@ -11,7 +11,7 @@
 /* Below this depth SAH decides; deeper, object-median splits bound the depth
  * by 32 + log2(n) whatever the geometry. */
 #define SAH_MAX_DEPTH 32
-/* Node boxes grow by this fraction of the scene's largest coordinate, far
+/* Node boxes grow by this fraction of a coordinate magnitude (pad_boxes), far
  * above float rounding in the slab test and the hit point (about 1e-7). */
 #define BOX_PAD_REL 1e-5f
 
@@ -155,15 +155,30 @@ static int split_range(const prim *pr, int *idx, int begin, int end, const box *
     return begin + (end - begin) / 2;
 }
 
-static void pad_boxes(spm_bvh_node *nodes, int nnodes)
+static float box_magnitude(const float lo[3], const float hi[3])
 {
-    float scale = 0.0f;
+    float m = 0.0f;
     for (int i = 0; i < 3; i++)
-        scale = fmaxf(scale, fmaxf(fabsf(nodes[0].bmin[i]), fabsf(nodes[0].bmax[i])));
-    float pad = BOX_PAD_REL * scale + FLT_MIN;
-    for (int k = 0; k < nnodes; k++)
+        m = fmaxf(m, fmaxf(fabsf(lo[i]), fabsf(hi[i])));
+    return m;
+}
+
+/* The slab test and the triangle test round relative to the magnitudes of the
+ * coordinates they subtract: the node's and the ray origin's. Rays start at
+ * the eye or on a surface, so each node grows by BOX_PAD_REL times the larger
+ * of its own largest |coordinate| (rays from surfaces near it) and the eye's
+ * (camera rays). Per node, so a far-away emitter (a sun 1.5e11 away) pads its
+ * own boxes by its own scale and leaves the room's boxes tight; a padding by
+ * the scene's largest coordinate would let every ray into every node. */
+static void pad_boxes(spm_bvh_node *nodes, int nnodes, const float eye[3])
+{
+    float eye_mag = box_magnitude(eye, eye);
+    for (int k = 0; k < nnodes; k++) {
+        float pad = BOX_PAD_REL * fmaxf(box_magnitude(nodes[k].bmin, nodes[k].bmax), eye_mag) +
+                    FLT_MIN;
         for (int i = 0; i < 3; i++)
             nodes[k].bmin[i] -= pad, nodes[k].bmax[i] += pad;
+    }
 }
 
 int spm_bvh_build(spm_geometry *g, spm_error *err)
@@ -227,7 +242,7 @@ int spm_bvh_build(spm_geometry *g, spm_error *err)
     memcpy(g->tris, sorted, (size_t)n * sizeof *sorted);
     free(sorted);
     free(idx);
-    pad_boxes(nodes, nnodes);
+    pad_boxes(nodes, nnodes, g->cam.eye);
     g->nodes = nodes;
     g->nnodes = nnodes;
     return 0;

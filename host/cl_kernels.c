@@ -3,10 +3,6 @@
  * spm_kernel_args.h, then the launch for one batch. */
 #include "cl_renderer.h"
 
-/* Work-group size asked for (PoCL runs a group's work-items in one thread; 64
- * amortises the per-group cost and keeps the last group's waste small). */
-#define LOCAL_SIZE 64
-
 /* Host mirrors of the kernels' parameter lists. */
 #define ARG_FIELD(dev, host, name) host name;
 typedef struct { SPM_TRACE_ARGS(ARG_FIELD, ) } trace_args;
@@ -68,12 +64,12 @@ int spm_clr_run_trace(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_erro
 }
 
 int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOTS + 1],
-                      cl_mem ids, cl_event ev[NSLOTS], spm_error *err)
+                      cl_mem ids, int all, cl_event ev[NSLOTS], spm_error *err)
 {
     for (int s = 0; s < NSLOTS; s++) {
         ev[s] = NULL;
         size_t cnt = off[s + 1] - off[s];
-        if (!cnt)
+        if (!cnt && !(all && r->k_shade[s]))
             continue;
         /* Every launch has offset 0 and a full batch's size, the bucket being
          * arguments (items past its end return at once): PoCL 3.1 compiles a

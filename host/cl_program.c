@@ -37,3 +37,21 @@ int spm_clr_build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *er
         }
     return 0;
 }
+
+/* PoCL compiles a kernel for the shape of its launches (local size, zero
+ * offset, a grid under 2^32 items) at the first launch, not in clBuildProgram:
+ * on a cold cache that is most of the build, and it would land in the first
+ * pass. So every kernel is launched once here, in the shape every pass uses,
+ * with nothing to do (no path, no pixel: each work-item returns at once). */
+int spm_clr_warm_up(spm_cl_renderer *r, spm_error *err)
+{
+    batch b = {0, 1, 0, 0, 0, LOCAL_SIZE};
+    cl_event ev[NSLOTS + 2] = {NULL};
+    size_t off[NSLOTS + 1] = {0};
+    int rc = spm_clr_run_trace(r, &b, &ev[NSLOTS], err) ||
+             spm_clr_run_shade(r, &b, off, r->ident, 1, ev, err) ||
+             spm_clr_run_accumulate(r, &b, &ev[NSLOTS + 1], err) ||
+             spm_cl_check(clFinish(r->cl.queue), "clFinish(warm-up)", err);
+    spm_clr_release_events(ev, NSLOTS + 2, NULL);
+    return rc;
+}

@@ -18,6 +18,9 @@
 /* Kernels and shade tables by slot: a levelled mode's levels, else slot 0
  * (modes.h). */
 #define NSLOTS SPM_NUM_LEVELS
+/* Work-group size asked for (PoCL runs a group's work-items in one thread; 64
+ * amortises the per-group cost and keeps the last group's waste small). */
+#define LOCAL_SIZE 64
 
 struct spm_cl_renderer {
     spm_cl_ctx cl;
@@ -74,15 +77,18 @@ int spm_clr_upload(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *e
 int spm_clr_reserve(spm_cl_renderer *r, size_t n, spm_error *err);
 void spm_clr_release_buffers(spm_cl_renderer *r);
 
-/* cl_program.c: builds the program with the plan's kernels and creates them. */
+/* cl_program.c: builds the program with the plan's kernels, creates them and
+ * launches each once (spm_clr_warm_up). */
 int spm_clr_build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *err);
+int spm_clr_warm_up(spm_cl_renderer *r, spm_error *err);
 
 /* cl_kernels.c: set a kernel's arguments and enqueue it for one batch. */
 int spm_clr_run_trace(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_error *err);
 /* The shade kernel of every non-empty bucket (slot s: entries off[s] ..
- * off[s+1] of ids); events in ev[slot]. */
+ * off[s+1] of ids; every kernel the program has, when `all`); events in
+ * ev[slot]. */
 int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOTS + 1],
-                      cl_mem ids, cl_event ev[NSLOTS], spm_error *err);
+                      cl_mem ids, int all, cl_event ev[NSLOTS], spm_error *err);
 int spm_clr_run_accumulate(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_error *err);
 
 /* render_cl.c: the pipeline's steps the test hooks reuse. */
@@ -92,7 +98,9 @@ batch spm_clr_batch_at(const spm_cl_renderer *r, spm_u32 first_sample, spm_u32 s
 int spm_clr_zero_counters(spm_cl_renderer *r, spm_error *err);
 int spm_clr_bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t off[NSLOTS + 1],
                    cl_mem *ids, spm_error *err);
-double spm_clr_release_events(cl_event *ev, int n);
+/* The events' kernel seconds; those without a time are counted in *untimed
+ * (if not NULL). */
+double spm_clr_release_events(cl_event *ev, int n, uint64_t *untimed);
 
 /* cl_test_hooks.c: SPECMIP_CL_FAIL (render_cl.h) for device `device`; and
  * whether this pass is the one to fail (err filled). */

@@ -69,7 +69,7 @@ static int trace_batch(spm_cl_renderer *r, const batch *b, spm_dev_head *h, spm_
                           "clEnqueueReadBuffer(path records)", err);
     }
     clFinish(r->cl.queue);
-    spm_clr_release_events(&ev, 1);
+    spm_clr_release_events(&ev, 1, NULL);
     for (size_t i = 0; !rc && i < n; i++) {
         memset(&paths[i], 0, sizeof paths[i]);
         paths[i].h = spm_dev_head_unpack(&h[i]);
@@ -120,12 +120,12 @@ static int shade_batch(spm_cl_renderer *r, const batch *b, const spm_path *paths
              (depth && spm_cl_check(clEnqueueWriteBuffer(r->cl.queue, r->verts, CL_FALSE, 0,
                                                          depth * n * sizeof *v, v, 0, NULL, NULL),
                                     "clEnqueueWriteBuffer(path records)", err)) ||
-             spm_clr_bucket(r, n, levels, off, &ids, err) || spm_clr_run_shade(r, b, off, ids, ev, err) ||
+             spm_clr_bucket(r, n, levels, off, &ids, err) || spm_clr_run_shade(r, b, off, ids, 0, ev, err) ||
              spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->xyz, CL_TRUE, 0,
                                               n * 3 * sizeof(float), xyz, 0, NULL, NULL),
                           "clEnqueueReadBuffer(path XYZ)", err);
     clFinish(r->cl.queue);
-    spm_clr_release_events(ev, NSLOTS);
+    spm_clr_release_events(ev, NSLOTS, NULL);
     free(h);
     free(v);
     return rc;

@@ -61,6 +61,7 @@ void spm_cl_ctx_release(spm_cl_ctx *c);
 int spm_cl_build(spm_cl_ctx *c, const char *const *files, int nfiles, const char *defines,
                  cl_program *out, spm_error *err);
 
-/* Seconds between an event's START and END (profiling). */
+/* Seconds between an event's START and END (profiling); -1 when the device
+ * gives no times (Rusticl gives none; also with SPECMIP_CL_NO_TIMES set). */
 double spm_cl_event_seconds(cl_event e);
 #endif

@@ -11,6 +11,7 @@
 #include <unistd.h>
 #include "bench_ops.h"
 #include "bench_report.h"
+#include "scene_build.h"
 #include "bench_study.h"
 #include "cli_args.h"
 #include "commands.h"
@@ -171,7 +172,7 @@ static int parse_args(int argc, char **argv, options *o)
             if (parse_modes(v, p))
                 return SPM_EXIT_INPUT;
         } else if (!strcmp(a, "--spp")) {
-            if (parse_list(a, v, 1, 1 << 20, SPM_BENCH_MAX_SPP, list, &nl))
+            if (parse_list(a, v, 1, SPM_SCENE_MAX_SPP, SPM_BENCH_MAX_SPP, list, &nl))
                 return SPM_EXIT_INPUT;
             for (int k = 0; k < nl; k++) {
                 if (list[k] != (int)list[k] || (k && list[k] <= list[k - 1]))

@@ -7,8 +7,10 @@
 #include "cli_args.h"
 #include "commands.h"
 #include "output.h"
+#include "render_meta.h"
 #include "render_setup.h"
 #include "render_stats.h"
+#include "scene_build.h"
 
 #define MAX_OUTPUTS 4
 
@@ -19,31 +21,38 @@ static void usage(FILE *f)
         "usage: specmip render [SCENE] [options]\n"
         "Renders SCENE (a .scene file or a MiniLight .ml.txt file); without SCENE the built-in\n"
         "Cornell box (ColorChecker walls, equal-energy light).\n\n"
-        "  -o, --output FILE      image to write; .exr (linear sRGB, float) or .png (tone-mapped sRGB);\n"
-        "                         may be given up to %d times (default: specmip.png and specmip.exr)\n"
+        "  -o, --output FILE      image to write, by extension: .exr or .tif (linear sRGB, float;\n"
+        "                         EXR keeps how it was made in its header) or .png or .ppm\n"
+        "                         (tone-mapped sRGB); up to %d times (default: specmip.png and\n"
+        "                         specmip.exr)\n"
         "  --mode M               spectral mode (default ml; 'specmip modes' lists them):\n",
         MAX_OUTPUTS);
     spm_modes_help(f, 27);
     fprintf(f,
-        "  --spp N                samples per pixel (default: the scene's, else 16)\n"
+        "  --spp N                samples per pixel, 1 to %d (default: the scene's, else 16)\n"
         "  --seed S               random seed (default 1); the same seed gives the same paths\n"
-        "  --width W, --height H  image size (default: the scene's)\n"
+        "  --width W, --height H  image size, 1 to %d (default: the scene's); the field of view\n"
+        "                         is horizontal, so --width alone changes the vertical one\n"
         "  --backend B            opencl (default) | cpu (the scalar CPU reference)\n"
         "  --device D             OpenCL device index, a list 0,2, or all (default 0);\n"
         "                         see 'specmip devices'\n"
         "  --threshold T          pretest colour-difference threshold (default 2.0)\n"
         "  --metric M             de00 (default) | deab: the pretest's colour difference\n"
-        "  --coarsest-level L     coarsest level the pretest may pick: 2 (20 bins, default) or 3 (10)\n"
-        "  --tonemap T            PNG tone mapping on luminance: linear (default) | thesis\n"
-        "                         (the thesis' operator, scale = 1/(5 + L))\n"
+        "  --coarsest-level L     coarsest level the pretest may pick: 0 (80 bins: no mipmapping),\n"
+        "                         1 (40), 2 (20, default) or 3 (10)\n"
+        "  --tonemap T            PNG/PPM tone mapping on luminance: linear (default; 'auto' is\n"
+        "                         the same) | thesis (the thesis' operator, scale = 1/(5 + L))\n"
         "  --exposure E           auto (default: the 99th percentile of Y maps to white) or a\n"
         "                         number multiplying Y before the operator\n"
-        "  --stats                print timings, paths/s and paths per level (stdout)\n"
-        "  --json                 print the statistics as one JSON object (stdout)\n"
+        "  --stats                print the time of every stage, paths/s and (ml, mlc) paths per\n"
+        "                         level (stdout)\n"
+        "  --json                 print the statistics as one JSON object (stdout; with --stats\n"
+        "                         too, the text goes to stderr)\n"
         "  --progress             progress line on stderr even when it is not a terminal\n"
         "  --quiet                no progress line\n"
         "  --verbose              print the pretest's level table\n"
-        "Ctrl-C (or SIGTERM) ends the current pass, writes the image so far and exits 130.\n");
+        "Ctrl-C (or SIGTERM) ends the current pass, writes the image so far and exits 130.\n",
+        SPM_SCENE_MAX_SPP, SPM_SCENE_MAX_SIDE);
 }
 
 static int parse_devices(const char *s, spm_render_config *c)
@@ -113,7 +122,7 @@ int spm_cmd_render(int argc, char **argv)
             }
         } else if (!strcmp(a, "--spp")) {
             NEED_VALUE;
-            if (spm_arg_long("render", a, v, 1, 1 << 24, &n))
+            if (spm_arg_long("render", a, v, 1, SPM_SCENE_MAX_SPP, &n))
                 return SPM_EXIT_INPUT;
             cfg.spp = (int)n;
         } else if (!strcmp(a, "--seed")) {
@@ -123,7 +132,7 @@ int spm_cmd_render(int argc, char **argv)
             cfg.seed = (spm_u32)n;
         } else if (!strcmp(a, "--width") || !strcmp(a, "--height")) {
             NEED_VALUE;
-            if (spm_arg_long("render", a, v, 1, 16384, &n))
+            if (spm_arg_long("render", a, v, 1, SPM_SCENE_MAX_SIDE, &n))
                 return SPM_EXIT_INPUT;
             *(a[2] == 'w' ? &cfg.width : &cfg.height) = (int)n;
         } else if (!strcmp(a, "--backend")) {
@@ -216,23 +225,31 @@ int spm_cmd_render(int argc, char **argv)
     spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), &spm_stop_flag, progress};
     spm_run_result res;
     spm_catch_interrupts();
+    double t0 = spm_now();
     rc = spm_render_run(s.b, s.nb, npix, &ro, &film, &res, &err);
+    s.times.render_s = spm_now() - t0;
     spm_release_interrupts();
     if (rc) {
         fprintf(stderr, "specmip render: %s\n", err.msg);
         rc = SPM_EXIT_RUNTIME;
     }
+    spm_render_warn_dropped(&res, &film);
     /* whatever converged is written, also after an interruption or a lost device */
+    spm_render_meta meta;
+    spm_render_meta_make(&cfg, &s, &res, s.times.render_s, &meta);
+    t0 = spm_now();
     if (res.spp_done > 0)
         for (int i = 0; i < nout; i++)
-            if (spm_output_write_film(outputs[i], &film, &tm, &err)) {
+            if (spm_output_write_film_attrs(outputs[i], &film, &tm, meta.a, meta.n, &err)) {
                 fprintf(stderr, "specmip render: %s\n", err.msg);
                 rc = SPM_EXIT_RUNTIME;
             }
+    s.times.output_s = spm_now() - t0;
+    /* both: the JSON keeps stdout to itself, the text goes to stderr */
     if (json)
         spm_render_stats_json(stdout, &cfg, &s, &res);
-    else if (stats)
-        spm_render_stats_text(stdout, &cfg, &s, &res);
+    if (stats)
+        spm_render_stats_text(json ? stderr : stdout, &cfg, &s, &res);
     if (!rc && res.interrupted) {
         fprintf(stderr, "specmip render: interrupted after %d of %d samples per pixel; image written\n",
                 res.spp_done, spp);

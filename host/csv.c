@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static char *trim(char *s)
 {
@@ -87,7 +88,18 @@ static int parse_row(spm_csv *c, char *line, int lineno, const char *path, spm_e
     return 0;
 }
 
-static void set_header(spm_csv *c, char *line)
+/* A finite number (a column may be called "nan" or "inf", never "380"). */
+static int is_number(const char *s)
+{
+    char *end;
+    double v = strtod(s, &end);
+    return end != s && *end == '\0' && isfinite(v);
+}
+
+/* The header: column names, none of them a number (a file whose first row is
+ * data has no header, and taking that row as names would drop it silently)
+ * and no two alike (a column is chosen by its name). */
+static int set_header(spm_csv *c, char *line, int lineno, const char *path, spm_error *err)
 {
     c->ncols = count_fields(line);
     char **f = spm_xmalloc((size_t)c->ncols * sizeof *f);
@@ -96,6 +108,22 @@ static void set_header(spm_csv *c, char *line)
     for (int i = 0; i < c->ncols; i++)
         c->names[i] = spm_xstrdup(f[i]);
     free(f);
+    for (int i = 0; i < c->ncols; i++) {
+        if (is_number(c->names[i])) {
+            spm_errorf(err, "%s:%d: no header row: column %d of the first line that is not a "
+                            "comment is the number '%s'; a spectrum file starts with a row of "
+                            "column names, such as 'wavelength_nm,value'",
+                       path, lineno, i + 1, c->names[i]);
+            return 1;
+        }
+        for (int j = 0; j < i; j++)
+            if (strcmp(c->names[i], c->names[j]) == 0) {
+                spm_errorf(err, "%s:%d: columns %d and %d are both named '%s'; each column "
+                                "needs its own name", path, lineno, j + 1, i + 1, c->names[i]);
+                return 1;
+            }
+    }
+    return 0;
 }
 
 /* Longest line kept: spectra rows are short, and a longer line (a 100 MB line,
@@ -139,6 +167,13 @@ int spm_csv_load(const char *path, spm_csv *out, spm_error *err)
         spm_errorf(err, "%s:0: cannot open: %s", path, strerror(errno));
         return 1;
     }
+    /* a directory opens for reading on Linux, and then reads as nothing */
+    struct stat st;
+    if (fstat(fileno(fp), &st) == 0 && S_ISDIR(st.st_mode)) {
+        spm_errorf(err, "%s: is a directory, not a CSV spectrum file", path);
+        fclose(fp);
+        return 1;
+    }
     char *line = spm_xmalloc(CSV_LINE_MAX);
     int lineno = 0, rc = 0, got;
     while ((got = read_line(fp, line)) != LINE_EOF) {
@@ -153,8 +188,11 @@ int spm_csv_load(const char *path, spm_csv *out, spm_error *err)
         if (is_blank_or_comment(line))
             continue;
         if (!out->names) {
-            set_header(out, line);
             out->header_line = lineno;
+            if (set_header(out, line, lineno, path, err)) {
+                rc = 1;
+                break;
+            }
             if (out->ncols < 2) {
                 spm_errorf(err, "%s:%d: header needs a wavelength column and a value column",
                            path, lineno);
@@ -169,6 +207,10 @@ int spm_csv_load(const char *path, spm_csv *out, spm_error *err)
         }
     }
     free(line);
+    if (!rc && ferror(fp)) {
+        spm_errorf(err, "%s:%d: read error: %s", path, lineno + 1, strerror(errno));
+        rc = 1;
+    }
     fclose(fp);
     if (!rc && !out->names) {
         spm_errorf(err, "%s:%d: empty file: no header line", path, lineno > 0 ? lineno : 1);

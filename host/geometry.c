@@ -97,12 +97,13 @@ int spm_geometry_build(const spm_scene *scene, spm_geometry *g, spm_error *err)
             return 1;
         }
     }
+    /* the camera first: the BVH pads its boxes by the eye's magnitude too */
+    g->cam = spm_camera_make(scene->eye, scene->dir, scene->fov_deg, scene->width, scene->height);
     if (spm_bvh_build(g, err)) {
         spm_geometry_free(g);
         return 1;
     }
     list_emitters(scene, g); /* after the BVH reordered the triangles */
-    g->cam = spm_camera_make(scene->eye, scene->dir, scene->fov_deg, scene->width, scene->height);
     return 0;
 }
 

@@ -34,9 +34,13 @@ int spm_brute_intersect(const spm_geometry *g, const float o[3], const float d[3
  * most SPM_BVH_STACK levels deep (spm_shared.h); node boxes are padded so a
  * float slab test is conservative. */
 /* Builds g->nodes from g->tris (binned SAH, leaves of at most 2 triangles:
- * bvh_build.c LEAF_MAX) and reorders g->tris into leaf order. Called by
- * spm_geometry_build. */
+ * bvh_build.c LEAF_MAX) and reorders g->tris into leaf order; each box is
+ * padded relative to its own magnitude and g->cam.eye's (bvh_build.c). Called
+ * by spm_geometry_build. */
 int spm_bvh_build(spm_geometry *g, spm_error *err);
+/* Nodes whose box spm_bvh_intersect tested, counted per thread: a cost
+ * measure for tests and benchmarks that the traversal only adds to. */
+extern _Thread_local unsigned long long spm_bvh_nodes_tested;
 /* MiniLight's ray-triangle test: hit distance t >= 0 or -1 for a miss. */
 float spm_tri_intersect(const spm_tri *t, const float o[3], const float d[3]);
 #endif

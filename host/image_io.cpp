@@ -103,8 +103,44 @@ static std::string make_temp(const std::string &path, int *errnum)
     return "";
 }
 
+// Typed where the format keeps types (EXR), else as text.
+static void put_attrs(ImageSpec &spec, const char *format, const spm_image_attr *a, int n)
+{
+    bool typed = !strcmp(format, "openexr");
+    for (int k = 0; k < n; k++) {
+        std::string text;
+        switch (a[k].type) {
+        case SPM_ATTR_INT:
+            if (typed)
+                spec.attribute(a[k].name, a[k].i);
+            text = std::to_string(a[k].i);
+            break;
+        case SPM_ATTR_FLOAT: {
+            if (typed)
+                spec.attribute(a[k].name, a[k].f);
+            char buf[32];
+            snprintf(buf, sizeof buf, "%.9g", (double)a[k].f);
+            text = buf;
+            break;
+        }
+        case SPM_ATTR_STRING:
+            text = a[k].s ? a[k].s : "";
+            break;
+        }
+        if (!typed || a[k].type == SPM_ATTR_STRING)
+            spec.attribute(a[k].name, text);
+    }
+}
+
 extern "C" int spm_image_write(const char *path, int width, int height, const void *pixels,
                                spm_pixel_type type, spm_error *err)
+{
+    return spm_image_write_attrs(path, width, height, pixels, type, nullptr, 0, err);
+}
+
+extern "C" int spm_image_write_attrs(const char *path, int width, int height, const void *pixels,
+                                     spm_pixel_type type, const spm_image_attr *attrs, int nattrs,
+                                     spm_error *err)
 {
     auto out = ImageOutput::create(path);
     if (!out) {
@@ -121,6 +157,7 @@ extern "C" int spm_image_write(const char *path, int width, int height, const vo
         static const float srgb_chroma[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
         spec.attribute("chromaticities", TypeDesc(TypeDesc::FLOAT, 8), srgb_chroma);
     }
+    put_attrs(spec, out->format_name(), attrs, nattrs);
     int errnum = 0;
     std::string tmp = make_temp(path, &errnum);
     if (tmp.empty()) {

@@ -31,6 +31,23 @@ void spm_image_free(spm_image *img);
 int spm_image_write(const char *path, int width, int height, const void *pixels,
                     spm_pixel_type type, spm_error *err);
 
+/* A piece of metadata for the image header. EXR keeps its type; formats that
+ * carry only text (PNG's text chunks) get the value as text, and TIFF keeps
+ * the standard names only ("Software", "ImageDescription", "DateTime"). */
+typedef enum { SPM_ATTR_INT, SPM_ATTR_FLOAT, SPM_ATTR_STRING } spm_attr_type;
+typedef struct {
+    const char *name;
+    spm_attr_type type;
+    int i;       /* SPM_ATTR_INT */
+    float f;     /* SPM_ATTR_FLOAT */
+    const char *s;
+} spm_image_attr;
+
+/* spm_image_write, with nattrs attributes in the header. */
+int spm_image_write_attrs(const char *path, int width, int height, const void *pixels,
+                          spm_pixel_type type, const spm_image_attr *attrs, int nattrs,
+                          spm_error *err);
+
 /* 1 if OIIO has a writer for this file name's extension. */
 int spm_image_can_write(const char *path);
 

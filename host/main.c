@@ -22,6 +22,7 @@ static void usage(FILE *f)
     fprintf(f, "usage: specmip COMMAND [options]   (specmip COMMAND --help for its options)\n\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(f, "  %-9s %s\n", commands[i].name, commands[i].what);
+    fprintf(f, "  %-9s %s\n", "version", "print the version (also specmip --version)");
     fprintf(f, "\nWith no command, 'specmip' runs 'specmip render'.\n"
                "Exit codes: 0 ok, 1 runtime failure, 2 usage or input error, 130 interrupted.\n");
 }
@@ -34,6 +35,10 @@ int main(int argc, char **argv)
     }
     if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
         usage(stdout);
+        return SPM_EXIT_OK;
+    }
+    if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {
+        printf("specmip %s\n", SPM_VERSION);
         return SPM_EXIT_OK;
     }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)

@@ -77,8 +77,9 @@ int spm_output_check(const char *path, spm_error *err)
     return rc;
 }
 
-int spm_output_write_xyz(const char *path, int width, int height, const float *xyz,
-                         const spm_tonemap *tm, spm_error *err)
+static int write_xyz(const char *path, int width, int height, const float *xyz,
+                     const spm_tonemap *tm, const spm_image_attr *attrs, int nattrs,
+                     spm_error *err)
 {
     out_kind kind = kind_of(path);
     if (kind == OUT_UNKNOWN)
@@ -93,7 +94,7 @@ int spm_output_write_xyz(const char *path, int width, int height, const float *x
             for (int c = 0; c < 3; c++)
                 rgb[3 * i + c] = (float)out[c];
         }
-        rc = spm_image_write(path, width, height, rgb, SPM_PIXEL_FLOAT, err);
+        rc = spm_image_write_attrs(path, width, height, rgb, SPM_PIXEL_FLOAT, attrs, nattrs, err);
         free(rgb);
     } else {
         spm_tonemap def;
@@ -103,18 +104,30 @@ int spm_output_write_xyz(const char *path, int width, int height, const float *x
         }
         unsigned char *rgb8 = spm_xmalloc(npix * 3);
         spm_tonemap_apply(tm, xyz, npix, rgb8);
-        rc = spm_image_write(path, width, height, rgb8, SPM_PIXEL_UINT8, err);
+        rc = spm_image_write_attrs(path, width, height, rgb8, SPM_PIXEL_UINT8, attrs, nattrs, err);
         free(rgb8);
     }
     return rc;
 }
 
+int spm_output_write_xyz(const char *path, int width, int height, const float *xyz,
+                         const spm_tonemap *tm, spm_error *err)
+{
+    return write_xyz(path, width, height, xyz, tm, NULL, 0, err);
+}
+
 int spm_output_write_film(const char *path, const spm_film *film, const spm_tonemap *tm,
                           spm_error *err)
 {
+    return spm_output_write_film_attrs(path, film, tm, NULL, 0, err);
+}
+
+int spm_output_write_film_attrs(const char *path, const spm_film *film, const spm_tonemap *tm,
+                                const spm_image_attr *attrs, int nattrs, spm_error *err)
+{
     float *xyz = spm_xmalloc((size_t)film->width * film->height * 3 * sizeof *xyz);
     spm_film_resolve(film, xyz);
-    int rc = spm_output_write_xyz(path, film->width, film->height, xyz, tm, err);
+    int rc = write_xyz(path, film->width, film->height, xyz, tm, attrs, nattrs, err);
     free(xyz);
     return rc;
 }

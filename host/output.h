@@ -6,6 +6,7 @@
 #ifndef SPM_OUTPUT_H
 #define SPM_OUTPUT_H
 #include "film.h"
+#include "image_io.h"
 #include "tonemap.h"
 #include "util.h"
 
@@ -20,4 +21,7 @@ int spm_output_write_xyz(const char *path, int width, int height, const float *x
 /* Writes the film's image so far (sum / samples). */
 int spm_output_write_film(const char *path, const spm_film *film, const spm_tonemap *tm,
                           spm_error *err);
+/* The same, with metadata in the header (image_io.h). */
+int spm_output_write_film_attrs(const char *path, const spm_film *film, const spm_tonemap *tm,
+                                const spm_image_attr *attrs, int nattrs, spm_error *err);
 #endif

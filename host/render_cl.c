@@ -17,7 +17,7 @@ int spm_cl_create_plan(int device, const spm_render_plan *plan, spm_cl_renderer 
     r->params = plan->params;
     r->init_level = plan->start_level;
     int rc = spm_cl_ctx_create(device, &r->cl, err) || spm_clr_upload(r, plan, err) ||
-             spm_clr_build(r, plan, err);
+             spm_clr_build(r, plan, err) || spm_clr_warm_up(r, err);
     if (rc) {
         spm_cl_destroy(r);
         return 1;
@@ -156,12 +156,16 @@ int spm_clr_bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t o
     return 0;
 }
 
-double spm_clr_release_events(cl_event *ev, int n)
+double spm_clr_release_events(cl_event *ev, int n, uint64_t *untimed)
 {
     double s = 0.0;
     for (int i = 0; i < n; i++)
         if (ev[i]) {
-            s += spm_cl_event_seconds(ev[i]);
+            double t = spm_cl_event_seconds(ev[i]);
+            if (t >= 0)
+                s += t;
+            else if (untimed)
+                (*untimed)++;
             clReleaseEvent(ev[i]);
             ev[i] = NULL;
         }
@@ -186,7 +190,7 @@ static int pass_batch(spm_cl_renderer *r, const batch *b, float *batch_xyz, spm_
     cl_mem ids = NULL;
     rc = rc || spm_clr_bucket(r, b->n, r->h_levels, off, &ids, err);
     double bucket_s = spm_now() - t0;
-    rc = rc || spm_clr_run_shade(r, b, off, ids, ev_s, err) ||
+    rc = rc || spm_clr_run_shade(r, b, off, ids, 0, ev_s, err) ||
          spm_clr_run_accumulate(r, b, &ev_a, err);
     rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->pass, CL_TRUE, 0,
                                                 (size_t)b->npix * 3 * sizeof(float), batch_xyz, 0,
@@ -196,9 +200,9 @@ static int pass_batch(spm_cl_renderer *r, const batch *b, float *batch_xyz, spm_
         clFinish(r->cl.queue);
     else /* bucket() checked the levels and counted them by value */
         spm_count_levels_hist(r->mode, r->lhist, b->n, st);
-    st->trace_s += spm_clr_release_events(&ev_t, 1);
-    st->shade_s += spm_clr_release_events(ev_s, NSLOTS) + bucket_s;
-    st->accum_s += spm_clr_release_events(&ev_a, 1);
+    st->trace_s += spm_clr_release_events(&ev_t, 1, &st->untimed);
+    st->shade_s += spm_clr_release_events(ev_s, NSLOTS, &st->untimed) + bucket_s;
+    st->accum_s += spm_clr_release_events(&ev_a, 1, &st->untimed);
     return rc;
 }
 

@@ -131,6 +131,7 @@ void spm_pass_stats_add(spm_pass_stats *a, const spm_pass_stats *s)
             a->level_paths[l][k] += s->level_paths[l][k];
     a->truncated += s->truncated;
     a->nonfinite += s->nonfinite;
+    a->untimed += s->untimed;
 }
 
 void spm_count_levels_hist(const spm_mode_desc *m, const size_t hist[256], size_t n,

@@ -59,6 +59,8 @@ typedef struct {
     uint64_t level_paths[SPM_NUM_LEVELS][3]; /* paths shaded at each level, by SPM_SETBY_* */
     uint64_t truncated;                      /* paths that hit SPM_MAX_DEPTH */
     uint64_t nonfinite;                      /* samples with NaN/Inf XYZ, left out of the film */
+    uint64_t untimed;                        /* kernel launches the device gave no time for:
+                                                the stage times are then unknown */
 } spm_pass_stats;
 
 void spm_pass_stats_add(spm_pass_stats *into, const spm_pass_stats *s);

@@ -123,6 +123,7 @@ static int open_devices(const spm_render_config *c, const spm_render_plan *plan,
 int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_error *err)
 {
     memset(s, 0, sizeof *s);
+    double t0 = spm_now();
     int rc = c->scene_path ? spm_scene_load(c->scene_path, &s->scene, err)
                            : spm_scene_default(&s->scene, err);
     if (rc)
@@ -131,9 +132,16 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
         s->scene.width = c->width;
     if (c->height > 0)
         s->scene.height = c->height;
-    if (spm_geometry_build(&s->scene, &s->geom, err))
+    double t1 = spm_now();
+    s->times.load_s = t1 - t0;
+    rc = spm_geometry_build(&s->scene, &s->geom, err);
+    double t2 = spm_now();
+    s->times.bvh_s = t2 - t1;
+    if (rc)
         return SPM_EXIT_INPUT;
-    if (spm_tables_build(&s->scene, &c->pretest, &s->tables, err))
+    rc = spm_tables_build(&s->scene, &c->pretest, &s->tables, err);
+    s->times.tables_s = spm_now() - t2;
+    if (rc)
         return SPM_EXIT_INPUT;
     if (c->verbose) {
         const char **names = spm_xcalloc((size_t)s->scene.ncolours + 1, sizeof *names);
@@ -144,13 +152,16 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
     }
     if (spm_render_plan_init(&s->plan, &s->geom, &s->tables, c->mode, c->seed, err))
         return SPM_EXIT_INPUT;
+    double t3 = spm_now();
     if (c->use_cpu) {
-        if (!(s->b[0] = spm_backend_cpu_create(&s->plan, err)))
-            return SPM_EXIT_RUNTIME;
-        s->nb = 1;
-        return 0;
+        s->b[0] = spm_backend_cpu_create(&s->plan, err);
+        s->nb = s->b[0] != NULL;
+        rc = s->nb ? 0 : SPM_EXIT_RUNTIME;
+    } else {
+        rc = open_devices(c, &s->plan, s, err);
     }
-    return open_devices(c, &s->plan, s, err);
+    s->times.kernels_s = spm_now() - t3;
+    return rc;
 }
 
 void spm_render_setup_close(spm_render_setup *s)

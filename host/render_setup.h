@@ -23,6 +23,17 @@ typedef struct {
     int verbose;
 } spm_render_config;
 
+/* Wall seconds of each stage of a render (`render --stats`); setup fills the
+ * first four, the command the rest. */
+typedef struct {
+    double load_s;    /* reading and parsing the scene and its spectra */
+    double bvh_s;     /* triangles, emitters and the BVH */
+    double tables_s;  /* spectral tables and the pretest's levels */
+    double kernels_s; /* opening the devices: buffers and kernel builds */
+    double render_s;  /* the render loop */
+    double output_s;  /* writing the images */
+} spm_stage_times;
+
 typedef struct {
     spm_scene scene;
     spm_geometry geom;
@@ -30,6 +41,7 @@ typedef struct {
     spm_render_plan plan;     /* what every backend renders */
     spm_backend *b[SPM_MAX_BACKENDS];
     int nb;
+    spm_stage_times times;
 } spm_render_setup;
 
 void spm_render_config_defaults(spm_render_config *c);

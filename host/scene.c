@@ -4,6 +4,7 @@
 #include "scene_build.h"
 #include "colour.h"
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -94,6 +95,33 @@ static void spectrum_key(const spm_spectrum *sp, char *key, size_t size)
     snprintf(key, size, "%d:%016llx", (int)sp->kind, (unsigned long long)h);
 }
 
+/* An emission becomes float tables on the device: its bins (truth and level
+ * means, no larger than its peak) and, for the rgb mode, its XYZ turned to
+ * linear sRGB. A value beyond FLT_MAX there is infinite in every sample it
+ * lights, and those samples are dropped: the light would vanish. At the other
+ * end, a peak below FLT_MIN is subnormal in float: products with path weights
+ * lose their digits or flush to zero (devices may flush subnormals), so the
+ * image is black or off-colour; that is a warning, as the scene is valid. */
+static int check_emission_range(const spm_spectrum *sp, const char *where, spm_error *err)
+{
+    double peak = spm_spectrum_max(sp), xyz[3], rgb[3], big = peak;
+    spm_xyz_emission(sp, xyz);
+    spm_xyz_to_linear_srgb(xyz, rgb);
+    for (int i = 0; i < 3; i++)
+        big = fmax(big, fmax(fabs(xyz[i]), fabs(rgb[i])));
+    if (!(big <= FLT_MAX)) {
+        spm_errorf(err, "%s: emission too bright for float arithmetic: its spectrum, XYZ or "
+                        "linear sRGB reaches %.3g, beyond float's largest value %.3g; lower its "
+                        "scale", where, big, FLT_MAX);
+        return 1;
+    }
+    if (peak > 0.0 && peak < FLT_MIN)
+        spm_warnf("%s: emission so faint that float cannot hold it: its spectrum peaks at %.3g, "
+                  "below float's smallest normal value %.3g, so the image will be black or "
+                  "off-colour; raise its scale", where, peak, FLT_MIN);
+    return 0;
+}
+
 int spm_sb_colour(spm_scene_builder *b, const char *name, const spm_spectrum *sp,
                   const char *where, spm_error *err)
 {
@@ -108,6 +136,8 @@ int spm_sb_colour(spm_scene_builder *b, const char *name, const spm_spectrum *sp
         spm_errorf(err, "%s: more than %d distinct colours", where, SPM_SCENE_MAX_COLOURS);
         return -1;
     }
+    if (sp->kind == SPM_KIND_EMISSION && check_emission_range(sp, where, err))
+        return -1;
     s->colours = reserve(s->colours, s->ncolours, &b->cap_colours, sizeof *s->colours);
     spm_colour *c = &s->colours[s->ncolours];
     memset(c, 0, sizeof *c);

@@ -6,12 +6,22 @@
 #include "scene.h"
 #include "scene_names.h"
 
-#define SPM_SCENE_MAX_SIDE 16384        /* image width and height */
+/* image width and height, and samples per pixel: in a scene and on the command line */
+#define SPM_SCENE_MAX_SIDE 16384
 #define SPM_SCENE_MAX_SPP (1 << 20)
 #define SPM_SCENE_MAX_TRIS (1 << 24)    /* MiniLight's limit */
 #define SPM_SCENE_MAX_COLOURS 4096      /* ids are 16-bit on the device; pretests cost per colour */
 #define SPM_SCENE_MAX_MATERIALS 4096
-#define SPM_SCENE_MAX_COORD 1e6         /* |coordinate|: keeps float geometry meaningful */
+/* |coordinate| of vertices and the eye. MiniLight's ray-triangle test runs in
+ * float (host/bvh.c, kernels/trace.cl). With every coordinate within C, edges
+ * and o - v0 have components within 2C, d x e2 (d a unit vector) within 4C,
+ * det and u's numerator (sums of three products) within 24 C^2, q = (o - v0)
+ * x e1 within 8 C^2 and t's numerator e2 . q within 48 C^3: the one product
+ * that is cubic in C. It overflows float (FLT_MAX = 3.4e38) beyond
+ * C = (FLT_MAX / 48)^(1/3) = 1.9e12; squared distances (12 C^2) and areas
+ * (6 C^2) overflow only beyond 5e18. 1e12 keeps that cubic product below
+ * FLT_MAX / 7 and takes MiniLight's suns, 1.5e11 away. */
+#define SPM_SCENE_MAX_COORD 1e12
 #define SPM_FOV_MIN 10.0                /* MiniLight's clamp of the view angle */
 #define SPM_FOV_MAX 160.0
 

@@ -78,7 +78,14 @@ static int file_exists(const char *path)
     return stat(path, &st) == 0 && S_ISREG(st.st_mode) && access(path, R_OK) == 0;
 }
 
-/* A spectrum file: absolute, or relative to the scene file, or in spectra/. */
+static int is_directory(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+/* A spectrum file: absolute, or relative to the scene file, or in spectra/.
+ * A directory where the file is looked for is named as such, not skipped. */
 static int resolve_spectrum_file(parser *p, const char *name, const char *where, char *out,
                                  size_t size)
 {
@@ -87,6 +94,11 @@ static int resolve_spectrum_file(parser *p, const char *name, const char *where,
         snprintf(out, size, "%s", name);
         if (file_exists(out))
             return 0;
+        if (is_directory(out)) {
+            spm_errorf(p->err, "%s: spectrum file '%s' is a directory, not a CSV file", where,
+                       name);
+            return 1;
+        }
         spm_errorf(p->err, "%s: spectrum file '%s' not found (or not a regular file)", where,
                    name);
         return 1;
@@ -94,6 +106,11 @@ static int resolve_spectrum_file(parser *p, const char *name, const char *where,
     int n = snprintf(out, size, "%s/%s", p->dir, name);
     if (n < (int)size && file_exists(out))
         return 0;
+    if (n < (int)size && is_directory(out)) {
+        spm_errorf(p->err, "%s: spectrum file '%s' is a directory (%s), not a CSV file", where,
+                   name, out);
+        return 1;
+    }
     snprintf(tried, sizeof tried, "%s", out);
     char rel[1100];
     snprintf(rel, sizeof rel, "spectra/%s", name);

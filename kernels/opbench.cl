@@ -26,9 +26,16 @@
         (void)cv;                                                                      \
     }
 
+/* fma per width; float16 as two float8 halves, as in shade_body.clh (a call
+ * with float16 arguments draws an ABI warning on CPUs without AVX-512). */
+#define FMA16(a, b, c) ((float16)(fma((a).lo, (b).lo, (c).lo), fma((a).hi, (b).hi, (c).hi)))
+#define FMA8(a, b, c) fma(a, b, c)
+#define FMA4(a, b, c) fma(a, b, c)
+#define FMA2(a, b, c) fma(a, b, c)
+
 #define OPS(SUF, W, NV)                                                                \
     OPK(mul, SUF, W, NV, d[k] *= a[k])                                                 \
-    OPK(fma, SUF, W, NV, d[k] = fma(a[k], cv, d[k]))                                   \
+    OPK(fma, SUF, W, NV, d[k] = FMA##W(a[k], cv, d[k]))                               \
     OPK(set, SUF, W, NV, d[k] = a[k])                                                  \
     OPK(clear, SUF, W, NV, d[k] = (float##W)(0.0f))
 

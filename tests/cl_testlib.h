@@ -29,15 +29,16 @@ static inline int cl_test_have_device(void)
     return 1;
 }
 
-static inline int cl_test_scene_open(cl_test_scene *s, int w, int h)
+/* The scene at `path` (NULL: the default scene) at w x h. */
+static inline int cl_test_scene_load(cl_test_scene *s, const char *path, int w, int h)
 {
     spm_error err;
     spm_pretest_opts po;
     spm_quiet_warnings = 1;
     spm_pretest_defaults(&po);
     memset(s, 0, sizeof *s);
-    if (spm_scene_default(&s->scene, &err)) {
-        printf("default scene: %s\n", err.msg);
+    if (path ? spm_scene_load(path, &s->scene, &err) : spm_scene_default(&s->scene, &err)) {
+        printf("%s: %s\n", path ? path : "default scene", err.msg);
         return 1;
     }
     s->scene.width = w;
@@ -48,6 +49,11 @@ static inline int cl_test_scene_open(cl_test_scene *s, int w, int h)
         return 1;
     }
     return 0;
+}
+
+static inline int cl_test_scene_open(cl_test_scene *s, int w, int h)
+{
+    return cl_test_scene_load(s, NULL, w, h);
 }
 
 static inline void cl_test_scene_close(cl_test_scene *s)

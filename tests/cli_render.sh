@@ -60,18 +60,30 @@ oiiotool "$T/a.exr" "$T/c.exr" --diff >/dev/null 2>&1 && bad "different seeds ga
 # 5. SIGINT: the current pass ends, the image so far is written, exit 130;
 #    an existing output is replaced only by a complete file.
 echo "old" > "$T/int.png"
-"$BIN" render --spp 100000 --width 64 --height 64 -o "$T/int.png" --quiet &
+"$BIN" render --spp 100000 --width 64 --height 64 -o "$T/int.png" --progress 2>"$T/int.err" &
 pid=$!
-sleep 3
+rendering $pid "$T/int.err" && ok || bad "SIGINT: the render never got under way"
 kill -INT $pid
 wait $pid; rc=$?
 [ $rc -eq 130 ] && ok || bad "SIGINT exit code $rc"
 head -c 4 "$T/int.png" | grep -q "PNG" && ok || bad "interrupted render did not write a PNG"
+grep -q "interrupted after [1-9][0-9]* of 100000 samples" "$T/int.err" && ok ||
+  bad "SIGINT: no message $(tr '\r' '\n' < "$T/int.err" | tail -n 2)"
 
-# 6. The CPU reference backend and every mode render
+# 6. The CPU reference backend and every mode render: a finite image that is
+#    not black, the mode the stats report is the one asked for, and (but for
+#    mlc, which on a scene without spikes is ml) each mode's image differs
+#    from ref's, so the mode was used.
 for m in truth ref ml mlc hero rgb; do
   "$BIN" render --backend cpu --mode $m --spp 1 --width 16 --height 16 -o "$T/cpu_$m.exr" --quiet \
-    && [ -s "$T/cpu_$m.exr" ] && ok || bad "cpu backend mode $m"
+    --json > "$T/cpu_$m.json" && [ -s "$T/cpu_$m.exr" ] && ok || bad "cpu backend mode $m"
+  [ "$(jq -r .mode "$T/cpu_$m.json")" = $m ] && ok || bad "cpu backend mode $m: stats say $(jq .mode "$T/cpu_$m.json")"
+  oiiotool "$T/cpu_$m.exr" --printstats > "$T/cpu_$m.stats" 2>&1
+  grep -q "NanCount: 0 0 0" "$T/cpu_$m.stats" && grep "Stats Avg" "$T/cpu_$m.stats" |
+    awk '{ exit !($3 > 0 && $4 > 0 && $5 > 0) }' && ok || bad "cpu backend mode $m: $(cat "$T/cpu_$m.stats")"
+done
+for m in truth ml hero rgb; do
+  oiiotool "$T/cpu_ref.exr" "$T/cpu_$m.exr" --diff > /dev/null 2>&1 && bad "mode $m renders ref's image" || ok
 done
 
 # 7. --stats --json: one JSON object with the figures the benchmarks read

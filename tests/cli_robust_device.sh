@@ -56,19 +56,21 @@ SPECMIP_DATA="$T/data" "$BIN" render "${small[@]}" -o "$T/k.png" 2>"$T/err"; rc=
 python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["paths"] == 16384 * 32 and d["nonfinite"] == 0, d' \
   "$T/wide.json" 2>/dev/null && ok || bad "16384x32: paths or non-finite samples: $(head -c 300 "$T/wide.json")"
 
-# 4. Non-finite samples: a light of luminance 1e39 (finite in the file and on
-#    the host, Inf once the tables are float) next to an ordinary light. The
-#    Inf samples are counted and left out, so the film stays finite and the
-#    ordinary light still shows. Every mode's kernel (they are built with the
-#    options a render uses), and the CPU reference.
+# 4. Non-finite samples: a light of luminance 2e38 (float holds it, so the
+#    scene loads) 5 cm from a wall, next to an ordinary light; the camera sits
+#    between light and wall, so it sees wall points whose one-sample light
+#    estimate (area / d^2 large) overflows float. The Inf samples are counted
+#    and left out, so the film stays finite and the ordinary light still
+#    shows. Every mode's kernel (they are built with the options a render
+#    uses), and the CPU reference.
 cat > "$T/hot.scene" <<'SCENE'
 image 8 8
-camera position 0 1 -3 direction 0 0 1 fov 60
+camera position -1 0.5 0.03 direction 0 0 1 fov 90
 spectrum flat equal
-material hot emit flat 1e39
+material hot emit flat 2e38
 material lamp emit flat 1
 material wall reflect flat 0.5
-quad wall -5 -1 2  5 -1 2  5 4 2  -5 4 2
+quad wall -5 -1 0.05  5 -1 0.05  5 4 0.05  -5 4 0.05
 tri hot -1.5 0 0  -0.5 0 0  -1 1.5 0
 tri lamp 0.5 0 0  1.5 0 0  1 1.5 0
 SCENE

@@ -4,7 +4,8 @@
 # devices) exit 2 naming the file, in bounded time (timeout) and memory (peak
 # RSS within 64 MB of a small bad input's); image sizes and outputs are checked
 # before rendering; a failed or killed run leaves an existing output as it
-# was; SIGTERM writes the image so far; a scene lit only by its sky is valid.
+# was; SIGTERM writes the image so far; a scene lit only by its sky is valid;
+# emissions too bright or too faint for float are refused or warned about.
 # usage: bash tests/cli_robust_input.sh /path/to/specmip
 source "$(dirname "$0")/lib_cli.sh"
 SCENE_TAIL='camera position 0 1 -3 direction 0 0 1 fov 40
@@ -75,21 +76,33 @@ for size in "--width 0" "--height 16385" "--width -3" "--width 1e9" "--height 12
   [ $rc -eq 2 ] && ok || bad "image size '$size': rc $rc"
 done
 
+# kept WHAT: the existing output is as it was and no temporary file is left.
+kept() {
+  [ "$(cat "$T/keep.png")" = "precious" ] && ok || bad "$1: an existing output was changed"
+  local tmp; tmp=$(find "$T" -name '*spmtmp*')
+  [ -z "$tmp" ] && ok || bad "$1: temporary file left: $tmp"
+}
+
 # 4. Nothing lost: an existing output survives a bad scene, a bad second
 #    output, and a run killed (SIGKILL) in the middle of rendering.
 echo "precious" > "$T/keep.png"
-"$BIN" render "$ROOT/tests/bad-inputs/scene_truncated.scene" -o "$T/keep.png" 2>/dev/null
-"$BIN" render "${slow[@]}" -o "$T/keep.png" -o "$T/nodir/y.exr" 2>/dev/null
-"$BIN" render "${slow[@]}" -o "$T/keep.png" --quiet & pid=$!
-sleep 2
-kill -KILL $pid; wait $pid 2>/dev/null
-[ "$(cat "$T/keep.png")" = "precious" ] && ok || bad "an existing output was changed by a failed run"
+"$BIN" render "$ROOT/tests/bad-inputs/scene_truncated.scene" -o "$T/keep.png" 2>/dev/null; rc=$?
+[ $rc -eq 2 ] && ok || bad "bad scene over an existing output: exit $rc"
+kept "bad scene"
+"$BIN" render "${slow[@]}" -o "$T/keep.png" -o "$T/nodir/y.exr" 2>/dev/null; rc=$?
+[ $rc -eq 2 ] && ok || bad "bad second output: exit $rc"
+kept "bad second output"
+"$BIN" render "${slow[@]}" -o "$T/keep.png" --progress 2>"$T/kill.err" & pid=$!
+rendering $pid "$T/kill.err" && ok || bad "SIGKILL: the render never got under way: $(tr '\r' '\n' < "$T/kill.err" | tail -n 2)"
+kill -KILL $pid; wait $pid 2>/dev/null; rc=$?
+[ $rc -eq 137 ] && ok || bad "SIGKILL: exit status $rc: the render was not running when killed"
+kept "SIGKILL in the render"
 
 # 5. SIGTERM: the current pass ends, the image so far replaces the old file
 #    (a complete PNG and EXR), exit 130 as for SIGINT.
 echo "old" > "$T/term.png"
-"$BIN" render "${slow[@]}" -o "$T/term.png" -o "$T/term.exr" --quiet 2>"$T/err" & pid=$!
-sleep 2
+"$BIN" render "${slow[@]}" -o "$T/term.png" -o "$T/term.exr" --progress 2>"$T/err" & pid=$!
+rendering $pid "$T/err" && ok || bad "SIGTERM: the render never got under way: $(tr '\r' '\n' < "$T/err" | tail -n 2)"
 kill -TERM $pid; wait $pid; rc=$?
 [ $rc -eq 130 ] && ok || bad "SIGTERM exit code $rc"
 head -c 4 "$T/term.png" | grep -q PNG && ok || bad "SIGTERM: no PNG written"
@@ -99,5 +112,35 @@ grep -q "interrupted after" "$T/err" && ok || bad "SIGTERM: no message $(cat "$T
 # 6. Valid stays valid: a scene lit only by its background renders.
 "$BIN" render "$ROOT/tests/data/scenes/sky_only.scene" --backend cpu --spp 2 -o "$T/sky.exr" --quiet
 [ $? -eq 0 ] && [ -s "$T/sky.exr" ] && ok || bad "sky-only scene refused"
+
+# 7. Light that would vanish: an emission float cannot hold is refused at load
+#    (tests/bad-inputs); one whose pixel sums overflow float gets a warning at
+#    the end of the render; one so faint that it is subnormal in float gets a
+#    warning at load naming its line; ordinary ones get neither.
+light_scene() {
+  printf '%s\n' "image 8 8" "camera position 0 1 -3 direction 0 0 1 fov 40" "spectrum flat equal" \
+    "material wall reflect flat 0.5" "material light emit flat $1" \
+    "quad wall -2 0 -2  2 0 -2  2 0 2  -2 0 2" "quad light -0.5 2 -0.5  0.5 2 -0.5  0.5 2 0.5  -0.5 2 0.5" \
+    > "$T/light.scene"
+  "$BIN" render "$T/light.scene" --backend cpu --spp 16 -o "$T/light.exr" --quiet 2>"$T/err"
+}
+light_scene 1e38; rc=$?
+[ $rc -eq 0 ] && grep -q "overflowed to infinity and were left out" "$T/err" && ok ||
+  bad "emission 1e38: rc $rc, no warning about dropped values: $(cat "$T/err")"
+light_scene 1e-38; rc=$?
+[ $rc -eq 0 ] && grep -q "light.scene:5:.*so faint" "$T/err" && ok ||
+  bad "emission 1e-38: rc $rc, no warning naming line 5: $(cat "$T/err")"
+# samples that overflow one by one (the light 5 cm from a wall, the camera between)
+printf '%s\n' "image 8 8" "camera position -1 0.5 0.03 direction 0 0 1 fov 90" "spectrum flat equal" \
+  "material hot emit flat 2e38" "material wall reflect flat 0.5" \
+  "quad wall -5 -1 0.05  5 -1 0.05  5 4 0.05  -5 4 0.05" "tri hot -1.5 0 0  -0.5 0 0  -1 1.5 0" \
+  > "$T/hot.scene"
+"$BIN" render "$T/hot.scene" --backend cpu --spp 8 -o "$T/hot.exr" --quiet 2>"$T/err"; rc=$?
+[ $rc -eq 0 ] && grep -q "of the samples (.*) were NaN or infinite and were left out" "$T/err" && ok ||
+  bad "non-finite samples: rc $rc, no warning: $(cat "$T/err")"
+for e in 1 1e-37 1e37; do
+  light_scene $e; rc=$?
+  [ $rc -eq 0 ] && [ ! -s "$T/err" ] && ok || bad "emission $e: rc $rc, stderr: $(cat "$T/err")"
+done
 
 finish

@@ -16,6 +16,17 @@ check() {  # check WHAT COMMAND...: counts COMMAND's success
     local what=$1; shift
     if "$@"; then ok; else bad "$what"; fi
 }
+# rendering PID ERR: true once the render PID has finished a pass (its
+# --progress line in ERR), false if it ends first or 60 s go by.
+rendering() {
+    local i
+    for i in $(seq 600); do
+        grep -q "pass [1-9][0-9]*/" "$2" 2>/dev/null && return 0
+        kill -0 "$1" 2>/dev/null || return 1
+        sleep 0.1
+    done
+    return 1
+}
 finish() {
     echo "$pass passed, $fail failed"
     [ "$fail" -eq 0 ]

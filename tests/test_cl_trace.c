@@ -1,6 +1,7 @@
 /* The trace kernel against the CPU reference (same scene, seed, samples):
  * per path the record's ids, counts and ending must be equal, its weights
- * close, its level byte equal; and the records do not depend on the mode. */
+ * close, its level byte equal; and the records do not depend on the mode.
+ * Also on MiniLight's Cornell box lit by a sun 1.5e11 away. */
 #include "cl_testlib.h"
 #include "testutil.h"
 
@@ -128,6 +129,21 @@ int main(void)
     for (int i = 0; i < 5; i++) {
         uint64_t h = mode_records_hash(&s, others[i]);
         CHECK(h == h0, "records in mode %d differ from ref's", others[i]);
+    }
+    cl_test_scene_close(&s);
+
+    /* coordinates up to 1e12 (scene_build.h): the sun's rays in float */
+    char path[1024];
+    snprintf(path, sizeof path, "%s/tests/data/scenes/cornellbox_sun.ml.txt", SPM_SOURCE_DIR);
+    if (cl_test_scene_load(&s, path, W, H) == 0) {
+        if (spm_cl_create(0, &s.geom, &s.tables, SPM_MODE_ML, SEED, &r, &err) == 0) {
+            compare_pass(&s, r, SPM_MODE_ML, 0);
+            spm_cl_destroy(r);
+        } else {
+            CHECK(0, "spm_cl_create (far sun): %s", err.msg);
+        }
+    } else {
+        CHECK(0, "the far-sun scene loads");
     }
     cl_test_scene_close(&s);
     TEST_END();

@@ -6,6 +6,7 @@
 #include "film.h"
 #include "image_io.h"
 #include "output.h"
+#include "render_stats.h"
 #include "testutil.h"
 #include "tonemap.h"
 
@@ -205,6 +206,39 @@ static void auto_exposure(void)
     CHECK(spm_tonemap_exposure(&tm, black, 2) == 1.0, "black image exposure is not 1");
 }
 
+/* The end-of-render warning about NaN/Inf left out: past 0.1% of the samples
+ * or of the pixels' pass sums, not at it. */
+static void dropped_warning(void)
+{
+    spm_film f;
+    spm_error err;
+    CHECK(spm_film_init(&f, 10, 10, &err) == 0, "%s", err.msg);
+    spm_run_result r;
+    memset(&r, 0, sizeof r);
+    r.total.paths = 10000;
+    r.passes_in_film = 10; /* 1000 pixel pass sums */
+    spm_quiet_warnings = 1;
+    CHECK(!spm_render_warn_dropped(&r, &f), "nothing dropped, no warning");
+    r.total.nonfinite = 10;
+    CHECK(!spm_render_warn_dropped(&r, &f), "0.1%% of the samples: no warning");
+    r.total.nonfinite = 11;
+    CHECK(spm_render_warn_dropped(&r, &f), "0.11%% of the samples: a warning");
+    r.total.nonfinite = 0;
+    /* pass sums the film left out, counted by the film itself */
+    float pass[300];
+    for (int i = 0; i < 300; i++)
+        pass[i] = 1.0f;
+    pass[4] = INFINITY;
+    for (int p = 0; p < 10; p++)
+        spm_film_add_pass(&f, pass, 1);
+    CHECK(f.nonfinite == 10, "the film counts the dropped sums (%lld)", f.nonfinite);
+    CHECK(spm_render_warn_dropped(&r, &f), "1%% of the pass sums: a warning");
+    f.nonfinite = 1;
+    CHECK(!spm_render_warn_dropped(&r, &f), "0.1%% of the pass sums: no warning");
+    spm_quiet_warnings = 0;
+    spm_film_free(&f);
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/spm_test_film.XXXXXX");
@@ -217,6 +251,7 @@ int main(void)
     film_to_exr();
     png_tonemap();
     auto_exposure();
+    dropped_warning();
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0)

@@ -144,6 +144,10 @@ int main(void)
         if (render(2, devs, NULL, &both, &r) == 0) {
             printf("shares: pthread %d passes, basic %d\n", r.passes_by_backend[0],
                    r.passes_by_backend[1]);
+            CHECK(r.passes_by_backend[0] > 0 && r.passes_by_backend[1] > 0 &&
+                      r.passes_by_backend[0] + r.passes_by_backend[1] == r.npasses,
+                  "%d passes split as %d + %d: both devices must work", r.npasses,
+                  r.passes_by_backend[0], r.passes_by_backend[1]);
             compare_films("pthread + basic vs pthread", &one, &both);
             spm_film_free(&both);
         }
@@ -153,6 +157,9 @@ int main(void)
         if (render(2, devs, fail, &failing, &r) == 0) {
             CHECK(r.failed[0] && !r.failed[1] && r.spp_done == SPP, "failed %d %d, spp %d",
                   r.failed[0], r.failed[1], r.spp_done);
+            CHECK(r.passes_by_backend[0] == 1 && r.passes_by_backend[1] == r.npasses - 1,
+                  "pthread failing on its second pass: %d + %d of %d passes",
+                  r.passes_by_backend[0], r.passes_by_backend[1], r.npasses);
             compare_films("pthread failing + basic vs pthread", &one, &failing);
             spm_film_free(&failing);
         }

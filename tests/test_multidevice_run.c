@@ -143,6 +143,20 @@ static void splits(const spm_film *ref)
     CHECK(r.total.paths == (uint64_t)NPIX * SPP && r.spp_done == SPP && r.passes_in_film == NPASSES,
           "paths %llu, spp %d", (unsigned long long)r.total.paths, r.spp_done);
     CHECK(!r.failed[0] && !r.failed[1] && !r.failed[2] && !r.interrupted, "no failure flagged");
+    /* each device takes a pass before it has a time estimate, so each works,
+     * and the result reports what each one rendered */
+    for (int i = 0; i < 3; i++) {
+        uint64_t paths = 0;
+        for (int j = 0; j < f[i].ndone; j++) {
+            int left = SPP - f[i].done_first[j];
+            paths += (uint64_t)NPIX * (uint64_t)(left < SPP_PER_PASS ? left : SPP_PER_PASS);
+        }
+        CHECK(f[i].ndone > 0 && r.passes_by_backend[i] == f[i].ndone &&
+                  r.per_backend[i].paths == paths,
+              "device %d rendered %d passes (%llu paths), reported %d (%llu)", i, f[i].ndone,
+              (unsigned long long)paths, r.passes_by_backend[i],
+              (unsigned long long)r.per_backend[i].paths);
+    }
     spm_film_free(&film);
 
     /* device 1 fails on its second pass: device 0 renders it */

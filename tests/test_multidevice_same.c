@@ -79,6 +79,15 @@ static void splits(const spm_film *ref)
     CHECK(render(&s, SPP, &film, &r) == 0, "two devices render");
     CHECK(same_film(ref, &film), "two devices: film differs from one device's");
     printf("render loop split: %d + %d passes\n", r.passes_by_backend[0], r.passes_by_backend[1]);
+    /* each device takes a pass before it has a time estimate, so both work */
+    CHECK(r.passes_by_backend[0] > 0 && r.passes_by_backend[1] > 0 &&
+              r.passes_by_backend[0] + r.passes_by_backend[1] == NPASSES,
+          "the render loop split %d passes as %d + %d", NPASSES, r.passes_by_backend[0],
+          r.passes_by_backend[1]);
+    CHECK(r.per_backend[0].paths > 0 && r.per_backend[1].paths > 0 &&
+              r.per_backend[0].paths + r.per_backend[1].paths == (uint64_t)W * H * SPP,
+          "paths per device %llu + %llu", (unsigned long long)r.per_backend[0].paths,
+          (unsigned long long)r.per_backend[1].paths);
     spm_film_free(&film);
 
     /* even passes on one device, odd on the other, added in pass order */

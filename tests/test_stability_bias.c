@@ -19,6 +19,10 @@
  * A failure means the per-spectrum guarantee does not carry over to images
  * (levels or spike lanes wrong in the tables, or a path's level mis-chosen).
  *
+ * The bounds are met trivially by a mode that stays at level 0 (ref's own
+ * image): ml and mlc must have shaded paths on coarser levels on every scene,
+ * and their images must differ from ref's.
+ *
  * ref vs truth: the pretest takes level 0 (5 nm bins) as exact, so on scenes
  * whose spectra have no structure finer than 5 nm (all but narrowline, see
  * test_stability_failures.c) ref must be well inside the threshold:
@@ -45,6 +49,17 @@ static void check_pair(const char *scene, const rt_render_out *ref, const rt_ren
     printf("%-20s %-12s dE00 mean %.3f p99 %.3f max %.3f\n", scene, what, d.mean, d.p99, d.max);
     CHECK(d.mean <= mean_max, "%s %s: mean dE00 %.3f > %.3f", scene, what, d.mean, mean_max);
     CHECK(d.p99 <= p99_max, "%s %s: p99 dE00 %.3f > %.3f", scene, what, d.p99, p99_max);
+    CHECK(d.mean > 0.0, "%s %s: the images are the same", scene, what);
+}
+
+/* Fraction of the run's paths shaded at a level coarser than 0. */
+static double coarse_fraction(const spm_run_result *r)
+{
+    uint64_t coarse = 0;
+    for (int l = 1; l < SPM_NUM_LEVELS; l++)
+        for (int b = 0; b < 3; b++)
+            coarse += r->total.level_paths[l][b];
+    return r->total.paths ? (double)coarse / (double)r->total.paths : 0.0;
 }
 
 int main(void)
@@ -59,6 +74,14 @@ int main(void)
         }
         CHECK(ok, "%s: render failed", scenes[si]);
         if (ok) {
+            static const int coarse_modes[] = {SPM_MODE_ML, SPM_MODE_MLC};
+            for (int i = 0; i < 2; i++) {
+                int m = coarse_modes[i];
+                double f = coarse_fraction(&o[m].run);
+                printf("%-20s %-12s %.3f of the paths on levels 1..3\n", scenes[si],
+                       spm_mode_name(m), f);
+                CHECK(f > 0.0, "%s %s: no path on a coarser level", scenes[si], spm_mode_name(m));
+            }
             check_pair(scenes[si], &o[SPM_MODE_REF], &o[SPM_MODE_ML], "ml/ref", T / 2, T);
             check_pair(scenes[si], &o[SPM_MODE_REF], &o[SPM_MODE_MLC], "mlc/ref", T / 2, T);
             check_pair(scenes[si], &o[SPM_MODE_TRUTH], &o[SPM_MODE_REF], "ref/truth", T / 8, T / 4);
