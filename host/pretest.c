@@ -3,6 +3,7 @@
  * after normalising both products to Y = 50 against a D65 white of Y = 100. */
 #include "pretest.h"
 #include "colour.h"
+#include "interrupt.h"
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -209,8 +210,12 @@ void spm_pretest_run_sharp(const spm_spectrum *const *spectra, const spm_spectru
 {
     set_t set;
     split_set(spectra, sharp, n, &set);
-    for (int i = 0; i < n; i++)
+    for (int i = 0; i < n; i++) {
+        spm_test_pause("pretest");
+        if (spm_stop_requested())
+            break;
         run_one(spectra[i], sharp ? sharp[i] : NULL, i, &set, o, &results[i]);
+    }
     free(set.lights);
     free(set.refl);
     free(set.refl_index);

@@ -26,7 +26,9 @@ typedef struct {
 void spm_pretest_defaults(spm_pretest_opts *o);
 /* spectra[0..n-1]: the set (reflectances and emissions); lights are the set's
  * emissions (if it has none, an equal-energy light stands in). Deterministic
- * for a given seed. results[i] belongs to spectra[i]. */
+ * for a given seed. results[i] belongs to spectra[i]. An interruption
+ * (spm_stop_requested) ends the run early, leaving the results not reached as
+ * they were: the caller checks the flag. */
 void spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
                      spm_pretest_result *results);
 /* The same where spectra[i] is only the part to be sampled at each level and
