@@ -149,10 +149,10 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
     const spm_spectrum **set = spm_xcalloc((size_t)n + 1, sizeof *set);
     for (int c = 0; c < n; c++)
         set[c] = &sc->colours[c].s;
-    spm_pretest_run(set, n, po, t->pretest);
+    int done = spm_pretest_run(set, n, po, t->pretest);
     free(set);
     if (spm_stop_requested()) {
-        spm_errorf(err, "interrupted during the pretests (%d colours)", n);
+        spm_errorf(err, "interrupted during the pretests (%d of %d colours done)", done, n);
         return 1;
     }
     t->lvlk = spm_xcalloc((size_t)n * SPM_PRETEST_KMAX + 1, 1);
@@ -163,7 +163,7 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
     if (spm_mlc_tables_build(sc, po, t, err))
         return 1;
     if (spm_stop_requested()) {
-        spm_errorf(err, "interrupted during the pretests (%d colours)", n);
+        spm_errorf(err, "interrupted during the Composite Model pretests");
         return 1;
     }
     return 0;

@@ -56,7 +56,7 @@ for stage in load:3 csv:2 bvh:2 pretest:2; do
     load*) what="interrupted while loading .*cornell.scene (line 4)" ;; # line 3 read
     csv*) what="interrupted while loading .*\.csv (line 2)" ;;
     bvh*) what="interrupted while building the BVH" ;;
-    pretest*) what="interrupted during the pretests" ;;
+    pretest*) what="interrupted during the pretests (1 of [0-9]* colours done)" ;;
     esac
     check "$stage: exit 130" test $rc -eq 130
     check "$stage: within $BOUND s" in_time
