@@ -243,8 +243,8 @@ int spm_cmd_render(int argc, char **argv)
                             "image written\n", res.spp_done, spp);
             rc = SPM_EXIT_INTERRUPTED;
         } else if (!rc && spm_stop_requested()) {
-            fprintf(stderr, "specmip render: interrupted while writing; the complete image "
-                            "was written\n");
+            fprintf(stderr, "specmip render: interrupted once the render was done; the "
+                            "complete image was written\n");
             rc = SPM_EXIT_INTERRUPTED;
         }
     }

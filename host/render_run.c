@@ -143,7 +143,7 @@ static void batch_done(void *ctx, uint64_t paths)
     run_state *s = a->s;
     pthread_mutex_lock(&s->mu);
     s->live_paths[a->idx] = paths;
-    if (s->o->progress)
+    if (s->o->progress && !(s->o->stop && *s->o->stop)) /* stopping: no line after the notice */
         progress_line(s);
     pthread_mutex_unlock(&s->mu);
 }

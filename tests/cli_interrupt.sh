@@ -117,7 +117,7 @@ echo old > "$T/o.png"
 echo old > "$T/o.exr"
 paused write 1 INT "${SMALL[@]}" -o "$T/o.exr" -o "$T/o.png"
 check "signal during a write: exit 130" test $rc -eq 130
-check "signal during a write: says so" said "interrupted while writing; the complete image was written"
+check "signal during a write: says so" said "interrupted once the render was done; the complete image was written"
 check "signal during a write: first output complete" same_img "$T/full.exr" "$T/o.exr"
 check "signal during a write: second output written" is_png "$T/o.png"
 check "signal during a write: no temporary file" no_temps "$T"
