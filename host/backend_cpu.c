@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cl_resources.h"
+#include "interrupt.h"
 #include "refcpu.h"
 
 typedef struct {
@@ -29,6 +30,14 @@ void spm_pass_stats_add(spm_pass_stats *a, const spm_pass_stats *s)
     a->truncated += s->truncated;
     a->nonfinite += s->nonfinite;
     a->untimed += s->untimed;
+}
+
+int spm_pass_batch_end(const spm_pass_ctl *c, uint64_t paths_so_far)
+{
+    if (c && c->batch_done)
+        c->batch_done(c->ctx, paths_so_far);
+    spm_test_pause("pass");
+    return c && c->stop && *c->stop;
 }
 
 void spm_count_levels(int mode, const spm_path *paths, const uint8_t *levels, size_t n,
@@ -126,6 +135,8 @@ static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pa
         st->trace_s += t1 - t0;
         st->shade_s += t2 - t1;
         st->accum_s += spm_now() - t2;
+        if (p0 + nb < npix && spm_pass_batch_end(&b->ctl, (p0 + nb) * spp))
+            return SPM_PASS_STOPPED;
     }
     return 0;
 }
