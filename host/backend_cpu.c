@@ -55,6 +55,8 @@ static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pa
         st->trace_s += t1 - t0;
         st->shade_s += t2 - t1;
         st->accum_s += spm_now() - t2;
+        if (p0 + nb < npix && spm_pass_batch_end(&b->ctl, (p0 + nb) * spp))
+            return SPM_PASS_STOPPED;
     }
     return 0;
 }

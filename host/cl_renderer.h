@@ -50,6 +50,7 @@ struct spm_cl_renderer {
     spm_u32 zero[SPM_NCOUNTERS];
     long npasses;
     long fail_pass; /* SPECMIP_CL_FAIL: this pass fails (-1: never) */
+    const spm_pass_ctl *ctl; /* the backend's, during its passes (NULL: none) */
 };
 
 #define CK(call, what)                     \

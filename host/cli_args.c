@@ -32,26 +32,3 @@ int spm_arg_double(const char *cmd, const char *opt, const char *s, double lo, d
     *out = v;
     return 0;
 }
-
-volatile sig_atomic_t spm_stop_flag;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    spm_stop_flag = 1;
-}
-
-void spm_catch_interrupts(void)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
-}
-
-void spm_release_interrupts(void)
-{
-    signal(SIGINT, SIG_DFL);
-    signal(SIGTERM, SIG_DFL);
-}

@@ -1,8 +1,8 @@
 /* Pieces every sub-command's option handling shares: checked numbers, and
- * Ctrl-C / SIGTERM turned into a stop flag the render loops poll. */
+ * Ctrl-C / SIGTERM turned into a stop flag the long steps poll (interrupt.h). */
 #ifndef SPM_CLI_ARGS_H
 #define SPM_CLI_ARGS_H
-#include <signal.h>
+#include "interrupt.h"
 
 /* A whole number / a number in [lo, hi]; otherwise prints
  * "specmip CMD: OPT needs ..." and returns 1. */
@@ -10,8 +10,4 @@ int spm_arg_long(const char *cmd, const char *opt, const char *s, long lo, long 
 int spm_arg_double(const char *cmd, const char *opt, const char *s, double lo, double hi,
                    double *out);
 
-/* Set while SIGINT/SIGTERM are caught (between catch and release). */
-extern volatile sig_atomic_t spm_stop_flag;
-void spm_catch_interrupts(void);
-void spm_release_interrupts(void);
 #endif

@@ -53,7 +53,8 @@ static void usage(FILE *f)
         "                     multiply, scaled add, set, clear per level and vector width,\n"
         "                     ns/op and ratios; writes DIR/ops.csv and prints a table\n"
         "  --ops-items N, --ops-iters K   its work-items (default 4096) and ops each (1024)\n"
-        "Ctrl-C stops after the current render; finished rows are kept (exit 130).\n");
+        "Ctrl-C stops the current render, which is dropped; finished rows are kept (exit 130);\n"
+        "a second Ctrl-C exits at once.\n");
 }
 
 static int fail(const char *fmt, const char *a, const char *b)

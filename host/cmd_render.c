@@ -1,5 +1,4 @@
 /* specmip render: options -> setup -> render loop -> images + statistics. */
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,8 +22,9 @@ static void usage(FILE *f)
         "Cornell box (ColorChecker walls, equal-energy light).\n\n"
         "  -o, --output FILE      image to write, by extension: .exr or .tif (linear sRGB, float;\n"
         "                         EXR keeps how it was made in its header) or .png or .ppm\n"
-        "                         (tone-mapped sRGB); up to %d times (default: specmip.png and\n"
-        "                         specmip.exr)\n"
+        "                         (tone-mapped sRGB); up to %d times, each file once (default:\n"
+        "                         specmip.png and specmip.exr); a symbolic link is written\n"
+        "                         through to its target\n"
         "  --mode M               spectral mode (default ml; 'specmip modes' lists them):\n",
         MAX_OUTPUTS);
     spm_modes_help(f, 27);
@@ -51,7 +51,9 @@ static void usage(FILE *f)
         "  --progress             progress line on stderr even when it is not a terminal\n"
         "  --quiet                no progress line\n"
         "  --verbose              print the pretest's level table\n"
-        "Ctrl-C (or SIGTERM) ends the current pass, writes the image so far and exits 130.\n",
+        "Ctrl-C (or SIGTERM) stops within a batch of paths, writes the image of the passes done\n"
+        "and exits 130 (nothing is written when no pass is done); a second Ctrl-C exits at once\n"
+        "without writing. Existing outputs are replaced only by complete images.\n",
         SPM_SCENE_MAX_SPP, SPM_SCENE_MAX_SIDE);
 }
 
@@ -200,18 +202,22 @@ int spm_cmd_render(int argc, char **argv)
     }
     spm_error err;
     err.msg[0] = 0;
+    /* from here on a signal is acted on (interrupt.h), until the outputs are written */
+    spm_catch_interrupts();
     /* an output we cannot write is reported before any work, not after */
-    for (int i = 0; i < nout; i++)
-        if (spm_output_check(outputs[i], &err)) {
-            fprintf(stderr, "specmip render: %s\n", err.msg);
-            return SPM_EXIT_INPUT;
-        }
+    if (spm_output_check_all(outputs, nout, &err)) {
+        fprintf(stderr, "specmip render: %s\n", err.msg);
+        spm_release_interrupts();
+        return SPM_EXIT_INPUT;
+    }
 
     spm_render_setup s;
     int rc = spm_render_setup_open(&cfg, &s, &err);
     if (rc) {
-        fprintf(stderr, "specmip render: %s\n", err.msg);
+        fprintf(stderr, "specmip render: %s%s\n", err.msg,
+                rc == SPM_EXIT_INTERRUPTED ? "; nothing rendered, no image written" : "");
         spm_render_setup_close(&s);
+        spm_release_interrupts();
         return rc;
     }
     int spp = spm_render_spp(&cfg, &s.scene);
@@ -220,41 +226,51 @@ int spm_cmd_render(int argc, char **argv)
     if (spm_film_init(&film, s.scene.width, s.scene.height, &err)) {
         fprintf(stderr, "specmip render: %s\n", err.msg);
         spm_render_setup_close(&s);
+        spm_release_interrupts();
         return SPM_EXIT_INPUT;
     }
     spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), &spm_stop_flag, progress};
     spm_run_result res;
-    spm_catch_interrupts();
     double t0 = spm_now();
     rc = spm_render_run(s.b, s.nb, npix, &ro, &film, &res, &err);
     s.times.render_s = spm_now() - t0;
-    spm_release_interrupts();
     if (rc) {
-        fprintf(stderr, "specmip render: %s\n", err.msg);
+        /* the render is not what was asked for: existing outputs stay */
+        fprintf(stderr, "specmip render: %s; no image written\n", err.msg);
         rc = SPM_EXIT_RUNTIME;
-    }
-    spm_render_warn_dropped(&res, &film);
-    /* whatever converged is written, also after an interruption or a lost device */
-    spm_render_meta meta;
-    spm_render_meta_make(&cfg, &s, &res, s.times.render_s, &meta);
-    t0 = spm_now();
-    if (res.spp_done > 0)
+    } else if (res.interrupted && res.spp_done == 0) {
+        fprintf(stderr, "specmip render: interrupted in the first pass (of %d samples per pixel); "
+                        "nothing rendered, no image written\n", (int)ro.spp_per_pass);
+        rc = SPM_EXIT_INTERRUPTED;
+    } else {
+        spm_render_warn_dropped(&res, &film);
+        /* the image so far after an interruption; a signal now is acted on
+         * after the writes (an image write cannot be interrupted) */
+        spm_render_meta meta;
+        spm_render_meta_make(&cfg, &s, &res, s.times.render_s, &meta);
+        t0 = spm_now();
         for (int i = 0; i < nout; i++)
             if (spm_output_write_film_attrs(outputs[i], &film, &tm, meta.a, meta.n, &err)) {
                 fprintf(stderr, "specmip render: %s\n", err.msg);
                 rc = SPM_EXIT_RUNTIME;
             }
-    s.times.output_s = spm_now() - t0;
+        s.times.output_s = spm_now() - t0;
+        if (!rc && res.interrupted) {
+            fprintf(stderr, "specmip render: interrupted after %d of %d samples per pixel; "
+                            "image written\n", res.spp_done, spp);
+            rc = SPM_EXIT_INTERRUPTED;
+        } else if (!rc && spm_stop_requested()) {
+            fprintf(stderr, "specmip render: interrupted once the render was done; the "
+                            "complete image was written\n");
+            rc = SPM_EXIT_INTERRUPTED;
+        }
+    }
+    spm_release_interrupts();
     /* both: the JSON keeps stdout to itself, the text goes to stderr */
     if (json)
         spm_render_stats_json(stdout, &cfg, &s, &res);
     if (stats)
         spm_render_stats_text(json ? stderr : stdout, &cfg, &s, &res);
-    if (!rc && res.interrupted) {
-        fprintf(stderr, "specmip render: interrupted after %d of %d samples per pixel; image written\n",
-                res.spp_done, spp);
-        rc = SPM_EXIT_INTERRUPTED;
-    }
     spm_film_free(&film);
     spm_render_setup_close(&s);
     return rc;

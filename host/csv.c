@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include "interrupt.h"
 
 static char *trim(char *s)
 {
@@ -178,6 +179,12 @@ int spm_csv_load(const char *path, spm_csv *out, spm_error *err)
     int lineno = 0, rc = 0, got;
     while ((got = read_line(fp, line)) != LINE_EOF) {
         lineno++;
+        spm_test_pause("csv");
+        if (spm_stop_requested()) {
+            spm_errorf(err, "interrupted while loading %s (line %d)", path, lineno);
+            rc = 1;
+            break;
+        }
         if (got != LINE_OK) {
             spm_errorf(err, "%s:%d: %s", path, lineno,
                        got == LINE_NUL ? "NUL byte in a text line (binary data?)"

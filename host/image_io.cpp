@@ -15,7 +15,10 @@
 
 extern "C" {
 #include "colour.h"
+#include "interrupt.h"
 }
+#include <climits>
+#include <sys/stat.h>
 
 using OIIO::ImageInput;
 using OIIO::ImageOutput;
@@ -78,28 +81,79 @@ extern "C" int spm_image_can_write(const char *path)
     return out != nullptr;
 }
 
-// A fresh, exclusively created file next to `path`, keeping its extension (some
-// writers look at it): dir/.base.spmtmp-PID-N.ext
-static std::string make_temp(const std::string &path, int *errnum)
+static std::string dir_of(const std::string &p)
 {
-    size_t slash = path.rfind('/');
-    std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-    std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+    size_t slash = p.rfind('/');
+    return slash == std::string::npos ? "." : slash == 0 ? "/" : p.substr(0, slash);
+}
+
+static std::string base_of(const std::string &p)
+{
+    size_t slash = p.rfind('/');
+    return slash == std::string::npos ? p : p.substr(slash + 1);
+}
+
+extern "C" char *spm_image_target(const char *path, spm_error *err)
+{
+    std::string t = path;
+    for (int hops = 0;; hops++) {
+        struct stat st;
+        if (lstat(t.c_str(), &st) != 0 || !S_ISLNK(st.st_mode))
+            break;
+        if (hops == 40) {
+            spm_errorf(err, "%s: too many levels of symbolic links", path);
+            return nullptr;
+        }
+        std::vector<char> buf((size_t)st.st_size + PATH_MAX + 1);
+        ssize_t n = readlink(t.c_str(), buf.data(), buf.size() - 1);
+        if (n < 0) {
+            spm_errorf(err, "%s: cannot read the symbolic link: %s", path, strerror(errno));
+            return nullptr;
+        }
+        std::string link(buf.data(), (size_t)n);
+        t = link[0] == '/' ? link : dir_of(t) + "/" + link;
+    }
+    std::string dir = dir_of(t), base = base_of(t);
+    char *real = realpath(dir.c_str(), nullptr);
+    if (!real) {
+        if (t == path)
+            spm_errorf(err, "%s: output directory '%s' does not exist", path, dir.c_str());
+        else
+            spm_errorf(err, "%s: symbolic link to '%s', whose directory does not exist", path,
+                       t.c_str());
+        return nullptr;
+    }
+    std::string out = std::string(real) + (real[1] ? "/" : "") + base;
+    free(real);
+    return spm_xstrdup(out.c_str());
+}
+
+// A fresh, exclusively created file next to `target`, with the extension `ext`
+// (some writers look at it): dir/.base.spmtmp-PID-N.ext. Registered as a
+// temporary file (interrupt.h) in *slot from before it exists.
+static std::string make_temp(const std::string &target, const std::string &ext, int *slot,
+                             int *errnum)
+{
+    std::string dir = dir_of(target), base = base_of(target);
     size_t dot = base.rfind('.');
-    std::string ext = dot == std::string::npos ? "" : base.substr(dot);
-    std::string stem = dot == std::string::npos ? base : base.substr(0, dot);
+    std::string stem = dot == std::string::npos || dot == 0 ? base : base.substr(0, dot);
     for (int n = 0; n < 100; n++) {
-        std::string tmp = dir + "." + stem + ".spmtmp-" + std::to_string((long)getpid()) + "-" +
+        std::string tmp = dir + "/." + stem + ".spmtmp-" + std::to_string((long)getpid()) + "-" +
                           std::to_string(n) + ext;
+        *slot = spm_temp_register(tmp.c_str());
         int fd = open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
         if (fd >= 0) {
             close(fd);
             return tmp;
         }
-        if (errno != EEXIST)
-            break;
+        int e = errno;
+        spm_temp_unregister(*slot);
+        if (e != EEXIST) {
+            *errnum = e;
+            return "";
+        }
     }
-    *errnum = errno;
+    *errnum = EEXIST;
     return "";
 }
 
@@ -158,21 +212,34 @@ extern "C" int spm_image_write_attrs(const char *path, int width, int height, co
         spec.attribute("chromaticities", TypeDesc(TypeDesc::FLOAT, 8), srgb_chroma);
     }
     put_attrs(spec, out->format_name(), attrs, nattrs);
-    int errnum = 0;
-    std::string tmp = make_temp(path, &errnum);
+    char *target = spm_image_target(path, err);
+    if (!target)
+        return 1;
+    std::string base = base_of(path);
+    size_t dot = base.rfind('.');
+    int errnum = 0, slot = -1;
+    std::string tmp = make_temp(target, dot == std::string::npos ? "" : base.substr(dot), &slot,
+                                &errnum);
     if (tmp.empty()) {
-        spm_errorf(err, "%s: cannot create a temporary file next to it: %s", path, strerror(errnum));
+        spm_errorf(err, "%s: cannot create a temporary file next to %s: %s", path, target,
+                   strerror(errnum));
+        free(target);
         return 1;
     }
-    bool ok = out->open(tmp, spec) && out->write_image(td, pixels);
+    bool ok = out->open(tmp, spec);
+    spm_test_pause("write");
+    ok = ok && out->write_image(td, pixels);
     ok = out->close() && ok;
     std::string why = out->geterror();
-    if (ok && rename(tmp.c_str(), path) != 0) {
+    if (ok && rename(tmp.c_str(), target) != 0) {
         why = std::string("rename: ") + strerror(errno);
         ok = false;
     }
-    if (!ok) {
+    if (!ok)
         unlink(tmp.c_str());
+    spm_temp_unregister(slot);
+    free(target);
+    if (!ok) {
         spm_errorf(err, "%s: cannot write image: %s", path, why.empty() ? "write failed" : why.c_str());
         return 1;
     }

@@ -27,7 +27,10 @@ void spm_image_free(spm_image *img);
  * char[3*w*h] of already display-encoded values. The format follows the extension.
  * The data go to a new temporary file in the same directory, which is renamed over
  * `path` only once complete: a failed write leaves an existing file untouched and
- * no temporary behind. Returns 0, or fills err naming the file. */
+ * no temporary behind, and so does a second interruption (interrupt.h). A path
+ * that is a symbolic link is written through: the link stays, and its target
+ * (spm_image_target) is replaced the same way, the temporary file being made
+ * in the target's directory. Returns 0, or fills err naming the file. */
 int spm_image_write(const char *path, int width, int height, const void *pixels,
                     spm_pixel_type type, spm_error *err);
 
@@ -47,6 +50,13 @@ typedef struct {
 int spm_image_write_attrs(const char *path, int width, int height, const void *pixels,
                           spm_pixel_type type, const spm_image_attr *attrs, int nattrs,
                           spm_error *err);
+
+/* The file writing `path` replaces: path itself, or the file its symbolic
+ * link(s) lead to (for a dangling link, the file it names), as an absolute
+ * path whose directory part is free of links and "."/"..", so that two
+ * spellings of one file give the same string. Its directory must exist.
+ * Malloc'd; NULL with err filled. */
+char *spm_image_target(const char *path, spm_error *err);
 
 /* 1 if OIIO has a writer for this file name's extension. */
 int spm_image_can_write(const char *path);

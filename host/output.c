@@ -10,6 +10,7 @@
 #include <unistd.h>
 #include "colour.h"
 #include "image_io.h"
+#include "interrupt.h"
 
 typedef enum { OUT_UNKNOWN, OUT_FLOAT, OUT_DISPLAY } out_kind;
 
@@ -34,28 +35,34 @@ static out_kind kind_of(const char *path)
 
 int spm_output_check(const char *path, spm_error *err)
 {
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
     if (kind_of(path) == OUT_UNKNOWN) {
         spm_errorf(err, "%s: unknown output format (use .exr, .tif, .png or .ppm)", path);
         return 1;
     }
-    struct stat st;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
-        spm_errorf(err, "%s: is a directory", path);
+    if (strrchr(base, '.') == base) {
+        spm_errorf(err, "%s: no file name before the extension", path);
         return 1;
     }
-    const char *slash = strrchr(path, '/');
-    char *dir = slash ? spm_xstrdup(path) : spm_xstrdup(".");
-    if (slash)
-        dir[slash == path ? 1 : slash - path] = '\0';
+    char *target = spm_image_target(path, err);
+    if (!target)
+        return 1;
     int rc = 0;
-    if (stat(dir, &st) != 0) {
-        spm_errorf(err, "%s: output directory '%s' does not exist", path, dir);
+    struct stat st;
+    const char *tslash = strrchr(target, '/');
+    char *dir = spm_xstrdup(target);
+    dir[tslash == target ? 1 : tslash - target] = '\0';
+    const char *link = strcmp(path, target) ? " (where the symbolic link leads)" : "";
+    if (stat(target, &st) == 0 && S_ISDIR(st.st_mode)) {
+        spm_errorf(err, "%s: is a directory%s", path, link);
         rc = 1;
-    } else if (!S_ISDIR(st.st_mode)) {
-        spm_errorf(err, "%s: '%s' is not a directory", path, dir);
+    } else if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        spm_errorf(err, "%s: '%s'%s is not a directory", path, dir, link);
         rc = 1;
     } else if (access(dir, W_OK | X_OK) != 0) {
-        spm_errorf(err, "%s: output directory '%s' is not writable: %s", path, dir, strerror(errno));
+        spm_errorf(err, "%s: output directory '%s'%s is not writable: %s", path, dir, link,
+                   strerror(errno));
         rc = 1;
     } else {
         /* access() says yes to root everywhere (/proc, /sys, read-only mounts):
@@ -63,17 +70,43 @@ int spm_output_check(const char *path, spm_error *err)
         size_t n = strlen(dir) + 64;
         char *probe = spm_xmalloc(n);
         snprintf(probe, n, "%s/.specmip-probe-%ld", dir, (long)getpid());
+        int slot = spm_temp_register(probe);
         int fd = open(probe, O_WRONLY | O_CREAT | O_EXCL, 0600);
         if (fd < 0) {
-            spm_errorf(err, "%s: cannot create files in '%s': %s", path, dir, strerror(errno));
+            spm_errorf(err, "%s: cannot create files in '%s'%s: %s", path, dir, link,
+                       strerror(errno));
             rc = 1;
         } else {
             close(fd);
             unlink(probe);
         }
+        spm_temp_unregister(slot);
         free(probe);
     }
     free(dir);
+    free(target);
+    return rc;
+}
+
+int spm_output_check_all(const char *const *paths, int n, spm_error *err)
+{
+    char **t = spm_xcalloc((size_t)n + 1, sizeof *t);
+    int rc = 0;
+    for (int i = 0; i < n && !rc; i++) {
+        rc = spm_output_check(paths[i], err) || !(t[i] = spm_image_target(paths[i], err));
+        for (int j = 0; j < i && !rc; j++)
+            if (!strcmp(t[i], t[j])) {
+                if (!strcmp(paths[i], paths[j]))
+                    spm_errorf(err, "%s: given twice as an output", paths[i]);
+                else
+                    spm_errorf(err, "%s and %s: the same file (%s) given twice as an output",
+                               paths[j], paths[i], t[i]);
+                rc = 1;
+            }
+    }
+    for (int i = 0; i < n; i++)
+        free(t[i]);
+    free(t);
     return rc;
 }
 

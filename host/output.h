@@ -2,7 +2,8 @@
  *   .exr .tif .tiff  float32 linear light, sRGB primaries (D65), negative values kept
  *   .png .ppm        tone-mapped 8-bit sRGB (tonemap.h)
  * (OIIO 2.4 reads PFM but has no PFM writer.)
- * Files are written to a temporary name and renamed (image_io.h). */
+ * Files are written to a temporary name and renamed (image_io.h); a symbolic
+ * link is written through to its target. */
 #ifndef SPM_OUTPUT_H
 #define SPM_OUTPUT_H
 #include "film.h"
@@ -10,9 +11,13 @@
 #include "tonemap.h"
 #include "util.h"
 
-/* Call before rendering: the extension is one of the above, the path is not a
- * directory, and its directory exists and is writable. 0, or fills err. */
+/* Call before rendering: the extension is one of the above with a name before
+ * it, the path (or where its symbolic link leads) is not a directory, and its
+ * directory exists and is writable. 0, or fills err. */
 int spm_output_check(const char *path, spm_error *err);
+/* spm_output_check for each, and no file twice, however spelt (./a.png and
+ * a.png, a link and its target). 0, or fills err. */
+int spm_output_check_all(const char *const *paths, int n, spm_error *err);
 
 /* Writes xyz[3*w*h] (CIE XYZ, rows top to bottom); tm is used by display formats
  * only (NULL: spm_tonemap_default). 0, or fills err. */

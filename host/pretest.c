@@ -3,6 +3,7 @@
  * after normalising both products to Y = 50 against a D65 white of Y = 100. */
 #include "pretest.h"
 #include "colour.h"
+#include "interrupt.h"
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -198,22 +199,28 @@ static void run_one(const spm_spectrum *s, const spm_spectrum *sharp, int self, 
     res->level = res->level_k[SPM_PRETEST_KMAX - 1];
 }
 
-void spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
-                     spm_pretest_result *results)
+int spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
+                    spm_pretest_result *results)
 {
-    spm_pretest_run_sharp(spectra, NULL, n, o, results);
+    return spm_pretest_run_sharp(spectra, NULL, n, o, results);
 }
 
-void spm_pretest_run_sharp(const spm_spectrum *const *spectra, const spm_spectrum *const *sharp,
-                           int n, const spm_pretest_opts *o, spm_pretest_result *results)
+int spm_pretest_run_sharp(const spm_spectrum *const *spectra, const spm_spectrum *const *sharp,
+                          int n, const spm_pretest_opts *o, spm_pretest_result *results)
 {
     set_t set;
     split_set(spectra, sharp, n, &set);
-    for (int i = 0; i < n; i++)
+    int i = 0;
+    for (; i < n; i++) {
+        spm_test_pause("pretest");
+        if (spm_stop_requested())
+            break;
         run_one(spectra[i], sharp ? sharp[i] : NULL, i, &set, o, &results[i]);
+    }
     free(set.lights);
     free(set.refl);
     free(set.refl_index);
+    return i;
 }
 
 void spm_pretest_print(FILE *f, const char *const *names, const spm_pretest_result *r, int n,

@@ -26,15 +26,17 @@ typedef struct {
 void spm_pretest_defaults(spm_pretest_opts *o);
 /* spectra[0..n-1]: the set (reflectances and emissions); lights are the set's
  * emissions (if it has none, an equal-energy light stands in). Deterministic
- * for a given seed. results[i] belongs to spectra[i]. */
-void spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
-                     spm_pretest_result *results);
+ * for a given seed. results[i] belongs to spectra[i]. Returns the number of
+ * spectra done: n, or fewer when an interruption (spm_stop_requested) ended
+ * the run early, the results not reached left as they were. */
+int spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
+                    spm_pretest_result *results);
 /* The same where spectra[i] is only the part to be sampled at each level and
  * sharp[i] (NULL, or sharp itself NULL: nothing) a part kept at level-0
  * resolution at every level: the Composite Model's spikes, which ride in their
  * own lanes, so only the smooth remainder answers for the level. */
-void spm_pretest_run_sharp(const spm_spectrum *const *spectra, const spm_spectrum *const *sharp,
-                           int n, const spm_pretest_opts *o, spm_pretest_result *results);
+int spm_pretest_run_sharp(const spm_spectrum *const *spectra, const spm_spectrum *const *sharp,
+                          int n, const spm_pretest_opts *o, spm_pretest_result *results);
 /* Print the decision table (one row per spectrum and level) to f. */
 #include <stdio.h>
 void spm_pretest_print(FILE *f, const char *const *names, const spm_pretest_result *r, int n,

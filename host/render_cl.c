@@ -223,6 +223,9 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
     for (size_t p0 = 0; !rc && p0 < r->npix; p0 += bpix) {
         batch b = spm_clr_batch_at(r, first_sample, spp, p0, bpix);
         rc = pass_batch(r, &b, &pass_xyz[3 * p0], st, err);
+        /* pass_batch has waited for the batch: nothing is left in the queue */
+        if (!rc && p0 + b.npix < r->npix && spm_pass_batch_end(r->ctl, (p0 + b.npix) * spp))
+            return SPM_PASS_STOPPED;
     }
     spm_u32 counters[SPM_NCOUNTERS];
     rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->counters, CL_TRUE, 0,
@@ -246,7 +249,11 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
 static int backend_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                         spm_pass_stats *st, spm_error *err)
 {
-    return spm_cl_pass(b->impl, first_sample, spp, pass_xyz, st, err);
+    spm_cl_renderer *r = b->impl;
+    r->ctl = &b->ctl;
+    int rc = spm_cl_pass(r, first_sample, spp, pass_xyz, st, err);
+    r->ctl = NULL;
+    return rc;
 }
 
 static void backend_destroy(spm_backend *b)

@@ -36,7 +36,8 @@ const spm_cl_device *spm_cl_renderer_device(const spm_cl_renderer *r);
  * Stats are ADDED to *st: stage times from event profiling (trace, shade,
  * accumulate; the host's bucketing counts as shade), paths, paths per level by
  * set-by (level 0 in modes without levels), truncated paths, non-finite
- * samples left out. */
+ * samples left out. As a backend (spm_backend_cl_create) a pass may end early
+ * at a batch boundary (backend.h: SPM_PASS_STOPPED). */
 int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                 spm_pass_stats *st, spm_error *err);
 

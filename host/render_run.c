@@ -29,6 +29,7 @@ typedef struct {
     float **done;                   /* finished pass images waiting for their turn */
     int alive;                      /* backends that have not failed */
     double started[SPM_MAX_BACKENDS]; /* when each one's pass in flight began; 0: idle */
+    uint64_t live_paths[SPM_MAX_BACKENDS]; /* paths done so far of each one's pass in flight */
     /* fixed */
     int npasses, window, nb;
     spm_backend **b;
@@ -118,16 +119,33 @@ static int take_pass(run_state *s, int idx)
     return s->in_flight > 0 ? TAKE_WAIT : TAKE_NONE;
 }
 
+/* Caller holds mu. Passes in the film, and the share of all paths done,
+ * counting the batches of passes in flight. */
 static void progress_line(run_state *s)
 {
     double dt = spm_now() - s->t0;
     double paths = (double)s->r->total.paths;
+    for (int i = 0; i < s->nb; i++)
+        paths += (double)s->live_paths[i];
+    double all = (double)s->npix * s->o->spp, done = paths < all ? paths / all : 1.0;
     int left = s->npasses - s->next_to_add;
-    double eta = s->next_to_add > 0 ? dt / s->next_to_add * left : 0.0;
-    fprintf(stderr, "\rspecmip: pass %d/%d  %.2f Mpaths/s  ETA %.0f s   ", s->next_to_add,
-            s->npasses, dt > 0 ? paths / dt * 1e-6 : 0.0, eta);
+    double eta = done > 0 ? dt / done * (1.0 - done) : 0.0;
+    fprintf(stderr, "\rspecmip: pass %d/%d  %3.0f%%  %.2f Mpaths/s  ETA %.0f s   ", s->next_to_add,
+            s->npasses, 100.0 * done, dt > 0 ? paths / dt * 1e-6 : 0.0, eta);
     if (left == 0)
         fputc('\n', stderr);
+}
+
+/* A batch of backend a->idx's pass is done (spm_pass_ctl.batch_done). */
+static void batch_done(void *ctx, uint64_t paths)
+{
+    worker_arg *a = ctx;
+    run_state *s = a->s;
+    pthread_mutex_lock(&s->mu);
+    s->live_paths[a->idx] = paths;
+    if (s->o->progress && !(s->o->stop && *s->o->stop)) /* stopping: no line after the notice */
+        progress_line(s);
+    pthread_mutex_unlock(&s->mu);
 }
 
 /* Caller holds mu (or is alone). */
@@ -183,17 +201,22 @@ static void *worker(void *argp)
         memset(&st, 0, sizeof st);
         spm_error err;
         err.msg[0] = 0;
+        b->ctl = (spm_pass_ctl){s->o->stop, batch_done, a};
         double t0 = spm_now();
         int rc = b->pass(b, (spm_u32)pass * s->o->spp_per_pass, pass_spp(s, pass), img, &st, &err);
         double busy = spm_now() - t0;
         pthread_mutex_lock(&s->mu);
         s->in_flight--;
         s->started[a->idx] = 0;
-        s->r->busy_s[a->idx] += busy;
-        if (rc) {
+        s->live_paths[a->idx] = 0;
+        if (rc == SPM_PASS_STOPPED) { /* interrupted: the part done is dropped */
+            free(img);
+        } else if (rc) {
+            s->r->busy_s[a->idx] += busy;
             device_failed(s, a->idx, pass, &err);
             free(img);
         } else {
+            s->r->busy_s[a->idx] += busy;
             spm_pass_stats_add(&s->r->total, &st);
             spm_pass_stats_add(&s->r->per_backend[a->idx], &st);
             s->r->passes_by_backend[a->idx]++;
@@ -205,6 +228,7 @@ static void *worker(void *argp)
         if (rc)
             break;
     }
+    memset(&b->ctl, 0, sizeof b->ctl); /* a points into this render's state */
     return NULL;
 }
 

@@ -16,7 +16,8 @@
 typedef struct {
     int spp;                        /* samples per pixel in all (>= 1) */
     spm_u32 spp_per_pass;           /* samples per pixel in one pass (>= 1) */
-    volatile sig_atomic_t *stop;    /* when set: finish passes in flight, hand out no more */
+    volatile sig_atomic_t *stop;    /* when set: passes in flight end at their next batch
+                                       boundary and are dropped, no more are handed out */
     int progress;                   /* print a progress line on stderr */
 } spm_run_opts;
 

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "cl_resources.h"
 #include "clhost.h"
+#include "interrupt.h"
 
 void spm_render_config_defaults(spm_render_config *c)
 {
@@ -26,6 +27,7 @@ typedef struct {
 static void *open_one(void *arg)
 {
     device_open *d = arg;
+    spm_test_pause("build");
     d->b = (d->c->open_device ? d->c->open_device : spm_backend_cl_create)(d->device, d->plan,
                                                                           &d->err);
     return NULL;
@@ -120,6 +122,22 @@ static int open_devices(const spm_render_config *c, const spm_render_plan *plan,
     return 0;
 }
 
+/* The exit code of a failed preparation step: the steps stop early, with an
+ * error saying so, when interrupted. */
+static int failed(void)
+{
+    return spm_stop_requested() ? SPM_EXIT_INTERRUPTED : SPM_EXIT_INPUT;
+}
+
+/* A signal during a step that cannot be interrupted is acted on right after it. */
+static int interrupted_after(const char *what, spm_error *err)
+{
+    if (!spm_stop_requested())
+        return 0;
+    spm_errorf(err, "interrupted while %s", what);
+    return 1;
+}
+
 int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_error *err)
 {
     memset(s, 0, sizeof *s);
@@ -127,7 +145,7 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
     int rc = c->scene_path ? spm_scene_load(c->scene_path, &s->scene, err)
                            : spm_scene_default(&s->scene, err);
     if (rc)
-        return SPM_EXIT_INPUT;
+        return failed();
     if (c->width > 0)
         s->scene.width = c->width;
     if (c->height > 0)
@@ -138,11 +156,13 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
     double t2 = spm_now();
     s->times.bvh_s = t2 - t1;
     if (rc)
-        return SPM_EXIT_INPUT;
+        return failed();
     rc = spm_tables_build(&s->scene, &c->pretest, &s->tables, err);
     s->times.tables_s = spm_now() - t2;
     if (rc)
-        return SPM_EXIT_INPUT;
+        return failed();
+    if (interrupted_after("preparing the scene", err))
+        return SPM_EXIT_INTERRUPTED;
     if (c->verbose) {
         const char **names = spm_xcalloc((size_t)s->scene.ncolours + 1, sizeof *names);
         for (int i = 0; i < s->scene.ncolours; i++)
@@ -161,6 +181,9 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
         rc = open_devices(c, &s->plan, s, err);
     }
     s->times.kernels_s = spm_now() - t3;
+    if (!rc && interrupted_after("building the OpenCL programs (a build cannot be interrupted)",
+                                 err))
+        return SPM_EXIT_INTERRUPTED;
     return rc;
 }
 

@@ -47,7 +47,9 @@ typedef struct {
 void spm_render_config_defaults(spm_render_config *c);
 /* Samples per pixel: --spp, else the scene's, else 16. */
 int spm_render_spp(const spm_render_config *c, const spm_scene *sc);
-/* Returns 0, or an exit code (2 input error, 1 runtime) with err filled.
+/* Returns 0, or an exit code (2 input error, 1 runtime, 130 interrupted:
+ * loading, BVH build and pretests stop at a signal, a program build is
+ * followed through first) with err filled.
  * Several devices are opened (programs built) concurrently; one that cannot be
  * opened is reported by name on stderr and left out, and only when none is
  * left is that an error. A device index listed twice is an input error. */

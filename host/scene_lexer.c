@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "interrupt.h"
 
 static void advance(spm_lexer *lx)
 {
@@ -74,6 +75,10 @@ static int read_string(spm_lexer *lx, spm_error *err)
 
 int spm_lex_next(spm_lexer *lx, spm_error *err)
 {
+    if (spm_stop_requested()) {
+        spm_errorf(err, "interrupted while loading %s (line %d)", lx->path, lx->line);
+        return 1;
+    }
     for (;;) {
         if (is_space(lx->c)) {
             advance(lx);
@@ -94,6 +99,8 @@ int spm_lex_next(spm_lexer *lx, spm_error *err)
         lx->type = SPM_TOK_EOF;
     } else if (c == '\n' || c == '(' || c == ')') {
         lx->type = c == '\n' ? SPM_TOK_NEWLINE : c == '(' ? SPM_TOK_LPAREN : SPM_TOK_RPAREN;
+        if (c == '\n')
+            spm_test_pause("load");
         lx->text[0] = (char)c;
         lx->text[1] = 0;
         advance(lx);

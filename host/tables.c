@@ -6,6 +6,7 @@
 #include <string.h>
 #include "colour.h"
 #include "csv.h"
+#include "interrupt.h"
 #include "mlc_tables.h"
 
 static void fill_levels(const spm_spectrum *s, int c, spm_tables *t)
@@ -148,14 +149,24 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
     const spm_spectrum **set = spm_xcalloc((size_t)n + 1, sizeof *set);
     for (int c = 0; c < n; c++)
         set[c] = &sc->colours[c].s;
-    spm_pretest_run(set, n, po, t->pretest);
+    int done = spm_pretest_run(set, n, po, t->pretest);
     free(set);
+    if (spm_stop_requested()) {
+        spm_errorf(err, "interrupted during the pretests (%d of %d colours done)", done, n);
+        return 1;
+    }
     t->lvlk = spm_xcalloc((size_t)n * SPM_PRETEST_KMAX + 1, 1);
     for (int c = 0; c < n; c++)
         for (int k = 0; k < SPM_PRETEST_KMAX; k++)
             t->lvlk[(size_t)c * SPM_PRETEST_KMAX + k] = (uint8_t)t->pretest[c].level_k[k];
 
-    return spm_mlc_tables_build(sc, po, t, err);
+    if (spm_mlc_tables_build(sc, po, t, err))
+        return 1;
+    if (spm_stop_requested()) {
+        spm_errorf(err, "interrupted during the Composite Model pretests");
+        return 1;
+    }
+    return 0;
 }
 
 void spm_tables_free(spm_tables *t)

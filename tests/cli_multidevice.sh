@@ -1,8 +1,10 @@
 #!/bin/bash
 # specmip render on several OpenCL devices (PoCL's POCL_DEVICES makes them):
 # the same EXR as one device (bit for bit for devices of one kind), per-device
-# statistics in which each device did work, an injected device failure (SPECMIP_CL_FAIL) that the others
-# absorb, all devices failing (exit 1, finished passes written), bad --device.
+# statistics in which each device did work, an injected device failure
+# (SPECMIP_CL_FAIL) that the others absorb, all devices failing (exit 1,
+# existing output untouched), bad --device, an interruption stopping both
+# devices inside their passes.
 source "$(dirname "$0")/lib_cli.sh"
 same_exr() { idiff -fail 0 -warn 0 "$1" "$2" > /dev/null; }
 # every_device_worked JSON N: N devices in --json stats, each with passes and paths
@@ -56,12 +58,33 @@ check "json: device 1 failed" test "$(jq '.devices[1].failed' "$T/fail1.json")" 
 check "json: device 0 rendered all 4 passes" test "$(jq -c '[.devices[].passes]' "$T/fail1.json")" = "[4,0]"
 check "one device failing: same EXR" same_exr "$T/one.exr" "$T/fail1.exr"
 
-# The only device fails on its third pass: exit 1, its two passes (12 spp) written.
-SPECMIP_CL_FAIL=0:2 POCL_DEVICES=$BB "$BIN" "${R[@]}" --device 0 -o "$T/dead.exr" 2> "$T/dead.err"
+# The only device fails on its third pass: exit 1, and the render is not what
+# was asked for, so an existing output stays as it was (and none is created).
+echo old > "$T/dead.exr"
+SPECMIP_CL_FAIL=0:2 POCL_DEVICES=$BB "$BIN" "${R[@]}" --device 0 -o "$T/dead.exr" -o "$T/dead.png" \
+    2> "$T/dead.err"
 check "all devices failing: exit 1" test $? -eq 1
-check "all devices failing: says so" grep -q "every device failed; 2 of 4 passes" "$T/dead.err"
-POCL_DEVICES=$BB "$BIN" "${R[@]}" --spp 12 --device 0 -o "$T/half.exr"
-check "all devices failing: finished passes written" same_exr "$T/half.exr" "$T/dead.exr"
+check "all devices failing: says so" grep -q "every device failed; 2 of 4 passes.*no image written" "$T/dead.err"
+check "all devices failing: existing output untouched" test "$(cat "$T/dead.exr")" = old
+check "all devices failing: no new output" test ! -e "$T/dead.png"
+
+# Interrupted with both devices inside a pass (1024x768 at 2 spp: two passes
+# of three batches; the test hook holds each device at its first batch
+# boundary): both stop there, nothing is written.
+echo old > "$T/int.exr"
+SPECMIP_TEST_PAUSE=pass:1,pass:2 POCL_DEVICES=$BB "$BIN" render --width 1024 --height 768 --spp 2 \
+    --device all --quiet -o "$T/int.exr" 2> "$T/int.err" &
+pid=$!
+for ((i = 0; i < 600; i++)); do
+    [ "$(grep -c "test pause at pass" "$T/int.err")" -ge 2 ] && break
+    kill -0 $pid 2> /dev/null || break
+    sleep 0.1
+done
+kill -INT $pid
+wait $pid
+check "two devices interrupted: exit 130" test $? -eq 130
+check "two devices interrupted: nothing written" test "$(cat "$T/int.exr")" = old
+check "two devices interrupted: says so" grep -q "interrupted in the first pass" "$T/int.err"
 
 # Bad --device values: exit 2 with a message, nothing rendered.
 for bad in 0,0 7 0,x 0, ""; do

@@ -1,8 +1,9 @@
 /* The render loop's scheduling with stand-in backends (no OpenCL): whatever
  * the number of devices, their speeds and failures, the film equals the one
  * device film bit for bit; a failed device's pass is rendered by another; when
- * all fail, every finished pass is still in the film; a fast device runs ahead
- * of a slow one only within the window; the end game's decision. */
+ * all fail, every finished pass is still in the film; a stop ends passes in
+ * flight at a batch boundary, dropping them, and is no failure; a fast device
+ * runs ahead of a slow one only within the window; the end game's decision. */
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
@@ -45,9 +46,18 @@ typedef struct {
     int first_delay_us;         /* extra on its first pass */
     int passes;                 /* passes it was handed */
     volatile sig_atomic_t *stop_after; /* set this flag after the device's second pass */
+    int batches;                /* > 0: a pass is this many batches, with spm_pass_batch_end
+                                   between them (stop_after then stops the third pass
+                                   after its first batch) */
+    int batch_calls;            /* batch ends the render loop was told of (ctl.batch_done set) */
     int done_first[NPASSES];    /* first samples of the passes it finished */
     int ndone;
+    int meet;                   /* > 0: its first pass waits (up to 2 s) until this many
+                                   devices have begun one, so that the test does not hang on
+                                   which thread the system happens to start first */
 } fake;
+
+static int met;                 /* devices that have begun their first pass (meet) */
 
 static volatile int slow_busy;  /* the window test: the slow device is in its first pass */
 static int fast_while_slow;     /* passes another device finished meanwhile */
@@ -61,6 +71,11 @@ static int fake_pass(spm_backend *b, spm_u32 first, spm_u32 spp, float *img, spm
         spm_errorf(err, "injected failure");
         return 1;
     }
+    if (n == 0 && f->meet) {
+        __atomic_add_fetch(&met, 1, __ATOMIC_SEQ_CST);
+        for (int t = 0; t < 2000 && __atomic_load_n(&met, __ATOMIC_SEQ_CST) < f->meet; t++)
+            usleep(1000);
+    }
     if (n == 0 && f->first_delay_us) {
         __atomic_store_n(&slow_busy, 1, __ATOMIC_SEQ_CST);
         usleep((useconds_t)f->first_delay_us);
@@ -69,10 +84,17 @@ static int fake_pass(spm_backend *b, spm_u32 first, spm_u32 spp, float *img, spm
         __atomic_add_fetch(&fast_while_slow, 1, __ATOMIC_SEQ_CST);
     }
     usleep((useconds_t)f->delay_us);
+    for (int k = 1; k < f->batches; k++) {
+        if (f->stop_after && f->ndone == 2)
+            *f->stop_after = 1;
+        f->batch_calls += b->ctl.batch_done != NULL;
+        if (spm_pass_batch_end(&b->ctl, (uint64_t)k * NPIX * spp / (unsigned)f->batches))
+            return SPM_PASS_STOPPED;
+    }
     pass_image(first, spp, img);
     st->paths += (uint64_t)NPIX * spp;
     f->done_first[f->ndone++] = (int)first;
-    if (f->stop_after && f->ndone == 2)
+    if (f->stop_after && f->ndone == 2 && !f->batches)
         *f->stop_after = 1;
     return 0;
 }
@@ -135,6 +157,9 @@ static void splits(const spm_film *ref)
     make(&b[0], &f[0], 300, -1);
     make(&b[1], &f[1], 1000, -1);
     make(&b[2], &f[2], 0, -1);
+    met = 0;
+    for (int i = 0; i < 3; i++)
+        f[i].meet = 3;
     int rc = run(b, 3, NULL, 0, &film, &r, &err);
     CHECK(rc == 0, "3 devices: %s", err.msg);
     CHECK(same_film(ref, &film), "3 devices: film differs from one device's");
@@ -143,8 +168,9 @@ static void splits(const spm_film *ref)
     CHECK(r.total.paths == (uint64_t)NPIX * SPP && r.spp_done == SPP && r.passes_in_film == NPASSES,
           "paths %llu, spp %d", (unsigned long long)r.total.paths, r.spp_done);
     CHECK(!r.failed[0] && !r.failed[1] && !r.failed[2] && !r.interrupted, "no failure flagged");
-    /* each device takes a pass before it has a time estimate, so each works,
-     * and the result reports what each one rendered */
+    /* a device that asks for a pass before it has a time estimate gets one
+     * (the first passes wait for each other, so every device has asked), and
+     * the result reports what each one rendered */
     for (int i = 0; i < 3; i++) {
         uint64_t paths = 0;
         for (int j = 0; j < f[i].ndone; j++) {
@@ -210,7 +236,45 @@ static void all_fail(void)
     spm_film_free(&want);
 }
 
-/* Stopping: passes in flight finish, no more are handed out, no error. */
+/* A stop inside a pass: the pass ends at its next batch boundary and is
+ * dropped; the device is not taken for failed; the film is the passes done. */
+static void stopped_in_pass(void)
+{
+    for (int nb = 1; nb <= 2; nb++) {
+        spm_backend b[2];
+        fake f[2];
+        spm_film film, want;
+        spm_run_result r;
+        spm_error err;
+        volatile sig_atomic_t stop = 0;
+        for (int i = 0; i < nb; i++) {
+            make(&b[i], &f[i], 1000, -1);
+            f[i].batches = 4;
+        }
+        f[0].stop_after = &stop;
+        int rc = run(b, nb, &stop, 0, &film, &r, &err);
+        CHECK(rc == 0 && r.interrupted, "%d devices, stop in a pass: rc %d interrupted %d (%s)", nb,
+              rc, r.interrupted, rc ? err.msg : "");
+        CHECK(!r.failed[0] && !r.failed[1], "a stopped pass taken for a failure");
+        CHECK(f[0].passes == 3, "device 0 was handed %d passes (2 done, 1 stopped)", f[0].passes);
+        CHECK(f[0].batch_calls > 0, "the render loop did not follow the batches");
+        CHECK(!b[0].ctl.batch_done && !b[0].ctl.ctx, "the backend keeps the loop's callback");
+        int marked[SPP] = {0}, done = 0;
+        for (int k = 0; k < nb; k++)
+            for (int i = 0; i < f[k].ndone; i++, done++)
+                marked[f[k].done_first[i]] = 1;
+        /* never the last, shorter pass here */
+        CHECK(r.passes_in_film == done && r.spp_done == done * SPP_PER_PASS,
+              "%d passes, %d spp in the film; %d passes done", r.passes_in_film, r.spp_done, done);
+        film_of(marked, &want);
+        CHECK(same_film(&want, &film), "film is not the passes done");
+        spm_film_free(&film);
+        spm_film_free(&want);
+    }
+}
+
+/* Stopping with passes that have no batch boundary: passes in flight finish,
+ * no more are handed out, no error. */
 static void stopped(void)
 {
     spm_backend b[2];
@@ -314,6 +378,7 @@ int main(void)
     splits(&ref);
     all_fail();
     stopped();
+    stopped_in_pass();
     window(&ref);
     end_game();
     arguments();

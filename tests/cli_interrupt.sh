@@ -1,0 +1,131 @@
+#!/usr/bin/env bash
+# Ctrl-C / SIGTERM at each moment of a render on the CPU reference (no OpenCL,
+# so the sanitizer build runs it too): while the scene, a CSV spectrum, the BVH
+# and the pretests are being prepared, inside a pass, and while the images are
+# written; a second signal. The test hook SPECMIP_TEST_PAUSE (host/interrupt.h)
+# holds the program at a named stage until the signal arrives. Each time: exit
+# 130 well within the bound below, the message names the moment, existing
+# outputs are replaced by complete images only, and no temporary file is left.
+source "$(dirname "$0")/lib_cli.sh"
+
+# Generous: the machine is shared. The latency measured here is reported on
+# stdout; on a quiet machine it is a few tens of milliseconds.
+BOUND=5
+same_img() { idiff -fail 0 -warn 0 "$1" "$2" > /dev/null; }
+no_temps() { [ -z "$(find "$@" -name '*spmtmp*' -o -name '.specmip-probe*')" ]; }
+is_old() { [ "$(cat "$1")" = old ]; }
+is_png() { head -c 4 "$1" | grep -q PNG; }
+
+# paused PAUSE NSIG SIG ARGS...: renders ARGS with SPECMIP_TEST_PAUSE=PAUSE,
+# sending SIG each of the first NSIG times the program says it has paused.
+# Sets rc (its exit status) and lat (seconds from the last signal to its exit).
+paused() {
+    local pause=$1 nsig=$2 sig=$3 k i t0
+    shift 3
+    : > "$T/err"
+    SPECMIP_TEST_PAUSE=$pause "$BIN" render "$@" > "$T/out" 2> "$T/err" &
+    local pid=$!
+    t0=$(date +%s.%N)
+    for ((k = 1; k <= nsig; k++)); do
+        for ((i = 0; i < 600; i++)); do
+            [ "$(grep -c 'test pause at' "$T/err")" -ge "$k" ] && break
+            kill -0 $pid 2> /dev/null || break
+            sleep 0.1
+        done
+        t0=$(date +%s.%N)
+        kill -"$sig" $pid 2> /dev/null
+    done
+    wait $pid
+    rc=$?
+    lat=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.3f", b - a }')
+    echo "  $pause ($nsig x SIG$sig): exit $rc after $lat s"
+}
+in_time() { awk -v l="$lat" -v b="$BOUND" 'BEGIN { exit !(l < b) }'; }
+said() { grep -q "$1" "$T/err" || { echo "  stderr: $(tr '\r' '\n' < "$T/err" | tail -3)"; false; }; }
+
+SMALL=(--backend cpu --spp 2 --width 32 --height 32 --quiet)
+# 256x512 at 1 spp per pass: two CPU batches (2^16 paths) a pass, two passes.
+TWO=(--backend cpu --spp 2 --width 256 --height 512 --quiet)
+
+# 1. Before anything is rendered: nothing written, existing output untouched.
+for stage in load:3 csv:2 bvh:2 pretest:2; do
+    echo old > "$T/o.png"
+    sig=INT; [ "$stage" = csv:2 ] && sig=TERM
+    paused "$stage" 1 $sig "${SMALL[@]}" -o "$T/o.png"
+    case $stage in
+    load*) what="interrupted while loading .*cornell.scene (line 4)" ;; # line 3 read
+    csv*) what="interrupted while loading .*\.csv (line 2)" ;;
+    bvh*) what="interrupted while building the BVH" ;;
+    pretest*) what="interrupted during the pretests (1 of [0-9]* colours done)" ;;
+    esac
+    check "$stage: exit 130" test $rc -eq 130
+    check "$stage: within $BOUND s" in_time
+    check "$stage: says where" said "$what"
+    check "$stage: says nothing was written" said "nothing rendered, no image written"
+    check "$stage: existing output untouched" is_old "$T/o.png"
+    check "$stage: no temporary file" no_temps "$T"
+done
+
+# 2. Inside the first pass (after its first batch): the pass ends there,
+#    so nothing is rendered and nothing written.
+echo old > "$T/o.png"
+paused pass 1 INT "${TWO[@]}" -o "$T/o.png"
+check "first pass: exit 130" test $rc -eq 130
+check "first pass: within $BOUND s" in_time
+check "first pass: says nothing was written" said "interrupted in the first pass.*no image written"
+check "first pass: existing output untouched" is_old "$T/o.png"
+
+# 3. Inside the second pass: the image of the first pass, as a 1-spp render
+#    gives it (the half-done second pass is dropped), in both outputs.
+"$BIN" render "${TWO[@]}" --spp 1 -o "$T/one.exr"
+echo old > "$T/o.png"
+echo old > "$T/o.exr"
+paused pass:2 1 INT "${TWO[@]}" -o "$T/o.png" -o "$T/o.exr"
+check "second pass: exit 130" test $rc -eq 130
+check "second pass: within $BOUND s" in_time
+check "second pass: says so" said "interrupted after 1 of 2 samples per pixel; image written"
+check "second pass: the first pass's image" same_img "$T/one.exr" "$T/o.exr"
+check "second pass: PNG written" is_png "$T/o.png"
+check "second pass: no temporary file" no_temps "$T"
+
+# 4. A second signal, while the first is being acted on (the image of the
+#    first pass is being written): exit at once, old outputs untouched, the
+#    temporary file of the write in progress removed.
+echo old > "$T/o.png"
+echo old > "$T/o.exr"
+paused pass:2,write 2 INT "${TWO[@]}" -o "$T/o.png" -o "$T/o.exr"
+check "second signal: exit 130" test $rc -eq 130
+check "second signal: within $BOUND s" in_time
+check "second signal: says so" said "interrupted again"
+check "second signal: first output untouched" is_old "$T/o.png"
+check "second signal: second output untouched" is_old "$T/o.exr"
+check "second signal: no temporary file" no_temps "$T"
+
+# ... during the second output's write: the first is complete, the second old.
+echo old > "$T/o.png"
+echo old > "$T/o.exr"
+paused pass:2,write:2 2 TERM "${TWO[@]}" -o "$T/o.exr" -o "$T/o.png"
+check "second signal, second write: exit 130" test $rc -eq 130
+check "second signal, second write: first output complete" same_img "$T/one.exr" "$T/o.exr"
+check "second signal, second write: second untouched" is_old "$T/o.png"
+check "second signal, second write: no temporary file" no_temps "$T"
+
+# 5. One signal while the finished render is written: every output is
+#    written complete (an image write is not interrupted), then exit 130.
+"$BIN" render "${SMALL[@]}" -o "$T/full.exr"
+echo old > "$T/o.png"
+echo old > "$T/o.exr"
+paused write 1 INT "${SMALL[@]}" -o "$T/o.exr" -o "$T/o.png"
+check "signal during a write: exit 130" test $rc -eq 130
+check "signal during a write: says so" said "interrupted once the render was done; the complete image was written"
+check "signal during a write: first output complete" same_img "$T/full.exr" "$T/o.exr"
+check "signal during a write: second output written" is_png "$T/o.png"
+check "signal during a write: no temporary file" no_temps "$T"
+
+# 6. Without the hook: the test pause does nothing unless asked for, and a
+#    render left alone exits 0.
+"$BIN" render "${SMALL[@]}" -o "$T/plain.exr"
+check "no hook: exit 0" test $? -eq 0
+check "no hook: same image" same_img "$T/full.exr" "$T/plain.exr"
+
+finish
