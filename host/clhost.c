@@ -80,6 +80,28 @@ static void fill_device(spm_cl_device *o, int index, int pi, cl_platform_id p, c
                     &o->max_work_group, NULL);
 }
 
+typedef struct {
+    cl_platform_id id;
+    cl_device_id *devs;
+    cl_uint ndev;
+    int gpu;        /* has a GPU or accelerator */
+    cl_uint order;  /* the loader's */
+    char name[256];
+} platform_entry;
+
+/* GPU/accelerator platforms first, then by name, then the loader's order
+ * (qsort is not stable, so the loader index is the last key). */
+static int platform_cmp(const void *pa, const void *pb)
+{
+    const platform_entry *a = pa, *b = pb;
+    if (a->gpu != b->gpu)
+        return b->gpu - a->gpu;
+    int c = strcmp(a->name, b->name);
+    if (c)
+        return c;
+    return a->order < b->order ? -1 : a->order > b->order;
+}
+
 int spm_cl_devices(spm_cl_device **list, int *n, spm_error *err)
 {
     *list = NULL;
@@ -93,45 +115,76 @@ int spm_cl_devices(spm_cl_device **list, int *n, spm_error *err)
     if (spm_cl_check(rc, "clGetPlatformIDs", err))
         return 1;
     cl_platform_id *plats = spm_xcalloc(np, sizeof *plats);
-    if (spm_cl_check(clGetPlatformIDs(np, plats, NULL), "clGetPlatformIDs", err)) {
-        free(plats);
-        return 1;
-    }
-    int cap = 0;
-    for (cl_uint p = 0; p < np; p++) {
+    platform_entry *pe = spm_xcalloc(np, sizeof *pe);
+    int npe = 0, ok = !spm_cl_check(clGetPlatformIDs(np, plats, NULL), "clGetPlatformIDs", err);
+    for (cl_uint p = 0; ok && p < np; p++) {
         cl_uint nd = 0;
         rc = clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, 0, NULL, &nd);
         if (rc == CL_DEVICE_NOT_FOUND || nd == 0)
             continue;
-        if (spm_cl_check(rc, "clGetDeviceIDs", err))
-            goto fail;
-        cl_device_id *devs = spm_xcalloc(nd, sizeof *devs);
-        rc = clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, nd, devs, NULL);
         if (spm_cl_check(rc, "clGetDeviceIDs", err)) {
-            free(devs);
-            goto fail;
+            ok = 0;
+            break;
         }
-        for (cl_uint d = 0; d < nd; d++) {
+        platform_entry *e = &pe[npe];
+        e->id = plats[p];
+        e->order = p;
+        e->devs = spm_xcalloc(nd, sizeof *e->devs);
+        npe++;
+        rc = clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, nd, e->devs, &e->ndev);
+        if (spm_cl_check(rc, "clGetDeviceIDs", err)) {
+            ok = 0;
+            break;
+        }
+        if (e->ndev > nd)
+            e->ndev = nd;
+        for (cl_uint d = 0; d < e->ndev; d++) {
+            cl_device_type t = 0;
+            clGetDeviceInfo(e->devs[d], CL_DEVICE_TYPE, sizeof t, &t, NULL);
+            e->gpu |= (t & (CL_DEVICE_TYPE_GPU | CL_DEVICE_TYPE_ACCELERATOR)) != 0;
+        }
+        if (clGetPlatformInfo(e->id, CL_PLATFORM_NAME, sizeof e->name, e->name, NULL))
+            snprintf(e->name, sizeof e->name, "?");
+        e->name[sizeof e->name - 1] = 0;
+    }
+    if (ok)
+        qsort(pe, (size_t)npe, sizeof *pe, platform_cmp);
+    int cap = 0;
+    for (int p = 0; ok && p < npe; p++)
+        for (cl_uint d = 0; d < pe[p].ndev; d++) {
             if (*n == cap) {
                 cap = cap ? 2 * cap : 8;
                 *list = spm_xrealloc(*list, (size_t)cap * sizeof **list);
             }
-            fill_device(&(*list)[*n], *n, (int)p, plats[p], devs[d]);
+            fill_device(&(*list)[*n], *n, p, pe[p].id, pe[p].devs[d]);
             (*n)++;
         }
-        free(devs);
-    }
+    for (int p = 0; p < npe; p++)
+        free(pe[p].devs);
+    free(pe);
     free(plats);
-    if (*n == 0) {
+    if (ok && *n == 0) {
         spm_errorf(err, "no OpenCL device found on %u platform(s)", (unsigned)np);
+        ok = 0;
+    }
+    if (!ok) {
+        free(*list);
+        *list = NULL;
+        *n = 0;
         return 1;
     }
     return 0;
-fail:
-    free(plats);
-    free(*list);
-    *list = NULL;
-    *n = 0;
+}
+
+int spm_cl_device_in_all(const spm_cl_device *list, int n, int i)
+{
+    if (i < 0 || i >= n)
+        return 0;
+    if (!(list[i].type & CL_DEVICE_TYPE_CPU))
+        return 1;
+    for (int j = 0; j < i; j++)
+        if ((list[j].type & CL_DEVICE_TYPE_CPU) && list[j].platform_index != list[i].platform_index)
+            return 0;
     return 1;
 }
 
