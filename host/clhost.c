@@ -80,22 +80,29 @@ static void fill_device(spm_cl_device *o, int index, int pi, cl_platform_id p, c
                     &o->max_work_group, NULL);
 }
 
+spm_cl_kind spm_cl_device_kind(cl_device_type t)
+{
+    int gpu = (t & (CL_DEVICE_TYPE_GPU | CL_DEVICE_TYPE_ACCELERATOR)) != 0;
+    int cpu = (t & CL_DEVICE_TYPE_CPU) != 0;
+    return gpu && cpu ? SPM_CL_SIMULATOR : gpu ? SPM_CL_GPU : SPM_CL_CPU;
+}
+
 typedef struct {
     cl_platform_id id;
     cl_device_id *devs;
     cl_uint ndev;
-    int gpu;        /* has a GPU or accelerator */
-    cl_uint order;  /* the loader's */
+    spm_cl_kind kind; /* its devices' first kind */
+    cl_uint order;    /* the loader's */
     char name[256];
 } platform_entry;
 
-/* GPU/accelerator platforms first, then by name, then the loader's order
- * (qsort is not stable, so the loader index is the last key). */
+/* By kind (GPU/accelerator, CPU, simulator), then by name, then the loader's
+ * order (qsort is not stable, so the loader index is the last key). */
 static int platform_cmp(const void *pa, const void *pb)
 {
     const platform_entry *a = pa, *b = pb;
-    if (a->gpu != b->gpu)
-        return b->gpu - a->gpu;
+    if (a->kind != b->kind)
+        return a->kind < b->kind ? -1 : 1;
     int c = strcmp(a->name, b->name);
     if (c)
         return c;
@@ -138,10 +145,12 @@ int spm_cl_devices(spm_cl_device **list, int *n, spm_error *err)
         }
         if (e->ndev > nd)
             e->ndev = nd;
+        e->kind = SPM_CL_SIMULATOR;
         for (cl_uint d = 0; d < e->ndev; d++) {
             cl_device_type t = 0;
             clGetDeviceInfo(e->devs[d], CL_DEVICE_TYPE, sizeof t, &t, NULL);
-            e->gpu |= (t & (CL_DEVICE_TYPE_GPU | CL_DEVICE_TYPE_ACCELERATOR)) != 0;
+            if (spm_cl_device_kind(t) < e->kind)
+                e->kind = spm_cl_device_kind(t);
         }
         if (clGetPlatformInfo(e->id, CL_PLATFORM_NAME, sizeof e->name, e->name, NULL))
             snprintf(e->name, sizeof e->name, "?");
@@ -180,10 +189,18 @@ int spm_cl_device_in_all(const spm_cl_device *list, int n, int i)
 {
     if (i < 0 || i >= n)
         return 0;
-    if (!(list[i].type & CL_DEVICE_TYPE_CPU))
+    spm_cl_kind k = spm_cl_device_kind(list[i].type);
+    if (k == SPM_CL_GPU)
         return 1;
+    if (k == SPM_CL_SIMULATOR) { /* only when nothing else is there (run under oclgrind) */
+        for (int j = 0; j < n; j++)
+            if (spm_cl_device_kind(list[j].type) != SPM_CL_SIMULATOR)
+                return 0;
+        return 1;
+    }
     for (int j = 0; j < i; j++)
-        if ((list[j].type & CL_DEVICE_TYPE_CPU) && list[j].platform_index != list[i].platform_index)
+        if (spm_cl_device_kind(list[j].type) == SPM_CL_CPU &&
+            list[j].platform_index != list[i].platform_index)
             return 0;
     return 1;
 }

@@ -39,6 +39,28 @@ for run in "${RUNS[@]}"; do
     close_images "$name: Oclgrind vs PoCL" "$T/p.exr" "$T/o.exr"
 done
 
+# Registered as an ICD beside PoCL (Debian does not register it), the
+# simulator claims every device type, so the loader lists it first; specmip
+# numbers it after PoCL's CPU device and --device all leaves it out.
+V=$T/vendors
+mkdir "$V"
+cp /etc/OpenCL/vendors/pocl.icd "$V/"
+echo "$(dpkg -L oclgrind | grep -m1 '/liboclgrind-rt-icd\.so$')" > "$V/oclgrind.icd"
+first=$(OCL_ICD_VENDORS=$V clinfo -l | sed -n 's/^Platform #0: //p')
+check "registered: the loader lists Oclgrind first (got '$first'; else this proves nothing)" \
+    test "$first" = Oclgrind
+OCL_ICD_VENDORS=$V "$BIN" devices > "$T/devices.txt"
+check "registered: PoCL is platform 0" grep -q '^platform 0: Portable Computing Language' "$T/devices.txt"
+check "registered: the simulator is device 1" grep -q '^  device 1: Oclgrind Simulator' "$T/devices.txt"
+check "registered: devices says the simulator is not in all" \
+    grep -q 'not in --device all (a simulator)' "$T/devices.txt"
+OCL_ICD_VENDORS=$V "$BIN" render "${R[@]}" --device all --json -o "$T/all.exr" > "$T/all.json"
+check "registered: --device all takes PoCL alone" \
+    jq -e '[.devices[].name] | length == 1 and (.[0] | test("Oclgrind") | not)' "$T/all.json" > /dev/null
+check "under the wrapper: --device all takes the simulator" \
+    test "$("${OG[@]}" "$BIN" render "${R[@]}" --device all --json -o "$T/all.exr" | jq -r '.devices[0].name')" \
+    = "0: Oclgrind Simulator"
+
 # The same check on kernels with one read past the end of a buffer.
 B=$T/broken
 mkdir "$B"
