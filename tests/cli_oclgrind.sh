@@ -4,7 +4,8 @@
 # clean (nothing in Oclgrind's log) and give PoCL's image within the tolerance
 # between two compilers. A kernel with an out-of-range read must be caught,
 # or a clean log would prove nothing. Oclgrind is not an ICD in Debian: the
-# `oclgrind` wrapper preloads it and it is then the only platform.
+# `oclgrind` wrapper preloads it and it is then the only platform; registered
+# as one beside PoCL, it is numbered last and left out of --device all.
 # (--uninitialized is not used: it aborts on LLVM's freeze instruction.)
 source "$(dirname "$0")/lib_cli.sh"
 source "$HERE/lib_platforms.sh"
