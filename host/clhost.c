@@ -80,6 +80,35 @@ static void fill_device(spm_cl_device *o, int index, int pi, cl_platform_id p, c
                     &o->max_work_group, NULL);
 }
 
+spm_cl_kind spm_cl_device_kind(cl_device_type t)
+{
+    int gpu = (t & (CL_DEVICE_TYPE_GPU | CL_DEVICE_TYPE_ACCELERATOR)) != 0;
+    int cpu = (t & CL_DEVICE_TYPE_CPU) != 0;
+    return gpu && cpu ? SPM_CL_SIMULATOR : gpu ? SPM_CL_GPU : SPM_CL_CPU;
+}
+
+typedef struct {
+    cl_platform_id id;
+    cl_device_id *devs;
+    cl_uint ndev;
+    spm_cl_kind kind; /* its devices' first kind */
+    cl_uint order;    /* the loader's */
+    char name[256];
+} platform_entry;
+
+/* By kind (GPU/accelerator, CPU, simulator), then by name, then the loader's
+ * order (qsort is not stable, so the loader index is the last key). */
+static int platform_cmp(const void *pa, const void *pb)
+{
+    const platform_entry *a = pa, *b = pb;
+    if (a->kind != b->kind)
+        return a->kind < b->kind ? -1 : 1;
+    int c = strcmp(a->name, b->name);
+    if (c)
+        return c;
+    return a->order < b->order ? -1 : a->order > b->order;
+}
+
 int spm_cl_devices(spm_cl_device **list, int *n, spm_error *err)
 {
     *list = NULL;
@@ -93,45 +122,86 @@ int spm_cl_devices(spm_cl_device **list, int *n, spm_error *err)
     if (spm_cl_check(rc, "clGetPlatformIDs", err))
         return 1;
     cl_platform_id *plats = spm_xcalloc(np, sizeof *plats);
-    if (spm_cl_check(clGetPlatformIDs(np, plats, NULL), "clGetPlatformIDs", err)) {
-        free(plats);
-        return 1;
-    }
-    int cap = 0;
-    for (cl_uint p = 0; p < np; p++) {
+    platform_entry *pe = spm_xcalloc(np, sizeof *pe);
+    int npe = 0, ok = !spm_cl_check(clGetPlatformIDs(np, plats, NULL), "clGetPlatformIDs", err);
+    for (cl_uint p = 0; ok && p < np; p++) {
         cl_uint nd = 0;
         rc = clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, 0, NULL, &nd);
         if (rc == CL_DEVICE_NOT_FOUND || nd == 0)
             continue;
-        if (spm_cl_check(rc, "clGetDeviceIDs", err))
-            goto fail;
-        cl_device_id *devs = spm_xcalloc(nd, sizeof *devs);
-        rc = clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, nd, devs, NULL);
         if (spm_cl_check(rc, "clGetDeviceIDs", err)) {
-            free(devs);
-            goto fail;
+            ok = 0;
+            break;
         }
-        for (cl_uint d = 0; d < nd; d++) {
+        platform_entry *e = &pe[npe];
+        e->id = plats[p];
+        e->order = p;
+        e->devs = spm_xcalloc(nd, sizeof *e->devs);
+        npe++;
+        rc = clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, nd, e->devs, &e->ndev);
+        if (spm_cl_check(rc, "clGetDeviceIDs", err)) {
+            ok = 0;
+            break;
+        }
+        if (e->ndev > nd)
+            e->ndev = nd;
+        e->kind = SPM_CL_SIMULATOR;
+        for (cl_uint d = 0; d < e->ndev; d++) {
+            cl_device_type t = 0;
+            clGetDeviceInfo(e->devs[d], CL_DEVICE_TYPE, sizeof t, &t, NULL);
+            if (spm_cl_device_kind(t) < e->kind)
+                e->kind = spm_cl_device_kind(t);
+        }
+        if (clGetPlatformInfo(e->id, CL_PLATFORM_NAME, sizeof e->name, e->name, NULL))
+            snprintf(e->name, sizeof e->name, "?");
+        e->name[sizeof e->name - 1] = 0;
+    }
+    if (ok)
+        qsort(pe, (size_t)npe, sizeof *pe, platform_cmp);
+    int cap = 0;
+    for (int p = 0; ok && p < npe; p++)
+        for (cl_uint d = 0; d < pe[p].ndev; d++) {
             if (*n == cap) {
                 cap = cap ? 2 * cap : 8;
                 *list = spm_xrealloc(*list, (size_t)cap * sizeof **list);
             }
-            fill_device(&(*list)[*n], *n, (int)p, plats[p], devs[d]);
+            fill_device(&(*list)[*n], *n, p, pe[p].id, pe[p].devs[d]);
             (*n)++;
         }
-        free(devs);
-    }
+    for (int p = 0; p < npe; p++)
+        free(pe[p].devs);
+    free(pe);
     free(plats);
-    if (*n == 0) {
+    if (ok && *n == 0) {
         spm_errorf(err, "no OpenCL device found on %u platform(s)", (unsigned)np);
+        ok = 0;
+    }
+    if (!ok) {
+        free(*list);
+        *list = NULL;
+        *n = 0;
         return 1;
     }
     return 0;
-fail:
-    free(plats);
-    free(*list);
-    *list = NULL;
-    *n = 0;
+}
+
+int spm_cl_device_in_all(const spm_cl_device *list, int n, int i)
+{
+    if (i < 0 || i >= n)
+        return 0;
+    spm_cl_kind k = spm_cl_device_kind(list[i].type);
+    if (k == SPM_CL_GPU)
+        return 1;
+    if (k == SPM_CL_SIMULATOR) { /* only when nothing else is there (run under oclgrind) */
+        for (int j = 0; j < n; j++)
+            if (spm_cl_device_kind(list[j].type) != SPM_CL_SIMULATOR)
+                return 0;
+        return 1;
+    }
+    for (int j = 0; j < i; j++)
+        if (spm_cl_device_kind(list[j].type) == SPM_CL_CPU &&
+            list[j].platform_index != list[i].platform_index)
+            return 0;
     return 1;
 }
 

@@ -37,9 +37,26 @@ typedef struct {
     size_t max_work_group;
 } spm_cl_device;
 
-/* All devices of all platforms, numbered platform by platform. *list is
- * malloc'ed (free it); no platform at all is an error ("no OpenCL platform"). */
+/* What a device is, from its CL_DEVICE_TYPE: a GPU or accelerator, a CPU, or
+ * a simulator (one that claims to be a CPU and a GPU at once, as Oclgrind's
+ * does). */
+typedef enum { SPM_CL_GPU, SPM_CL_CPU, SPM_CL_SIMULATOR } spm_cl_kind;
+spm_cl_kind spm_cl_device_kind(cl_device_type t);
+
+/* All devices of all platforms, numbered platform by platform in a fixed
+ * order: platforms with a GPU or accelerator first, then those with CPU
+ * devices, then simulators; within each, by platform name (the ICD loader's
+ * own order may follow the order its vendor files were read in); within a
+ * platform, in its order. platform_index counts only the platforms that have
+ * devices. *list is malloc'ed (free it); no platform at all is an error ("no
+ * OpenCL platform"). */
 int spm_cl_devices(spm_cl_device **list, int *n, spm_error *err);
+/* Whether `--device all` takes device i of list: every GPU and accelerator,
+ * and the CPU devices of the first platform that has any (two OpenCL
+ * implementations of one CPU share its cores: the second adds no speed, and
+ * a slower one holds the render back); a simulator only when every device
+ * is one (as under the oclgrind wrapper). */
+int spm_cl_device_in_all(const spm_cl_device *list, int n, int i);
 /* One device by index; an unknown index is an error listing the available ones. */
 int spm_cl_device_get(int index, spm_cl_device *out, spm_error *err);
 /* "0: NAME (PLATFORM)" lines for an error message or listing. */

@@ -9,11 +9,18 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: specmip devices [--help]\n\n"
                "Lists every OpenCL device of every platform with the index that\n"
-               "'specmip render --device ID' takes (IDs count across platforms).\n");
+               "'specmip render --device ID' takes. IDs count across platforms, which\n"
+               "come in a fixed order: those with a GPU or accelerator first, then\n"
+               "those with CPU devices, then simulators, each by name. '--device all'\n"
+               "takes every device except the CPU devices of a second platform\n"
+               "(another OpenCL implementation of the same CPU) and simulators (unless\n"
+               "there is nothing else); a list such as '--device 0,1' takes any.\n");
 }
 
 static const char *type_name(cl_device_type t)
 {
+    if (spm_cl_device_kind(t) == SPM_CL_SIMULATOR)
+        return "simulator";
     if (t & CL_DEVICE_TYPE_GPU)
         return "GPU";
     if (t & CL_DEVICE_TYPE_CPU)
@@ -54,6 +61,11 @@ int spm_cmd_devices(int argc, char **argv)
         printf("    global memory %.0f MB, largest buffer %.0f MB, local memory %.0f KB\n",
                (double)d->global_mem / 1048576.0, (double)d->max_alloc / 1048576.0,
                (double)d->local_mem / 1024.0);
+        if (!spm_cl_device_in_all(list, n, i))
+            printf("    not in --device all (%s)\n",
+                   spm_cl_device_kind(d->type) == SPM_CL_SIMULATOR
+                       ? "a simulator"
+                       : "a CPU device of a second platform");
     }
     free(list);
     return SPM_EXIT_OK;

@@ -35,6 +35,8 @@ static void usage(FILE *f)
         "                         is horizontal, so --width alone changes the vertical one\n"
         "  --backend B            opencl (default) | cpu (the scalar CPU reference)\n"
         "  --device D             OpenCL device index, a list 0,2, or all (default 0);\n"
+        "                         all: every device but a second platform's CPU devices\n"
+        "                         and simulators;\n"
         "                         see 'specmip devices'\n"
         "  --threshold T          pretest colour-difference threshold (default 2.0)\n"
         "  --metric M             de00 (default) | deab: the pretest's colour difference\n"

@@ -55,11 +55,16 @@ static int device_list(const spm_render_config *c, const spm_render_setup *s, de
         int ndev;
         if (spm_cl_devices(&devs, &ndev, err))
             return SPM_EXIT_RUNTIME;
+        int nall = 0;
+        for (int i = 0; i < ndev; i++)
+            if (spm_cl_device_in_all(devs, ndev, i)) {
+                if (*n < SPM_MAX_BACKENDS)
+                    list[(*n)++] = i;
+                nall++;
+            }
         free(devs);
-        if (ndev > SPM_MAX_BACKENDS)
-            spm_warnf("%d devices; the first %d render", ndev, SPM_MAX_BACKENDS);
-        for (int i = 0; i < ndev && *n < SPM_MAX_BACKENDS; i++)
-            list[(*n)++] = i;
+        if (nall > SPM_MAX_BACKENDS)
+            spm_warnf("%d devices; the first %d render", nall, SPM_MAX_BACKENDS);
     } else if (c->ndevices) {
         for (int i = 0; i < c->ndevices && i < SPM_MAX_BACKENDS; i++)
             list[(*n)++] = c->devices[i];

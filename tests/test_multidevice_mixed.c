@@ -151,14 +151,17 @@ int main(void)
             compare_films("pthread + basic vs pthread", &one, &both);
             spm_film_free(&both);
         }
-        /* the pthread device fails on its second pass: basic renders the rest */
+        /* the pthread device fails on its first pass, which it takes before it has
+         * a time estimate (a failure at a later pass would depend on whether the
+         * end-of-render rule still gives it one on a loaded machine): basic
+         * renders that pass and the rest */
         char fail[32];
-        snprintf(fail, sizeof fail, "%d:1", pth);
+        snprintf(fail, sizeof fail, "%d:0", pth);
         if (render(2, devs, fail, &failing, &r) == 0) {
             CHECK(r.failed[0] && !r.failed[1] && r.spp_done == SPP, "failed %d %d, spp %d",
                   r.failed[0], r.failed[1], r.spp_done);
-            CHECK(r.passes_by_backend[0] == 1 && r.passes_by_backend[1] == r.npasses - 1,
-                  "pthread failing on its second pass: %d + %d of %d passes",
+            CHECK(r.passes_by_backend[0] == 0 && r.passes_by_backend[1] == r.npasses,
+                  "pthread failing on its first pass: %d + %d of %d passes",
                   r.passes_by_backend[0], r.passes_by_backend[1], r.npasses);
             compare_films("pthread failing + basic vs pthread", &one, &failing);
             spm_film_free(&failing);
