@@ -51,10 +51,11 @@ TRUTH5=1e-3
 MLC=2e-2
 # HERO: the film weights a lane by the CMF at its wavelength, the file by
 #   its bin's mean CMF; spectra are constant over a 5 nm bin in hero, so the
-#   two agree in expectation only: the image mean at 16 spp differs by
-#   sampling noise (measured 3e-4), the lamp pixel's radiance at 256 spp by
-#   its hero noise (measured 4% at 16 spp).
-HERO=1e-2
+#   two agree in expectation only: the image mean at 16 spp (seed 1) differs
+#   by sampling noise (measured 3e-4; a lane put one bin off moves it 9e-3),
+#   the lamp pixel's radiance at 256 spp by its hero noise (measured 4% at
+#   16 spp).
+HERO=3e-3
 HERO_LAMP=5e-2
 
 for be in cpu opencl; do
