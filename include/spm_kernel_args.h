@@ -31,7 +31,7 @@
 
 /* Every shade kernel (kernels/shade_body.clh): entries begin .. end-1 of idx
  * are its bucket of the batch's npaths records (device layout, spm_shared.h);
- * tab and cmf are its shade table's rows and XYZ weights (host/modes.h);
+ * tab and cmf are its shade table's rows and XYZ weights (host/spectral/modes.h);
  * XYZ per path into xyz. */
 #define SPM_SHADE_ARGS(X, S)                                            \
     X(__global const spm_dev_head *, cl_mem, heads) S                   \

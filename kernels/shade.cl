@@ -2,7 +2,7 @@
  * indices (a level's bucket, or all paths), writing XYZ per path. Every kernel
  * is the one body in shade_body.clh at a fixed vector width; the host compiles
  * only what the scene and mode use (-D below, as the mode descriptors in
- * host/modes.c ask for them; n: vectors per colour of its shade table):
+ * host/spectral/modes.c ask for them; n: vectors per colour of its shade table):
  *   SPM_SHADE_L<l>_NV=n  level l: 80>>l bins as 5 vectors of 16>>l floats
  *                        (n = 5; mlc: 5 + the spike lanes as more vectors)
  *   SPM_SHADE_TRUTH_NV=n 400 1 nm bins = 25 x float16

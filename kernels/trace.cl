@@ -4,7 +4,7 @@
  * per-path level byte (the level feeler). Colour never enters here.
  *
  * Floating point: contraction is off in this file, and vector helpers spell
- * out the same operation order as the CPU reference (host/geometry_vec3.h),
+ * out the same operation order as the CPU reference (host/geometry/geometry_vec3.h),
  * so the ray arithmetic rounds identically; only cos/sin (OpenCL allows 4 ulp)
  * and the BVH traversal order (ties at shared edges) can make a rare path
  * differ from the reference. */

@@ -1,4 +1,4 @@
-/* Spike detection (host/spikes.c): lines found where the lamps have them,
+/* Spike detection (host/spectral/spikes.c): lines found where the lamps have them,
  * none in smooth illuminants, exact energy split, and a smooth part the
  * pretest lets go coarser. */
 #include "colour.h"

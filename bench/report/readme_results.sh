@@ -2,9 +2,9 @@
 # Puts the generated docs/RESULTS.md into README.md between the markers
 # "<!-- results:begin -->" and "<!-- results:end -->" (headings one level
 # down, chart paths under docs/), so README's numbers are never typed by hand.
-# usage: tools/readme_results.sh [RESULTS.md] [README.md]
+# usage: bench/report/readme_results.sh [RESULTS.md] [README.md]
 set -eu
-root=$(cd "$(dirname "$0")/.." && pwd)
+root=$(cd "$(dirname "$0")/../.." && pwd)
 res=${1:-$root/docs/RESULTS.md}
 readme=${2:-$root/README.md}
 grep -q '^<!-- results:begin -->$' "$readme" && grep -q '^<!-- results:end -->$' "$readme" ||

@@ -13,7 +13,7 @@
 #define SPM_SCENE_MAX_COLOURS 4096      /* ids are 16-bit on the device; pretests cost per colour */
 #define SPM_SCENE_MAX_MATERIALS 4096
 /* |coordinate| of vertices and the eye. MiniLight's ray-triangle test runs in
- * float (host/bvh.c, kernels/trace.cl). With every coordinate within C, edges
+ * float (host/geometry/bvh.c, kernels/trace.cl). With every coordinate within C, edges
  * and o - v0 have components within 2C, d x e2 (d a unit vector) within 4C,
  * det and u's numerator (sums of three products) within 24 C^2, q = (o - v0)
  * x e1 within 8 C^2 and t's numerator e2 . q within 48 C^3: the one product

@@ -1,6 +1,6 @@
 /* specmip bench: options -> the study (bench_study.c) or the operator
  * micro-benchmark (bench_ops.c) -> CSV, then charts and RESULTS.md by
- * tools/bench_report.sh (gnuplot). */
+ * bench/report/bench_report.sh (gnuplot). */
 #include <errno.h>
 #include <glob.h>
 #include <signal.h>
@@ -29,7 +29,7 @@ static void usage(FILE *f)
         "seed, side by side, and writes DIR/bench.csv (one row per render: times, paths/s,\n"
         "paths per level, bias = dE00 against ref and truth of the same seed, error = dE00\n"
         "against a converged truth of another seed with the noise floors), then charts\n"
-        "(DIR/*.png) and DIR/RESULTS.md through tools/bench_report.sh (gnuplot).\n\n"
+        "(DIR/*.png) and DIR/RESULTS.md through bench/report/bench_report.sh (gnuplot).\n\n"
         "  --scenes A,B,...   scene files (default: the bundled scenes/*.scene)\n"
         "  --modes M,...      modes with rows (default: every mode, 'specmip modes';\n"
         "                     truth and ref are always rendered: the others are measured on them)\n"

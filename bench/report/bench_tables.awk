@@ -1,4 +1,4 @@
-# Tables for the bar charts from bench.csv (tools/bench_report.sh):
+# Tables for the bar charts from bench.csv (bench/report/bench_report.sh):
 #   what=bias_ref|bias_truth  one row per scene, one column per mode: <what>_mean
 #   what=levels mode=M        one row per scene: share of M's paths at levels 0..3
 # Values at each scene's largest spp of the main rows.

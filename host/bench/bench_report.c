@@ -48,7 +48,7 @@ void spm_bench_write_meta(const char *dir, const char *what, int use_cpu, int de
 int spm_bench_report(const char *dir)
 {
     char script[4096];
-    spm_data_path("tools/bench_report.sh", script, sizeof script);
+    spm_data_path("bench/report/bench_report.sh", script, sizeof script);
     fflush(NULL);
     pid_t pid = fork();
     if (pid == 0) {

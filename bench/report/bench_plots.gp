@@ -1,4 +1,4 @@
-# Charts of specmip bench (driven by tools/bench_report.sh, which sets):
+# Charts of specmip bench (driven by bench/report/bench_report.sh, which sets):
 #   csv     the bench.csv          out     directory for the PNGs
 #   sel     command prefix selecting columns: sel.' -v scene=..." file'
 #   scenes  scene names, space-separated     modes   mode names with main rows

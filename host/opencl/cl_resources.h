@@ -26,7 +26,7 @@
 
 typedef struct {
     size_t largest;          /* the largest single buffer, bytes */
-    const char *largest_what; /* its name, as render_cl.c calls it */
+    const char *largest_what; /* its name, as cl_buffers.h lists it */
     int largest_is_scene;    /* it is a scene buffer (else a per-batch one) */
     size_t total;            /* all buffers together, bytes */
     size_t batch_paths;      /* paths in one batch */
