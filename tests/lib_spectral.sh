@@ -17,10 +17,11 @@ spectral() {
     while [ "$1" != "--" ]; do checks+=("$1"); shift; done
     shift
     "$BIN" render "$SCENE" --quiet -o "$T/$name.exr" -o "$T/$name.spectral.exr" "$@" 2> "$T/err"
-    check "$name: render exit 0 ($(tail -1 "$T/err"))" test $? -eq 0
+    local rc=$?
+    check "$name: render exit 0 (got $rc: $(tail -1 "$T/err"))" test $rc -eq 0
     local c=("${checks[@]//@XYZ@/$T/$name.exr}")
     "$CHECK" "$T/$name.spectral.exr" --cmf "$CMF" "${c[@]}" > "$T/check" 2>&1
-    local rc=$?
+    rc=$?
     sed 's/^/  /' "$T/check"
     check "$name: spectral file checks" test $rc -eq 0
 }
