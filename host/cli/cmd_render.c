@@ -5,11 +5,11 @@
 #include <unistd.h>
 #include "cli_args.h"
 #include "commands.h"
+#include "film_spectral.h"
 #include "output.h"
 #include "render_meta.h"
 #include "render_setup.h"
 #include "render_stats.h"
-#include "film_spectral.h"
 #include "scene_build.h"
 #include "spectral_exr.h"
 
@@ -26,7 +26,7 @@ static void usage(FILE *f)
         "                         EXR keeps how it was made in its header) or .png or .ppm\n"
         "                         (tone-mapped sRGB); up to %d times, each file once (default:\n"
         "                         specmip.png and specmip.exr); a symbolic link is written\n"
-"                         through to its target; a name ending in .spectral.exr gets\n"
+        "                         through to its target; a name ending in .spectral.exr gets\n"
         "                         the spectrum of every pixel (OpenEXR spectral layout, absolute\n"
         "                         radiance; every mode but rgb)\n"
         "  --spectral-nm N        bin width of a .spectral.exr: 5 (default) or, in truth mode, 1\n"
@@ -135,8 +135,7 @@ int spm_cmd_render(int argc, char **argv)
                 fprintf(stderr, "specmip render: --spectral-nm is 1 or 5, not '%s'\n", v);
                 return SPM_EXIT_INPUT;
             }
-            n = v[0] - '0';
-            spec_nm = (int)n;
+            spec_nm = v[0] - '0';
         } else if (!strcmp(a, "--spp")) {
             NEED_VALUE;
             if (spm_arg_long("render", a, v, 1, SPM_SCENE_MAX_SPP, &n))

@@ -10,7 +10,7 @@
 
 #define SPECTRAL_SUFFIX ".spectral.exr"
 
-/* W per lumen at the luminous efficacy's peak: 1 / 683 lm/W. */
+/* lm/W: the maximum luminous efficacy of the CIE photopic observer (K_m). */
 #define KM 683.0
 
 int spm_spectral_path(const char *path)
