@@ -39,8 +39,8 @@ void spm_render_plan_free(spm_render_plan *p);
  * the plan). 0, or 1 with err filled when the mode writes none at nm. */
 int spm_render_plan_spectral(spm_render_plan *p, int nm, spm_error *err);
 /* The paths of a batch: base (a backend's batch size for XYZ alone) scaled
- * down by the floats a path record holds, so that the per-path buffers stay
- * the size they have without spectral output. */
+ * down so that a batch's vertex records, path records and batch image
+ * together take no more memory than without spectral output. */
 size_t spm_plan_batch_paths(size_t base, int pix_ch);
 /* The trace parameters of a pass of spp samples per pixel from first_sample. */
 spm_trace_params spm_plan_pass_params(const spm_render_plan *p, spm_u32 first_sample, spm_u32 spp);
