@@ -54,8 +54,18 @@
     X(uint, spm_u32, first_sample) S                                    \
     X(uint, spm_u32, first_pixel)
 
+/* ...followed, when the program writes spectral records (-DSPM_SPEC_BINS=n,
+ * -DSPM_PATH_CH=3+n), by the slot's lane-to-bin map (host/modes.h
+ * spm_spec_map: idx = row starts then lanes, fac = factors; a per-path mode
+ * leaves them unread). Each path's record is then SPM_PATH_CH floats of xyz:
+ * XYZ, then the n bins. */
+#define SPM_SHADE_SPEC_ARGS(X, S)                                       \
+    X(__global const uint *, cl_mem, smap) S                            \
+    X(__global const float *, cl_mem, sfac)
+
 /* spm_accumulate (kernels/shade.cl): per pixel of the batch (npix) the sum of
- * its spp samples' XYZ, in sample order, into pass_xyz; counters[2] counts the
+ * its spp samples' records (XYZ, and the bins of spectral records), in
+ * sample order, into pass_xyz (SPM_PATH_CH floats a pixel); counters[2] counts the
  * non-finite samples left out. */
 #define SPM_ACCUM_ARGS(X, S)                                            \
     X(__global const float *, cl_mem, xyz) S                            \

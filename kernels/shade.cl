@@ -13,6 +13,12 @@
 #include "spm_rng.h"
 #include "spm_kernel_args.h"
 
+/* Floats of a path's record and of a pass pixel: XYZ, then with
+ * -DSPM_SPEC_BINS=n the n spectral bins (the host sets both). */
+#ifndef SPM_PATH_CH
+#define SPM_PATH_CH 3
+#endif
+
 #define CAT_(a, b) a##b
 #define CAT(a, b) CAT_(a, b)
 #define HSUM2(v) ((v).x + (v).y)
@@ -63,7 +69,7 @@
 /* Lane wavelength from a uniform x: the 1 nm bin j with cdf[j] <= x < cdf[j+1],
  * the offset f in it (the CDF is linear inside), the level-0 bin j/5, and the
  * lane's XYZ weight: CMF(380+j+f) / pdf / lanes (spectra piecewise constant). */
-inline void hero_lane(__global const float *hero, float x, uint *bin, float4 *w)
+inline void hero_lane(__global const float *hero, float x, uint *bin, float4 *w, float *sfw)
 {
 #pragma OPENCL FP_CONTRACT OFF /* rounds as the CPU reference's lerp */
     __global const float *cdf = hero + SPM_HERO_CDF;
@@ -86,6 +92,9 @@ inline void hero_lane(__global const float *hero, float x, uint *bin, float4 *w)
     }
     *bin = lo / (SPM_TRUTH_BINS / SPM_L0_BINS);
     *w = (float4)(wt[0], wt[1], wt[2], 0.0f);
+    /* spectral records: the lane's share of its 5 nm bin's mean */
+    *sfw = pdf > 0.0f ? 1.0f / (pdf * (float)SPM_HERO_LANES *
+                                (float)(SPM_TRUTH_BINS / SPM_L0_BINS)) : 0.0f;
 }
 
 #define SB_NAME spm_shade_hero
@@ -95,11 +104,12 @@ inline void hero_lane(__global const float *hero, float x, uint *bin, float4 *w)
 #define SB_PREPARE                                                                     \
     uint hb[4];                                                                        \
     float4 hw[4];                                                                      \
+    float hs[4];                                                                       \
     {                                                                                  \
         float u = spm_rng(seed, first_pixel + pi / spp, first_sample + pi % spp, SPM_DIM_HERO); \
         for (int l = 0; l < SPM_HERO_LANES; l++) {                                     \
             float x = u + (float)l / (float)SPM_HERO_LANES;                                   \
-            hero_lane(extra, x >= 1.0f ? x - 1.0f : x, &hb[l], &hw[l]);                 \
+            hero_lane(extra, x >= 1.0f ? x - 1.0f : x, &hb[l], &hw[l], &hs[l]);         \
         }                                                                              \
     }                                                                                  \
     float4 hcmf[3] = {(float4)(hw[0].x, hw[1].x, hw[2].x, hw[3].x),                     \
@@ -109,6 +119,11 @@ inline void hero_lane(__global const float *hero, float x, uint *bin, float4 *w)
     ((float4)(tab[(size_t)(c) * SPM_L0_BINS + hb[0]], tab[(size_t)(c) * SPM_L0_BINS + hb[1]], \
               tab[(size_t)(c) * SPM_L0_BINS + hb[2]], tab[(size_t)(c) * SPM_L0_BINS + hb[3]]))
 #define SB_CMF(ch, k) hcmf[ch]
+#define SB_SPEC_STORE                                                                  \
+    for (uint b = 0; b < SPM_SPEC_BINS; b++)                                           \
+        so[b] = 0.0f;                                                                  \
+    for (int l = 0; l < SPM_HERO_LANES; l++)                                           \
+        so[hb[l]] += lf[l] * hs[l];
 #include "shade_body.clh"
 #endif
 
@@ -130,7 +145,7 @@ __kernel void spm_accumulate(SPM_ACCUM_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
     float sx = 0.0f, sy = 0.0f, sz = 0.0f;
     uint bad = 0;
     for (uint k = 0; k < spp; k++) {
-        __global const float *s = &xyz[3 * ((size_t)p * spp + k)];
+        __global const float *s = &xyz[SPM_PATH_CH * ((size_t)p * spp + k)];
         float x = s[0], y = s[1], z = s[2];
         if (finite_bits(x) && finite_bits(y) && finite_bits(z)) {
             sx += x;
@@ -140,9 +155,22 @@ __kernel void spm_accumulate(SPM_ACCUM_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             bad++;
         }
     }
-    pass_xyz[3 * p + 0] = sx;
-    pass_xyz[3 * p + 1] = sy;
-    pass_xyz[3 * p + 2] = sz;
+    __global float *out = &pass_xyz[SPM_PATH_CH * (size_t)p];
+    out[0] = sx;
+    out[1] = sy;
+    out[2] = sz;
+#if SPM_PATH_CH > 3
+    /* the bins of the same samples, in the same order */
+    for (uint c = 3; c < SPM_PATH_CH; c++) {
+        float a = 0.0f;
+        for (uint k = 0; k < spp; k++) {
+            __global const float *s = &xyz[SPM_PATH_CH * ((size_t)p * spp + k)];
+            if (finite_bits(s[0]) && finite_bits(s[1]) && finite_bits(s[2]))
+                a += s[c];
+        }
+        out[c] = a;
+    }
+#endif
     if (bad)
         atomic_add(&counters[SPM_COUNTER_NONFINITE], bad);
 }

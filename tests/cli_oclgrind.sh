@@ -68,9 +68,8 @@ mkdir "$B"
 cp -r "$DATA/include" "$DATA/kernels" "$B/"
 ln -s "$DATA/scenes" "$B/scenes"
 ln -s "$DATA/spectra" "$B/spectra"
-sed -i 's/^    pass_xyz\[3 \* p + 2\] = sz;/    pass_xyz[3 * p + 2] = sz + xyz[3 * (size_t)npix * spp];/' \
-    "$B/kernels/shade.cl"
-check "broken kernel made" grep -q 'sz + xyz\[3 \* (size_t)npix \* spp\]' "$B/kernels/shade.cl"
+sed -i 's/^    out\[2\] = sz;/    out[2] = sz + xyz[SPM_PATH_CH * (size_t)npix * spp];/' "$B/kernels/shade.cl"
+check "broken kernel made" grep -q 'sz + xyz\[SPM_PATH_CH \* (size_t)npix \* spp\]' "$B/kernels/shade.cl"
 SPECMIP_DATA=$B grind "read past the end" "$T/bad.log" --mode rgb "${R[@]}" -o "$T/b.exr"
 check "read past the end: Oclgrind reports it" grep -q 'Invalid read' "$T/bad.log"
 finish

@@ -69,6 +69,21 @@ int main(void)
     CHECK(spm_cl_footprint_check(&pocl, &f4k, 4096, 4096, (size_t)4096 * 4096, &err) == 0,
           "4096^2 refused: %s", err.msg);
 
+    /* spectral records of 403 floats (400 bins): batches shrink so that the
+     * per-path buffers, records and batch image (2 x 403 floats a path) among
+     * them, take no more than with XYZ alone */
+    spm_cl_footprint fs, fx;
+    spm_cl_footprint_of_ch(&g, &t, npix, npix, 403, &fs);
+    CHECK(fs.batch_paths < f.batch_paths, "spectral batch %zu", fs.batch_paths);
+    CHECK(fs.total <= f.total, "spectral total %zu over the XYZ one %zu", fs.total, f.total);
+    /* the records counted at their size: the same batch with XYZ alone (a
+     * 1-sample pass of that many pixels) needs 2 x 400 floats a path less */
+    spm_cl_footprint_of(&g, &t, fs.batch_paths, fs.batch_paths, &fx);
+    CHECK(fx.batch_paths == fs.batch_paths &&
+              fs.total - fx.total >= fs.batch_paths * 2 * 400 * sizeof(float),
+          "spectral records: %zu bytes more than XYZ's %zu in batches of %zu", fs.total - fx.total,
+          fx.total, fs.batch_paths);
+
     /* a pass smaller than a batch is one batch of its own size */
     spm_cl_footprint_of(&g, &t, 256 * 256, 256 * 256, &f4k);
     CHECK(f4k.batch_paths == 256 * 256, "256^2 batch %zu", f4k.batch_paths);

@@ -5,11 +5,13 @@
 #include <unistd.h>
 #include "cli_args.h"
 #include "commands.h"
+#include "film_spectral.h"
 #include "output.h"
 #include "render_meta.h"
 #include "render_setup.h"
 #include "render_stats.h"
 #include "scene_build.h"
+#include "spectral_exr.h"
 
 #define MAX_OUTPUTS 4
 
@@ -24,7 +26,10 @@ static void usage(FILE *f)
         "                         EXR keeps how it was made in its header) or .png or .ppm\n"
         "                         (tone-mapped sRGB); up to %d times, each file once (default:\n"
         "                         specmip.png and specmip.exr); a symbolic link is written\n"
-        "                         through to its target\n"
+        "                         through to its target; a name ending in .spectral.exr gets\n"
+        "                         the spectrum of every pixel (OpenEXR spectral layout, absolute\n"
+        "                         radiance; every mode but rgb)\n"
+        "  --spectral-nm N        bin width of a .spectral.exr: 5 (default) or, in truth mode, 1\n"
         "  --mode M               spectral mode (default ml; 'specmip modes' lists them):\n",
         MAX_OUTPUTS);
     spm_modes_help(f, 27);
@@ -90,7 +95,7 @@ int spm_cmd_render(int argc, char **argv)
     spm_render_config cfg;
     spm_render_config_defaults(&cfg);
     const char *outputs[MAX_OUTPUTS];
-    int nout = 0, stats = 0, json = 0, progress = isatty(2);
+    int nout = 0, stats = 0, json = 0, progress = isatty(2), spec_nm = 0;
     spm_tonemap tm;
     spm_tonemap_default(&tm);
     for (int i = 1; i < argc; i++) {
@@ -124,6 +129,13 @@ int spm_cmd_render(int argc, char **argv)
                         spm_mode_list(", ", names, sizeof names));
                 return SPM_EXIT_INPUT;
             }
+        } else if (!strcmp(a, "--spectral-nm")) {
+            NEED_VALUE;
+            if (strcmp(v, "1") && strcmp(v, "5")) {
+                fprintf(stderr, "specmip render: --spectral-nm is 1 or 5, not '%s'\n", v);
+                return SPM_EXIT_INPUT;
+            }
+            spec_nm = v[0] - '0';
         } else if (!strcmp(a, "--spp")) {
             NEED_VALUE;
             if (spm_arg_long("render", a, v, 1, SPM_SCENE_MAX_SPP, &n))
@@ -202,6 +214,26 @@ int spm_cmd_render(int argc, char **argv)
         outputs[nout++] = "specmip.png";
         outputs[nout++] = "specmip.exr";
     }
+    int nspectral = 0;
+    for (int i = 0; i < nout; i++)
+        nspectral += spm_spectral_path(outputs[i]);
+    if (nspectral) {
+        const spm_mode_desc *m = spm_mode(cfg.mode);
+        cfg.spec_nm = spec_nm ? spec_nm : m->spec_nm[0];
+        if (!m->spec_nm[0]) {
+            fprintf(stderr, "specmip render: %s mode has no spectrum to write: a .spectral.exr "
+                            "output needs a spectral mode\n", m->name);
+            return SPM_EXIT_INPUT;
+        }
+        if (!spm_mode_spec_ok(m, cfg.spec_nm)) {
+            fprintf(stderr, "specmip render: --spectral-nm %d: %s mode writes %d nm bins%s\n",
+                    cfg.spec_nm, m->name, m->spec_nm[0], m->spec_nm[1] ? " or 1 nm" : " only");
+            return SPM_EXIT_INPUT;
+        }
+    } else if (spec_nm) {
+        fprintf(stderr, "specmip render: --spectral-nm needs a .spectral.exr output\n");
+        return SPM_EXIT_INPUT;
+    }
     spm_error err;
     err.msg[0] = 0;
     /* from here on a signal is acted on (interrupt.h), until the outputs are written */
@@ -231,6 +263,13 @@ int spm_cmd_render(int argc, char **argv)
         spm_release_interrupts();
         return SPM_EXIT_INPUT;
     }
+    if (s.plan.nspec && spm_film_spectral_init(&film, s.plan.nspec, &err)) {
+        fprintf(stderr, "specmip render: %s\n", err.msg);
+        spm_film_free(&film);
+        spm_render_setup_close(&s);
+        spm_release_interrupts();
+        return SPM_EXIT_INPUT;
+    }
     spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), &spm_stop_flag, progress};
     spm_run_result res;
     double t0 = spm_now();
@@ -252,7 +291,9 @@ int spm_cmd_render(int argc, char **argv)
         spm_render_meta_make(&cfg, &s, &res, s.times.render_s, &meta);
         t0 = spm_now();
         for (int i = 0; i < nout; i++)
-            if (spm_output_write_film_attrs(outputs[i], &film, &tm, meta.a, meta.n, &err)) {
+            if (spm_spectral_path(outputs[i])
+                    ? spm_spectral_exr_write(outputs[i], &film, meta.a, meta.n, &err)
+                    : spm_output_write_film_attrs(outputs[i], &film, &tm, meta.a, meta.n, &err)) {
                 fprintf(stderr, "specmip render: %s\n", err.msg);
                 rc = SPM_EXIT_RUNTIME;
             }

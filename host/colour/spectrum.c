@@ -245,6 +245,12 @@ void spm_cmf_level(int level, double out[3][SPM_L0_BINS])
         }
 }
 
+double spm_cmf_y_integral(void)
+{
+    cmf_require();
+    return 1.0 / cmf_norm;
+}
+
 void spm_cmf_point(double lambda_nm, double out[3])
 {
     cmf_require();

@@ -49,6 +49,9 @@ int spm_cmf_init(spm_error *err);
 const double (*spm_cmf_truth(void))[SPM_TRUTH_BINS];
 void spm_cmf_level(int level, double out[3][SPM_L0_BINS]);
 void spm_cmf_point(double lambda_nm, double out[3]);
+/* The integral of the CIE 1931 y-bar over 380-780 nm, in nm: the weights are
+ * the CMFs divided by it, so a spectrum of 1 per nm has Y = 1. */
+double spm_cmf_y_integral(void);
 
 /* Path of a bundled data file: $SPECMIP_DATA/<rel> if set, else the source tree's. */
 const char *spm_data_path(const char *rel, char *buf, size_t bufsize);

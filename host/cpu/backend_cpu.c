@@ -13,6 +13,7 @@ typedef struct {
     uint8_t *levels;
     float *xyz;
     size_t cap;
+    int ch; /* floats a path record and a pass pixel hold (render_plan.h pix_ch) */
 } cpu_impl;
 
 /* Room for n paths; only grows. */
@@ -25,7 +26,7 @@ static void reserve(cpu_impl *c, size_t n)
     free(c->xyz);
     c->paths = spm_xmalloc(n * sizeof *c->paths);
     c->levels = spm_xmalloc(n);
-    c->xyz = spm_xmalloc(n * 3 * sizeof(float));
+    c->xyz = spm_xmalloc(n * (size_t)c->ch * sizeof(float));
     c->cap = n;
 }
 
@@ -48,9 +49,10 @@ static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pa
         spm_ref_trace_range(pl->geom, pl->tables->materials, pl->lvlk, (int)pl->start_level, &p,
                             p0 * spp, p0 * spp + n, c->paths, c->levels);
         double t1 = spm_now();
-        spm_ref_shade_tables(pl->mode, pl->shade, &p, p0 * spp, c->paths, c->levels, n, c->xyz);
+        spm_ref_shade_spectral(pl->mode, pl->shade, pl->spec, c->ch, &p, p0 * spp, c->paths,
+                               c->levels, n, c->xyz);
         double t2 = spm_now();
-        spm_accumulate_pass(c->xyz, nb, spp, &pass_xyz[3 * p0], st);
+        spm_accumulate_pass_ch(c->xyz, nb, spp, c->ch, &pass_xyz[(size_t)c->ch * p0], st);
         spm_count_levels(pl->mode, c->paths, c->levels, n, st);
         st->trace_s += t1 - t0;
         st->shade_s += t2 - t1;
@@ -64,7 +66,7 @@ static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pa
 void spm_backend_cpu_set_batch_paths(spm_backend *b, size_t paths)
 {
     cpu_impl *c = b->impl;
-    c->batch_paths = paths ? paths : SPM_CPU_BATCH_PATHS;
+    c->batch_paths = paths ? paths : spm_plan_batch_paths(SPM_CPU_BATCH_PATHS, c->ch);
 }
 
 size_t spm_backend_cpu_batch_capacity(const spm_backend *b)
@@ -89,7 +91,8 @@ spm_backend *spm_backend_cpu_create(const spm_render_plan *plan, spm_error *err)
     spm_backend *b = spm_xcalloc(1, sizeof *b);
     cpu_impl *c = spm_xcalloc(1, sizeof *c);
     c->plan = plan;
-    c->batch_paths = SPM_CPU_BATCH_PATHS;
+    c->ch = plan->pix_ch;
+    c->batch_paths = spm_plan_batch_paths(SPM_CPU_BATCH_PATHS, c->ch);
     b->impl = c;
     b->pass = cpu_pass;
     b->destroy = cpu_destroy;

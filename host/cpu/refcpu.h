@@ -23,6 +23,14 @@ void spm_ref_trace(const spm_geometry *g, const spm_material *mats, const uint8_
 void spm_ref_shade_tables(const spm_mode_desc *m, const spm_shade_table *tabs,
                           const spm_trace_params *p, size_t first, const spm_path *paths,
                           const uint8_t *levels, size_t n, float *xyz);
+/* The same with a spectral record per path: ch floats a path (XYZ, then
+ * ch - 3 spectral bins through maps[slot], modes.h spm_spec_map; a per-path
+ * mode puts each lane into the 5 nm bin holding its wavelength, divided by its
+ * density, the lane count and the bin width). ch 3: no bins (maps unused). */
+void spm_ref_shade_spectral(const spm_mode_desc *m, const spm_shade_table *tabs,
+                            const spm_spec_map *maps, int ch, const spm_trace_params *p,
+                            size_t first, const spm_path *paths, const uint8_t *levels, size_t n,
+                            float *rec);
 /* The same in mode `mode` with shade tables built from t for the call. */
 void spm_ref_shade(const spm_tables *t, int mode, const spm_trace_params *p, size_t first,
                    const spm_path *paths, const uint8_t *levels, size_t n, float *xyz);

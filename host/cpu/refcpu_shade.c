@@ -81,6 +81,7 @@ static lanes table_lanes(const spm_shade_table *tab)
 typedef struct {
     int idx[SPM_HERO_LANES];
     float w[3][SPM_HERO_LANES];
+    float pdf[SPM_HERO_LANES]; /* the lane wavelength's density, per nm */
 } path_lanes;
 
 /* The 1 nm bin j holding sample-space position xi: cdf[j] <= xi < cdf[j + 1]. */
@@ -113,6 +114,7 @@ static lanes hero_path(const spm_shade_table *tab, float u, path_lanes *pl)
         float f = width > 0.0f ? (xi - cdf[j]) / width : 0.0f;
         f = f < 0.0f ? 0.0f : (f > 1.0f ? 1.0f : f);
         float pdf = pdfs[j];
+        pl->pdf[i] = pdf;
         pl->idx[i] = j / (SPM_TRUTH_BINS / SPM_L0_BINS);
         for (int ch = 0; ch < 3; ch++) {
             const float *cp = tab->extra + SPM_HERO_CMF + ch * (SPM_TRUTH_BINS + 1);
@@ -125,9 +127,40 @@ static lanes hero_path(const spm_shade_table *tab, float u, path_lanes *pl)
                    {pl->w[0], pl->w[1], pl->w[2]}};
 }
 
+/* The spectral bins of lanes L: through the slot's map, or (per-path lanes)
+ * each lane into the level-0 (5 nm) bin of its wavelength. */
+static void lanes_to_bins(const spm_spec_map *map, const path_lanes *pl, int per_path, int nbins,
+                          const float *L, float *out)
+{
+    if (per_path) {
+        const float nm = (float)(SPM_TRUTH_BINS / SPM_L0_BINS);
+        for (int b = 0; b < nbins; b++)
+            out[b] = 0.0f;
+        for (int l = 0; l < SPM_HERO_LANES; l++)
+            if (pl->pdf[l] > 0.0f)
+                out[pl->idx[l]] += L[l] / (pl->pdf[l] * (float)SPM_HERO_LANES * nm);
+        return;
+    }
+    const uint32_t *lane = map->idx + map->nbins + 1;
+    for (int b = 0; b < nbins; b++) {
+        float s = 0.0f;
+        for (uint32_t e = map->idx[b]; e < map->idx[b + 1]; e++)
+            s += L[lane[e]] * map->fac[e];
+        out[b] = s;
+    }
+}
+
 void spm_ref_shade_tables(const spm_mode_desc *m, const spm_shade_table *tabs,
                           const spm_trace_params *p, size_t first, const spm_path *paths,
                           const uint8_t *levels, size_t n, float *xyz)
+{
+    spm_ref_shade_spectral(m, tabs, NULL, 3, p, first, paths, levels, n, xyz);
+}
+
+void spm_ref_shade_spectral(const spm_mode_desc *m, const spm_shade_table *tabs,
+                            const spm_spec_map *maps, int ch, const spm_trace_params *p,
+                            size_t first, const spm_path *paths, const uint8_t *levels, size_t n,
+                            float *rec)
 {
     lanes lv[SPM_NUM_LEVELS];
     for (int s = 0; s < spm_mode_nslots(m); s++)
@@ -142,7 +175,11 @@ void spm_ref_shade_tables(const spm_mode_desc *m, const spm_shade_table *tabs,
             v = hero_path(&tabs[0], spm_rng(p->seed, pixel, sample, SPM_DIM_HERO), &pl);
         }
         shade_lanes(&paths[i], &v, L);
-        lanes_to_xyz(&v, L, &xyz[3 * i]);
+        float *out = &rec[(size_t)ch * i];
+        lanes_to_xyz(&v, L, out);
+        if (ch > 3)
+            lanes_to_bins(&maps[spm_mode_slot(m, levels[i])], &pl, m->per_path, ch - 3, L,
+                          out + 3);
     }
 }
 

@@ -7,7 +7,9 @@
 #include "spm_shared.h"
 
 /* Per batch, room for n paths (and up to n pixels):
- * X(field, what, bytes per path, flags, initial contents). The vertex slabs
+ * X(field, what, bytes per path, flags, initial contents), evaluated where
+ * pix_ch (render_plan.h: the floats of a path's record, 3 + spectral bins)
+ * is in scope. The vertex slabs
  * have room for every depth; only those some path reaches are touched.
  * IDENTITY: 0, 1, 2, ... (the bucket list when one kernel takes every path). */
 #define SPM_CL_BATCH_BUFFERS(X)                                                     \
@@ -17,8 +19,8 @@
     X(levels, "level bytes", 1, CL_MEM_READ_WRITE, NONE)                            \
     X(ident, "identity indices", sizeof(spm_u32), CL_MEM_READ_ONLY, IDENTITY)       \
     X(idx, "bucket indices", sizeof(spm_u32), CL_MEM_READ_ONLY, NONE)               \
-    X(xyz, "path XYZ", 3 * sizeof(float), CL_MEM_READ_WRITE, NONE)                  \
-    X(pass, "batch image", 3 * sizeof(float), CL_MEM_WRITE_ONLY, NONE)
+    X(xyz, "path XYZ", (size_t)pix_ch * sizeof(float), CL_MEM_READ_WRITE, NONE)      \
+    X(pass, "batch image", (size_t)pix_ch * sizeof(float), CL_MEM_WRITE_ONLY, NONE)
 
 /* Per scene, read-only, copied from the host:
  * X(field, what, bytes, contents), evaluated where g (spm_geometry), t

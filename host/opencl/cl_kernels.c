@@ -8,6 +8,7 @@
 typedef struct { SPM_TRACE_ARGS(ARG_FIELD, ) } trace_args;
 typedef struct { SPM_SHADE_ARGS(ARG_FIELD, ) } shade_args;
 typedef struct { SPM_SHADE_PATH_ARGS(ARG_FIELD, ) } shade_path_args;
+typedef struct { SPM_SHADE_SPEC_ARGS(ARG_FIELD, ) } shade_spec_args;
 typedef struct { SPM_ACCUM_ARGS(ARG_FIELD, ) } accum_args;
 
 static size_t round_up(size_t n)
@@ -39,6 +40,7 @@ static int set_arg(cl_kernel k, const char *name, cl_uint i, size_t size, const 
 DEFINE_SETTER(set_trace_args, trace_args, SPM_TRACE_ARGS)
 DEFINE_SETTER(set_shade_args, shade_args, SPM_SHADE_ARGS)
 DEFINE_SETTER(set_shade_path_args, shade_path_args, SPM_SHADE_PATH_ARGS)
+DEFINE_SETTER(set_shade_spec_args, shade_spec_args, SPM_SHADE_SPEC_ARGS)
 DEFINE_SETTER(set_accum_args, accum_args, SPM_ACCUM_ARGS)
 
 static int enqueue(spm_cl_renderer *r, cl_kernel k, const char *name, size_t offset, size_t n,
@@ -86,9 +88,11 @@ int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOT
         shade_args a = {r->heads, r->verts,  (spm_u32)b->n, ids,     (spm_u32)off[s],
                         (spm_u32)off[s + 1], r->tab[s], r->cmf[s], r->xyz};
         shade_path_args pa = {r->extra, r->params.seed, b->spp, b->first_sample, b->first_pixel};
+        shade_spec_args sa = {r->smap[s], r->sfac[s]};
         cl_uint i = 0;
         int rc = set_shade_args(r->k_shade[s], r->kname[s], &a, &i, err) ||
-                 (r->mode->per_path && set_shade_path_args(r->k_shade[s], r->kname[s], &pa, &i, err));
+                 (r->mode->per_path && set_shade_path_args(r->k_shade[s], r->kname[s], &pa, &i, err)) ||
+                 (r->pix_ch > 3 && set_shade_spec_args(r->k_shade[s], r->kname[s], &sa, &i, err));
         if (rc || enqueue(r, r->k_shade[s], r->kname[s], 0, b->launch, &ev[s], err))
             return 1;
     }

@@ -15,6 +15,9 @@ int spm_clr_build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *er
                             sizeof define);
             n += snprintf(defs + n, sizeof defs - (size_t)n, "-D%s ", define);
         }
+    if (plan->nspec)
+        n += snprintf(defs + n, sizeof defs - (size_t)n, "-DSPM_SPEC_BINS=%d -DSPM_PATH_CH=%d ",
+                      plan->nspec, plan->pix_ch);
     /* The device's index makes each device's program text distinct: PoCL
      * otherwise shares one compiled kernel between same-kind devices, and two
      * devices launching it at once can break its reference counts (an

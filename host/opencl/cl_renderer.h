@@ -33,6 +33,8 @@ struct spm_cl_renderer {
     cl_kernel k_shade[NSLOTS]; /* NULL: not compiled */
     char kname[NSLOTS][64];
     cl_mem tab[NSLOTS], cmf[NSLOTS], extra;
+    int pix_ch;                          /* floats a path record holds (render_plan.h) */
+    cl_mem smap[NSLOTS], sfac[NSLOTS];   /* spectral records: lanes to bins (pix_ch > 3) */
 #define SCENE_FIELD(field, what, bytes, host) cl_mem field;
     SPM_CL_SCENE_BUFFERS(SCENE_FIELD)
 #undef SCENE_FIELD

@@ -18,9 +18,15 @@ static void add(spm_cl_footprint *f, size_t bytes, const char *what, int scene)
 void spm_cl_footprint_of(const spm_geometry *g, const spm_tables *t, size_t npix,
                          size_t paths_per_pass, spm_cl_footprint *out)
 {
+    spm_cl_footprint_of_ch(g, t, npix, paths_per_pass, 3, out);
+}
+
+void spm_cl_footprint_of_ch(const spm_geometry *g, const spm_tables *t, size_t npix,
+                            size_t paths_per_pass, int pix_ch, spm_cl_footprint *out)
+{
     spm_cl_footprint f = {0, "nothing", 0, 0, 0};
     size_t spp = npix ? paths_per_pass / npix : 0;
-    size_t n = spm_batch_room(npix, spp ? spp : 1, SPM_CL_BATCH_PATHS);
+    size_t n = spm_batch_room(npix, spp ? spp : 1, spm_plan_batch_paths(SPM_CL_BATCH_PATHS, pix_ch));
     f.batch_paths = n;
     /* the backend's buffers (cl_buffers.h) */
 #define BATCH(field, what, per_path, flags, init) add(&f, n * (per_path), what, 0);
@@ -36,6 +42,9 @@ void spm_cl_footprint_of(const spm_geometry *g, const spm_tables *t, size_t npix
         tables = b > tables ? b : tables;
     }
     add(&f, tables, "colour tables", 1);
+    if (pix_ch > 3) /* spectral bin maps: at most a few entries per bin and lane */
+        add(&f, (size_t)SPM_NUM_LEVELS * 4 * (SPM_TRUTH_BINS + SPM_MAX_SPIKES + 1) * sizeof(float),
+            "spectral bin maps", 1);
     *out = f;
 }
 

@@ -40,6 +40,12 @@ typedef struct {
 void spm_cl_footprint_of(const spm_geometry *g, const spm_tables *t, size_t npix,
                          size_t paths_per_pass, spm_cl_footprint *out);
 
+/* The same for path records of pix_ch floats (render_plan.h: XYZ and the
+ * spectral bins), whose batches are cut smaller to match
+ * (spm_plan_batch_paths). */
+void spm_cl_footprint_of_ch(const spm_geometry *g, const spm_tables *t, size_t npix,
+                            size_t paths_per_pass, int pix_ch, spm_cl_footprint *out);
+
 /* 0 if the footprint fits the device (each buffer within CL_DEVICE_MAX_MEM_ALLOC_SIZE,
  * the sum within CL_DEVICE_GLOBAL_MEM_SIZE), else fills err with what does not
  * fit, by how much, and what to do; width x height name the image. */

@@ -50,8 +50,18 @@ int spm_clr_upload(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *e
     rc = rc || spm_clr_new_buffer(r, &r->field, CL_MEM_READ_ONLY, bytes, host, what, err);
     SPM_CL_SCENE_BUFFERS(UPLOAD)
     for (int s = 0; s < plan->nslots && !rc; s++)
-        if (plan->used[s])
+        if (plan->used[s]) {
             rc = upload_slot(r, &plan->shade[s], s, err);
+            const spm_spec_map *m = &plan->spec[s];
+            if (!rc && plan->nspec)
+                rc = spm_clr_new_buffer(r, &r->smap[s], CL_MEM_READ_ONLY,
+                                        m->idx ? ((size_t)m->nbins + 1 + (size_t)m->nnz) *
+                                                     sizeof(spm_u32) : 0,
+                                        m->idx, "spectral bin map", err) ||
+                     spm_clr_new_buffer(r, &r->sfac[s], CL_MEM_READ_ONLY,
+                                        m->fac ? (size_t)m->nnz * sizeof(float) : 0, m->fac,
+                                        "spectral bin factors", err);
+        }
     return rc || spm_clr_new_buffer(r, &r->counters, CL_MEM_READ_WRITE, sizeof r->zero, NULL,
                                     "counters", err);
 }
@@ -76,6 +86,7 @@ int spm_clr_reserve(spm_cl_renderer *r, size_t n, spm_error *err)
 #define INIT_NONE NULL
 #define INIT_IDENTITY r->h_idx
     int rc = 0;
+    size_t pix_ch = (size_t)r->pix_ch;
 #define CREATE(field, what, per_path, flags, init) \
     rc = rc || spm_clr_new_buffer(r, &r->field, flags, n * (per_path), INIT_##init, what, err);
     SPM_CL_BATCH_BUFFERS(CREATE)
@@ -91,6 +102,8 @@ void spm_clr_release_buffers(spm_cl_renderer *r)
     for (int s = 0; s < NSLOTS; s++) {
         release(&r->tab[s]);
         release(&r->cmf[s]);
+        release(&r->smap[s]);
+        release(&r->sfac[s]);
     }
     release(&r->extra);
     release(&r->counters);

@@ -25,7 +25,7 @@ int spm_clr_fail_now(spm_cl_renderer *r, spm_error *err)
 
 void spm_cl_set_batch_paths(spm_cl_renderer *r, size_t paths)
 {
-    r->batch_paths = paths ? paths : SPM_CL_BATCH_PATHS;
+    r->batch_paths = paths ? paths : spm_plan_batch_paths(SPM_CL_BATCH_PATHS, r->pix_ch);
 }
 
 size_t spm_cl_batch_capacity(const spm_cl_renderer *r)
@@ -122,7 +122,7 @@ static int shade_batch(spm_cl_renderer *r, const batch *b, const spm_path *paths
                                     "clEnqueueWriteBuffer(path records)", err)) ||
              spm_clr_bucket(r, n, levels, off, &ids, err) || spm_clr_run_shade(r, b, off, ids, 0, ev, err) ||
              spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->xyz, CL_TRUE, 0,
-                                              n * 3 * sizeof(float), xyz, 0, NULL, NULL),
+                                              n * (size_t)r->pix_ch * sizeof(float), xyz, 0, NULL, NULL),
                           "clEnqueueReadBuffer(path XYZ)", err);
     clFinish(r->cl.queue);
     spm_clr_release_events(ev, NSLOTS, NULL);
@@ -143,7 +143,7 @@ int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const sp
     for (size_t p0 = 0; !rc && p0 < r->npix; p0 += bpix) {
         batch b = spm_clr_batch_at(r, first_sample, spp, p0, bpix);
         size_t i0 = p0 * spp;
-        rc = shade_batch(r, &b, &paths[i0], &levels[i0], &xyz[3 * i0], err);
+        rc = shade_batch(r, &b, &paths[i0], &levels[i0], &xyz[(size_t)r->pix_ch * i0], err);
     }
     return rc;
 }

@@ -12,7 +12,8 @@ int spm_cl_create_plan(int device, const spm_render_plan *plan, spm_cl_renderer 
     spm_cl_renderer *r = spm_xcalloc(1, sizeof *r);
     r->mode = plan->mode;
     r->npix = plan->npix;
-    r->batch_paths = SPM_CL_BATCH_PATHS;
+    r->pix_ch = plan->pix_ch;
+    r->batch_paths = spm_plan_batch_paths(SPM_CL_BATCH_PATHS, r->pix_ch);
     spm_clr_fail_init(r, device);
     r->params = plan->params;
     r->init_level = plan->start_level;
@@ -173,7 +174,7 @@ double spm_clr_release_events(cl_event *ev, int n, uint64_t *untimed)
 }
 
 /* One batch through trace -> bucket -> shade -> accumulate, its pixel sums
- * read into batch_xyz (b->npix * 3 floats). The read waits for the batch, so
+ * read into batch_xyz (b->npix * pix_ch floats). The read waits for the batch, so
  * its stage times can be taken from the events, and the bucket indices'
  * upload (bucket()) is done before the next batch rewrites them. */
 static int pass_batch(spm_cl_renderer *r, const batch *b, float *batch_xyz, spm_pass_stats *st,
@@ -193,7 +194,7 @@ static int pass_batch(spm_cl_renderer *r, const batch *b, float *batch_xyz, spm_
     rc = rc || spm_clr_run_shade(r, b, off, ids, 0, ev_s, err) ||
          spm_clr_run_accumulate(r, b, &ev_a, err);
     rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->pass, CL_TRUE, 0,
-                                                (size_t)b->npix * 3 * sizeof(float), batch_xyz, 0,
+                                                (size_t)b->npix * (size_t)r->pix_ch * sizeof(float), batch_xyz, 0,
                                                 NULL, NULL),
                             "clEnqueueReadBuffer(batch image)", err);
     if (rc)
@@ -222,7 +223,7 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
     int rc = 0;
     for (size_t p0 = 0; !rc && p0 < r->npix; p0 += bpix) {
         batch b = spm_clr_batch_at(r, first_sample, spp, p0, bpix);
-        rc = pass_batch(r, &b, &pass_xyz[3 * p0], st, err);
+        rc = pass_batch(r, &b, &pass_xyz[(size_t)r->pix_ch * p0], st, err);
         /* pass_batch has waited for the batch: nothing is left in the queue */
         if (!rc && p0 + b.npix < r->npix && spm_pass_batch_end(r->ctl, (p0 + b.npix) * spp))
             return SPM_PASS_STOPPED;

@@ -46,8 +46,8 @@ int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pa
 int spm_cl_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, spm_path *paths,
                  uint8_t *levels, spm_error *err);
 /* Shade given records (n = npix * spp, uploaded batch by batch) in the
- * handle's mode, with the pass parameters hero needs; per-path XYZ read back
- * (3 floats per path). */
+ * handle's mode, with the pass parameters hero needs; per-path records read
+ * back (the plan's pix_ch floats a path: XYZ, then any spectral bins). */
 int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const spm_path *paths,
                  const uint8_t *levels, float *xyz, spm_error *err);
 /* Batches of at most `paths` paths from the next pass on (0: the default,

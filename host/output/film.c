@@ -19,6 +19,8 @@ int spm_film_init(spm_film *f, int width, int height, spm_error *err)
     f->sum = spm_xcalloc((size_t)width * height * 3, sizeof(double));
     f->samples = 0;
     f->nonfinite = 0;
+    f->nspec = 0;
+    f->spec = NULL;
     return 0;
 }
 
@@ -26,21 +28,28 @@ void spm_film_free(spm_film *f)
 {
     free(f->sum);
     f->sum = NULL;
+    free(f->spec);
+    f->spec = NULL;
 }
 
 void spm_film_add_pass(spm_film *f, const float *pass_xyz, int spp_in_pass)
 {
     if (spp_in_pass <= 0)
         return;
-    size_t npix = (size_t)f->width * f->height;
+    size_t npix = (size_t)f->width * f->height, ch = 3 + (size_t)f->nspec;
     for (size_t i = 0; i < npix; i++) {
-        const float *p = pass_xyz + 3 * i;
-        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
+        const float *p = pass_xyz + ch * i;
+        int bad = !isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]);
+        for (int b = 0; b < f->nspec && !bad; b++)
+            bad = !isfinite(p[3 + b]);
+        if (bad) {
             f->nonfinite++;
             continue;
         }
         for (int c = 0; c < 3; c++)
             f->sum[3 * i + c] += p[c];
+        for (int b = 0; b < f->nspec; b++)
+            f->spec[(size_t)f->nspec * i + (size_t)b] += p[3 + b];
     }
     f->samples += spp_in_pass;
 }

@@ -186,32 +186,11 @@ static void put_attrs(ImageSpec &spec, const char *format, const spm_image_attr 
     }
 }
 
-extern "C" int spm_image_write(const char *path, int width, int height, const void *pixels,
-                               spm_pixel_type type, spm_error *err)
+// Writes the image to a temporary file next to path's target and renames it
+// over the target once complete (image_io.h spm_image_write).
+static int write_replacing(const char *path, ImageOutput *out, const ImageSpec &spec, TypeDesc td,
+                           const void *pixels, spm_error *err)
 {
-    return spm_image_write_attrs(path, width, height, pixels, type, nullptr, 0, err);
-}
-
-extern "C" int spm_image_write_attrs(const char *path, int width, int height, const void *pixels,
-                                     spm_pixel_type type, const spm_image_attr *attrs, int nattrs,
-                                     spm_error *err)
-{
-    auto out = ImageOutput::create(path);
-    if (!out) {
-        OIIO::geterror();
-        spm_errorf(err, "%s: no image writer for this file extension", path);
-        return 1;
-    }
-    bool is_float = type == SPM_PIXEL_FLOAT;
-    TypeDesc td = is_float ? TypeDesc::FLOAT : TypeDesc::UINT8;
-    ImageSpec spec(width, height, 3, td);
-    spec.attribute("oiio:ColorSpace", is_float ? "Linear" : "sRGB");
-    if (is_float) {
-        // IEC 61966-2-1 primaries and D65 white, so EXR readers know what the numbers mean.
-        static const float srgb_chroma[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
-        spec.attribute("chromaticities", TypeDesc(TypeDesc::FLOAT, 8), srgb_chroma);
-    }
-    put_attrs(spec, out->format_name(), attrs, nattrs);
     char *target = spm_image_target(path, err);
     if (!target)
         return 1;
@@ -244,4 +223,50 @@ extern "C" int spm_image_write_attrs(const char *path, int width, int height, co
         return 1;
     }
     return 0;
+}
+
+extern "C" int spm_image_write(const char *path, int width, int height, const void *pixels,
+                               spm_pixel_type type, spm_error *err)
+{
+    return spm_image_write_attrs(path, width, height, pixels, type, nullptr, 0, err);
+}
+
+extern "C" int spm_image_write_attrs(const char *path, int width, int height, const void *pixels,
+                                     spm_pixel_type type, const spm_image_attr *attrs, int nattrs,
+                                     spm_error *err)
+{
+    auto out = ImageOutput::create(path);
+    if (!out) {
+        OIIO::geterror();
+        spm_errorf(err, "%s: no image writer for this file extension", path);
+        return 1;
+    }
+    bool is_float = type == SPM_PIXEL_FLOAT;
+    TypeDesc td = is_float ? TypeDesc::FLOAT : TypeDesc::UINT8;
+    ImageSpec spec(width, height, 3, td);
+    spec.attribute("oiio:ColorSpace", is_float ? "Linear" : "sRGB");
+    if (is_float) {
+        // IEC 61966-2-1 primaries and D65 white, so EXR readers know what the numbers mean.
+        static const float srgb_chroma[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
+        spec.attribute("chromaticities", TypeDesc(TypeDesc::FLOAT, 8), srgb_chroma);
+    }
+    put_attrs(spec, out->format_name(), attrs, nattrs);
+    return write_replacing(path, out.get(), spec, td, pixels, err);
+}
+
+extern "C" int spm_image_write_channels(const char *path, int width, int height, int nch,
+                                        const char *const *names, const float *pixels,
+                                        const spm_image_attr *attrs, int nattrs, spm_error *err)
+{
+    auto out = ImageOutput::create(path);
+    if (!out) {
+        OIIO::geterror();
+        spm_errorf(err, "%s: no image writer for this file extension", path);
+        return 1;
+    }
+    ImageSpec spec(width, height, nch, TypeDesc::FLOAT);
+    spec.channelnames.assign(names, names + nch);
+    spec.alpha_channel = -1;
+    put_attrs(spec, out->format_name(), attrs, nattrs);
+    return write_replacing(path, out.get(), spec, TypeDesc::FLOAT, pixels, err);
 }

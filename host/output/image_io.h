@@ -51,6 +51,13 @@ int spm_image_write_attrs(const char *path, int width, int height, const void *p
                           spm_pixel_type type, const spm_image_attr *attrs, int nattrs,
                           spm_error *err);
 
+/* Writes nch float32 channels named names[0..nch) (pixels: nch floats a
+ * pixel, rows top to bottom) with nattrs attributes, replacing the file as
+ * spm_image_write does. For formats that take any channel names (EXR). */
+int spm_image_write_channels(const char *path, int width, int height, int nch,
+                             const char *const *names, const float *pixels,
+                             const spm_image_attr *attrs, int nattrs, spm_error *err);
+
 /* The file writing `path` replaces: path itself, or the file its symbolic
  * link(s) lead to (for a dangling link, the file it names), as an absolute
  * path whose directory part is free of links and "."/"..", so that two

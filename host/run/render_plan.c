@@ -88,13 +88,47 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     used_slots(p);
     for (int s = 0; s < p->nslots; s++)
         spm_shade_table_build(p->mode, t, s, &p->shade[s]);
+    p->pix_ch = 3;
     return 0;
+}
+
+int spm_render_plan_spectral(spm_render_plan *p, int nm, spm_error *err)
+{
+    if (!spm_mode_spec_ok(p->mode, nm)) {
+        if (!p->mode->spec_nm[0])
+            spm_errorf(err, "%s mode has no spectrum to write: a spectral image needs a "
+                            "spectral mode", p->mode->name);
+        else
+            spm_errorf(err, "%s mode writes spectral images of %d nm bins%s, not %d nm",
+                       p->mode->name, p->mode->spec_nm[0], p->mode->spec_nm[1] ? " or 1 nm" : "",
+                       nm);
+        return 1;
+    }
+    p->spec_nm = nm;
+    p->nspec = (SPM_LAMBDA_MAX - SPM_LAMBDA_MIN) / nm;
+    p->pix_ch = 3 + p->nspec;
+    for (int s = 0; s < p->nslots; s++)
+        spm_spec_map_build(p->mode, p->tables, s, nm, &p->spec[s]);
+    return 0;
+}
+
+size_t spm_plan_batch_paths(size_t base, int pix_ch)
+{
+    if (pix_ch <= 3)
+        return base;
+    /* a path's vertex record, and its record and batch-image floats */
+    size_t xyz = SPM_MAX_DEPTH * sizeof(spm_vertex) + 2 * 3 * sizeof(float);
+    size_t spec = SPM_MAX_DEPTH * sizeof(spm_vertex) + 2 * (size_t)pix_ch * sizeof(float);
+    size_t n = base / spec * xyz;
+    return n ? n : 1;
 }
 
 void spm_render_plan_free(spm_render_plan *p)
 {
-    for (int s = 0; s < SPM_NUM_LEVELS; s++)
+    for (int s = 0; s < SPM_NUM_LEVELS; s++) {
         spm_shade_table_free(&p->shade[s]);
+        spm_spec_map_free(&p->spec[s]);
+    }
     memset(p, 0, sizeof *p);
 }
 
@@ -157,6 +191,29 @@ void spm_count_levels(const spm_mode_desc *m, const spm_path *paths, const uint8
         st->truncated += paths[i].h.end == SPM_END_TRUNCATED;
     }
     spm_count_levels_hist(m, hist, n, st);
+}
+
+void spm_accumulate_pass_ch(const float *rec, size_t npix, spm_u32 spp, int ch, float *pass,
+                            spm_pass_stats *st)
+{
+    if (ch == 3) {
+        spm_accumulate_pass(rec, npix, spp, pass, st);
+        return;
+    }
+    for (size_t p = 0; p < npix; p++) {
+        float *out = &pass[p * (size_t)ch];
+        for (int c = 0; c < ch; c++)
+            out[c] = 0.0f;
+        for (spm_u32 k = 0; k < spp; k++) {
+            const float *x = &rec[(p * spp + k) * (size_t)ch];
+            if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2])) {
+                st->nonfinite++;
+                continue;
+            }
+            for (int c = 0; c < ch; c++)
+                out[c] += x[c];
+        }
+    }
 }
 
 void spm_accumulate_pass(const float *xyz, size_t npix, spm_u32 spp, float *pass_xyz,

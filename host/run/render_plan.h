@@ -24,12 +24,24 @@ typedef struct {
     int nslots;                      /* spm_mode_nslots */
     int used[SPM_NUM_LEVELS];        /* slots a path of this scene can be shaded in */
     spm_shade_table shade[SPM_NUM_LEVELS]; /* their shade tables (the others empty) */
+    /* Spectral output (spm_render_plan_spectral): bins of spec_nm nm, nspec
+     * of them (0: none); each path's record and each pixel of a pass image
+     * is then pix_ch = 3 + nspec floats, XYZ then the bins. */
+    int spec_nm, nspec, pix_ch;
+    spm_spec_map spec[SPM_NUM_LEVELS]; /* per slot: its lanes to the bins */
 } spm_render_plan;
 
 /* 0, or 1 with err filled (unknown mode, empty image or BVH, missing tables). */
 int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_tables *t, int mode,
                          spm_u32 seed, spm_error *err);
 void spm_render_plan_free(spm_render_plan *p);
+/* Asks for spectral output in bins of nm nm (before any backend is made from
+ * the plan). 0, or 1 with err filled when the mode writes none at nm. */
+int spm_render_plan_spectral(spm_render_plan *p, int nm, spm_error *err);
+/* The paths of a batch: base (a backend's batch size for XYZ alone) scaled
+ * down so that a batch's vertex records, path records and batch image
+ * together take no more memory than without spectral output. */
+size_t spm_plan_batch_paths(size_t base, int pix_ch);
 /* The trace parameters of a pass of spp samples per pixel from first_sample. */
 spm_trace_params spm_plan_pass_params(const spm_render_plan *p, spm_u32 first_sample, spm_u32 spp);
 
@@ -76,4 +88,8 @@ void spm_count_levels(const spm_mode_desc *m, const spm_path *paths, const uint8
  * leaving out and counting non-finite samples. */
 void spm_accumulate_pass(const float *xyz, size_t npix, spm_u32 spp, float *pass_xyz,
                          spm_pass_stats *st);
+/* The same for records of ch floats (XYZ first): a sample is left out when
+ * its XYZ is not finite. */
+void spm_accumulate_pass_ch(const float *rec, size_t npix, spm_u32 spp, int ch, float *pass,
+                            spm_pass_stats *st);
 #endif

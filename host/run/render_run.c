@@ -196,7 +196,7 @@ static void *worker(void *argp)
         pthread_mutex_unlock(&s->mu);
         if (pass < 0)
             break;
-        float *img = spm_xcalloc(s->npix * 3, sizeof(float));
+        float *img = spm_xcalloc(s->npix * (3 + (size_t)s->film->nspec), sizeof(float));
         spm_pass_stats st;
         memset(&st, 0, sizeof st);
         spm_error err;
@@ -283,7 +283,7 @@ int spm_render_run_window(spm_backend **b, int nb, size_t npix, const spm_run_op
     pthread_cond_init(&s.changed, NULL);
     s.npasses = (o->spp + (int)o->spp_per_pass - 1) / (int)o->spp_per_pass;
     /* the window of passes handed out ahead of the film (render_run.h) */
-    size_t fit = max_waiting_bytes / (npix * 3 * sizeof(float));
+    size_t fit = max_waiting_bytes / (npix * (3 + (size_t)film->nspec) * sizeof(float));
     s.window = fit > (size_t)(2 * nb) ? (fit < (size_t)s.npasses ? (int)fit : s.npasses) : 2 * nb;
     s.retry = spm_xcalloc((size_t)s.npasses, sizeof *s.retry);
     s.done = spm_xcalloc((size_t)s.npasses, sizeof *s.done);

@@ -58,8 +58,9 @@ int spm_run_worth_taking(double t_me, const double *t_other, int n, double work)
 int spm_render_run(spm_backend **b, int nb, size_t npix, const spm_run_opts *o, spm_film *film,
                    spm_run_result *r, spm_error *err);
 
-/* Finished pass images wait for any earlier pass still in flight: a fast
- * device runs ahead of a slow one by at most max_waiting_bytes of them (but
+/* Finished pass images (3 + film->nspec floats a pixel) wait for any earlier
+ * pass still in flight: a fast device runs ahead of a slow one by at most
+ * max_waiting_bytes of them (but
  * always by two passes per device). spm_render_run allows 256 MiB. */
 int spm_render_run_window(spm_backend **b, int nb, size_t npix, const spm_run_opts *o,
                           size_t max_waiting_bytes, spm_film *film, spm_run_result *r,

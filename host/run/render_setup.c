@@ -5,6 +5,7 @@
 #include <string.h>
 #include "cl_resources.h"
 #include "clhost.h"
+#include "film_spectral.h"
 #include "interrupt.h"
 
 void spm_render_config_defaults(spm_render_config *c)
@@ -47,7 +48,7 @@ static int device_list(const spm_render_config *c, const spm_render_setup *s, de
     size_t npix = (size_t)s->scene.width * (size_t)s->scene.height;
     size_t ppp = npix * spm_spp_per_pass(npix, spm_render_spp(c, &s->scene));
     spm_cl_footprint fp;
-    spm_cl_footprint_of(&s->geom, &s->tables, npix, ppp, &fp);
+    spm_cl_footprint_of_ch(&s->geom, &s->tables, npix, ppp, s->plan.pix_ch, &fp);
     int list[SPM_MAX_BACKENDS];
     *n = 0;
     if (c->all_devices) {
@@ -177,6 +178,12 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
     }
     if (spm_render_plan_init(&s->plan, &s->geom, &s->tables, c->mode, c->seed, err))
         return SPM_EXIT_INPUT;
+    if (c->spec_nm) {
+        int nb = c->use_cpu ? 1 : c->all_devices ? SPM_MAX_BACKENDS : c->ndevices ? c->ndevices : 1;
+        if (spm_render_plan_spectral(&s->plan, c->spec_nm, err) ||
+            spm_film_spectral_check(s->scene.width, s->scene.height, s->plan.nspec, nb, err))
+            return SPM_EXIT_INPUT;
+    }
     double t3 = spm_now();
     if (c->use_cpu) {
         s->b[0] = spm_backend_cpu_create(&s->plan, err);

@@ -21,6 +21,9 @@ typedef struct {
     spm_backend *(*open_device)(int device, const spm_render_plan *plan, spm_error *err);
     spm_pretest_opts pretest;
     int verbose;
+    /* Spectral output: bins of this many nm (0: none); the plan then carries
+     * spectral records and the host and device memory checks count them. */
+    int spec_nm;
 } spm_render_config;
 
 /* Wall seconds of each stage of a render (`render --stats`); setup fills the

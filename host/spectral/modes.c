@@ -101,19 +101,83 @@ static void rgb_fill(const spm_tables *t, int level, spm_shade_table *o)
     }
 }
 
+/* ---- spectral output: lane-to-bin maps (modes.h spm_spec_map) ------------ */
+/* Adds an entry (lane, fac) to the bin being filled; counts only while the
+ * arrays are not there yet. */
+static void map_put(spm_spec_map *o, int lane, float fac)
+{
+    if (o->idx) {
+        o->idx[o->nbins + 1 + o->nnz] = (uint32_t)lane;
+        o->fac[o->nnz] = fac;
+    }
+    o->nnz++;
+}
+
+static void map_row(spm_spec_map *o, int b)
+{
+    if (o->idx)
+        o->idx[b] = (uint32_t)o->nnz;
+}
+
+/* truth: a 1 nm bin is a lane; a 5 nm bin the mean of its five lanes. */
+static void truth_spec(const spm_tables *t, int level, int nm, spm_spec_map *o)
+{
+    (void)t, (void)level;
+    o->nnz = 0;
+    for (int b = 0; b < o->nbins; b++) {
+        map_row(o, b);
+        for (int j = 0; j < nm; j++)
+            map_put(o, b * nm + j, 1.0f / (float)nm);
+    }
+    map_row(o, o->nbins);
+}
+
+/* ref, ml: a level-l bin covers 2^l 5 nm bins, each of which gets its mean
+ * (area-preserving). */
+static void level_spec(const spm_tables *t, int l, int nm, spm_spec_map *o)
+{
+    (void)t, (void)nm;
+    o->nnz = 0;
+    for (int b = 0; b < o->nbins; b++) {
+        map_row(o, b);
+        map_put(o, b >> l, 1.0f);
+    }
+    map_row(o, o->nbins);
+}
+
+/* mlc: the smooth bins as ml; a spike lane carries the spike's energy (per
+ * nm times nm), which goes whole into the 5 nm bin holding its wavelength. */
+static void mlc_spec(const spm_tables *t, int l, int nm, spm_spec_map *o)
+{
+    o->nnz = 0;
+    for (int b = 0; b < o->nbins; b++) {
+        map_row(o, b);
+        map_put(o, b >> l, 1.0f);
+        for (int k = 0; k < t->nspikes; k++) {
+            int sb = (int)((t->spike_wl[k] - (float)SPM_LAMBDA_MIN) / (float)nm);
+            sb = sb < 0 ? 0 : sb >= o->nbins ? o->nbins - 1 : sb;
+            if (sb == b)
+                map_put(o, SPM_LEVEL_BINS(l) + k, 1.0f / (float)nm);
+        }
+    }
+    map_row(o, o->nbins);
+}
+
 const spm_mode_desc spm_modes[SPM_MODE_COUNT] = {
     [SPM_MODE_TRUTH] = {SPM_MODE_TRUTH, "truth", "1 nm bins (ground truth)", 0, 0, 0, 0,
-                        "spm_shade_truth", "SPM_SHADE_TRUTH_NV=%d", truth_layout, truth_fill},
+                        "spm_shade_truth", "SPM_SHADE_TRUTH_NV=%d", truth_layout, truth_fill,
+                        {5, 1}, truth_spec},
     [SPM_MODE_REF] = {SPM_MODE_REF, "ref", "5 nm bins", 0, 0, 0, 0, "spm_shade_l0",
-                      "SPM_SHADE_L0_NV=%d", level_layout, level_fill},
+                      "SPM_SHADE_L0_NV=%d", level_layout, level_fill, {5, 0}, level_spec},
     [SPM_MODE_ML] = {SPM_MODE_ML, "ml", "Spectral Mipmapping: 5-40 nm bins, a level per path", 1,
-                     0, 0, 0, "spm_shade_l%d", "SPM_SHADE_L%d_NV=%d", level_layout, level_fill},
+                     0, 0, 0, "spm_shade_l%d", "SPM_SHADE_L%d_NV=%d", level_layout, level_fill,
+                     {5, 0}, level_spec},
     [SPM_MODE_MLC] = {SPM_MODE_MLC, "mlc", "ml + Composite Model spike lanes", 1, 0, 1, 0,
-                      "spm_shade_l%d", "SPM_SHADE_L%d_NV=%d", mlc_layout, mlc_fill},
+                      "spm_shade_l%d", "SPM_SHADE_L%d_NV=%d", mlc_layout, mlc_fill, {5, 0}, mlc_spec},
     [SPM_MODE_HERO] = {SPM_MODE_HERO, "hero", "4 hero wavelengths a path", 0, 0, 0, 1,
-                       "spm_shade_hero", "SPM_SHADE_HERO", hero_layout, hero_fill},
+                       "spm_shade_hero", "SPM_SHADE_HERO", hero_layout, hero_fill, {5, 0}, NULL},
     [SPM_MODE_RGB] = {SPM_MODE_RGB, "rgb", "three components (linear sRGB)", 0, 0, 0, 0,
-                      "spm_shade_rgb", "SPM_SHADE_RGB", rgb_layout, rgb_fill},
+                      "spm_shade_rgb", "SPM_SHADE_RGB", rgb_layout, rgb_fill, {0, 0}, NULL},
 };
 
 const spm_mode_desc *spm_mode(int id)
@@ -248,4 +312,30 @@ void spm_modes_print(FILE *f, int json)
     }
     if (json)
         fprintf(f, "\n]\n");
+}
+
+int spm_mode_spec_ok(const spm_mode_desc *m, int nm)
+{
+    return nm > 0 && (m->spec_nm[0] == nm || m->spec_nm[1] == nm);
+}
+
+void spm_spec_map_build(const spm_mode_desc *m, const spm_tables *t, int slot, int nm,
+                        spm_spec_map *o)
+{
+    memset(o, 0, sizeof *o);
+    o->nbins = (SPM_LAMBDA_MAX - SPM_LAMBDA_MIN) / nm;
+    if (!m->spec_map)
+        return;
+    int level = spm_mode_slot_level(m, slot);
+    m->spec_map(t, level, nm, o);
+    o->idx = spm_xcalloc((size_t)o->nbins + 1 + (size_t)o->nnz, sizeof *o->idx);
+    o->fac = spm_xcalloc((size_t)o->nnz + 1, sizeof *o->fac);
+    m->spec_map(t, level, nm, o);
+}
+
+void spm_spec_map_free(spm_spec_map *map)
+{
+    free(map->idx);
+    free(map->fac);
+    memset(map, 0, sizeof *map);
 }

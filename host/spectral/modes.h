@@ -40,6 +40,16 @@ typedef struct {
     float *extra;   /* nextra floats, or NULL */
 } spm_shade_table;
 
+/* A spectral image's bins from one shade table's lanes (spectral output):
+ * bin b = sum over entries e in [row[b], row[b+1]) of lane[lane_of[e]] *
+ * fac[e], so that the bins hold the path's bin-average radiance per nm. One
+ * array idx: row (nbins + 1 entries), then lane_of (nnz entries). */
+typedef struct {
+    int nbins, nnz;
+    uint32_t *idx;
+    float *fac;
+} spm_spec_map;
+
 typedef struct spm_mode_desc spm_mode_desc;
 struct spm_mode_desc {
     int id;            /* enum spm_mode: its index in spm_modes[] */
@@ -69,6 +79,15 @@ struct spm_mode_desc {
      * then, into the zeroed arrays of that layout, the rows and weights. */
     void (*layout)(const spm_tables *t, int level, spm_shade_table *out);
     void (*fill)(const spm_tables *t, int level, spm_shade_table *out);
+    /* Spectral output (a .spectral.exr): the bin widths in nm the mode can
+     * write, the first the default (0: it writes none, as rgb); and, for a
+     * table mode, how a shade table's lanes at `level` become bins of nm nm
+     * (spm_spec_map; called with the map's row and entry counts zero to ask
+     * for nnz, then with the arrays to fill). A per-path mode (hero) has
+     * none: each lane goes to the bin holding its wavelength, divided by its
+     * density, the lane count and the bin width (kernel and reference). */
+    int spec_nm[2];
+    void (*spec_map)(const spm_tables *t, int level, int nm, spm_spec_map *out);
 };
 
 extern const spm_mode_desc spm_modes[SPM_MODE_COUNT];
@@ -108,6 +127,14 @@ void spm_mode_kernel(const spm_mode_desc *m, const spm_tables *t, int slot, char
 void spm_shade_table_build(const spm_mode_desc *m, const spm_tables *t, int slot,
                            spm_shade_table *out);
 void spm_shade_table_free(spm_shade_table *tab);
+/* 1 if the mode writes a spectral image of nm-wide bins. */
+int spm_mode_spec_ok(const spm_mode_desc *m, int nm);
+/* Slot s's lane-to-bin map for nm-wide bins, allocated (a per-path mode: an
+ * empty map); free with spm_spec_map_free. */
+void spm_spec_map_build(const spm_mode_desc *m, const spm_tables *t, int slot, int nm,
+                        spm_spec_map *out);
+void spm_spec_map_free(spm_spec_map *map);
+
 /* Bytes of every shade table of the mode (rows, weights, extra): its part of
  * the device memory a render needs. */
 size_t spm_mode_footprint(const spm_mode_desc *m, const spm_tables *t);
