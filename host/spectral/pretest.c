@@ -1,6 +1,7 @@
 /* Pretests (docs/METHODS.md "Choosing levels"): a spectrum's own sampling error at
  * each level, measured in products where every other factor stays at level 0,
- * after normalising both products to Y = 50 against a D65 white of Y = 100. */
+ * both products scaled by the factor that takes the level-0 one to Y = 50,
+ * against a D65 white of Y = 100. */
 #include "pretest.h"
 #include "colour.h"
 #include "interrupt.h"
@@ -55,8 +56,13 @@ static void at_level_sharp(const spm_spectrum *s, const spm_spectrum *sharp, int
         out[b] += extra[b];
 }
 
-/* Colour difference of two products normalised to the same luminance.
- * A product without luminance at level 0 cannot be seen: no error. */
+/* Colour difference of two products, both scaled by one factor: the one that
+ * takes the level-0 product to Y = 50. So a darkening chain cannot hide a hue
+ * error, and a level's luminance error counts too: scaling each product to its
+ * own Y hid it, yet it shows in the pixel (a long chain's R^k at a coarse
+ * level is darker or brighter than at level 0, and so is its share of the
+ * pixel's sum over path lengths). A product without luminance at level 0
+ * cannot be seen: no error. */
 static double product_error(const bins_t ref, const bins_t test, spm_metric metric)
 {
     double xr[3], xt[3], white[3], lr[3], lt[3];
@@ -67,10 +73,10 @@ static double product_error(const bins_t ref, const bins_t test, spm_metric metr
     if (!(xt[1] > 0.0))
         return WHITE_Y; /* the level lost all luminance: as far from it as black from white */
     spm_white_d65(white);
-    double fr = NORM_Y / xr[1], ft = NORM_Y / xt[1];
+    double f = NORM_Y / xr[1];
     for (int k = 0; k < 3; k++) {
-        xr[k] *= fr;
-        xt[k] *= ft;
+        xr[k] *= f;
+        xt[k] *= f;
         white[k] *= WHITE_Y;
     }
     spm_xyz_to_lab(xr, white, lr);
