@@ -23,7 +23,6 @@ typedef int32_t spm_i32;
 #define SPM_LEVEL_BINS(l) (SPM_L0_BINS >> (l))
 #define SPM_TRUTH_BINS 400      /* 1 nm bins: ground truth */
 #define SPM_VECS_PER_LEVEL 5    /* a level is five vectors: 5x16, 5x8, 5x4, 5x2 */
-#define SPM_PRETEST_KMAX 8      /* pretest context B: k = 1..8 occurrences */
 #define SPM_MAX_SPIKES 16       /* Composite Model: spike lanes per scene */
 #define SPM_HERO_LANES 4
 /* hero's table, one array: the CDF of its wavelength density over the 1 nm
@@ -39,6 +38,11 @@ typedef int32_t spm_i32;
 /* ---- path records ------------------------------------------------------- */
 #define SPM_MAX_DEPTH 64        /* vertices per path record (same in both backends) */
 #define SPM_NONE 0xFFFFu        /* "no colour" in a 16-bit colour id */
+/* Pretest context B: k = 1..KMAX occurrences of a colour on one path. A path
+ * meets at most SPM_MAX_DEPTH reflections, so the level feeler has a level for
+ * every count it can see (a table that stopped short would give long chains
+ * the level of a shorter one, whose error they exceed). */
+#define SPM_PRETEST_KMAX SPM_MAX_DEPTH
 
 /* How a path ended. */
 #define SPM_END_ABSORBED 0u     /* Russian roulette ended it */

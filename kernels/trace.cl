@@ -176,7 +176,7 @@ inline int shadow_hit(__global const spm_bvh_node *nodes, __global const spm_tri
     return traverse(nodes, tris, o, d, skip, INFINITY, -1, 1, &t, counters);
 }
 
-/* Level feeler: one colour met; lvlk[c*8 + min(k,8) - 1] (k = occurrence count). */
+/* Level feeler: one colour met; lvlk[c * KMAX + min(k, KMAX) - 1] (k = occurrence count). */
 inline void feel(__global const uchar *lvlk, uint c, uint k, uint by, uint *level, uint *setby)
 {
     uint l = lvlk[c * SPM_PRETEST_KMAX + min(k, (uint)SPM_PRETEST_KMAX) - 1u];

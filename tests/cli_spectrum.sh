@@ -18,7 +18,8 @@ for k in ("XYZ", "Lab", "sRGB", "levels", "chosen_level"):
 assert abs(d["XYZ"][1] - 88.7) < 0.5, d["XYZ"]          # README: Y ~ 88.7
 assert abs(d["Lab"][1]) < 2 and abs(d["Lab"][2]) < 3, d["Lab"]  # near neutral
 assert [l["bins"] for l in d["levels"]] == [80, 40, 20, 10]
-assert d["chosen_level"] in (0, 1, 2) and len(d["level_k"]) == 8
+# level_k: one level per occurrence count a path can have (records of 64 vertices)
+assert d["chosen_level"] in (0, 1, 2) and len(d["level_k"]) == 64
 ' "$out"; then ok; else bad "white_9_5 JSON: $out"; fi
 
 # The levels table and the pretest against a recomputation here from the XYZ
@@ -26,8 +27,8 @@ assert d["chosen_level"] in (0, 1, 2) and len(d["level_k"]) == 8
 # - a reflectance's level-l dE00 and dEab are those of its level-l colour
 #   against its level-0 colour, under the CIELAB white of the same light;
 # - a light alone is pretested on its own (README: its error at level l is
-#   the colour difference of level l against level 0, each scaled to Y = 50,
-#   against the D65 white of Y = 100), so the chosen level, and every level_k,
+#   the colour difference of level l against level 0, both scaled by the
+#   factor that takes level 0 to Y = 50, against the D65 white of Y = 100), so the chosen level, and every level_k,
 #   is the coarsest of 1..2 whose error is within the threshold: tried at 0,
 #   at a huge threshold and just below and above each error;
 # - a flat reflectance samples exactly at every level: level 2 even at
@@ -98,8 +99,8 @@ for patch in ("white_9_5", "red"):
                   f"{patch} under {light}: level {l} dEab {got['dEab']} vs {de_ab(lab0, labl)}")
 
 d65 = spectrum(f"{ROOT}/spectra/illuminant_D65_1nm.csv", "--emission")["XYZ"]
-def at_y50(xyz):
-    return [v * 50 / xyz[1] for v in xyz]
+def at_y50(xyz, y0):  # scaled by the factor that takes level 0 (y0) to Y = 50
+    return [v * 50 / y0 for v in xyz]
 nchecked = 0
 for name, metric in (("illuminant_F11", "de00"), ("illuminant_F11", "deab"),
                      ("illuminant_A", "de00"), ("lightsource_nist_mercury", "de00"),
@@ -107,12 +108,13 @@ for name, metric in (("illuminant_F11", "de00"), ("illuminant_F11", "deab"),
     f = f"{ROOT}/spectra/{name}.csv"
     xyz = [spectrum(f, "--emission", "--level", str(l))["XYZ"] for l in range(3)]
     de = de00 if metric == "de00" else de_ab
-    err = [de(lab(at_y50(xyz[0]), d65), lab(at_y50(xyz[l]), d65)) for l in range(3)]
+    err = [de(lab(at_y50(xyz[0], xyz[0][1]), d65), lab(at_y50(xyz[l], xyz[0][1]), d65))
+           for l in range(3)]
     thresholds = [0.0, 1e6] + [e * g for e in err[1:] if e > 100 * TOL for g in (0.99, 1.01)]
     for thr in thresholds:
         d = spectrum(f, "--emission", "--metric", metric, "--threshold", repr(thr))
         want = max([0] + [l for l in (1, 2) if err[l] <= thr])
-        check(d["chosen_level"] == want and d["level_k"] == [want] * 8,
+        check(d["chosen_level"] == want and d["level_k"] == [want] * 64,
               f"{name} ({metric}) at threshold {thr}: level {d['chosen_level']}, "
               f"level_k {d['level_k']}; errors {err[1]:.6f} {err[2]:.6f} say {want}")
         nchecked += 1

@@ -106,8 +106,8 @@ static void load_bundle(bundle *b)
 /* The pretest's error recomputed here from the spectrum and colour APIs alone,
  * as pretest.c defines it: s at `level` (each bin held over the level-0 bins it
  * covers) to the power k, times f0 at level 0 (NULL: no other factor), against
- * the same product with s at level 0; each product scaled to Y = 50 and taken
- * to CIELAB against the D65 white of Y = 100. XYZ is summed over the 1 nm
+ * the same product with s at level 0; both scaled by the factor that takes
+ * the level-0 product to Y = 50 and taken to CIELAB against the D65 white of Y = 100. XYZ is summed over the 1 nm
  * weights, not the level-0 ones the pretest uses. */
 static double expect_error(const spm_spectrum *s, int level, int k, const double *f0,
                            spm_metric metric)
@@ -137,8 +137,9 @@ static double expect_error(const spm_spectrum *s, int level, int k, const double
     spm_white_d65(white);
     for (int c = 0; c < 3; c++)
         white[c] *= 100.0;
+    double f = 50.0 / xyz[0][1]; /* both by the level-0 product's factor */
     for (int p = 0; p < 2; p++) {
-        double f = 50.0 / xyz[p][1], scaled[3] = {xyz[p][0] * f, 50.0, xyz[p][2] * f};
+        double scaled[3] = {xyz[p][0] * f, xyz[p][1] * f, xyz[p][2] * f};
         spm_xyz_to_lab(scaled, white, lab[p]);
     }
     return metric == SPM_METRIC_DEAB ? spm_delta_e_ab(lab[0], lab[1])

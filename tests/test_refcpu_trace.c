@@ -151,13 +151,13 @@ static void test_truncation(void)
 
 /* Levels by hand: colour 0 (walls) needs level 2 once or twice, 1 three or
  * four times, 0 from five; colour 2 (floor) always 2; the light (1) 1. */
+#define KM SPM_PRETEST_KMAX
 static void set_lvlk(uint8_t *lvlk, int light_level)
 {
-    const uint8_t walls[8] = {2, 2, 1, 1, 0, 0, 0, 0};
-    for (int k = 0; k < 8; k++) {
-        lvlk[0 * 8 + k] = walls[k];
-        lvlk[1 * 8 + k] = (uint8_t)light_level;
-        lvlk[2 * 8 + k] = 2;
+    for (int k = 0; k < KM; k++) {
+        lvlk[0 * KM + k] = (uint8_t)(k < 2 ? 2 : k < 4 ? 1 : 0);
+        lvlk[1 * KM + k] = (uint8_t)light_level;
+        lvlk[2 * KM + k] = 2;
     }
 }
 
@@ -168,9 +168,9 @@ static void test_level_feeler(void)
     set_lvlk(w.t.lvlk, 2);
     spm_trace_params p = ts_params(&w.s, &w.g, 32, 9u);
     CHECK(spm_plan_level_start(&w.g, w.t.materials, w.t.lvlk, &p) == 2, "start: coarsest in use");
-    w.t.lvlk[2 * 8] = 3;
+    w.t.lvlk[2 * KM] = 3;
     CHECK(spm_plan_level_start(&w.g, w.t.materials, w.t.lvlk, &p) == 3, "start follows the table");
-    w.t.lvlk[2 * 8] = 2;
+    w.t.lvlk[2 * KM] = 2;
 
     enum { N = 16 * 32 };
     static spm_path pa[N];
@@ -182,7 +182,7 @@ static void test_level_feeler(void)
         int k = 0;
         for (spm_u32 j = 0; j < pa[i].h.nvert; j++)
             k += (pa[i].v[j].ids & 0xFFFFu) == 0u;
-        int level = k == 0 ? 2 : w.t.lvlk[(k < 8 ? k : 8) - 1];
+        int level = k == 0 ? 2 : w.t.lvlk[(k < KM ? k : KM) - 1];
         spm_u32 by = level < 2 ? SPM_SETBY_REFLECTOR : SPM_SETBY_NONE;
         ok &= lv[i] == (uint8_t)(level | (by << SPM_SETBY_SHIFT));
         seen[level]++;
@@ -204,8 +204,8 @@ static void test_level_feeler(void)
             level = 1, by = SPM_SETBY_EMITTER;
         for (spm_u32 j = 0; j < pa[i].h.nvert; j++) {
             spm_u32 r = pa[i].v[j].ids & 0xFFFFu;
-            if (r == 0u && w.t.lvlk[(++k < 8 ? k : 8) - 1] < level)
-                level = w.t.lvlk[(k < 8 ? k : 8) - 1], by = SPM_SETBY_REFLECTOR;
+            if (r == 0u && w.t.lvlk[(++k < KM ? k : KM) - 1] < level)
+                level = w.t.lvlk[(k < KM ? k : KM) - 1], by = SPM_SETBY_REFLECTOR;
             if ((pa[i].v[j].ids >> 16) == 1u && 1 < level)
                 level = 1, by = SPM_SETBY_EMITTER;
             lit |= (pa[i].v[j].ids >> 16) == 1u;

@@ -171,8 +171,9 @@ int main(void)
     }
     if (d)
         closedir(d);
-    /* cornell, cornell_spiky, multilight, colorful, narrowline, saturated_box, metameric */
-    CHECK(count >= 7, "%d bundled scenes", count);
+    /* cornell, cornell_spiky, multilight, colorful, narrowline, saturated_box, metameric,
+     * magenta_box */
+    CHECK(count >= 8, "%d bundled scenes", count);
     check_metameric();
     check_saturated();
     check_narrowline();

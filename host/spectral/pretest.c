@@ -1,6 +1,7 @@
 /* Pretests (docs/METHODS.md "Choosing levels"): a spectrum's own sampling error at
  * each level, measured in products where every other factor stays at level 0,
- * after normalising both products to Y = 50 against a D65 white of Y = 100. */
+ * both products scaled by the factor that takes the level-0 one to Y = 50,
+ * against a D65 white of Y = 100. */
 #include "pretest.h"
 #include "colour.h"
 #include "interrupt.h"
@@ -55,8 +56,13 @@ static void at_level_sharp(const spm_spectrum *s, const spm_spectrum *sharp, int
         out[b] += extra[b];
 }
 
-/* Colour difference of two products normalised to the same luminance.
- * A product without luminance at level 0 cannot be seen: no error. */
+/* Colour difference of two products, both scaled by one factor: the one that
+ * takes the level-0 product to Y = 50. So a darkening chain cannot hide a hue
+ * error, and a level's luminance error counts too: scaling each product to its
+ * own Y hid it, yet it shows in the pixel (a long chain's R^k at a coarse
+ * level is darker or brighter than at level 0, and so is its share of the
+ * pixel's sum over path lengths). A product without luminance at level 0
+ * cannot be seen: no error. */
 static double product_error(const bins_t ref, const bins_t test, spm_metric metric)
 {
     double xr[3], xt[3], white[3], lr[3], lt[3];
@@ -67,10 +73,10 @@ static double product_error(const bins_t ref, const bins_t test, spm_metric metr
     if (!(xt[1] > 0.0))
         return WHITE_Y; /* the level lost all luminance: as far from it as black from white */
     spm_white_d65(white);
-    double fr = NORM_Y / xr[1], ft = NORM_Y / xt[1];
+    double f = NORM_Y / xr[1];
     for (int k = 0; k < 3; k++) {
-        xr[k] *= fr;
-        xt[k] *= ft;
+        xr[k] *= f;
+        xt[k] *= f;
         white[k] *= WHITE_Y;
     }
     spm_xyz_to_lab(xr, white, lr);
@@ -166,27 +172,38 @@ static void run_one(const spm_spectrum *s, const spm_spectrum *sharp, int self, 
     memset(res, 0, sizeof *res);
     for (int l = 1; l < SPM_NUM_LEVELS; l++) {
         at_level_sharp(s, sharp, l, sl);
-        /* A and B: s^k under each light; an emission ends the product, so
-         * for it every k is context A (s on its own). */
-        for (int k = 1; k <= SPM_PRETEST_KMAX; k++) {
-            double e = 0.0;
-            if (is_light)
-                e = context_error(s0, sl, 1, one, o->metric);
-            else
-                for (int li = 0; li < set->nlights; li++)
-                    e = maxd(e, context_error(s0, sl, k, set->lights[li], o->metric));
-            res->err_k[k - 1][l] = e;
+        /* A and B: s^k under each light, the powers built up one k at a time;
+         * an emission ends the product, so for it every k is context A (s on
+         * its own). */
+        if (is_light) {
+            double e = context_error(s0, sl, 1, one, o->metric);
+            for (int k = 1; k <= SPM_PRETEST_KMAX; k++)
+                res->err_k[k - 1][l] = e;
+        } else {
+            for (int li = 0; li < set->nlights; li++) {
+                bins_t p0, pl;
+                memcpy(p0, set->lights[li], sizeof p0);
+                memcpy(pl, set->lights[li], sizeof pl);
+                for (int k = 1; k <= SPM_PRETEST_KMAX; k++) {
+                    for (int b = 0; b < SPM_L0_BINS; b++) {
+                        p0[b] *= s0[b];
+                        pl[b] *= sl[b];
+                    }
+                    double e = product_error(p0, pl, o->metric);
+                    res->err_k[k - 1][l] = li ? maxd(res->err_k[k - 1][l], e) : e;
+                }
+            }
         }
         err_ac[l] = maxd(res->err_k[0][l], sequence_error(set, self, is_light, s0, sl, o));
     }
     /* level_k: the coarsest level passing A, C and B for every j <= k. */
+    double upto[SPM_NUM_LEVELS];
+    memcpy(upto, err_ac, sizeof upto);
     for (int k = 1; k <= SPM_PRETEST_KMAX; k++) {
         int best = 0;
         for (int l = 1; l <= o->coarsest_level && l < SPM_NUM_LEVELS; l++) {
-            double e = err_ac[l];
-            for (int j = 0; j < k; j++)
-                e = maxd(e, res->err_k[j][l]);
-            if (e <= o->threshold)
+            upto[l] = maxd(upto[l], res->err_k[k - 1][l]);
+            if (upto[l] <= o->threshold)
                 best = l;
         }
         res->level_k[k - 1] = best;
@@ -223,6 +240,10 @@ int spm_pretest_run_sharp(const spm_spectrum *const *spectra, const spm_spectrum
     return i;
 }
 
+/* Context B's columns in the table: every k up to 8, then a few longer chains. */
+static const int print_k[] = {1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 24, 32, 48, SPM_PRETEST_KMAX};
+#define NPRINT_K ((int)(sizeof print_k / sizeof print_k[0]))
+
 void spm_pretest_print(FILE *f, const char *const *names, const spm_pretest_result *r, int n,
                        const spm_pretest_opts *o)
 {
@@ -230,19 +251,31 @@ void spm_pretest_print(FILE *f, const char *const *names, const spm_pretest_resu
             o->metric == SPM_METRIC_DEAB ? "dEab" : "dE00", o->threshold, o->seed,
             o->nsequences, o->coarsest_level);
     fprintf(f, "%-24s %5s %4s %8s", "spectrum", "level", "bins", "worst");
-    for (int k = 1; k <= SPM_PRETEST_KMAX; k++)
-        fprintf(f, "    B k=%d", k);
+    for (int i = 0; i < NPRINT_K; i++) {
+        char h[16];
+        snprintf(h, sizeof h, "B k=%d", print_k[i]);
+        fprintf(f, " %8s", h);
+    }
     fputc('\n', f);
     for (int i = 0; i < n; i++) {
         for (int l = 1; l < SPM_NUM_LEVELS; l++) {
             fprintf(f, "%-24s %5d %4d %8.3f", names[i], l, SPM_LEVEL_BINS(l), r[i].err[l]);
-            for (int k = 0; k < SPM_PRETEST_KMAX; k++)
-                fprintf(f, " %8.3f", r[i].err_k[k][l]);
+            for (int j = 0; j < NPRINT_K; j++)
+                fprintf(f, " %8.3f", r[i].err_k[print_k[j] - 1][l]);
             fputc('\n', f);
         }
+        /* per k as runs of equal levels: "k 1: 2, k 2-8: 1, k 9-64: 0" */
         fprintf(f, "%-24s chosen level %d; per k:", names[i], r[i].level);
-        for (int k = 0; k < SPM_PRETEST_KMAX; k++)
-            fprintf(f, " %d", r[i].level_k[k]);
+        for (int k = 0; k < SPM_PRETEST_KMAX;) {
+            int e = k;
+            while (e + 1 < SPM_PRETEST_KMAX && r[i].level_k[e + 1] == r[i].level_k[k])
+                e++;
+            if (e > k)
+                fprintf(f, "%s k %d-%d: %d", k ? "," : "", k + 1, e + 1, r[i].level_k[k]);
+            else
+                fprintf(f, "%s k %d: %d", k ? "," : "", k + 1, r[i].level_k[k]);
+            k = e + 1;
+        }
         fputc('\n', f);
     }
 }

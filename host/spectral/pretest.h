@@ -15,7 +15,7 @@ typedef struct {
 } spm_pretest_opts;
 
 typedef struct {
-    int level;  /* coarsest admissible level over all contexts (A, B for k = 1..8, C) */
+    int level;  /* coarsest admissible level over all contexts (A, B for k = 1..KMAX, C) */
     /* level_k[k-1]: coarsest admissible level for contexts A, C and B with at most k
      * occurrences (non-increasing in k); the level feeler uses it per occurrence count. */
     int level_k[SPM_PRETEST_KMAX];
