@@ -16,6 +16,9 @@
 #define SPM_MESH_CHILD_AS_BYTES (4ull << 30)
 #define SPM_MESH_CHILD_CPU_SECONDS 120
 #define SPM_MESH_CHILD_WALL_SECONDS 600
+/* Test hook, active only when the environment sets it:
+ * SPECMIP_TEST_MESH_CHILD=crash makes the child die of SIGSEGV before
+ * importing; =as=N limits its address space to N MiB instead. */
 #define SPM_MESH_MAX_MATERIALS 4096
 #define SPM_MESH_MAX_DEPTH 256 /* node hierarchy depth */
 

@@ -251,9 +251,18 @@ static void child_main(const char *path, int fd)
     signal(SIGPIPE, SIG_DFL);
     struct rlimit cpu = {SPM_MESH_CHILD_CPU_SECONDS, SPM_MESH_CHILD_CPU_SECONDS + 5};
     setrlimit(RLIMIT_CPU, &cpu);
+    /* test hook (mesh.h): a crash, or a smaller address-space limit */
+    const char *hook = getenv("SPECMIP_TEST_MESH_CHILD");
+    if (hook && !strcmp(hook, "crash"))
+        raise(SIGSEGV);
+    rlim_t as_bytes = SPM_MESH_CHILD_AS_BYTES;
+    if (hook && !strncmp(hook, "as=", 3) && strtoul(hook + 3, NULL, 10) > 0)
+        as_bytes = (rlim_t)strtoul(hook + 3, NULL, 10) << 20;
 #ifndef SPM_ASAN /* ASan reserves terabytes of shadow address space */
-    struct rlimit as = {SPM_MESH_CHILD_AS_BYTES, SPM_MESH_CHILD_AS_BYTES};
+    struct rlimit as = {as_bytes, as_bytes};
     setrlimit(RLIMIT_AS, &as);
+#else
+    (void)as_bytes;
 #endif
     alarm(SPM_MESH_CHILD_WALL_SECONDS);
     static writer w;
@@ -265,7 +274,13 @@ static void child_main(const char *path, int fd)
     const struct aiScene *sc = aiImportFile(path, aiProcess_Triangulate);
     if (!sc) {
         char msg[700];
-        snprintf(msg, sizeof msg, "Assimp: %s", aiGetErrorString());
+        const char *why = aiGetErrorString();
+        if (why && why[0])
+            snprintf(msg, sizeof msg, "Assimp: %s", why);
+        else /* what Assimp says when an allocation fails */
+            snprintf(msg, sizeof msg, "the importer failed without saying why (it may have run "
+                                      "out of memory: its limit is %llu MiB)",
+                     (unsigned long long)(as_bytes >> 20));
         child_fail(&w, msg);
     }
     if (!sc->mRootNode)
