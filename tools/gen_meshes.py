@@ -10,7 +10,8 @@ statement reads, plus the expected triangles as text:
   cube_ascii.stl / cube_binary.stl
   cube.tris             the 12 triangles, 9 numbers a line, front faces outward
   hier.gltf + hier.tris glTF node hierarchy: the cube used by three nodes
-                        (a translation; a rotation under a scaled parent; a mirror)
+                        (a translation; a rotation and translation under a scaled
+                        parent; a mirror)
   quad_emit.gltf        one emissive quad facing -z (towards a camera on -z)
   big.ply + (N given)   a procedural binary PLY of about N triangles (a bumpy sphere)
 
@@ -154,13 +155,13 @@ def gltf(out):
     doc, buf = gltf_doc(V, prims, [{'mesh': 0}], [0], gltf_materials(names))
     write_gltf(os.path.join(out, 'cube.gltf'), doc, buf)
     write_glb(os.path.join(out, 'cube.glb'), doc, buf)
-    # hierarchy: node 0 translated; node 1 (scale 2) with child 2 rotated 90 deg about
-    # z; node 3 mirrored in x (its faces' winding reversed to keep them outward)
+    # hierarchy: node 0 translated; node 1 (scale 2 1 1) with child 2 rotated 90 deg
+    # about z and moved; node 3 mirrored in x (its faces' winding reversed to keep them outward)
     c, s = 0.0, 1.0  # the quaternion of 90 degrees about z is (0, 0, sin 45, cos 45)
     q = math.sqrt(0.5)
     nodes = [{'mesh': 0, 'translation': [10, 0, 0]},
-             {'scale': [2, 2, 2], 'children': [2]},
-             {'mesh': 0, 'rotation': [0, 0, q, q]},
+             {'scale': [2, 1, 1], 'children': [2]},
+             {'mesh': 0, 'rotation': [0, 0, q, q], 'translation': [0, 0, 5]},
              {'mesh': 0, 'scale': [-1, 1, 1], 'translation': [-10, 0, 0]}]
     doc, buf = gltf_doc(V, prims, nodes, [0, 1, 3], gltf_materials(names))
     write_gltf(os.path.join(out, 'hier.gltf'), doc, buf)
@@ -168,7 +169,7 @@ def gltf(out):
     for t in TRIS:
         p = [V[i] for i in t[:3]]
         tris.append([(x + 10, y, z) for x, y, z in p])
-        tris.append([(2 * (c * x - s * y), 2 * (s * x + c * y), 2 * z) for x, y, z in p])
+        tris.append([(2 * (c * x - s * y), s * x + c * y, z + 5) for x, y, z in p])
         m = [(-x - 10, y, z) for x, y, z in p]
         tris.append([m[0], m[2], m[1]])
     write_tris(os.path.join(out, 'hier.tris'), tris)
