@@ -18,7 +18,8 @@
 #define SPM_MESH_CHILD_WALL_SECONDS 600
 /* Test hook, active only when the environment sets it:
  * SPECMIP_TEST_MESH_CHILD=crash makes the child die of SIGSEGV before
- * importing; =as=N limits its address space to N MiB instead. */
+ * importing, =hang makes it wait for ever, =as=N limits its address space
+ * to N MiB instead. */
 #define SPM_MESH_MAX_MATERIALS 4096
 #define SPM_MESH_MAX_DEPTH 256 /* node hierarchy depth */
 

@@ -19,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -244,7 +245,7 @@ static int ply_has_strips(const char *path)
     return strips;
 }
 
-static void child_main(const char *path, int fd)
+static void child_main(const char *path, int fd, pid_t parent)
 {
     signal(SIGINT, SIG_DFL); /* Ctrl-C reaches the whole process group: end at once */
     signal(SIGTERM, SIG_DFL);
@@ -265,6 +266,11 @@ static void child_main(const char *path, int fd)
     (void)as_bytes;
 #endif
     alarm(SPM_MESH_CHILD_WALL_SECONDS);
+    prctl(PR_SET_PDEATHSIG, SIGKILL); /* a parent killed outright takes the child along */
+    if (getppid() != parent)
+        _exit(1);
+    while (hook && !strcmp(hook, "hang"))
+        pause();
     static writer w;
     w.fd = fd;
     if (ends_with_ci(path, ".ply") && ply_has_strips(path))
@@ -372,6 +378,7 @@ int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err)
     }
     fflush(stdout);
     fflush(stderr);
+    pid_t parent = getpid();
     pid_t pid = fork();
     if (pid < 0) {
         close(fds[0]);
@@ -381,7 +388,7 @@ int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err)
     }
     if (pid == 0) {
         close(fds[0]);
-        child_main(path, fds[1]);
+        child_main(path, fds[1], parent);
     }
     close(fds[1]);
     spm_test_pause("mesh");
