@@ -36,7 +36,8 @@ enum {
     SPM_MESH_IGN_LIGHTS = 1 << 8,
     SPM_MESH_IGN_ANIMATION = 1 << 9,
     SPM_MESH_IGN_POINTS_LINES = 1 << 10,
-    SPM_MESH_IGN_COUNT = 11
+    SPM_MESH_IGN_EMISSIVE_STRENGTH = 1 << 11,
+    SPM_MESH_IGN_COUNT = 12
 };
 /* "vertex normals", ... for bit i */
 const char *spm_mesh_ignored_name(int bit);

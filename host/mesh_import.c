@@ -5,6 +5,7 @@
  * as an error in the file. Options: triangulate only; joining identical
  * vertices would cost about a second and 380 MB per million triangles and
  * flat shading does not need it. */
+#define _GNU_SOURCE /* memmem */
 #include "mesh.h"
 #include "interrupt.h"
 #include <assimp/cimport.h>
@@ -245,6 +246,29 @@ static int ply_has_strips(const char *path)
     return strips;
 }
 
+/* Whether the file's bytes (the first 64 MiB: glTF's JSON comes first)
+ * contain `needle`. Assimp 5.2 drops glTF's emissive strength without a word. */
+static int file_mentions(const char *path, const char *needle)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return 0;
+    static char buf[(1 << 20) + 64];
+    size_t keep = 0, m = strlen(needle);
+    int found = 0;
+    for (int i = 0; i < 64 && !found; i++) {
+        size_t n = fread(buf + keep, 1, 1 << 20, f);
+        if (n == 0)
+            break;
+        found = memmem(buf, keep + n, needle, m) != NULL;
+        size_t tail = keep + n < m ? keep + n : m - 1;
+        memmove(buf, buf + keep + n - tail, tail);
+        keep = tail;
+    }
+    fclose(f);
+    return found;
+}
+
 static void child_main(const char *path, int fd, pid_t parent)
 {
     signal(SIGINT, SIG_DFL); /* Ctrl-C reaches the whole process group: end at once */
@@ -329,6 +353,9 @@ static void child_main(const char *path, int fd, pid_t parent)
     }
     if (sc->mNumTextures)
         k.ignored |= SPM_MESH_IGN_TEXTURES;
+    if ((ends_with_ci(path, ".gltf") || ends_with_ci(path, ".glb")) &&
+        file_mentions(path, "KHR_materials_emissive_strength"))
+        k.ignored |= SPM_MESH_IGN_EMISSIVE_STRENGTH;
     if (sc->mNumCameras)
         k.ignored |= SPM_MESH_IGN_CAMERAS;
     if (sc->mNumLights)

@@ -96,6 +96,8 @@ const char *spm_mesh_ignored_name(int bit)
     static const char *names[SPM_MESH_IGN_COUNT] = {
         "vertex normals", "texture coordinates", "vertex colours", "textures", "normal maps",
         "glossy and metallic parameters", "opacity", "cameras", "lights",
-        "animations, skins and morph targets", "points and lines"};
+        "animations, skins and morph targets", "points and lines",
+        "glTF emissive strengths (KHR_materials_emissive_strength, which Assimp 5.2 does not "
+        "read: emissions are the emissiveFactor alone)"};
     return bit >= 0 && bit < SPM_MESH_IGN_COUNT ? names[bit] : "?";
 }

@@ -35,6 +35,14 @@ check "front: the floor is lit" above "$(avg "$T/front.exr" 16x3+0+13)" 0.01
 check "back: the quad's back is black" test "$(avg "$T/back.exr" 2x2+7+7)" = 0.000000
 check "back: the floor before it is dark" test "$(avg "$T/back.exr" 16x3+0+13)" = 0.000000
 
+# A glTF emissive strength, which the importer drops, is warned about.
+python3 -c 'import json, sys; d = json.load(open(sys.argv[1]))
+d["materials"][0]["extensions"] = {"KHR_materials_emissive_strength": {"emissiveStrength": 5}}
+json.dump(d, open(sys.argv[2], "w"))' "$T/quad_emit.gltf" "$T/strength.gltf"
+sed 's/quad_emit.gltf/strength.gltf/' "$T/quad.scene" > "$T/strength.scene"
+"$BIN" render "$T/strength.scene" "${R[@]}" --spp 1 -o "$T/s.exr" 2> "$T/err"
+check "emissive strength: warned" grep -q "warning: .*KHR_materials_emissive_strength" "$T/err"
+
 # 2. The README's mesh example (the first block with a mesh statement).
 awk '/^```/ { if (b) { if (m) { printf "%s", buf; exit } b = 0; buf = ""; m = 0; next } b = 1; next }
      b { buf = buf $0 "\n"; if ($1 == "mesh") m = 1 }' "$ROOT/README.md" > "$T/room.scene"
