@@ -126,13 +126,15 @@ static int mesh_tris(walk *k, const struct aiMesh *m, const affine x)
         if (++k->count > SPM_SCENE_MAX_TRIS)
             return 1;
         k->used[m->mMaterialIndex] = 1;
+        /* checked while counting, before anything is written */
+        for (int v = 0; v < 3; v++)
+            if (face->mIndices[v] >= m->mNumVertices)
+                child_fail(k->w, "a face refers to a vertex the file does not have");
         if (!k->emit)
             continue;
         spm_mesh_tri t;
         for (int v = 0; v < 3; v++) {
             unsigned idx = face->mIndices[flip && v ? 3 - v : v];
-            if (idx >= m->mNumVertices)
-                child_fail(k->w, "a face refers to a vertex the file does not have");
             const struct aiVector3D *p = &m->mVertices[idx];
             for (int i = 0; i < 3; i++)
                 t.p[v][i] = (float)(x[i][0] * p->x + x[i][1] * p->y + x[i][2] * p->z + x[i][3]);

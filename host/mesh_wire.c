@@ -57,6 +57,10 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
         spm_errorf(err, "%s: more than %d materials", path, SPM_MESH_MAX_MATERIALS);
         return 1;
     }
+    if (h.ntris == 0) {
+        spm_errorf(err, "%s: the file has no triangles", path);
+        return 1;
+    }
     if (h.ntris > SPM_SCENE_MAX_TRIS) {
         spm_errorf(err, "%s: more than %d triangles", path, SPM_SCENE_MAX_TRIS);
         return 1;

@@ -169,6 +169,7 @@ static void check_decode(void)
                {12, 4, 5000, "too many materials"},
                {16, 8, (uint64_t)1 << 40, "too many triangles"},
                {16, 8, 3, "a count that does not match the size"},
+               {16, 8, 0, "no triangles"},
                {24 + 2 * sizeof(spm_mesh_material) + offsetof(spm_mesh_tri, mat), 4, 2,
                 "a material index out of range"}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
