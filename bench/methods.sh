@@ -1,5 +1,5 @@
 #!/bin/bash
-# Issue 4 benchmark (not a test): the spectral methods side by side on one
+# Benchmark (not a test): the spectral methods side by side on one
 # scene - shade-stage time and whole-render paths/s of each mode, and its bias
 # against ref (same seed: same paths, ΔE00 of 5x5-blurred images). The goal is
 # an mlc shade stage >= 1.3x faster than ml's on the spiky scene at equal or
@@ -8,7 +8,7 @@
 # env:   SCENE (scenes/cornell_spiky.scene), SIZE (256), SPP (64),
 #        REPEAT (3: each mode's best shade time and paths/s of REPEAT runs, as
 #        other work on the machine only ever slows a run down),
-#        MODES ("mlc ml ref hero rgb truth"), OUT (a temporary directory)
+#        MODES (default every mode, `specmip modes`), OUT (a temporary directory)
 set -eu
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BIN=${1:-$ROOT/build/specmip}
@@ -17,9 +17,9 @@ SCENE=${SCENE:-$ROOT/scenes/cornell_spiky.scene}
 SIZE=${SIZE:-256}
 SPP=${SPP:-64}
 REPEAT=${REPEAT:-3}
-MODES=${MODES:-"mlc ml ref hero rgb truth"}
 OUT=${OUT:-$(mktemp -d)}
 [ -x "$BIN" ] || { echo "bench/methods.sh: no specmip binary at $BIN" >&2; exit 2; }
+MODES=${MODES:-$("$BIN" modes | cut -f1 | tr '\n' ' ')}
 mkdir -p "$OUT"
 
 # ref first: the others are compared with its image

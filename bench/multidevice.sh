@@ -1,5 +1,5 @@
 #!/bin/bash
-# Issue 5 benchmark (not a test): one render across several OpenCL devices.
+# Benchmark (not a test): one render across several OpenCL devices.
 #  1. POCL_DEVICES="basic basic" (two single-threaded devices, one per core):
 #     two devices against one, paths/s. Goal: >= 1.8x.
 #  2. POCL_DEVICES="pthread basic" (a multi-threaded and a single-threaded

@@ -1,5 +1,5 @@
 #!/bin/bash
-# Issue 3 benchmark (not a test): the default Cornell box in every mode on the
+# Benchmark (not a test): the default Cornell box in every mode on the
 # OpenCL device (PoCL here), same seed, side by side. Per mode: paths/s (camera
 # samples per second of whole-render wall time), trace-stage and shade-stage
 # time (event profiling; the host's level bucketing counts as shade); then the
@@ -8,12 +8,12 @@
 # The machine is shared, so the modes run round-robin (one render of each per
 # round: a busy moment slows a whole round, not one mode), ratios are taken
 # within a round, and each figure is the median of the rounds with its range.
-# With mlc among the modes, also shade mlc/ml (issue 4's goal, >= 1.3, is for
+# With mlc among the modes, also shade mlc/ml (the goal, >= 1.3, is for
 # SCENE=scenes/cornell_spiky.scene).
 # usage: bench/renderer.sh [path/to/specmip]   (default build/specmip)
 # env:   SCENE (a scene file; default the built-in Cornell box),
 #        SIZE (256), SPP (64), SEED (1), REPEAT (3 rounds),
-#        MODES ("ref ml rgb truth hero mlc"), DEVICE (0), OUT (a temporary directory)
+#        MODES (default every mode, `specmip modes`), DEVICE (0), OUT (a temporary directory)
 set -eu
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BIN=${1:-$ROOT/build/specmip}
@@ -22,11 +22,11 @@ SIZE=${SIZE:-256}
 SPP=${SPP:-64}
 SEED=${SEED:-1}
 REPEAT=${REPEAT:-3}
-MODES=${MODES:-"ref ml rgb truth hero mlc"}
 DEVICE=${DEVICE:-0}
 OUT=${OUT:-$(mktemp -d)}
 SCENE=${SCENE:-}
 [ -x "$BIN" ] || { echo "bench/renderer.sh: no specmip binary at $BIN" >&2; exit 2; }
+MODES=${MODES:-$("$BIN" modes | cut -f1 | tr '\n' ' ')}
 for m in ref ml rgb; do
     printf '%s\n' $MODES | grep -qx "$m" || { echo "bench/renderer.sh: MODES must include $m" >&2; exit 2; }
 done

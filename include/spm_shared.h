@@ -26,19 +26,15 @@ typedef int32_t spm_i32;
 #define SPM_PRETEST_KMAX 8      /* pretest context B: k = 1..8 occurrences */
 #define SPM_MAX_SPIKES 16       /* Composite Model: spike lanes per scene */
 #define SPM_HERO_LANES 4
+/* hero's table, one array: the CDF of its wavelength density over the 1 nm
+ * bins (401 values), the density per nm (400), then the CMF at 380..780 nm
+ * (3 x 401, channel-major). */
+#define SPM_HERO_CDF 0
+#define SPM_HERO_PDF (SPM_TRUTH_BINS + 1)
+#define SPM_HERO_CMF (2 * SPM_TRUTH_BINS + 1)
+#define SPM_HERO_FLOATS (SPM_HERO_CMF + 3 * (SPM_TRUTH_BINS + 1))
 /* mlc tables hold, per colour and level, the smooth bins then the spike lanes */
 #define SPM_MLC_STRIDE(l) (SPM_LEVEL_BINS(l) + SPM_MAX_SPIKES)
-
-/* ---- render modes ------------------------------------------------------- */
-enum spm_mode {
-    SPM_MODE_TRUTH = 0,
-    SPM_MODE_REF = 1,
-    SPM_MODE_ML = 2,
-    SPM_MODE_MLC = 3,
-    SPM_MODE_HERO = 4,
-    SPM_MODE_RGB = 5,
-    SPM_MODE_COUNT = 6
-};
 
 /* ---- path records ------------------------------------------------------- */
 #define SPM_MAX_DEPTH 64        /* vertices per path record (same in both backends) */
@@ -145,6 +141,10 @@ typedef struct {
     spm_u32 material;
     spm_u32 pad;
 } spm_tri;
+
+/* The BVH is at most this many levels deep (the builder refuses deeper), so a
+ * traversal stack of this many entries suffices, in the kernel and on the host. */
+#define SPM_BVH_STACK 64
 
 /* Flattened BVH node. count > 0: leaf holding triangles [first, first+count)
  * of the (reordered) triangle array. count == 0: interior node whose children

@@ -1,4 +1,4 @@
-/* The operator micro-benchmark (`specmip bench --ops`, host/bench_ops.c):
+/* The operator micro-benchmark (`specmip bench --ops`, host/bench/bench_ops.c):
  * the spectral operations the shade stage is made of, timed alone at each
  * level's layout. As in the earlier study, an operation reads and writes
  * spectra held in memory: each work-item owns R = mask + 1 rows (a power of

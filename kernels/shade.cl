@@ -1,15 +1,17 @@
 /* The shade stage: one kernel per spectral method, each over a list of path
  * indices (a level's bucket, or all paths), writing XYZ per path. Every kernel
  * is the one body in shade_body.clh at a fixed vector width; the host compiles
- * only what the scene and mode use (-D below):
+ * only what the scene and mode use (-D below, as the mode descriptors in
+ * host/spectral/modes.c ask for them; n: vectors per colour of its shade table):
  *   SPM_SHADE_L<l>_NV=n  level l: 80>>l bins as 5 vectors of 16>>l floats
  *                        (n = 5; mlc: 5 + the spike lanes as more vectors)
- *   SPM_SHADE_TRUTH      400 1 nm bins = 25 x float16
+ *   SPM_SHADE_TRUTH_NV=n 400 1 nm bins = 25 x float16
  *   SPM_SHADE_RGB        3 components in a float4, XYZ by the sRGB matrix
  *   SPM_SHADE_HERO       4 wavelengths in a float4, gathered from level 0
  * Contraction is left on: fma() is what the body asks for anyway. */
 #include "spm_shared.h"
 #include "spm_rng.h"
+#include "spm_kernel_args.h"
 
 #define CAT_(a, b) a##b
 #define CAT(a, b) CAT_(a, b)
@@ -43,10 +45,10 @@
 #include "shade_body.clh"
 #endif
 
-#ifdef SPM_SHADE_TRUTH
+#ifdef SPM_SHADE_TRUTH_NV
 #define SB_NAME spm_shade_truth
 #define SB_W 16
-#define SB_NV (SPM_TRUTH_BINS / 16)
+#define SB_NV SPM_SHADE_TRUTH_NV
 #include "shade_body.clh"
 #endif
 
@@ -58,19 +60,13 @@
 #endif
 
 #ifdef SPM_SHADE_HERO
-/* hero table (host/render_cl.c): CDF (401), then density per nm (400), then
- * the CMF at 380..780 nm (3 x 401). */
-#define HERO_CDF 0
-#define HERO_PDF (SPM_TRUTH_BINS + 1)
-#define HERO_CMF (2 * SPM_TRUTH_BINS + 1)
-
 /* Lane wavelength from a uniform x: the 1 nm bin j with cdf[j] <= x < cdf[j+1],
  * the offset f in it (the CDF is linear inside), the level-0 bin j/5, and the
  * lane's XYZ weight: CMF(380+j+f) / pdf / lanes (spectra piecewise constant). */
 inline void hero_lane(__global const float *hero, float x, uint *bin, float4 *w)
 {
 #pragma OPENCL FP_CONTRACT OFF /* rounds as the CPU reference's lerp */
-    __global const float *cdf = hero + HERO_CDF;
+    __global const float *cdf = hero + SPM_HERO_CDF;
     uint lo = 0, hi = SPM_TRUTH_BINS;
     while (hi - lo > 1u) {
         uint mid = (lo + hi) >> 1;
@@ -81,10 +77,10 @@ inline void hero_lane(__global const float *hero, float x, uint *bin, float4 *w)
     }
     float width = cdf[lo + 1] - cdf[lo];
     float f = width > 0.0f ? clamp((x - cdf[lo]) / width, 0.0f, 1.0f) : 0.0f;
-    float pdf = hero[HERO_PDF + lo];
+    float pdf = hero[SPM_HERO_PDF + lo];
     float wt[3];
     for (int ch = 0; ch < 3; ch++) {
-        __global const float *cp = hero + HERO_CMF + ch * (SPM_TRUTH_BINS + 1);
+        __global const float *cp = hero + SPM_HERO_CMF + ch * (SPM_TRUTH_BINS + 1);
         float cmf = cp[lo] + (cp[lo + 1] - cp[lo]) * f;
         wt[ch] = pdf > 0.0f ? cmf / pdf / (float)SPM_HERO_LANES : 0.0f;
     }
@@ -95,8 +91,7 @@ inline void hero_lane(__global const float *hero, float x, uint *bin, float4 *w)
 #define SB_NAME spm_shade_hero
 #define SB_W 4
 #define SB_NV 1
-/* first_pixel: the batch's first pixel (path pi of the batch is pixel first_pixel + pi / spp) */
-#define SB_EXTRA_ARGS , __global const float *hero, uint seed, uint spp, uint first_sample, uint first_pixel
+#define SB_EXTRA_ARGS , SPM_SHADE_PATH_ARGS(SPM_KERNEL_PARAM, SPM_COMMA)
 #define SB_PREPARE                                                                     \
     uint hb[4];                                                                        \
     float4 hw[4];                                                                      \
@@ -104,7 +99,7 @@ inline void hero_lane(__global const float *hero, float x, uint *bin, float4 *w)
         float u = spm_rng(seed, first_pixel + pi / spp, first_sample + pi % spp, SPM_DIM_HERO); \
         for (int l = 0; l < SPM_HERO_LANES; l++) {                                     \
             float x = u + (float)l / (float)SPM_HERO_LANES;                                   \
-            hero_lane(hero, x >= 1.0f ? x - 1.0f : x, &hb[l], &hw[l]);                 \
+            hero_lane(extra, x >= 1.0f ? x - 1.0f : x, &hb[l], &hw[l]);                 \
         }                                                                              \
     }                                                                                  \
     float4 hcmf[3] = {(float4)(hw[0].x, hw[1].x, hw[2].x, hw[3].x),                     \
@@ -126,9 +121,8 @@ inline int finite_bits(float x)
 
 /* One work-item per pixel: its spp samples (contiguous) summed in sample
  * order, so the pass image is the same however the work was scheduled.
- * counters[2] counts the samples left out. */
-__kernel void spm_accumulate(__global const float *xyz, uint npix, uint spp,
-                             __global float *pass_xyz, __global uint *counters)
+ * Parameters: spm_kernel_args.h SPM_ACCUM_ARGS. */
+__kernel void spm_accumulate(SPM_ACCUM_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 {
     uint p = get_global_id(0);
     if (p >= npix)
@@ -150,5 +144,5 @@ __kernel void spm_accumulate(__global const float *xyz, uint npix, uint spp,
     pass_xyz[3 * p + 1] = sy;
     pass_xyz[3 * p + 2] = sz;
     if (bad)
-        atomic_add(&counters[2], bad);
+        atomic_add(&counters[SPM_COUNTER_NONFINITE], bad);
 }

@@ -1,20 +1,17 @@
 /* The trace stage: one work-item per path of a pass. MiniLight's transport
- * (DESIGN.md "The kernels"), written as path records (spm_shared.h, in the
+ * (docs/METHODS.md "Paths"), written as path records (spm_shared.h, in the
  * device layout: header array and vertex-major vertex slabs) plus the
  * per-path level byte (the level feeler). Colour never enters here.
  *
  * Floating point: contraction is off in this file, and vector helpers spell
- * out the same operation order as the CPU reference (host/geometry_vec3.h),
+ * out the same operation order as the CPU reference (host/geometry/geometry_vec3.h),
  * so the ray arithmetic rounds identically; only cos/sin (OpenCL allows 4 ulp)
  * and the BVH traversal order (ties at shared edges) can make a rare path
  * differ from the reference. */
 #pragma OPENCL FP_CONTRACT OFF
 #include "spm_shared.h"
 #include "spm_rng.h"
-
-#ifndef SPM_BVH_STACK
-#define SPM_BVH_STACK 64 /* the host passes geometry.h's bound on the BVH depth */
-#endif
+#include "spm_kernel_args.h"
 
 /* a.x*b.x + a.y*b.y + a.z*b.z, left to right (as v3_dot) */
 inline float dot3(float3 a, float3 b)
@@ -137,7 +134,7 @@ int traverse(__global const spm_bvh_node *nodes, __global const spm_tri *tris, f
                         st_node[sp] = nb;
                         st_t[sp++] = tb;
                     } else {
-                        atomic_inc(&counters[1]); /* BVH deeper than the stack: reported */
+                        atomic_inc(&counters[SPM_COUNTER_STACK]); /* BVH deeper than the stack: reported */
                     }
                 }
                 node = na;
@@ -189,15 +186,8 @@ inline void feel(__global const uchar *lvlk, uint c, uint k, uint by, uint *leve
     }
 }
 
-/* One batch of a pass: npaths paths, the samples of pixels first_pixel ...
- * (records indexed from 0 within the batch).
- * counters[0]: truncated paths; counters[1]: BVH stack overflows. */
-__kernel void spm_trace(__global const spm_tri *tris, __global const spm_bvh_node *nodes,
-                        __global const uint *emitters, __global const spm_material *mats,
-                        __global const uchar *lvlk, const spm_trace_params p, uint init_level,
-                        uint npaths, __global spm_dev_head *heads, __global spm_vertex *verts,
-                        __global uchar *levels, __global uint *counters,
-                        uint first_pixel)
+/* One batch of a pass; parameters: spm_kernel_args.h SPM_TRACE_ARGS. */
+__kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 {
     uint gid = get_global_id(0);
     if (gid >= npaths)
@@ -323,7 +313,7 @@ __kernel void spm_trace(__global const spm_tri *tris, __global const spm_bvh_nod
     }
     hd.nvert = j;
     if (hd.end == SPM_END_TRUNCATED)
-        atomic_inc(&counters[0]);
+        atomic_inc(&counters[SPM_COUNTER_TRUNCATED]);
     heads[gid] = spm_dev_head_pack(&hd);
     levels[gid] = (uchar)(level | (setby << SPM_SETBY_SHIFT));
 }

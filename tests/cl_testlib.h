@@ -81,7 +81,7 @@ static inline spm_trace_params cl_test_params(const cl_test_scene *s, spm_u32 se
 
 static inline const uint8_t *cl_test_lvlk(const spm_tables *t, int mode)
 {
-    return mode == SPM_MODE_MLC ? t->mlc_lvlk : t->lvlk;
+    return spm_mode_lvlk(spm_mode(mode), t);
 }
 
 static inline uint64_t fnv(uint64_t h, const void *p, size_t n)

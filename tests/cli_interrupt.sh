@@ -2,7 +2,7 @@
 # Ctrl-C / SIGTERM at each moment of a render on the CPU reference (no OpenCL,
 # so the sanitizer build runs it too): while the scene, a CSV spectrum, the BVH
 # and the pretests are being prepared, inside a pass, and while the images are
-# written; a second signal. The test hook SPECMIP_TEST_PAUSE (host/interrupt.h)
+# written; a second signal. The test hook SPECMIP_TEST_PAUSE (host/util/interrupt.h)
 # holds the program at a named stage until the signal arrives. Each time: exit
 # 130 well within the bound below, the message names the moment, existing
 # outputs are replaced by complete images only, and no temporary file is left.

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Ctrl-C on the OpenCL backend: inside a pass it stops at the next batch
-# boundary (SPECMIP_TEST_PAUSE holds the program there, host/interrupt.h);
+# boundary (SPECMIP_TEST_PAUSE holds the program there, host/util/interrupt.h);
 # during a program build it is acted on right after the build; a render left
 # alone reports progress per batch; and with no hook at all, a single large
 # pass is interrupted well within the bound below.

@@ -25,9 +25,13 @@ static void pass_images(const cl_test_scene *s, const char *scene, int mode)
     size_t npix = (size_t)W * H, nf = npix * 3;
     float *cut = spm_xcalloc(nf, sizeof *cut), *whole = spm_xcalloc(nf, sizeof *whole);
     spm_pass_stats st_cut, st_whole;
-    spm_backend_input in = {&s->geom, &s->tables, mode, 9u};
+    spm_render_plan plan;
     spm_error err;
-    spm_backend *b = spm_backend_cpu_create(&in, &err);
+    if (spm_render_plan_init(&plan, &s->geom, &s->tables, mode, 9u, &err)) {
+        CHECK(0, "plan: %s", err.msg);
+        return;
+    }
+    spm_backend *b = spm_backend_cpu_create(&plan, &err);
     char what[128];
     snprintf(what, sizeof what, "%s, mode %d", scene ? scene : "default scene", mode);
     /* 100 paths: 33 pixels a batch, the last of 12 */
@@ -43,6 +47,7 @@ static void pass_images(const cl_test_scene *s, const char *scene, int mode)
         }
     }
     b->destroy(b);
+    spm_render_plan_free(&plan);
     free(cut);
     free(whole);
 }

@@ -65,12 +65,16 @@ static void against_cpu(const cl_test_scene *s, int mode)
     spm_pass_stats st, cst;
     memset(&cst, 0, sizeof cst);
     pass_image(s, mode, SEED, SPP, g, &st);
-    spm_backend_input in = {&s->geom, &s->tables, mode, SEED};
+    spm_render_plan plan;
     spm_error err;
-    spm_backend *b = spm_backend_cpu_create(&in, &err);
+    spm_backend *b = spm_render_plan_init(&plan, &s->geom, &s->tables, mode, SEED, &err)
+                         ? NULL
+                         : spm_backend_cpu_create(&plan, &err);
     CHECK(b && b->pass(b, SPP, SPP, c, &cst, &err) == 0, "cpu backend: %s", err.msg);
-    if (b)
+    if (b) {
         b->destroy(b);
+        spm_render_plan_free(&plan);
+    }
     double diff = 0.0, total = 0.0;
     size_t identical = 0;
     for (size_t i = 0; i < npix * 3; i++) {

@@ -86,11 +86,18 @@ int main(void)
     cl_test_scene s;
     if (cl_test_scene_open(&s, W, H))
         return 1;
-    /* lanes per XYZ sum: truth 400; ref/ml/mlc at most level 0's 80 (+ spikes) */
-    int lanes[SPM_MODE_COUNT] = {SPM_TRUTH_BINS, SPM_L0_BINS, SPM_L0_BINS,
-                                 SPM_L0_BINS + SPM_MAX_SPIKES, SPM_HERO_LANES, 3};
-    for (int m = 0; m < SPM_MODE_COUNT; m++)
-        check_mode(&s, m, spm_mode_name(m), lanes[m]);
+    /* lanes per XYZ sum: the most a shade table of the mode has (truth 400,
+     * ref/ml at most level 0's 80, mlc plus its spikes), hero its wavelengths */
+    for (int m = 0; m < SPM_MODE_COUNT; m++) {
+        const spm_mode_desc *d = spm_mode(m);
+        int lanes = 0;
+        for (int sl = 0; sl < spm_mode_nslots(d); sl++) {
+            spm_shade_table tab = {0};
+            d->layout(&s.tables, spm_mode_slot_level(d, sl), &tab);
+            lanes = tab.lanes > lanes ? tab.lanes : lanes;
+        }
+        check_mode(&s, m, d->name, d->per_path ? SPM_HERO_LANES : lanes);
+    }
     cl_test_scene_close(&s);
     TEST_END();
 }

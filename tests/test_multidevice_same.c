@@ -132,13 +132,13 @@ static void enqueue_failure(const spm_film *ref)
 
 /* Device 1 cannot be opened (stands in for a kernel build failure): it is left
  * out and the render goes on with device 0. */
-static spm_backend *open_failing_1(int device, const spm_backend_input *in, spm_error *err)
+static spm_backend *open_failing_1(int device, const spm_render_plan *plan, spm_error *err)
 {
     if (device == 1) {
         spm_errorf(err, "clBuildProgram: CL_BUILD_PROGRAM_FAILURE (injected)");
         return NULL;
     }
-    return spm_backend_cl_create(device, in, err);
+    return spm_backend_cl_create(device, plan, err);
 }
 
 static void open_failure(const spm_film *ref)

@@ -1,6 +1,7 @@
 /* CPU reference trace stage: records keyed by (seed, pixel, sample), record
  * conventions, truncation, and the level feeler on hand-made level tables. */
 #include "geomtest_scene.h"
+#include "render_plan.h"
 #include "testutil.h"
 
 /* Bytes of a record that are defined: the head and nvert vertices. */
@@ -166,9 +167,9 @@ static void test_level_feeler(void)
     world_box(&w, 0.8);
     set_lvlk(w.t.lvlk, 2);
     spm_trace_params p = ts_params(&w.s, &w.g, 32, 9u);
-    CHECK(spm_ref_level_start(&w.g, w.t.materials, w.t.lvlk, &p) == 2, "start: coarsest in use");
+    CHECK(spm_plan_level_start(&w.g, w.t.materials, w.t.lvlk, &p) == 2, "start: coarsest in use");
     w.t.lvlk[2 * 8] = 3;
-    CHECK(spm_ref_level_start(&w.g, w.t.materials, w.t.lvlk, &p) == 3, "start follows the table");
+    CHECK(spm_plan_level_start(&w.g, w.t.materials, w.t.lvlk, &p) == 3, "start follows the table");
     w.t.lvlk[2 * 8] = 2;
 
     enum { N = 16 * 32 };

@@ -5,6 +5,7 @@
  * the device: a batch's records over a small device's largest buffer, a
  * scene over it, and a sum over the global memory. Also the batch sizing. */
 #include "cl_resources.h"
+#include "render_plan.h"
 #include "testutil.h"
 #include <string.h>
 
@@ -21,14 +22,14 @@ static spm_cl_device device(double alloc_gb, double global_gb)
 static void batch_sizing(void)
 {
     const size_t B = 100;
-    CHECK(spm_cl_batch_pixels(1000, 3, B) == 33, "33 pixels of 3 paths in 100");
-    CHECK(spm_cl_batch_pixels(10, 3, B) == 10, "a small pass is one batch");
-    CHECK(spm_cl_batch_pixels(1000, 500, B) == 1, "a pixel is never split");
+    CHECK(spm_batch_pixels(1000, 3, B) == 33, "33 pixels of 3 paths in 100");
+    CHECK(spm_batch_pixels(10, 3, B) == 10, "a small pass is one batch");
+    CHECK(spm_batch_pixels(1000, 500, B) == 1, "a pixel is never split");
     /* a cut pass keeps room for a full batch (a later pass of 2 spp takes 100) */
-    CHECK(spm_cl_batch_room(1000, 3, B) == 100, "room %zu", spm_cl_batch_room(1000, 3, B));
-    CHECK(spm_cl_batch_pixels(1000, 2, B) * 2 <= spm_cl_batch_room(1000, 3, B), "2 spp fits");
-    CHECK(spm_cl_batch_room(10, 3, B) == 30, "uncut pass: its own size");
-    CHECK(spm_cl_batch_room(1000, 500, B) == 500, "one pixel of 500 samples");
+    CHECK(spm_batch_room(1000, 3, B) == 100, "room %zu", spm_batch_room(1000, 3, B));
+    CHECK(spm_batch_pixels(1000, 2, B) * 2 <= spm_batch_room(1000, 3, B), "2 spp fits");
+    CHECK(spm_batch_room(10, 3, B) == 30, "uncut pass: its own size");
+    CHECK(spm_batch_room(1000, 500, B) == 500, "one pixel of 500 samples");
 }
 
 int main(void)

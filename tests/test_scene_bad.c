@@ -70,7 +70,7 @@ static void write_long_line(const char *path, const char *prefix, int b, long co
 
 static void test_long_lines(void)
 {
-    const long big = 100L << 20; /* the 100 MB line of issue 7 */
+    const long big = 100L << 20; /* a 100 MB line */
     spm_scene s;
     spm_error err;
     /* A long comment is skipped unread: the scene is valid. */

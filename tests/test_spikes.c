@@ -1,4 +1,4 @@
-/* Spike detection (host/spikes.c): lines found where the lamps have them,
+/* Spike detection (host/spectral/spikes.c): lines found where the lamps have them,
  * none in smooth illuminants, exact energy split, and a smooth part the
  * pretest lets go coarser. */
 #include "colour.h"
@@ -261,7 +261,7 @@ static double de00(const double ref[3], const double test[3])
  * light reflected by a patch with both at level `level` (mlc = 0), or with the
  * smooth part at that level plus each spike as a lane: area x R(centroid) x
  * CMF(centroid), R from the truth bin holding the centroid (the kernel's
- * arithmetic, DESIGN.md "Modes"). */
+ * arithmetic, docs/METHODS.md "Modes"). */
 static double worst_error(const spm_spectrum *in, const spm_spectrum *sm, const spm_spike *sp,
                           int n, const spm_spectrum patches[24], int level, int mlc)
 {

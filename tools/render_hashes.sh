@@ -11,8 +11,8 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 bin=${1:-$here/build/specmip}
 command -v oiiotool >/dev/null || { echo "render_hashes: needs oiiotool (openimageio-tools)" >&2; exit 2; }
 [ -x "$bin" ] || { echo "render_hashes: no binary at $bin" >&2; exit 2; }
-modes=$("$bin" render --help | sed -n 's/.*--mode M *\([a-z |]*\)(default.*/\1/p' | tr -d '|')
-[ -n "$modes" ] || { echo "render_hashes: could not read the mode list from '$bin render --help'" >&2; exit 2; }
+modes=$("$bin" modes | cut -f1)
+[ -n "$modes" ] || { echo "render_hashes: '$bin modes' listed no mode" >&2; exit 2; }
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$here/build/pocl-cache}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

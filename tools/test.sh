@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# Installs, builds and runs every test: the normal build, then the host code and
-# the CPU reference again under AddressSanitizer + UndefinedBehaviorSanitizer.
+# Installs, builds and runs every test: the normal build (PoCL, and the kernels
+# on Mesa's Rusticl and under Oclgrind: ctest labels rusticl, oclgrind), then the
+# host code and the CPU reference again under AddressSanitizer +
+# UndefinedBehaviorSanitizer.
 # Usage (as root on Debian 12): bash tools/test.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
+# compiled kernels: PoCL's and Rusticl's caches beside the build
 export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$PWD/build/pocl-cache}"
+export MESA_SHADER_CACHE_DIR="${MESA_SHADER_CACHE_DIR:-$PWD/build/mesa-cache}"
 ctest --test-dir build --output-on-failure -j2
 
 # Sanitizer build: the OpenCL tests are left out (PoCL's LLVM and the ICD

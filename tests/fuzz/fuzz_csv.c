@@ -1,4 +1,4 @@
-/* libFuzzer harness: the spectrum CSV loader (host/csv.c): the table, then
+/* libFuzzer harness: the spectrum CSV loader (host/colour/csv.c): the table, then
  * every column as a reflectance and as an emission spectrum. */
 #include "csv.h"
 #include "fuzz_input.h"

@@ -1,4 +1,4 @@
-/* libFuzzer harness: the MiniLight importer (host/scene_minilight.c), called
+/* libFuzzer harness: the MiniLight importer (host/scene/scene_minilight.c), called
  * directly so that inputs need not start with the "#MiniLight" line. */
 #include "fuzz_input.h"
 #include "scene_build.h"

@@ -1,4 +1,4 @@
-/* libFuzzer harness: the project's own scene format (host/scene_parse.c). */
+/* libFuzzer harness: the project's own scene format (host/scene/scene_parse.c). */
 #include "fuzz_input.h"
 #include "scene.h"
 

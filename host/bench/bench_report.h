@@ -1,0 +1,13 @@
+/* What `specmip bench` leaves next to its CSV: DIR/<what>_meta.txt (date,
+ * command, device, load) and the charts and RESULTS.md made from the CSV by
+ * bench/report/bench_report.sh (gnuplot). */
+#ifndef SPM_BENCH_REPORT_H
+#define SPM_BENCH_REPORT_H
+
+/* what: "bench" or "ops". A file that cannot be written is left out quietly:
+ * the report then states less, the numbers are unaffected. */
+void spm_bench_write_meta(const char *dir, const char *what, int use_cpu, int device, int argc,
+                          char **argv);
+/* Runs bash bench/report/bench_report.sh DIR; 0, or SPM_EXIT_RUNTIME with a message on stderr. */
+int spm_bench_report(const char *dir);
+#endif

@@ -1,0 +1,279 @@
+/* specmip render: options -> setup -> render loop -> images + statistics. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include "cli_args.h"
+#include "commands.h"
+#include "output.h"
+#include "render_meta.h"
+#include "render_setup.h"
+#include "render_stats.h"
+#include "scene_build.h"
+
+#define MAX_OUTPUTS 4
+
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: specmip render [SCENE] [options]\n"
+        "Renders SCENE (a .scene file or a MiniLight .ml.txt file); without SCENE the built-in\n"
+        "Cornell box (ColorChecker walls, equal-energy light).\n\n"
+        "  -o, --output FILE      image to write, by extension: .exr or .tif (linear sRGB, float;\n"
+        "                         EXR keeps how it was made in its header) or .png or .ppm\n"
+        "                         (tone-mapped sRGB); up to %d times, each file once (default:\n"
+        "                         specmip.png and specmip.exr); a symbolic link is written\n"
+        "                         through to its target\n"
+        "  --mode M               spectral mode (default ml; 'specmip modes' lists them):\n",
+        MAX_OUTPUTS);
+    spm_modes_help(f, 27);
+    fprintf(f,
+        "  --spp N                samples per pixel, 1 to %d (default: the scene's, else 16)\n"
+        "  --seed S               random seed (default 1); the same seed gives the same paths\n"
+        "  --width W, --height H  image size, 1 to %d (default: the scene's); the field of view\n"
+        "                         is horizontal, so --width alone changes the vertical one\n"
+        "  --backend B            opencl (default) | cpu (the scalar CPU reference)\n"
+        "  --device D             OpenCL device index, a list 0,2, or all (default 0);\n"
+        "                         all: every device but a second platform's CPU devices\n"
+        "                         and simulators;\n"
+        "                         see 'specmip devices'\n"
+        "  --threshold T          pretest colour-difference threshold (default 2.0)\n"
+        "  --metric M             de00 (default) | deab: the pretest's colour difference\n"
+        "  --coarsest-level L     coarsest level the pretest may pick: 0 (80 bins: no mipmapping),\n"
+        "                         1 (40), 2 (20, default) or 3 (10)\n"
+        "  --tonemap T            PNG/PPM tone mapping on luminance: linear (default; 'auto' is\n"
+        "                         the same) | thesis (the thesis' operator, scale = 1/(5 + L))\n"
+        "  --exposure E           auto (default: the 99th percentile of Y maps to white) or a\n"
+        "                         number multiplying Y before the operator\n"
+        "  --stats                print the time of every stage, paths/s and (ml, mlc) paths per\n"
+        "                         level (stdout)\n"
+        "  --json                 print the statistics as one JSON object (stdout; with --stats\n"
+        "                         too, the text goes to stderr)\n"
+        "  --progress             progress line on stderr even when it is not a terminal\n"
+        "  --quiet                no progress line\n"
+        "  --verbose              print the pretest's level table\n"
+        "Ctrl-C (or SIGTERM) stops within a batch of paths, writes the image of the passes done\n"
+        "and exits 130 (nothing is written when no pass is done); a second Ctrl-C exits at once\n"
+        "without writing. Existing outputs are replaced only by complete images.\n",
+        SPM_SCENE_MAX_SPP, SPM_SCENE_MAX_SIDE);
+}
+
+static int parse_devices(const char *s, spm_render_config *c)
+{
+    if (!strcmp(s, "all")) {
+        c->all_devices = 1;
+        return 0;
+    }
+    const char *p = s;
+    c->ndevices = 0; /* the last --device counts */
+    do {
+        char *end;
+        long v = strtol(p, &end, 10);
+        if (end == p || v < 0 || v > 255 || (*end && (*end != ',' || !end[1])) ||
+            c->ndevices >= SPM_MAX_BACKENDS) {
+            fprintf(stderr,
+                    "specmip render: --device takes an index, a list like 0,2 (at most %d) or "
+                    "'all', not '%s'\n",
+                    SPM_MAX_BACKENDS, s);
+            return 1;
+        }
+        c->devices[c->ndevices++] = (int)v;
+        p = *end ? end + 1 : end;
+    } while (*p);
+    c->all_devices = 0;
+    return 0;
+}
+
+int spm_cmd_render(int argc, char **argv)
+{
+    spm_render_config cfg;
+    spm_render_config_defaults(&cfg);
+    const char *outputs[MAX_OUTPUTS];
+    int nout = 0, stats = 0, json = 0, progress = isatty(2);
+    spm_tonemap tm;
+    spm_tonemap_default(&tm);
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        long n;
+        double d;
+#define NEED_VALUE                                                                          \
+    do {                                                                                    \
+        if (!v) {                                                                           \
+            fprintf(stderr, "specmip render: %s needs a value\n", a);                      \
+            return SPM_EXIT_INPUT;                                                          \
+        }                                                                                   \
+        i++;                                                                                \
+    } while (0)
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            return SPM_EXIT_OK;
+        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+            NEED_VALUE;
+            if (nout >= MAX_OUTPUTS) {
+                fprintf(stderr, "specmip render: at most %d outputs\n", MAX_OUTPUTS);
+                return SPM_EXIT_INPUT;
+            }
+            outputs[nout++] = v;
+        } else if (!strcmp(a, "--mode")) {
+            NEED_VALUE;
+            if ((cfg.mode = spm_mode_parse(v)) < 0) {
+                char names[256];
+                fprintf(stderr, "specmip render: unknown mode '%s' (%s)\n", v,
+                        spm_mode_list(", ", names, sizeof names));
+                return SPM_EXIT_INPUT;
+            }
+        } else if (!strcmp(a, "--spp")) {
+            NEED_VALUE;
+            if (spm_arg_long("render", a, v, 1, SPM_SCENE_MAX_SPP, &n))
+                return SPM_EXIT_INPUT;
+            cfg.spp = (int)n;
+        } else if (!strcmp(a, "--seed")) {
+            NEED_VALUE;
+            if (spm_arg_long("render", a, v, 0, 0xffffffffL, &n))
+                return SPM_EXIT_INPUT;
+            cfg.seed = (spm_u32)n;
+        } else if (!strcmp(a, "--width") || !strcmp(a, "--height")) {
+            NEED_VALUE;
+            if (spm_arg_long("render", a, v, 1, SPM_SCENE_MAX_SIDE, &n))
+                return SPM_EXIT_INPUT;
+            *(a[2] == 'w' ? &cfg.width : &cfg.height) = (int)n;
+        } else if (!strcmp(a, "--backend")) {
+            NEED_VALUE;
+            if (strcmp(v, "cpu") && strcmp(v, "opencl")) {
+                fprintf(stderr, "specmip render: --backend is opencl or cpu, not '%s'\n", v);
+                return SPM_EXIT_INPUT;
+            }
+            cfg.use_cpu = !strcmp(v, "cpu");
+        } else if (!strcmp(a, "--device")) {
+            NEED_VALUE;
+            if (parse_devices(v, &cfg))
+                return SPM_EXIT_INPUT;
+        } else if (!strcmp(a, "--threshold")) {
+            NEED_VALUE;
+            if (spm_arg_double("render", a, v, 0.0, 1000.0, &d))
+                return SPM_EXIT_INPUT;
+            cfg.pretest.threshold = d;
+        } else if (!strcmp(a, "--metric")) {
+            NEED_VALUE;
+            if (!strcmp(v, "de00"))
+                cfg.pretest.metric = SPM_METRIC_DE00;
+            else if (!strcmp(v, "deab"))
+                cfg.pretest.metric = SPM_METRIC_DEAB;
+            else {
+                fprintf(stderr, "specmip render: --metric is de00 or deab, not '%s'\n", v);
+                return SPM_EXIT_INPUT;
+            }
+        } else if (!strcmp(a, "--coarsest-level")) {
+            NEED_VALUE;
+            if (spm_arg_long("render", a, v, 0, SPM_NUM_LEVELS - 1, &n))
+                return SPM_EXIT_INPUT;
+            cfg.pretest.coarsest_level = (int)n;
+        } else if (!strcmp(a, "--tonemap") || !strcmp(a, "--exposure")) {
+            NEED_VALUE;
+            spm_error e;
+            if (a[2] == 't' ? spm_tonemap_select(&tm, v, &e) : spm_tonemap_set_exposure(&tm, v, &e)) {
+                fprintf(stderr, "specmip render: %s: %s\n", a, e.msg);
+                return SPM_EXIT_INPUT;
+            }
+        } else if (!strcmp(a, "--stats")) {
+            stats = 1;
+        } else if (!strcmp(a, "--json")) {
+            json = 1;
+        } else if (!strcmp(a, "--progress")) {
+            progress = 1;
+        } else if (!strcmp(a, "--quiet")) {
+            progress = 0;
+        } else if (!strcmp(a, "--verbose")) {
+            cfg.verbose = 1;
+        } else if (a[0] == '-' && a[1]) {
+            fprintf(stderr, "specmip render: unknown option '%s' (see specmip render --help)\n", a);
+            return SPM_EXIT_INPUT;
+        } else if (!cfg.scene_path) {
+            cfg.scene_path = a;
+        } else {
+            fprintf(stderr, "specmip render: one scene only ('%s' and '%s')\n", cfg.scene_path, a);
+            return SPM_EXIT_INPUT;
+        }
+#undef NEED_VALUE
+    }
+    if (!nout) {
+        outputs[nout++] = "specmip.png";
+        outputs[nout++] = "specmip.exr";
+    }
+    spm_error err;
+    err.msg[0] = 0;
+    /* from here on a signal is acted on (interrupt.h), until the outputs are written */
+    spm_catch_interrupts();
+    /* an output we cannot write is reported before any work, not after */
+    if (spm_output_check_all(outputs, nout, &err)) {
+        fprintf(stderr, "specmip render: %s\n", err.msg);
+        spm_release_interrupts();
+        return SPM_EXIT_INPUT;
+    }
+
+    spm_render_setup s;
+    int rc = spm_render_setup_open(&cfg, &s, &err);
+    if (rc) {
+        fprintf(stderr, "specmip render: %s%s\n", err.msg,
+                rc == SPM_EXIT_INTERRUPTED ? "; nothing rendered, no image written" : "");
+        spm_render_setup_close(&s);
+        spm_release_interrupts();
+        return rc;
+    }
+    int spp = spm_render_spp(&cfg, &s.scene);
+    size_t npix = (size_t)s.scene.width * (size_t)s.scene.height;
+    spm_film film;
+    if (spm_film_init(&film, s.scene.width, s.scene.height, &err)) {
+        fprintf(stderr, "specmip render: %s\n", err.msg);
+        spm_render_setup_close(&s);
+        spm_release_interrupts();
+        return SPM_EXIT_INPUT;
+    }
+    spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), &spm_stop_flag, progress};
+    spm_run_result res;
+    double t0 = spm_now();
+    rc = spm_render_run(s.b, s.nb, npix, &ro, &film, &res, &err);
+    s.times.render_s = spm_now() - t0;
+    if (rc) {
+        /* the render is not what was asked for: existing outputs stay */
+        fprintf(stderr, "specmip render: %s; no image written\n", err.msg);
+        rc = SPM_EXIT_RUNTIME;
+    } else if (res.interrupted && res.spp_done == 0) {
+        fprintf(stderr, "specmip render: interrupted in the first pass (of %d samples per pixel); "
+                        "nothing rendered, no image written\n", (int)ro.spp_per_pass);
+        rc = SPM_EXIT_INTERRUPTED;
+    } else {
+        spm_render_warn_dropped(&res, &film);
+        /* the image so far after an interruption; a signal now is acted on
+         * after the writes (an image write cannot be interrupted) */
+        spm_render_meta meta;
+        spm_render_meta_make(&cfg, &s, &res, s.times.render_s, &meta);
+        t0 = spm_now();
+        for (int i = 0; i < nout; i++)
+            if (spm_output_write_film_attrs(outputs[i], &film, &tm, meta.a, meta.n, &err)) {
+                fprintf(stderr, "specmip render: %s\n", err.msg);
+                rc = SPM_EXIT_RUNTIME;
+            }
+        s.times.output_s = spm_now() - t0;
+        if (!rc && res.interrupted) {
+            fprintf(stderr, "specmip render: interrupted after %d of %d samples per pixel; "
+                            "image written\n", res.spp_done, spp);
+            rc = SPM_EXIT_INTERRUPTED;
+        } else if (!rc && spm_stop_requested()) {
+            fprintf(stderr, "specmip render: interrupted once the render was done; the "
+                            "complete image was written\n");
+            rc = SPM_EXIT_INTERRUPTED;
+        }
+    }
+    spm_release_interrupts();
+    /* both: the JSON keeps stdout to itself, the text goes to stderr */
+    if (json)
+        spm_render_stats_json(stdout, &cfg, &s, &res);
+    if (stats)
+        spm_render_stats_text(json ? stderr : stdout, &cfg, &s, &res);
+    spm_film_free(&film);
+    spm_render_setup_close(&s);
+    return rc;
+}

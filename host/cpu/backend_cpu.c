@@ -1,0 +1,98 @@
+/* The CPU reference as a backend: trace and shade in plain scalar C, a pass
+ * in batches of whole pixels (backend_cpu.h). */
+#include "backend_cpu.h"
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "refcpu.h"
+
+typedef struct {
+    const spm_render_plan *plan;
+    size_t batch_paths;
+    spm_path *paths; /* one batch's records, level bytes and XYZ */
+    uint8_t *levels;
+    float *xyz;
+    size_t cap;
+} cpu_impl;
+
+/* Room for n paths; only grows. */
+static void reserve(cpu_impl *c, size_t n)
+{
+    if (n <= c->cap)
+        return;
+    free(c->paths);
+    free(c->levels);
+    free(c->xyz);
+    c->paths = spm_xmalloc(n * sizeof *c->paths);
+    c->levels = spm_xmalloc(n);
+    c->xyz = spm_xmalloc(n * 3 * sizeof(float));
+    c->cap = n;
+}
+
+static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
+                    spm_pass_stats *st, spm_error *err)
+{
+    (void)err;
+    cpu_impl *c = b->impl;
+    const spm_render_plan *pl = c->plan;
+    size_t npix = pl->npix;
+    if (spp == 0)
+        return 0;
+    size_t batch = c->batch_paths;
+    size_t bpix = spm_batch_pixels(npix, spp, batch);
+    reserve(c, spm_batch_room(npix, spp, batch));
+    spm_trace_params p = spm_plan_pass_params(pl, first_sample, spp);
+    for (size_t p0 = 0; p0 < npix; p0 += bpix) {
+        size_t nb = npix - p0 < bpix ? npix - p0 : bpix, n = nb * spp;
+        double t0 = spm_now();
+        spm_ref_trace_range(pl->geom, pl->tables->materials, pl->lvlk, (int)pl->start_level, &p,
+                            p0 * spp, p0 * spp + n, c->paths, c->levels);
+        double t1 = spm_now();
+        spm_ref_shade_tables(pl->mode, pl->shade, &p, p0 * spp, c->paths, c->levels, n, c->xyz);
+        double t2 = spm_now();
+        spm_accumulate_pass(c->xyz, nb, spp, &pass_xyz[3 * p0], st);
+        spm_count_levels(pl->mode, c->paths, c->levels, n, st);
+        st->trace_s += t1 - t0;
+        st->shade_s += t2 - t1;
+        st->accum_s += spm_now() - t2;
+        if (p0 + nb < npix && spm_pass_batch_end(&b->ctl, (p0 + nb) * spp))
+            return SPM_PASS_STOPPED;
+    }
+    return 0;
+}
+
+void spm_backend_cpu_set_batch_paths(spm_backend *b, size_t paths)
+{
+    cpu_impl *c = b->impl;
+    c->batch_paths = paths ? paths : SPM_CPU_BATCH_PATHS;
+}
+
+size_t spm_backend_cpu_batch_capacity(const spm_backend *b)
+{
+    const cpu_impl *c = b->impl;
+    return c->cap;
+}
+
+static void cpu_destroy(spm_backend *b)
+{
+    cpu_impl *c = b->impl;
+    free(c->paths);
+    free(c->levels);
+    free(c->xyz);
+    free(c);
+    free(b);
+}
+
+spm_backend *spm_backend_cpu_create(const spm_render_plan *plan, spm_error *err)
+{
+    (void)err;
+    spm_backend *b = spm_xcalloc(1, sizeof *b);
+    cpu_impl *c = spm_xcalloc(1, sizeof *c);
+    c->plan = plan;
+    c->batch_paths = SPM_CPU_BATCH_PATHS;
+    b->impl = c;
+    b->pass = cpu_pass;
+    b->destroy = cpu_destroy;
+    snprintf(b->name, sizeof b->name, "cpu-reference");
+    return b;
+}

@@ -1,0 +1,206 @@
+/* CPU reference, trace stage: MiniLight's light transport in plain scalar
+ * float C, writing colour-independent path records and each path's level.
+ * The order of operations is spelled out so a kernel can follow it:
+ *   camera ray -> for each vertex j: hit, first-hit emission (j = 0),
+ *   next-event estimation, Russian roulette, cosine-weighted bounce;
+ *   a ray that hits nothing records the background and ends the path. */
+#include "refcpu.h"
+#include "render_plan.h"
+#include "geometry_vec3.h"
+#include "spm_rng.h"
+
+/* The level feeler: the finest (smallest) level among the colours met,
+ * starting from the coarsest level in use; a colour lowers it only when
+ * strictly finer, so "set by" names the first colour that needed it. */
+typedef struct {
+    int level;
+    spm_u32 setby;
+} feeler;
+
+static void feel(feeler *f, const uint8_t *lvlk, spm_u32 colour, int k, spm_u32 who)
+{
+    if (!lvlk)
+        return;
+    int kk = k < SPM_PRETEST_KMAX ? k : SPM_PRETEST_KMAX;
+    int l = lvlk[colour * SPM_PRETEST_KMAX + (spm_u32)(kk - 1)];
+    if (l < f->level)
+        f->level = l, f->setby = who;
+}
+
+/* MiniLight's camera: jittered position in pixel (x, y), y = 0 at the top. */
+static void camera_ray(const spm_camera *cam, spm_u32 seed, spm_u32 pixel, spm_u32 sample,
+                       float d[3])
+{
+    spm_u32 w = (spm_u32)cam->width, h = (spm_u32)cam->height;
+    float u = spm_rng(seed, pixel, sample, SPM_DIM_CAM_X);
+    float v = spm_rng(seed, pixel, sample, SPM_DIM_CAM_Y);
+    float cx = 2.0f * ((float)(pixel % w) + u) / (float)w - 1.0f;
+    float cy = 1.0f - 2.0f * ((float)(pixel / w) + v) / (float)h;
+    float sy = cy * (float)h / (float)w;
+    float s[3];
+    for (int i = 0; i < 3; i++)
+        s[i] = cam->dir[i] + cam->tan_half * (cam->right[i] * cx + cam->up[i] * sy);
+    v3_normalise(d, s);
+}
+
+typedef struct {
+    spm_u32 seed, pixel, sample;
+} rng_key;
+
+static float rnd(const rng_key *k, spm_u32 dim)
+{
+    return spm_rng(k->seed, k->pixel, k->sample, dim);
+}
+
+/* Next-event estimation at hit point x on triangle `hit` (normal n) reached
+ * along d: one emitter triangle chosen uniformly, a uniform point on it, a
+ * shadow ray. Returns the emitter's emission colour and its weight
+ *   nemitters * cos_e * area / max(d2, 1e-6) * |cos_i| / pi
+ * or SPM_NONE (weight 0) when occluded, back-facing or on the other side. */
+static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, const rng_key *k,
+                              spm_u32 dim, const float x[3], spm_u32 hit, const float n[3],
+                              const float d[3], float *c)
+{
+    *c = 0.0f;
+    if (g->nemitters == 0)
+        return SPM_NONE;
+    int ne = g->nemitters;
+    int pick = (int)(rnd(k, dim + SPM_DIM_EMITTER) * (float)ne);
+    spm_u32 ei = g->emitters[pick < ne ? pick : ne - 1];
+    const spm_tri *em = &g->tris[ei];
+    float sqr1 = sqrtf(rnd(k, dim + SPM_DIM_EPOINT_A));
+    float a = 1.0f - sqr1, b = (1.0f - rnd(k, dim + SPM_DIM_EPOINT_B)) * sqr1;
+    float q[3], ev[3], l[3], ts;
+    for (int i = 0; i < 3; i++)
+        q[i] = em->v0[i] + em->e1[i] * a + em->e2[i] * b;
+    v3_sub(ev, q, x);
+    v3_normalise(l, ev);
+    int blocker = spm_bvh_intersect(g, x, l, hit, &ts);
+    if (blocker >= 0 && (spm_u32)blocker != ei)
+        return SPM_NONE;
+    float cos_e = -v3_dot(l, em->n);
+    if (!(cos_e > 0.0f))
+        return SPM_NONE; /* emitters emit from their front face only */
+    float cos_i = v3_dot(l, n), cos_o = -v3_dot(d, n);
+    if ((cos_i < 0.0f) != (cos_o < 0.0f))
+        return SPM_NONE; /* light and viewer on different sides: no transmission */
+    float d2 = v3_dot(ev, ev);
+    float w = (float)ne * cos_e * em->area / (d2 > SPM_D2_MIN ? d2 : SPM_D2_MIN) * fabsf(cos_i) /
+              SPM_PI_F;
+    if (!(w > 0.0f))
+        return SPM_NONE;
+    *c = w;
+    return mats[em->material].emit;
+}
+
+/* Cosine-weighted direction about the normal turned to the incoming side
+ * (MiniLight: x = cos(2 pi u) sqrt(v), y = sin(2 pi u) sqrt(v), z = sqrt(1 - v);
+ * out = t x + (n x t) y + n z). */
+static void bounce(const spm_tri *t, const rng_key *k, spm_u32 dim, const float d[3], float out[3])
+{
+    float phi = 2.0f * SPM_PI_F * rnd(k, dim + SPM_DIM_DIR_A);
+    float v = rnd(k, dim + SPM_DIM_DIR_B);
+    float sr = sqrtf(v);
+    float x = cosf(phi) * sr, y = sinf(phi) * sr, z = sqrtf(1.0f - v);
+    float n[3] = {t->n[0], t->n[1], t->n[2]}, c[3];
+    if (v3_dot(n, d) > 0.0f) /* MiniLight: dot(n, -d) < 0 flips n */
+        n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
+    v3_cross(c, n, t->t);
+    for (int i = 0; i < 3; i++)
+        out[i] = t->t[i] * x + c[i] * y + n[i] * z;
+}
+
+/* Occurrences of reflectance colour r among vertices 0..j of the record. */
+static int occurrences(const spm_path *path, int j, spm_u32 r)
+{
+    int k = 0;
+    for (int i = 0; i <= j; i++)
+        k += (path->v[i].ids & 0xFFFFu) == r;
+    return k;
+}
+
+static void escape(const spm_trace_params *p, const float d[3], float weight, spm_path *path)
+{
+    spm_u32 bg = d[1] > 0.0f ? p->bg_up : p->bg_down; /* MiniLight: sky for an upward ray */
+    path->h.end = SPM_END_ESCAPED;
+    path->h.bg = bg;
+    path->h.bg_c = bg != SPM_NONE ? weight : 0.0f;
+}
+
+static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const uint8_t *lvlk,
+                          int start_level, const spm_trace_params *p, size_t i, spm_path *path)
+{
+    rng_key k = {p->seed, 0, 0};
+    spm_ref_path_key(p, i, &k.pixel, &k.sample);
+    feeler f = {start_level, SPM_SETBY_NONE};
+    spm_path_head *h = &path->h;
+    *h = (spm_path_head){0, SPM_END_ABSORBED, SPM_NONE, 0.0f, SPM_NONE, 0.0f, 0, 0};
+
+    float o[3], d[3], weight = 1.0f; /* product of 1 / mean over survived vertices */
+    for (int i = 0; i < 3; i++)
+        o[i] = p->cam.eye[i];
+    camera_ray(&p->cam, k.seed, k.pixel, k.sample, d);
+    spm_u32 skip = 0xFFFFFFFFu;
+    for (int j = 0;; j++) {
+        float t;
+        int hit = spm_bvh_intersect(g, o, d, skip, &t);
+        if (hit < 0) {
+            escape(p, d, weight, path);
+            if (h->bg != SPM_NONE)
+                feel(&f, lvlk, h->bg, 1, SPM_SETBY_EMITTER);
+            break;
+        }
+        const spm_tri *tri = &g->tris[hit];
+        const spm_material *m = &mats[tri->material];
+        float x[3];
+        v3_madd(x, o, d, t);
+        if (j == 0 && m->emit != SPM_NONE && -v3_dot(d, tri->n) > 0.0f) {
+            h->first_emit = m->emit; /* local emission: first hit, front face */
+            h->first_emit_c = 1.0f;
+            feel(&f, lvlk, m->emit, 1, SPM_SETBY_EMITTER);
+        }
+        spm_u32 dim = SPM_DIM_VERTEX(j);
+        float c;
+        spm_u32 e = sample_emitter(g, mats, &k, dim, x, (spm_u32)hit, tri->n, d, &c);
+        spm_vertex *vx = &path->v[j];
+        vx->ids = (m->refl & 0xFFFFu) | (e << 16);
+        vx->c = c * weight;
+        h->nvert = (spm_u32)j + 1;
+        if (m->refl != SPM_NONE)
+            feel(&f, lvlk, m->refl, occurrences(path, j, m->refl), SPM_SETBY_REFLECTOR);
+        if (e != SPM_NONE)
+            feel(&f, lvlk, e, 1, SPM_SETBY_EMITTER);
+
+        if (!(rnd(&k, dim + SPM_DIM_RR) < m->mean)) {
+            h->end = SPM_END_ABSORBED;
+            break;
+        }
+        if (j + 1 == SPM_MAX_DEPTH) {
+            h->end = SPM_END_TRUNCATED; /* it would go on, but the record is full */
+            break;
+        }
+        weight *= m->inv_mean;
+        float nd[3];
+        bounce(tri, &k, dim, d, nd);
+        for (int i = 0; i < 3; i++)
+            o[i] = x[i], d[i] = nd[i];
+        skip = (spm_u32)hit;
+    }
+    return (uint8_t)((spm_u32)f.level | (f.setby << SPM_SETBY_SHIFT));
+}
+
+void spm_ref_trace_range(const spm_geometry *g, const spm_material *mats, const uint8_t *lvlk,
+                         int start_level, const spm_trace_params *p, size_t begin, size_t end,
+                         spm_path *paths, uint8_t *levels)
+{
+    for (size_t i = begin; i < end; i++)
+        levels[i - begin] = trace_path(g, mats, lvlk, start_level, p, i, &paths[i - begin]);
+}
+
+void spm_ref_trace(const spm_geometry *g, const spm_material *mats, const uint8_t *lvlk,
+                   const spm_trace_params *p, spm_path *paths, uint8_t *levels)
+{
+    size_t n = (size_t)p->cam.width * (size_t)p->cam.height * p->spp_per_pass;
+    int start = spm_plan_level_start(g, mats, lvlk, p);
+    spm_ref_trace_range(g, mats, lvlk, start, p, 0, n, paths, levels);
+}

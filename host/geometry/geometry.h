@@ -1,0 +1,46 @@
+/* Scene geometry flattened for the device: triangles, BVH, emitter list, camera. */
+#ifndef SPM_GEOMETRY_H
+#define SPM_GEOMETRY_H
+#include "scene.h"
+#include "spm_shared.h"
+
+typedef struct {
+    spm_tri *tris;          /* reordered by the BVH build */
+    int ntris;
+    spm_bvh_node *nodes;
+    int nnodes;
+    spm_u32 *emitters;      /* indices into tris of triangles with emission and area > 0 */
+    int nemitters;
+    spm_camera cam;
+} spm_geometry;
+
+/* Builds triangles (MiniLight's edges/normal/tangent/area), a binned-SAH BVH
+ * and the emitter list. Zero-area triangles are an input error naming the line. */
+int spm_geometry_build(const spm_scene *scene, spm_geometry *g, spm_error *err);
+void spm_geometry_free(spm_geometry *g);
+spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg, int w, int h);
+
+/* Closest hit along origin + t dir, t >= 0, ignoring triangle `skip` (or
+ * SPM_NONE-like 0xFFFFFFFF). Returns the triangle index or -1; *t_out set. */
+int spm_bvh_intersect(const spm_geometry *g, const float o[3], const float d[3], spm_u32 skip,
+                      float *t_out);
+/* The same by testing every triangle (for tests). */
+int spm_brute_intersect(const spm_geometry *g, const float o[3], const float d[3], spm_u32 skip,
+                        float *t_out);
+
+/* Both intersectors use MiniLight's Moller-Trumbore test in float and break an
+ * exact tie in t by the lower triangle index, so the answer does not depend on
+ * the traversal order. nnodes == 0 when there are no triangles. The BVH is at
+ * most SPM_BVH_STACK levels deep (spm_shared.h); node boxes are padded so a
+ * float slab test is conservative. */
+/* Builds g->nodes from g->tris (binned SAH, leaves of at most 2 triangles:
+ * bvh_build.c LEAF_MAX) and reorders g->tris into leaf order; each box is
+ * padded relative to its own magnitude and g->cam.eye's (bvh_build.c). Called
+ * by spm_geometry_build. */
+int spm_bvh_build(spm_geometry *g, spm_error *err);
+/* Nodes whose box spm_bvh_intersect tested, counted per thread: a cost
+ * measure for tests and benchmarks that the traversal only adds to. */
+extern _Thread_local unsigned long long spm_bvh_nodes_tested;
+/* MiniLight's ray-triangle test: hit distance t >= 0 or -1 for a miss. */
+float spm_tri_intersect(const spm_tri *t, const float o[3], const float d[3]);
+#endif

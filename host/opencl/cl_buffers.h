@@ -1,0 +1,32 @@
+/* The OpenCL backend's device buffers, listed once: the backend creates them
+ * from these lists and the device-memory check (cl_resources.c) adds up the
+ * same lists, so the two cannot drift apart. The shade tables are the mode's
+ * (modes.h spm_mode_footprint). */
+#ifndef SPM_CL_BUFFERS_H
+#define SPM_CL_BUFFERS_H
+#include "spm_shared.h"
+
+/* Per batch, room for n paths (and up to n pixels):
+ * X(field, what, bytes per path, flags, initial contents). The vertex slabs
+ * have room for every depth; only those some path reaches are touched.
+ * IDENTITY: 0, 1, 2, ... (the bucket list when one kernel takes every path). */
+#define SPM_CL_BATCH_BUFFERS(X)                                                     \
+    X(heads, "path record headers", sizeof(spm_dev_head), CL_MEM_READ_WRITE, NONE)  \
+    X(verts, "path records", SPM_MAX_DEPTH * sizeof(spm_vertex), CL_MEM_READ_WRITE, \
+      NONE)                                                                         \
+    X(levels, "level bytes", 1, CL_MEM_READ_WRITE, NONE)                            \
+    X(ident, "identity indices", sizeof(spm_u32), CL_MEM_READ_ONLY, IDENTITY)       \
+    X(idx, "bucket indices", sizeof(spm_u32), CL_MEM_READ_ONLY, NONE)               \
+    X(xyz, "path XYZ", 3 * sizeof(float), CL_MEM_READ_WRITE, NONE)                  \
+    X(pass, "batch image", 3 * sizeof(float), CL_MEM_WRITE_ONLY, NONE)
+
+/* Per scene, read-only, copied from the host:
+ * X(field, what, bytes, contents), evaluated where g (spm_geometry), t
+ * (spm_tables) and lvlk (the mode's level table) are in scope. */
+#define SPM_CL_SCENE_BUFFERS(X)                                                     \
+    X(tris, "triangles", (size_t)g->ntris * sizeof(spm_tri), g->tris)              \
+    X(nodes, "BVH", (size_t)g->nnodes * sizeof(spm_bvh_node), g->nodes)            \
+    X(emitters, "emitters", (size_t)g->nemitters * sizeof(spm_u32), g->emitters)   \
+    X(mats, "materials", (size_t)t->nmaterials * sizeof(spm_material), t->materials) \
+    X(lvlk, "level table", (size_t)t->ncolours * SPM_PRETEST_KMAX, lvlk)
+#endif

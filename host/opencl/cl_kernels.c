@@ -1,0 +1,104 @@
+/* The OpenCL backend's kernel launches (cl_renderer.h): each kernel's
+ * arguments from a struct laid out by its parameter list in
+ * spm_kernel_args.h, then the launch for one batch. */
+#include "cl_renderer.h"
+
+/* Host mirrors of the kernels' parameter lists. */
+#define ARG_FIELD(dev, host, name) host name;
+typedef struct { SPM_TRACE_ARGS(ARG_FIELD, ) } trace_args;
+typedef struct { SPM_SHADE_ARGS(ARG_FIELD, ) } shade_args;
+typedef struct { SPM_SHADE_PATH_ARGS(ARG_FIELD, ) } shade_path_args;
+typedef struct { SPM_ACCUM_ARGS(ARG_FIELD, ) } accum_args;
+
+static size_t round_up(size_t n)
+{
+    return (n + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE;
+}
+
+static int set_arg(cl_kernel k, const char *name, cl_uint i, size_t size, const void *val,
+                   spm_error *err)
+{
+    cl_int rc = clSetKernelArg(k, i, size, val);
+    if (rc == CL_SUCCESS)
+        return 0;
+    char what[128];
+    snprintf(what, sizeof what, "clSetKernelArg(%s, %u)", name, i);
+    return spm_cl_check(rc, what, err);
+}
+
+/* Sets kernel k's arguments from *a, a struct of one of the lists of
+ * spm_kernel_args.h, from argument *i on; *i is left past them. */
+#define SET_ARG(dev, host, name) rc = rc || set_arg(k, kname, (*i)++, sizeof a->name, &a->name, err);
+#define DEFINE_SETTER(fn, type, LIST)                                                      \
+    static int fn(cl_kernel k, const char *kname, const type *a, cl_uint *i, spm_error *err) \
+    {                                                                                      \
+        int rc = 0;                                                                        \
+        LIST(SET_ARG, )                                                                    \
+        return rc;                                                                         \
+    }
+DEFINE_SETTER(set_trace_args, trace_args, SPM_TRACE_ARGS)
+DEFINE_SETTER(set_shade_args, shade_args, SPM_SHADE_ARGS)
+DEFINE_SETTER(set_shade_path_args, shade_path_args, SPM_SHADE_PATH_ARGS)
+DEFINE_SETTER(set_accum_args, accum_args, SPM_ACCUM_ARGS)
+
+static int enqueue(spm_cl_renderer *r, cl_kernel k, const char *name, size_t offset, size_t n,
+                   cl_event *ev, spm_error *err)
+{
+    size_t off = offset, global = round_up(n), local = LOCAL_SIZE;
+    char what[128];
+    snprintf(what, sizeof what, "clEnqueueNDRangeKernel(%s)", name);
+    return spm_cl_check(clEnqueueNDRangeKernel(r->cl.queue, k, 1, &off, &global, &local, 0, NULL, ev),
+                        what, err);
+}
+
+int spm_clr_run_trace(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_error *err)
+{
+    r->params.first_sample = b->first_sample;
+    r->params.spp_per_pass = b->spp;
+    trace_args a = {r->tris,  r->nodes, r->emitters,     r->mats, r->lvlk,
+                    r->params, r->init_level, (spm_u32)b->n, r->heads, r->verts,
+                    r->levels, r->counters, b->first_pixel};
+    cl_uint i = 0;
+    return set_trace_args(r->k_trace, "spm_trace", &a, &i, err) ||
+           enqueue(r, r->k_trace, "spm_trace", 0, b->launch, ev, err);
+}
+
+int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOTS + 1],
+                      cl_mem ids, int all, cl_event ev[NSLOTS], spm_error *err)
+{
+    for (int s = 0; s < NSLOTS; s++) {
+        ev[s] = NULL;
+        size_t cnt = off[s + 1] - off[s];
+        if (!cnt && !(all && r->k_shade[s]))
+            continue;
+        /* Every launch has offset 0 and a full batch's size, the bucket being
+         * arguments (items past its end return at once): PoCL 3.1 compiles a
+         * kernel once per offset class and per larger grid, but matches a
+         * finished launch to those versions by local size only, so launches
+         * of two versions in flight at once (two devices) corrupt their
+         * reference counts (an assertion in pocl_release_dlhandle_cache).
+         * spm_clr_build() keeps devices from sharing kernels
+         * (SPM_DEVICE_INDEX); this is a second guard, kept because its cost,
+         * empty work-groups when ml splits a pass, was below the noise on
+         * cornell_spiky (two buckets a pass: shade time the same launched
+         * either way). The last batch of a pass is launched at full size too,
+         * for the same reason. */
+        shade_args a = {r->heads, r->verts,  (spm_u32)b->n, ids,     (spm_u32)off[s],
+                        (spm_u32)off[s + 1], r->tab[s], r->cmf[s], r->xyz};
+        shade_path_args pa = {r->extra, r->params.seed, b->spp, b->first_sample, b->first_pixel};
+        cl_uint i = 0;
+        int rc = set_shade_args(r->k_shade[s], r->kname[s], &a, &i, err) ||
+                 (r->mode->per_path && set_shade_path_args(r->k_shade[s], r->kname[s], &pa, &i, err));
+        if (rc || enqueue(r, r->k_shade[s], r->kname[s], 0, b->launch, &ev[s], err))
+            return 1;
+    }
+    return 0;
+}
+
+int spm_clr_run_accumulate(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_error *err)
+{
+    accum_args a = {r->xyz, b->npix, b->spp, r->pass, r->counters};
+    cl_uint i = 0;
+    return set_accum_args(r->k_accum, "spm_accumulate", &a, &i, err) ||
+           enqueue(r, r->k_accum, "spm_accumulate", 0, b->launch / b->spp, ev, err);
+}

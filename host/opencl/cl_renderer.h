@@ -1,0 +1,110 @@
+/* The OpenCL backend's parts (render_cl.h), shared by its files:
+ *   render_cl.c      the handle and the pass pipeline trace -> bucket -> shade
+ *                    -> accumulate
+ *   cl_tables.c      the device layout: scene buffers, shade tables, batch
+ *                    buffers (cl_buffers.h)
+ *   cl_program.c     the program: which kernels, with which defines
+ *   cl_kernels.c     kernel arguments (spm_kernel_args.h) and launches
+ *   cl_test_hooks.c  trace-only and shade-only passes for the tests, and
+ *                    failure injection */
+#ifndef SPM_CL_RENDERER_H
+#define SPM_CL_RENDERER_H
+#include <stdio.h>
+#include "cl_buffers.h"
+#include "cl_resources.h"
+#include "render_cl.h"
+#include "spm_kernel_args.h"
+
+/* Kernels and shade tables by slot: a levelled mode's levels, else slot 0
+ * (modes.h). */
+#define NSLOTS SPM_NUM_LEVELS
+/* Work-group size asked for (PoCL runs a group's work-items in one thread; 64
+ * amortises the per-group cost and keeps the last group's waste small). */
+#define LOCAL_SIZE 64
+
+struct spm_cl_renderer {
+    spm_cl_ctx cl;
+    const spm_mode_desc *mode;
+    size_t npix;
+    spm_trace_params params;
+    spm_u32 init_level;
+    cl_program prog;
+    cl_kernel k_trace, k_accum;
+    cl_kernel k_shade[NSLOTS]; /* NULL: not compiled */
+    char kname[NSLOTS][64];
+    cl_mem tab[NSLOTS], cmf[NSLOTS], extra;
+#define SCENE_FIELD(field, what, bytes, host) cl_mem field;
+    SPM_CL_SCENE_BUFFERS(SCENE_FIELD)
+#undef SCENE_FIELD
+    /* per-batch buffers (room for cap paths), grown on demand; pass: the
+     * batch's pixel sums */
+    size_t cap;
+    size_t batch_paths; /* a batch's paths, at most (SPM_CL_BATCH_PATHS; test hook) */
+#define BATCH_FIELD(field, what, per_path, flags, init) cl_mem field;
+    SPM_CL_BATCH_BUFFERS(BATCH_FIELD)
+#undef BATCH_FIELD
+    cl_mem counters;
+    uint8_t *h_levels;
+    spm_u32 *h_idx; /* bucket indices, the source of idx's non-blocking upload */
+    size_t lhist[256]; /* levelled modes: the pass's level bytes counted by value (bucket()) */
+    spm_u32 zero[SPM_NCOUNTERS];
+    long npasses;
+    long fail_pass; /* SPECMIP_CL_FAIL: this pass fails (-1: never) */
+    const spm_pass_ctl *ctl; /* the backend's, during its passes (NULL: none) */
+};
+
+#define CK(call, what)                     \
+    do {                                   \
+        if (spm_cl_check((call), what, err)) \
+            return 1;                      \
+    } while (0)
+
+/* One batch of a pass: pixels first_pixel .. first_pixel + npix - 1, spp
+ * samples each from first_sample, n = npix * spp paths whose records are
+ * indexed from 0. Every trace and shade launch of a pass has `launch`
+ * work-items, a full batch (see run_shade), and every accumulate launch
+ * launch / spp. */
+typedef struct {
+    spm_u32 first_sample, spp, first_pixel, npix;
+    size_t n, launch;
+} batch;
+
+/* cl_tables.c */
+int spm_clr_new_buffer(spm_cl_renderer *r, cl_mem *m, cl_mem_flags fl, size_t bytes,
+                       const void *host, const char *what, spm_error *err);
+/* The scene's buffers, the shade tables of the slots the plan uses, the counters. */
+int spm_clr_upload(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *err);
+/* Per-batch buffers for n paths (and up to n pixels); only grows. */
+int spm_clr_reserve(spm_cl_renderer *r, size_t n, spm_error *err);
+void spm_clr_release_buffers(spm_cl_renderer *r);
+
+/* cl_program.c: builds the program with the plan's kernels, creates them and
+ * launches each once (spm_clr_warm_up). */
+int spm_clr_build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *err);
+int spm_clr_warm_up(spm_cl_renderer *r, spm_error *err);
+
+/* cl_kernels.c: set a kernel's arguments and enqueue it for one batch. */
+int spm_clr_run_trace(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_error *err);
+/* The shade kernel of every non-empty bucket (slot s: entries off[s] ..
+ * off[s+1] of ids; every kernel the program has, when `all`); events in
+ * ev[slot]. */
+int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOTS + 1],
+                      cl_mem ids, int all, cl_event ev[NSLOTS], spm_error *err);
+int spm_clr_run_accumulate(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_error *err);
+
+/* render_cl.c: the pipeline's steps the test hooks reuse. */
+int spm_clr_plan_pass(spm_cl_renderer *r, spm_u32 spp, size_t *bpix, spm_error *err);
+batch spm_clr_batch_at(const spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t p0,
+                       size_t bpix);
+int spm_clr_zero_counters(spm_cl_renderer *r, spm_error *err);
+int spm_clr_bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t off[NSLOTS + 1],
+                   cl_mem *ids, spm_error *err);
+/* The events' kernel seconds; those without a time are counted in *untimed
+ * (if not NULL). */
+double spm_clr_release_events(cl_event *ev, int n, uint64_t *untimed);
+
+/* cl_test_hooks.c: SPECMIP_CL_FAIL (render_cl.h) for device `device`; and
+ * whether this pass is the one to fail (err filled). */
+void spm_clr_fail_init(spm_cl_renderer *r, int device);
+int spm_clr_fail_now(spm_cl_renderer *r, spm_error *err);
+#endif

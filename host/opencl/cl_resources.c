@@ -1,0 +1,82 @@
+/* Device memory footprint of a render (cl_resources.h). */
+#include "cl_resources.h"
+#include <stdio.h>
+#include "cl_buffers.h"
+#include "modes.h"
+#include "render_plan.h"
+
+static void add(spm_cl_footprint *f, size_t bytes, const char *what, int scene)
+{
+    f->total += bytes;
+    if (bytes > f->largest) {
+        f->largest = bytes;
+        f->largest_what = what;
+        f->largest_is_scene = scene;
+    }
+}
+
+void spm_cl_footprint_of(const spm_geometry *g, const spm_tables *t, size_t npix,
+                         size_t paths_per_pass, spm_cl_footprint *out)
+{
+    spm_cl_footprint f = {0, "nothing", 0, 0, 0};
+    size_t spp = npix ? paths_per_pass / npix : 0;
+    size_t n = spm_batch_room(npix, spp ? spp : 1, SPM_CL_BATCH_PATHS);
+    f.batch_paths = n;
+    /* the backend's buffers (cl_buffers.h) */
+#define BATCH(field, what, per_path, flags, init) add(&f, n * (per_path), what, 0);
+    SPM_CL_BATCH_BUFFERS(BATCH)
+    const uint8_t *lvlk = t->lvlk; /* the size is the same whichever level table */
+#define SCENE(field, what, bytes, host) add(&f, bytes, what, 1);
+    SPM_CL_SCENE_BUFFERS(SCENE)
+    (void)lvlk;
+    /* shade tables: those of the mode with the largest */
+    size_t tables = 0;
+    for (int m = 0; m < SPM_MODE_COUNT; m++) {
+        size_t b = spm_mode_footprint(&spm_modes[m], t);
+        tables = b > tables ? b : tables;
+    }
+    add(&f, tables, "colour tables", 1);
+    *out = f;
+}
+
+/* "1.50 GB" or "128.0 MB": a batch's buffers are well under a gigabyte. */
+static const char *size_str(size_t bytes, char buf[32])
+{
+    double mb = (double)bytes / (1024.0 * 1024.0);
+    if (mb >= 1024.0)
+        snprintf(buf, 32, "%.2f GB", mb / 1024.0);
+    else
+        snprintf(buf, 32, "%.1f MB", mb);
+    return buf;
+}
+
+/* What to do about it: a scene buffer needs a smaller scene; a batch's
+ * buffers are already the smallest the renderer cuts a pass into. */
+static const char *advice(const spm_cl_footprint *f)
+{
+    return f->largest_is_scene ? "render a smaller scene or use a larger device"
+                               : "use a device with more memory";
+}
+
+int spm_cl_footprint_check(const spm_cl_device *dev, const spm_cl_footprint *f, int width,
+                           int height, size_t paths_per_pass, spm_error *err)
+{
+    char need[32], have[32];
+    if (f->largest > dev->max_alloc) {
+        spm_errorf(err,
+                   "a %dx%d render needs %s in one device buffer (%s; %zu paths a pass in "
+                   "batches of %zu); device '%s' allows %s per buffer: %s",
+                   width, height, size_str(f->largest, need), f->largest_what, paths_per_pass,
+                   f->batch_paths, dev->name, size_str((size_t)dev->max_alloc, have), advice(f));
+        return 1;
+    }
+    if (f->total > dev->global_mem) {
+        spm_errorf(err,
+                   "a %dx%d render needs %s of device memory (%zu paths a pass in batches "
+                   "of %zu); device '%s' has %s: %s",
+                   width, height, size_str(f->total, need), paths_per_pass, f->batch_paths,
+                   dev->name, size_str((size_t)dev->global_mem, have), advice(f));
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,62 @@
+/* The OpenCL render backend: one device, one scene, one mode. A pass of
+ * npix * spp paths is cut into batches of whole pixels (render_plan.h;
+ * SPM_CL_BATCH_PATHS paths at most, cl_resources.h); each
+ * batch is traced (kernel `spm_trace`), bucketed by level on the host, shaded
+ * bucket by bucket with its level's kernel (or all with the mode's kernel),
+ * and its pixels' samples summed in sample order (`spm_accumulate`), so the
+ * pass image does not depend on the batch size. Buffers hold one batch, live
+ * as long as the handle and grow only when a pass needs more.
+ * Each handle has its own context, queue and program: handles may run in
+ * parallel threads (one per device); one handle must not be used by two
+ * threads at once. Every function returns 0 or fills err (never exits). */
+#ifndef SPM_RENDER_CL_H
+#define SPM_RENDER_CL_H
+#include <stddef.h>
+#include <stdint.h>
+#include "backend.h"
+#include "clhost.h"
+
+typedef struct spm_cl_renderer spm_cl_renderer;
+
+/* Uploads the plan's geometry, level table and shade tables, and builds the
+ * program with -D for exactly the shade kernels the plan uses (levelled
+ * modes: the levels the scene's colours can ask for). Everything is copied to
+ * the device: the caller may free the plan after. */
+int spm_cl_create_plan(int device, const spm_render_plan *plan, spm_cl_renderer **out,
+                       spm_error *err);
+/* The same with a plan made from g, t, mode and seed for the call. */
+int spm_cl_create(int device, const spm_geometry *g, const spm_tables *t, int mode, spm_u32 seed,
+                  spm_cl_renderer **out, spm_error *err);
+void spm_cl_destroy(spm_cl_renderer *r);
+/* The device this handle renders on (name, memory, ...). */
+const spm_cl_device *spm_cl_renderer_device(const spm_cl_renderer *r);
+
+/* One pass: samples [first_sample, first_sample + spp) of every pixel.
+ * pass_xyz (npix * 3) receives per pixel the SUM of its samples' XYZ.
+ * Stats are ADDED to *st: stage times from event profiling (trace, shade,
+ * accumulate; the host's bucketing counts as shade), paths, paths per level by
+ * set-by (level 0 in modes without levels), truncated paths, non-finite
+ * samples left out. As a backend (spm_backend_cl_create) a pass may end early
+ * at a batch boundary (backend.h: SPM_PASS_STOPPED). */
+int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
+                spm_pass_stats *st, spm_error *err);
+
+/* Test hooks. Trace only: the pass's records and level bytes read back
+ * (npix * spp of each, batch by batch). */
+int spm_cl_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, spm_path *paths,
+                 uint8_t *levels, spm_error *err);
+/* Shade given records (n = npix * spp, uploaded batch by batch) in the
+ * handle's mode, with the pass parameters hero needs; per-path XYZ read back
+ * (3 floats per path). */
+int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const spm_path *paths,
+                 const uint8_t *levels, float *xyz, spm_error *err);
+/* Batches of at most `paths` paths from the next pass on (0: the default,
+ * SPM_CL_BATCH_PATHS); a batch is still at least one pixel. */
+void spm_cl_set_batch_paths(spm_cl_renderer *r, size_t paths);
+/* Paths the per-batch device buffers have room for now (0 before a pass). */
+size_t spm_cl_batch_capacity(const spm_cl_renderer *r);
+
+/* Failure injection for multi-device tests: SPECMIP_CL_FAIL="DEV:PASS" makes
+ * device DEV's pass number PASS (0-based, counted per handle) fail with an
+ * error as an enqueue failure would. */
+#endif

@@ -1,0 +1,179 @@
+/* The render plan shared by the backends (render_plan.h). */
+#include "render_plan.h"
+#include <math.h>
+#include <string.h>
+
+static int colour_start(const uint8_t *lvlk, spm_u32 c, int start)
+{
+    if (c == SPM_NONE)
+        return start;
+    int l = lvlk[c * SPM_PRETEST_KMAX]; /* k = 1: a colour's coarsest level */
+    return l > start ? l : start;
+}
+
+int spm_plan_level_start(const spm_geometry *g, const spm_material *mats, const uint8_t *lvlk,
+                         const spm_trace_params *p)
+{
+    int start = 0;
+    if (!lvlk)
+        return 0;
+    for (int i = 0; i < g->ntris; i++) {
+        const spm_material *m = &mats[g->tris[i].material];
+        start = colour_start(lvlk, m->refl, start);
+        start = colour_start(lvlk, m->emit, start);
+    }
+    start = colour_start(lvlk, p->bg_up, start);
+    return colour_start(lvlk, p->bg_down, start);
+}
+
+/* A levelled mode's paths get the start level or a finer per-occurrence level
+ * of a colour in use: those slots are used. */
+static void use_colour(spm_render_plan *p, spm_u32 c)
+{
+    if (c == SPM_NONE || (int)c >= p->tables->ncolours)
+        return;
+    for (int k = 0; k < SPM_PRETEST_KMAX; k++) {
+        spm_u32 l = p->lvlk[c * SPM_PRETEST_KMAX + (spm_u32)k];
+        if (l <= p->start_level)
+            p->used[l] = 1;
+    }
+}
+
+static void used_slots(spm_render_plan *p)
+{
+    const spm_tables *t = p->tables;
+    memset(p->used, 0, sizeof p->used);
+    if (!p->mode->levelled) {
+        p->used[0] = 1;
+        return;
+    }
+    p->used[p->start_level] = 1;
+    use_colour(p, t->bg_up);
+    use_colour(p, t->bg_down);
+    for (int m = 0; m < t->nmaterials; m++) {
+        use_colour(p, t->materials[m].refl);
+        use_colour(p, t->materials[m].emit);
+    }
+}
+
+int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_tables *t, int mode,
+                         spm_u32 seed, spm_error *err)
+{
+    memset(p, 0, sizeof *p);
+    if (!(p->mode = spm_mode(mode))) {
+        spm_errorf(err, "unknown render mode %d", mode);
+        return 1;
+    }
+    if (g->nnodes < 1 || g->cam.width < 1 || g->cam.height < 1) {
+        spm_errorf(err, "nothing to render (empty BVH or image size %dx%d)", g->cam.width,
+                   g->cam.height);
+        return 1;
+    }
+    if (spm_mode_check(p->mode, t, err))
+        return 1;
+    p->geom = g;
+    p->tables = t;
+    p->lvlk = spm_mode_lvlk(p->mode, t);
+    p->npix = (size_t)g->cam.width * (size_t)g->cam.height;
+    spm_trace_params *tp = &p->params;
+    tp->cam = g->cam;
+    tp->ntris = (spm_u32)g->ntris;
+    tp->nemitters = (spm_u32)g->nemitters;
+    tp->bg_up = t->bg_up;
+    tp->bg_down = t->bg_down;
+    tp->seed = seed;
+    int start = spm_plan_level_start(g, t->materials, p->lvlk, tp);
+    p->start_level = (spm_u32)(start < SPM_NUM_LEVELS ? start : SPM_NUM_LEVELS - 1);
+    p->nslots = spm_mode_nslots(p->mode);
+    used_slots(p);
+    for (int s = 0; s < p->nslots; s++)
+        spm_shade_table_build(p->mode, t, s, &p->shade[s]);
+    return 0;
+}
+
+void spm_render_plan_free(spm_render_plan *p)
+{
+    for (int s = 0; s < SPM_NUM_LEVELS; s++)
+        spm_shade_table_free(&p->shade[s]);
+    memset(p, 0, sizeof *p);
+}
+
+spm_trace_params spm_plan_pass_params(const spm_render_plan *p, spm_u32 first_sample, spm_u32 spp)
+{
+    spm_trace_params tp = p->params;
+    tp.first_sample = first_sample;
+    tp.spp_per_pass = spp;
+    return tp;
+}
+
+size_t spm_batch_pixels(size_t npix, size_t spp, size_t batch_paths)
+{
+    size_t b = spp ? batch_paths / spp : npix;
+    if (b < 1)
+        b = 1;
+    return b < npix ? b : npix;
+}
+
+size_t spm_batch_room(size_t npix, size_t spp, size_t batch_paths)
+{
+    size_t bpix = spm_batch_pixels(npix, spp, batch_paths), n = bpix * (spp ? spp : 1);
+    return bpix < npix && n < batch_paths ? batch_paths : n;
+}
+
+void spm_pass_stats_add(spm_pass_stats *a, const spm_pass_stats *s)
+{
+    a->trace_s += s->trace_s;
+    a->shade_s += s->shade_s;
+    a->accum_s += s->accum_s;
+    a->paths += s->paths;
+    for (int l = 0; l < SPM_NUM_LEVELS; l++)
+        for (int k = 0; k < 3; k++)
+            a->level_paths[l][k] += s->level_paths[l][k];
+    a->truncated += s->truncated;
+    a->nonfinite += s->nonfinite;
+    a->untimed += s->untimed;
+}
+
+void spm_count_levels_hist(const spm_mode_desc *m, const size_t hist[256], size_t n,
+                           spm_pass_stats *st)
+{
+    st->paths += n;
+    if (!m->levelled) {
+        st->level_paths[0][SPM_SETBY_NONE] += n;
+        return;
+    }
+    for (int b = 0; b < 256; b++) {
+        spm_u32 by = ((spm_u32)b >> SPM_SETBY_SHIFT) & 3u;
+        st->level_paths[spm_mode_slot(m, (uint8_t)b)][by > 2 ? 0 : by] += hist[b];
+    }
+}
+
+void spm_count_levels(const spm_mode_desc *m, const spm_path *paths, const uint8_t *levels,
+                      size_t n, spm_pass_stats *st)
+{
+    size_t hist[256] = {0};
+    for (size_t i = 0; i < n; i++) {
+        hist[levels[i]]++;
+        st->truncated += paths[i].h.end == SPM_END_TRUNCATED;
+    }
+    spm_count_levels_hist(m, hist, n, st);
+}
+
+void spm_accumulate_pass(const float *xyz, size_t npix, spm_u32 spp, float *pass_xyz,
+                         spm_pass_stats *st)
+{
+    for (size_t p = 0; p < npix; p++) {
+        float s[3] = {0.0f, 0.0f, 0.0f};
+        for (spm_u32 k = 0; k < spp; k++) {
+            const float *x = &xyz[(p * spp + k) * 3];
+            if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2])) {
+                st->nonfinite++;
+                continue;
+            }
+            s[0] += x[0];
+            s[1] += x[1];
+            s[2] += x[2];
+        }
+        memcpy(&pass_xyz[p * 3], s, sizeof s);
+    }
+}

@@ -1,0 +1,204 @@
+#include "render_setup.h"
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cl_resources.h"
+#include "clhost.h"
+#include "interrupt.h"
+
+void spm_render_config_defaults(spm_render_config *c)
+{
+    memset(c, 0, sizeof *c);
+    c->mode = SPM_MODE_ML;
+    c->seed = 1;
+    spm_pretest_defaults(&c->pretest);
+}
+
+typedef struct {
+    int device;
+    char name[256];
+    const spm_render_config *c;
+    const spm_render_plan *plan;
+    spm_backend *b;
+    spm_error err;
+} device_open;
+
+static void *open_one(void *arg)
+{
+    device_open *d = arg;
+    spm_test_pause("build");
+    d->b = (d->c->open_device ? d->c->open_device : spm_backend_cl_create)(d->device, d->plan,
+                                                                          &d->err);
+    return NULL;
+}
+
+int spm_render_spp(const spm_render_config *c, const spm_scene *sc)
+{
+    return c->spp ? c->spp : (sc->spp > 0 ? sc->spp : 16);
+}
+
+/* The device indices to open, checked: unknown or repeated ones are input
+ * errors, and so is a render too large for a device's memory (said before any
+ * buffer or program exists). */
+static int device_list(const spm_render_config *c, const spm_render_setup *s, device_open *opens,
+                       int *n, spm_error *err)
+{
+    size_t npix = (size_t)s->scene.width * (size_t)s->scene.height;
+    size_t ppp = npix * spm_spp_per_pass(npix, spm_render_spp(c, &s->scene));
+    spm_cl_footprint fp;
+    spm_cl_footprint_of(&s->geom, &s->tables, npix, ppp, &fp);
+    int list[SPM_MAX_BACKENDS];
+    *n = 0;
+    if (c->all_devices) {
+        spm_cl_device *devs;
+        int ndev;
+        if (spm_cl_devices(&devs, &ndev, err))
+            return SPM_EXIT_RUNTIME;
+        int nall = 0;
+        for (int i = 0; i < ndev; i++)
+            if (spm_cl_device_in_all(devs, ndev, i)) {
+                if (*n < SPM_MAX_BACKENDS)
+                    list[(*n)++] = i;
+                nall++;
+            }
+        free(devs);
+        if (nall > SPM_MAX_BACKENDS)
+            spm_warnf("%d devices; the first %d render", nall, SPM_MAX_BACKENDS);
+    } else if (c->ndevices) {
+        for (int i = 0; i < c->ndevices && i < SPM_MAX_BACKENDS; i++)
+            list[(*n)++] = c->devices[i];
+    } else {
+        list[(*n)++] = 0;
+    }
+    for (int i = 0; i < *n; i++) {
+        for (int j = 0; j < i; j++)
+            if (list[j] == list[i]) {
+                spm_errorf(err, "device %d is listed twice", list[i]);
+                return SPM_EXIT_INPUT;
+            }
+        spm_cl_device d;
+        if (spm_cl_device_get(list[i], &d, err)) /* unknown index: lists the available ones */
+            return SPM_EXIT_INPUT;
+        if (spm_cl_footprint_check(&d, &fp, s->scene.width, s->scene.height, ppp, err))
+            return SPM_EXIT_INPUT;
+        memset(&opens[i], 0, sizeof opens[i]);
+        opens[i].device = list[i];
+        snprintf(opens[i].name, sizeof opens[i].name, "%s", d.name);
+    }
+    return 0;
+}
+
+/* Each device builds its program in its own thread: builds run concurrently
+ * (a thread that cannot be started opens its device in this one). */
+static int open_devices(const spm_render_config *c, const spm_render_plan *plan,
+                        spm_render_setup *s, spm_error *err)
+{
+    device_open opens[SPM_MAX_BACKENDS];
+    int n, rc = device_list(c, s, opens, &n, err);
+    if (rc)
+        return rc;
+    pthread_t th[SPM_MAX_BACKENDS];
+    int threaded[SPM_MAX_BACKENDS];
+    for (int i = 0; i < n; i++) {
+        opens[i].c = c;
+        opens[i].plan = plan;
+        threaded[i] = n > 1 && pthread_create(&th[i], NULL, open_one, &opens[i]) == 0;
+        if (!threaded[i])
+            open_one(&opens[i]);
+    }
+    for (int i = 0; i < n; i++)
+        if (threaded[i])
+            pthread_join(th[i], NULL);
+    for (int i = 0; i < n; i++) {
+        if (opens[i].b)
+            s->b[s->nb++] = opens[i].b;
+        else if (n > 1)
+            fprintf(stderr, "specmip: device %d '%s' left out: %s\n", opens[i].device,
+                    opens[i].name, opens[i].err.msg);
+        else
+            *err = opens[i].err;
+    }
+    if (!s->nb) {
+        if (n > 1)
+            spm_errorf(err, "none of the %d devices could be opened", n);
+        return SPM_EXIT_RUNTIME;
+    }
+    return 0;
+}
+
+/* The exit code of a failed preparation step: the steps stop early, with an
+ * error saying so, when interrupted. */
+static int failed(void)
+{
+    return spm_stop_requested() ? SPM_EXIT_INTERRUPTED : SPM_EXIT_INPUT;
+}
+
+/* A signal during a step that cannot be interrupted is acted on right after it. */
+static int interrupted_after(const char *what, spm_error *err)
+{
+    if (!spm_stop_requested())
+        return 0;
+    spm_errorf(err, "interrupted while %s", what);
+    return 1;
+}
+
+int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_error *err)
+{
+    memset(s, 0, sizeof *s);
+    double t0 = spm_now();
+    int rc = c->scene_path ? spm_scene_load(c->scene_path, &s->scene, err)
+                           : spm_scene_default(&s->scene, err);
+    if (rc)
+        return failed();
+    if (c->width > 0)
+        s->scene.width = c->width;
+    if (c->height > 0)
+        s->scene.height = c->height;
+    double t1 = spm_now();
+    s->times.load_s = t1 - t0;
+    rc = spm_geometry_build(&s->scene, &s->geom, err);
+    double t2 = spm_now();
+    s->times.bvh_s = t2 - t1;
+    if (rc)
+        return failed();
+    rc = spm_tables_build(&s->scene, &c->pretest, &s->tables, err);
+    s->times.tables_s = spm_now() - t2;
+    if (rc)
+        return failed();
+    if (interrupted_after("preparing the scene", err))
+        return SPM_EXIT_INTERRUPTED;
+    if (c->verbose) {
+        const char **names = spm_xcalloc((size_t)s->scene.ncolours + 1, sizeof *names);
+        for (int i = 0; i < s->scene.ncolours; i++)
+            names[i] = s->scene.colours[i].name;
+        spm_pretest_print(stderr, names, s->tables.pretest, s->scene.ncolours, &c->pretest);
+        free((void *)names);
+    }
+    if (spm_render_plan_init(&s->plan, &s->geom, &s->tables, c->mode, c->seed, err))
+        return SPM_EXIT_INPUT;
+    double t3 = spm_now();
+    if (c->use_cpu) {
+        s->b[0] = spm_backend_cpu_create(&s->plan, err);
+        s->nb = s->b[0] != NULL;
+        rc = s->nb ? 0 : SPM_EXIT_RUNTIME;
+    } else {
+        rc = open_devices(c, &s->plan, s, err);
+    }
+    s->times.kernels_s = spm_now() - t3;
+    if (!rc && interrupted_after("building the OpenCL programs (a build cannot be interrupted)",
+                                 err))
+        return SPM_EXIT_INTERRUPTED;
+    return rc;
+}
+
+void spm_render_setup_close(spm_render_setup *s)
+{
+    for (int i = 0; i < s->nb; i++)
+        s->b[i]->destroy(s->b[i]);
+    spm_render_plan_free(&s->plan);
+    spm_tables_free(&s->tables);
+    spm_geometry_free(&s->geom);
+    spm_scene_free(&s->scene);
+    memset(s, 0, sizeof *s);
+}

@@ -1,0 +1,58 @@
+/* Everything a render needs, prepared from the command line: scene, geometry,
+ * spectral tables and backends. Shared by `render` and `bench`. */
+#ifndef SPM_RENDER_SETUP_H
+#define SPM_RENDER_SETUP_H
+#include "backend.h"
+#include "modes.h"
+#include "render_run.h"
+
+typedef struct {
+    const char *scene_path;   /* NULL: the built-in default scene */
+    int mode;
+    int spp;                  /* 0: the scene's, else 16 */
+    spm_u32 seed;
+    int width, height;        /* 0: the scene's */
+    int use_cpu;              /* --backend cpu */
+    int devices[SPM_MAX_BACKENDS];
+    int ndevices;             /* 0: device 0 */
+    int all_devices;          /* --device all */
+    /* Opens one OpenCL device as a backend; NULL: spm_backend_cl_create (tests
+     * put one here that fails for a chosen device, as a kernel build would). */
+    spm_backend *(*open_device)(int device, const spm_render_plan *plan, spm_error *err);
+    spm_pretest_opts pretest;
+    int verbose;
+} spm_render_config;
+
+/* Wall seconds of each stage of a render (`render --stats`); setup fills the
+ * first four, the command the rest. */
+typedef struct {
+    double load_s;    /* reading and parsing the scene and its spectra */
+    double bvh_s;     /* triangles, emitters and the BVH */
+    double tables_s;  /* spectral tables and the pretest's levels */
+    double kernels_s; /* opening the devices: buffers and kernel builds */
+    double render_s;  /* the render loop */
+    double output_s;  /* writing the images */
+} spm_stage_times;
+
+typedef struct {
+    spm_scene scene;
+    spm_geometry geom;
+    spm_tables tables;
+    spm_render_plan plan;     /* what every backend renders */
+    spm_backend *b[SPM_MAX_BACKENDS];
+    int nb;
+    spm_stage_times times;
+} spm_render_setup;
+
+void spm_render_config_defaults(spm_render_config *c);
+/* Samples per pixel: --spp, else the scene's, else 16. */
+int spm_render_spp(const spm_render_config *c, const spm_scene *sc);
+/* Returns 0, or an exit code (2 input error, 1 runtime, 130 interrupted:
+ * loading, BVH build and pretests stop at a signal, a program build is
+ * followed through first) with err filled.
+ * Several devices are opened (programs built) concurrently; one that cannot be
+ * opened is reported by name on stderr and left out, and only when none is
+ * left is that an error. A device index listed twice is an input error. */
+int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_error *err);
+void spm_render_setup_close(spm_render_setup *s);
+#endif

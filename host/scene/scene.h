@@ -1,0 +1,51 @@
+/* A scene as parsed: camera, colours (concrete spectra, scales applied),
+ * materials referring to colours, triangles, background. */
+#ifndef SPM_SCENE_H
+#define SPM_SCENE_H
+#include "spectrum.h"
+
+#define SPM_NAME_MAX 64
+
+/* A concrete spectrum the renderer uses. Reflectances have their scale applied
+ * (and stay <= 1); emissions are normalised to luminance Y = 1 and then
+ * multiplied by their scale (docs/METHODS.md), so a scale is a luminance. */
+typedef struct {
+    char name[SPM_NAME_MAX];
+    spm_spectrum s;
+} spm_colour;
+
+typedef struct {
+    char name[SPM_NAME_MAX];
+    int refl;  /* colour index, -1 = black */
+    int emit;  /* colour index, -1 = not an emitter */
+} spm_scene_material;
+
+typedef struct {
+    float p[3][3];
+    int material;
+    int line;  /* source line, for messages */
+} spm_scene_tri;
+
+typedef struct {
+    char path[512];      /* file it came from ("<default>" for the built-in scene) */
+    float eye[3], dir[3];
+    float fov_deg;       /* full horizontal field of view, MiniLight-style */
+    int width, height;
+    int spp;             /* samples per pixel the file asks for (0: not given) */
+    spm_colour *colours;
+    int ncolours;
+    spm_scene_material *materials;
+    int nmaterials;
+    spm_scene_tri *tris;
+    int ntris;
+    int bg_up;           /* colour for a ray escaping upward (+y), -1 none */
+    int bg_down;         /* for one escaping downward, -1 none */
+} spm_scene;
+
+/* Load a scene file: MiniLight .ml.txt (first line "#MiniLight") or the
+ * project's own format. Errors: "file:line:col: what was expected". */
+int spm_scene_load(const char *path, spm_scene *out, spm_error *err);
+/* The built-in default: a Cornell box with ColorChecker walls, equal-energy light. */
+int spm_scene_default(spm_scene *out, spm_error *err);
+void spm_scene_free(spm_scene *s);
+#endif

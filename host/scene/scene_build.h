@@ -1,0 +1,74 @@
+/* Building an spm_scene: what both parsers (the project's format and the
+ * MiniLight importer) share, so the checks and the limits are written once.
+ * `where` arguments are "file:line:col" prefixes for error messages. */
+#ifndef SPM_SCENE_BUILD_H
+#define SPM_SCENE_BUILD_H
+#include "scene.h"
+#include "scene_names.h"
+
+/* image width and height, and samples per pixel: in a scene and on the command line */
+#define SPM_SCENE_MAX_SIDE 16384
+#define SPM_SCENE_MAX_SPP (1 << 20)
+#define SPM_SCENE_MAX_TRIS (1 << 24)    /* MiniLight's limit */
+#define SPM_SCENE_MAX_COLOURS 4096      /* ids are 16-bit on the device; pretests cost per colour */
+#define SPM_SCENE_MAX_MATERIALS 4096
+/* |coordinate| of vertices and the eye. MiniLight's ray-triangle test runs in
+ * float (host/geometry/bvh.c, kernels/trace.cl). With every coordinate within C, edges
+ * and o - v0 have components within 2C, d x e2 (d a unit vector) within 4C,
+ * det and u's numerator (sums of three products) within 24 C^2, q = (o - v0)
+ * x e1 within 8 C^2 and t's numerator e2 . q within 48 C^3: the one product
+ * that is cubic in C. It overflows float (FLT_MAX = 3.4e38) beyond
+ * C = (FLT_MAX / 48)^(1/3) = 1.9e12; squared distances (12 C^2) and areas
+ * (6 C^2) overflow only beyond 5e18. 1e12 keeps that cubic product below
+ * FLT_MAX / 7 and takes MiniLight's suns, 1.5e11 away. */
+#define SPM_SCENE_MAX_COORD 1e12
+#define SPM_FOV_MIN 10.0                /* MiniLight's clamp of the view angle */
+#define SPM_FOV_MAX 160.0
+
+typedef struct {
+    spm_scene *s;
+    int cap_colours, cap_materials, cap_tris;
+    spm_names colour_index;    /* colour content key -> index (sharing) */
+    spm_names material_index;  /* "refl emit" -> index (sharing) */
+} spm_scene_builder;
+
+/* Starts an empty scene (no camera, no background) for file `path`. */
+void spm_sb_init(spm_scene_builder *b, spm_scene *s, const char *path);
+/* Frees the builder's tables; on failure (ok == 0) the scene too. */
+void spm_sb_done(spm_scene_builder *b, int ok);
+
+/* A colour with this spectrum, shared with an identical earlier one (the first
+ * one's name is kept). Returns its index or -1 with err filled. */
+int spm_sb_colour(spm_scene_builder *b, const char *name, const spm_spectrum *sp,
+                  const char *where, spm_error *err);
+/* A material, shared with one of the same colours. Index or -1. */
+int spm_sb_material(spm_scene_builder *b, const char *name, int refl, int emit,
+                    const char *where, spm_error *err);
+/* Appends a triangle; zero-area or degenerate (collinear) triangles, huge
+ * coordinates and too many triangles are errors. */
+int spm_sb_tri(spm_scene_builder *b, const double p[3][3], int material, int line,
+               const char *where, spm_error *err);
+/* Whether a triangle (float vertices, as the renderer sees them) is
+ * degenerate: zero area, or so thin that it has no usable normal. */
+int spm_sb_degenerate(const float p[3][3]);
+/* Camera: direction must not be zero (stored normalised); the field of view
+ * is clamped to MiniLight's 10..160 degrees with a warning. */
+int spm_sb_camera(spm_scene_builder *b, const double eye[3], const double dir[3], double fov,
+                  const char *where, spm_error *err);
+
+/* Reflectance `shape` times `scale`; more than 1 anywhere is an error. */
+int spm_sb_reflectance(const spm_spectrum *shape, double scale, const char *where,
+                       spm_spectrum *out, spm_error *err);
+/* Emission `shape` normalised to luminance 1, times `luminance` (docs/METHODS.md). */
+int spm_sb_emission(const spm_spectrum *shape, double luminance, const char *where,
+                    spm_spectrum *out, spm_error *err);
+
+/* Final checks at the end of the file (`where`): triangles exist, something
+ * emits (a triangle's material or the background); unused materials and
+ * colours are dropped. */
+int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err);
+
+/* The two parsers, dispatched by spm_scene_load. */
+int spm_scene_parse_text(const char *path, spm_scene *out, spm_error *err);
+int spm_scene_parse_minilight(const char *path, spm_scene *out, spm_error *err);
+#endif

@@ -1,0 +1,251 @@
+/* The spectral modes (modes.h): descriptors and their shade tables. */
+#include "modes.h"
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "colour.h"
+
+static int round_up(int n, int w)
+{
+    return (n + w - 1) / w * w;
+}
+
+/* Copies `n` floats of each of `rows` source rows (src_stride apart) into the
+ * table's rows. */
+static void copy_rows(float *dst, int dst_stride, const float *src, int src_stride, int rows,
+                      int n)
+{
+    for (int r = 0; r < rows; r++)
+        memcpy(&dst[(size_t)r * dst_stride], &src[(size_t)r * src_stride], (size_t)n * sizeof *dst);
+}
+
+/* ---- truth: 400 bins of 1 nm ---------------------------------------------- */
+static void truth_layout(const spm_tables *t, int level, spm_shade_table *o)
+{
+    (void)t, (void)level;
+    o->lanes = SPM_TRUTH_BINS, o->width = 16, o->stride = SPM_TRUTH_BINS;
+}
+
+static void truth_fill(const spm_tables *t, int level, spm_shade_table *o)
+{
+    (void)level;
+    copy_rows(o->rows, o->stride, t->truth, SPM_TRUTH_BINS, t->ncolours, SPM_TRUTH_BINS);
+    copy_rows(o->w, o->stride, &t->cmf_truth[0][0], SPM_TRUTH_BINS, 3, SPM_TRUTH_BINS);
+}
+
+/* ---- ref, ml: the bins of a level, five vectors of 16 >> level ------------- */
+static void level_layout(const spm_tables *t, int l, spm_shade_table *o)
+{
+    (void)t;
+    o->lanes = SPM_LEVEL_BINS(l), o->width = 16 >> l, o->stride = SPM_LEVEL_BINS(l);
+}
+
+static void level_fill(const spm_tables *t, int l, spm_shade_table *o)
+{
+    int bins = SPM_LEVEL_BINS(l);
+    copy_rows(o->rows, o->stride, t->lvl[l], bins, t->ncolours, bins);
+    copy_rows(o->w, o->stride, &t->cmf_lvl[l][0][0], SPM_L0_BINS, 3, bins);
+}
+
+/* ---- mlc: a level's smooth bins, then the scene's spike lanes weighted by
+ * the CMFs at the spike wavelengths, padded to whole vectors --------------- */
+static void mlc_layout(const spm_tables *t, int l, spm_shade_table *o)
+{
+    o->lanes = SPM_LEVEL_BINS(l) + t->nspikes, o->width = 16 >> l;
+    o->stride = round_up(o->lanes, o->width);
+}
+
+static void mlc_fill(const spm_tables *t, int l, spm_shade_table *o)
+{
+    int bins = SPM_LEVEL_BINS(l);
+    copy_rows(o->rows, o->stride, t->mlc_lvl[l], SPM_MLC_STRIDE(l), t->ncolours, o->lanes);
+    for (int ch = 0; ch < 3; ch++) {
+        memcpy(&o->w[ch * o->stride], t->cmf_lvl[l][ch], (size_t)bins * sizeof *o->w);
+        memcpy(&o->w[ch * o->stride + bins], t->spike_cmf[ch], (size_t)t->nspikes * sizeof *o->w);
+    }
+}
+
+/* ---- hero: level-0 rows, read at four wavelengths drawn per path ---------- */
+static void hero_layout(const spm_tables *t, int level, spm_shade_table *o)
+{
+    (void)t, (void)level;
+    o->lanes = SPM_L0_BINS, o->width = 4, o->stride = SPM_L0_BINS;
+    o->nextra = SPM_HERO_FLOATS;
+}
+
+static void hero_fill(const spm_tables *t, int level, spm_shade_table *o)
+{
+    (void)level;
+    copy_rows(o->rows, o->stride, t->lvl[0], SPM_L0_BINS, t->ncolours, SPM_L0_BINS);
+    memcpy(o->extra + SPM_HERO_CDF, t->hero_cdf, sizeof t->hero_cdf);
+    memcpy(o->extra + SPM_HERO_PDF, t->hero_pdf, sizeof t->hero_pdf);
+    memcpy(o->extra + SPM_HERO_CMF, t->cmf_point, sizeof t->cmf_point);
+}
+
+/* ---- rgb: three components; XYZ by the colour module's sRGB matrix -------- */
+static void rgb_layout(const spm_tables *t, int level, spm_shade_table *o)
+{
+    (void)t, (void)level;
+    o->lanes = 3, o->width = 4, o->stride = 4;
+}
+
+static void rgb_fill(const spm_tables *t, int level, spm_shade_table *o)
+{
+    (void)level;
+    copy_rows(o->rows, o->stride, t->rgb, 4, t->ncolours, 3);
+    for (int c = 0; c < 3; c++) {
+        double rgb[3] = {c == 0, c == 1, c == 2}, xyz[3];
+        spm_linear_srgb_to_xyz(rgb, xyz);
+        for (int ch = 0; ch < 3; ch++)
+            o->w[ch * o->stride + c] = (float)xyz[ch];
+    }
+}
+
+const spm_mode_desc spm_modes[SPM_MODE_COUNT] = {
+    [SPM_MODE_TRUTH] = {SPM_MODE_TRUTH, "truth", "1 nm bins (ground truth)", 0, 0, 0, 0,
+                        "spm_shade_truth", "SPM_SHADE_TRUTH_NV=%d", truth_layout, truth_fill},
+    [SPM_MODE_REF] = {SPM_MODE_REF, "ref", "5 nm bins", 0, 0, 0, 0, "spm_shade_l0",
+                      "SPM_SHADE_L0_NV=%d", level_layout, level_fill},
+    [SPM_MODE_ML] = {SPM_MODE_ML, "ml", "Spectral Mipmapping: 5-40 nm bins, a level per path", 1,
+                     0, 0, 0, "spm_shade_l%d", "SPM_SHADE_L%d_NV=%d", level_layout, level_fill},
+    [SPM_MODE_MLC] = {SPM_MODE_MLC, "mlc", "ml + Composite Model spike lanes", 1, 0, 1, 0,
+                      "spm_shade_l%d", "SPM_SHADE_L%d_NV=%d", mlc_layout, mlc_fill},
+    [SPM_MODE_HERO] = {SPM_MODE_HERO, "hero", "4 hero wavelengths a path", 0, 0, 0, 1,
+                       "spm_shade_hero", "SPM_SHADE_HERO", hero_layout, hero_fill},
+    [SPM_MODE_RGB] = {SPM_MODE_RGB, "rgb", "three components (linear sRGB)", 0, 0, 0, 0,
+                      "spm_shade_rgb", "SPM_SHADE_RGB", rgb_layout, rgb_fill},
+};
+
+const spm_mode_desc *spm_mode(int id)
+{
+    return id >= 0 && id < SPM_MODE_COUNT ? &spm_modes[id] : NULL;
+}
+
+int spm_mode_parse(const char *name)
+{
+    for (int m = 0; m < SPM_MODE_COUNT; m++)
+        if (!strcmp(name, spm_modes[m].name))
+            return m;
+    return -1;
+}
+
+const char *spm_mode_name(int id)
+{
+    const spm_mode_desc *m = spm_mode(id);
+    return m ? m->name : "?";
+}
+
+const char *spm_mode_list(const char *sep, char *buf, size_t size)
+{
+    size_t n = 0;
+    buf[0] = '\0';
+    for (int m = 0; m < SPM_MODE_COUNT && n < size; m++)
+        n += (size_t)snprintf(buf + n, size - n, "%s%s", m ? sep : "", spm_modes[m].name);
+    return buf;
+}
+
+int spm_mode_nslots(const spm_mode_desc *m)
+{
+    return m->levelled ? SPM_NUM_LEVELS : 1;
+}
+
+int spm_mode_slot(const spm_mode_desc *m, uint8_t level)
+{
+    if (!m->levelled)
+        return 0;
+    int l = (int)(level & SPM_LEVEL_MASK);
+    return l < SPM_NUM_LEVELS ? l : SPM_NUM_LEVELS - 1;
+}
+
+int spm_mode_slot_level(const spm_mode_desc *m, int slot)
+{
+    return m->levelled ? slot : m->level;
+}
+
+const uint8_t *spm_mode_lvlk(const spm_mode_desc *m, const spm_tables *t)
+{
+    return m->composite ? t->mlc_lvlk : t->lvlk;
+}
+
+int spm_mode_check(const spm_mode_desc *m, const spm_tables *t, spm_error *err)
+{
+    if (m->composite && !t->mlc_lvlk) {
+        spm_errorf(err, "%s mode needs the Composite Model tables", m->name);
+        return 1;
+    }
+    return 0;
+}
+
+void spm_mode_kernel(const spm_mode_desc *m, const spm_tables *t, int slot, char *name,
+                     size_t name_size, char *define, size_t define_size)
+{
+    spm_shade_table lo = {0};
+    m->layout(t, spm_mode_slot_level(m, slot), &lo);
+    int nv = lo.stride / lo.width;
+    if (m->levelled) {
+        snprintf(name, name_size, m->kernel, slot);
+        snprintf(define, define_size, m->define, slot, nv);
+    } else {
+        snprintf(name, name_size, "%s", m->kernel);
+        snprintf(define, define_size, m->define, nv);
+    }
+}
+
+void spm_shade_table_build(const spm_mode_desc *m, const spm_tables *t, int slot,
+                           spm_shade_table *o)
+{
+    int level = spm_mode_slot_level(m, slot);
+    memset(o, 0, sizeof *o);
+    m->layout(t, level, o);
+    o->ncolours = t->ncolours;
+    o->rows = spm_xcalloc((size_t)t->ncolours * (size_t)o->stride + 1, sizeof *o->rows);
+    if (!m->per_path)
+        o->w = spm_xcalloc(3 * (size_t)o->stride, sizeof *o->w);
+    if (o->nextra)
+        o->extra = spm_xcalloc(o->nextra, sizeof *o->extra);
+    m->fill(t, level, o);
+}
+
+void spm_shade_table_free(spm_shade_table *tab)
+{
+    free(tab->rows);
+    free(tab->w);
+    free(tab->extra);
+    memset(tab, 0, sizeof *tab);
+}
+
+size_t spm_mode_footprint(const spm_mode_desc *m, const spm_tables *t)
+{
+    size_t floats = 0;
+    for (int s = 0; s < spm_mode_nslots(m); s++) {
+        spm_shade_table lo = {0};
+        m->layout(t, spm_mode_slot_level(m, s), &lo);
+        floats += ((size_t)t->ncolours + (m->per_path ? 0 : 3)) * (size_t)lo.stride + lo.nextra;
+    }
+    return floats * sizeof(float);
+}
+
+void spm_modes_help(FILE *f, int indent)
+{
+    for (int m = 0; m < SPM_MODE_COUNT; m++)
+        fprintf(f, "%*s%-6s %s\n", indent, "", spm_modes[m].name, spm_modes[m].help);
+}
+
+void spm_modes_print(FILE *f, int json)
+{
+    if (json)
+        fprintf(f, "[");
+    for (int i = 0; i < SPM_MODE_COUNT; i++) {
+        const spm_mode_desc *m = &spm_modes[i];
+        if (json)
+            fprintf(f,
+                    "%s\n  {\"name\": \"%s\", \"levelled\": %s, \"composite\": %s, "
+                    "\"per_path\": %s, \"help\": \"%s\"}",
+                    i ? "," : "", m->name, m->levelled ? "true" : "false",
+                    m->composite ? "true" : "false", m->per_path ? "true" : "false", m->help);
+        else
+            fprintf(f, "%s\t%s\t%s\n", m->name, m->levelled ? "levelled" : "single", m->help);
+    }
+    if (json)
+        fprintf(f, "\n]\n");
+}

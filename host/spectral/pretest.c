@@ -1,0 +1,248 @@
+/* Pretests (docs/METHODS.md "Choosing levels"): a spectrum's own sampling error at
+ * each level, measured in products where every other factor stays at level 0,
+ * after normalising both products to Y = 50 against a D65 white of Y = 100. */
+#include "pretest.h"
+#include "colour.h"
+#include "interrupt.h"
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define NORM_Y 50.0
+#define WHITE_Y 100.0
+#define SEQ_MAX_OTHERS 4 /* context C: 1..4 other reflectances per sequence */
+
+typedef double bins_t[SPM_L0_BINS];
+
+void spm_pretest_defaults(spm_pretest_opts *o)
+{
+    o->metric = SPM_METRIC_DE00;
+    o->threshold = 2.0;
+    o->seed = 1;
+    o->nsequences = 64;
+    o->coarsest_level = 2;
+}
+
+/* splitmix64: small, deterministic, independent of the platform's rand(). */
+static uint64_t next_u64(uint64_t *state)
+{
+    uint64_t z = (*state += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+}
+
+static int pick(uint64_t *state, int n) { return (int)(next_u64(state) % (uint64_t)n); }
+
+/* The spectrum at `level`, held at level-0 resolution (each bin repeated). */
+static void at_level(const spm_spectrum *s, int level, bins_t out)
+{
+    double bins[SPM_L0_BINS];
+    spm_spectrum_level(s, level, bins);
+    for (int b = 0; b < SPM_L0_BINS; b++)
+        out[b] = bins[b >> level];
+}
+
+/* at_level plus a part held at level 0 whatever the level (spike lanes). */
+static void at_level_sharp(const spm_spectrum *s, const spm_spectrum *sharp, int level, bins_t out)
+{
+    at_level(s, level, out);
+    if (!sharp)
+        return;
+    bins_t extra;
+    at_level(sharp, 0, extra);
+    for (int b = 0; b < SPM_L0_BINS; b++)
+        out[b] += extra[b];
+}
+
+/* Colour difference of two products normalised to the same luminance.
+ * A product without luminance at level 0 cannot be seen: no error. */
+static double product_error(const bins_t ref, const bins_t test, spm_metric metric)
+{
+    double xr[3], xt[3], white[3], lr[3], lt[3];
+    spm_xyz_bins(ref, 0, xr);
+    spm_xyz_bins(test, 0, xt);
+    if (!(xr[1] > 0.0))
+        return 0.0;
+    if (!(xt[1] > 0.0))
+        return WHITE_Y; /* the level lost all luminance: as far from it as black from white */
+    spm_white_d65(white);
+    double fr = NORM_Y / xr[1], ft = NORM_Y / xt[1];
+    for (int k = 0; k < 3; k++) {
+        xr[k] *= fr;
+        xt[k] *= ft;
+        white[k] *= WHITE_Y;
+    }
+    spm_xyz_to_lab(xr, white, lr);
+    spm_xyz_to_lab(xt, white, lt);
+    return metric == SPM_METRIC_DEAB ? spm_delta_e_ab(lr, lt) : spm_delta_e_2000(lr, lt);
+}
+
+/* Error of s^k * factor with s at level l against s at level 0. */
+static double context_error(const bins_t s0, const bins_t sl, int k, const bins_t factor,
+                            spm_metric metric)
+{
+    bins_t p0, pl;
+    for (int b = 0; b < SPM_L0_BINS; b++) {
+        p0[b] = pl[b] = factor[b];
+        for (int j = 0; j < k; j++) {
+            p0[b] *= s0[b];
+            pl[b] *= sl[b];
+        }
+    }
+    return product_error(p0, pl, metric);
+}
+
+static double maxd(double a, double b) { return a > b ? a : b; }
+
+/* The set split by kind, at level 0. */
+typedef struct {
+    bins_t *lights, *refl;
+    int *refl_index;
+    int nlights, nrefl;
+} set_t;
+
+static void split_set(const spm_spectrum *const *sp, const spm_spectrum *const *sharp, int n,
+                      set_t *set)
+{
+    set->lights = spm_xcalloc((size_t)n + 1, sizeof *set->lights);
+    set->refl = spm_xcalloc((size_t)n + 1, sizeof *set->refl);
+    set->refl_index = spm_xcalloc((size_t)n + 1, sizeof *set->refl_index);
+    set->nlights = set->nrefl = 0;
+    for (int i = 0; i < n; i++) {
+        if (sp[i]->kind == SPM_KIND_EMISSION) {
+            at_level_sharp(sp[i], sharp ? sharp[i] : NULL, 0, set->lights[set->nlights++]);
+        } else {
+            set->refl_index[set->nrefl] = i;
+            at_level(sp[i], 0, set->refl[set->nrefl++]);
+        }
+    }
+    if (set->nlights == 0) { /* an equal-energy light stands in */
+        for (int b = 0; b < SPM_L0_BINS; b++)
+            set->lights[0][b] = 1.0;
+        set->nlights = 1;
+    }
+}
+
+/* Context C: products of 1..SEQ_MAX_OTHERS other reflectances of the set,
+ * times a random light (for a reflectance) or alone (the emission is s). */
+static double sequence_error(const set_t *set, int self, int is_light, const bins_t s0,
+                             const bins_t sl, const spm_pretest_opts *o)
+{
+    int others = set->nrefl - (is_light ? 0 : 1);
+    if (others <= 0)
+        return 0.0;
+    uint64_t state = (uint64_t)o->seed * 0x100000001B3ULL + (uint64_t)self;
+    double worst = 0.0;
+    for (int q = 0; q < o->nsequences; q++) {
+        bins_t f;
+        if (is_light)
+            for (int b = 0; b < SPM_L0_BINS; b++)
+                f[b] = 1.0;
+        else
+            memcpy(f, set->lights[pick(&state, set->nlights)], sizeof f);
+        int m = 1 + pick(&state, SEQ_MAX_OTHERS);
+        for (int j = 0; j < m; j++) {
+            int r = pick(&state, set->nrefl);
+            if (!is_light && set->refl_index[r] == self)
+                r = (r + 1) % set->nrefl; /* another spectrum: s itself is not "other" */
+            for (int b = 0; b < SPM_L0_BINS; b++)
+                f[b] *= set->refl[r][b];
+        }
+        worst = maxd(worst, context_error(s0, sl, 1, f, o->metric));
+    }
+    return worst;
+}
+
+static void run_one(const spm_spectrum *s, const spm_spectrum *sharp, int self, const set_t *set, const spm_pretest_opts *o,
+                    spm_pretest_result *res)
+{
+    int is_light = s->kind == SPM_KIND_EMISSION;
+    double err_ac[SPM_NUM_LEVELS] = {0};
+    bins_t s0, sl, one;
+    for (int b = 0; b < SPM_L0_BINS; b++)
+        one[b] = 1.0;
+    at_level_sharp(s, sharp, 0, s0);
+    memset(res, 0, sizeof *res);
+    for (int l = 1; l < SPM_NUM_LEVELS; l++) {
+        at_level_sharp(s, sharp, l, sl);
+        /* A and B: s^k under each light; an emission ends the product, so
+         * for it every k is context A (s on its own). */
+        for (int k = 1; k <= SPM_PRETEST_KMAX; k++) {
+            double e = 0.0;
+            if (is_light)
+                e = context_error(s0, sl, 1, one, o->metric);
+            else
+                for (int li = 0; li < set->nlights; li++)
+                    e = maxd(e, context_error(s0, sl, k, set->lights[li], o->metric));
+            res->err_k[k - 1][l] = e;
+        }
+        err_ac[l] = maxd(res->err_k[0][l], sequence_error(set, self, is_light, s0, sl, o));
+    }
+    /* level_k: the coarsest level passing A, C and B for every j <= k. */
+    for (int k = 1; k <= SPM_PRETEST_KMAX; k++) {
+        int best = 0;
+        for (int l = 1; l <= o->coarsest_level && l < SPM_NUM_LEVELS; l++) {
+            double e = err_ac[l];
+            for (int j = 0; j < k; j++)
+                e = maxd(e, res->err_k[j][l]);
+            if (e <= o->threshold)
+                best = l;
+        }
+        res->level_k[k - 1] = best;
+    }
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        res->err[l] = err_ac[l];
+        for (int j = 0; j < SPM_PRETEST_KMAX; j++)
+            res->err[l] = maxd(res->err[l], res->err_k[j][l]);
+    }
+    res->level = res->level_k[SPM_PRETEST_KMAX - 1];
+}
+
+int spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
+                    spm_pretest_result *results)
+{
+    return spm_pretest_run_sharp(spectra, NULL, n, o, results);
+}
+
+int spm_pretest_run_sharp(const spm_spectrum *const *spectra, const spm_spectrum *const *sharp,
+                          int n, const spm_pretest_opts *o, spm_pretest_result *results)
+{
+    set_t set;
+    split_set(spectra, sharp, n, &set);
+    int i = 0;
+    for (; i < n; i++) {
+        spm_test_pause("pretest");
+        if (spm_stop_requested())
+            break;
+        run_one(spectra[i], sharp ? sharp[i] : NULL, i, &set, o, &results[i]);
+    }
+    free(set.lights);
+    free(set.refl);
+    free(set.refl_index);
+    return i;
+}
+
+void spm_pretest_print(FILE *f, const char *const *names, const spm_pretest_result *r, int n,
+                       const spm_pretest_opts *o)
+{
+    fprintf(f, "pretest: metric %s, threshold %g, seed %u, %d sequences, coarsest level %d\n",
+            o->metric == SPM_METRIC_DEAB ? "dEab" : "dE00", o->threshold, o->seed,
+            o->nsequences, o->coarsest_level);
+    fprintf(f, "%-24s %5s %4s %8s", "spectrum", "level", "bins", "worst");
+    for (int k = 1; k <= SPM_PRETEST_KMAX; k++)
+        fprintf(f, "    B k=%d", k);
+    fputc('\n', f);
+    for (int i = 0; i < n; i++) {
+        for (int l = 1; l < SPM_NUM_LEVELS; l++) {
+            fprintf(f, "%-24s %5d %4d %8.3f", names[i], l, SPM_LEVEL_BINS(l), r[i].err[l]);
+            for (int k = 0; k < SPM_PRETEST_KMAX; k++)
+                fprintf(f, " %8.3f", r[i].err_k[k][l]);
+            fputc('\n', f);
+        }
+        fprintf(f, "%-24s chosen level %d; per k:", names[i], r[i].level);
+        for (int k = 0; k < SPM_PRETEST_KMAX; k++)
+            fprintf(f, " %d", r[i].level_k[k]);
+        fputc('\n', f);
+    }
+}

@@ -1,0 +1,44 @@
+/* Pretests: the coarsest spectral level each spectrum may use under a
+ * colour-difference threshold (docs/METHODS.md "Choosing levels"). */
+#ifndef SPM_PRETEST_H
+#define SPM_PRETEST_H
+#include "spectrum.h"
+
+typedef enum { SPM_METRIC_DE00 = 0, SPM_METRIC_DEAB = 1 } spm_metric;
+
+typedef struct {
+    spm_metric metric;     /* default SPM_METRIC_DE00 */
+    double threshold;      /* default 2.0 */
+    unsigned seed;         /* context C sequences; default 1 */
+    int nsequences;        /* context C: random sequences per spectrum; default 64 */
+    int coarsest_level;    /* coarsest level allowed (2 by default, 3 enables the 10-bin level) */
+} spm_pretest_opts;
+
+typedef struct {
+    int level;  /* coarsest admissible level over all contexts (A, B for k = 1..8, C) */
+    /* level_k[k-1]: coarsest admissible level for contexts A, C and B with at most k
+     * occurrences (non-increasing in k); the level feeler uses it per occurrence count. */
+    int level_k[SPM_PRETEST_KMAX];
+    double err[SPM_NUM_LEVELS];                     /* worst error per level, all contexts */
+    double err_k[SPM_PRETEST_KMAX][SPM_NUM_LEVELS]; /* context B, per k */
+} spm_pretest_result;
+
+void spm_pretest_defaults(spm_pretest_opts *o);
+/* spectra[0..n-1]: the set (reflectances and emissions); lights are the set's
+ * emissions (if it has none, an equal-energy light stands in). Deterministic
+ * for a given seed. results[i] belongs to spectra[i]. Returns the number of
+ * spectra done: n, or fewer when an interruption (spm_stop_requested) ended
+ * the run early, the results not reached left as they were. */
+int spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
+                    spm_pretest_result *results);
+/* The same where spectra[i] is only the part to be sampled at each level and
+ * sharp[i] (NULL, or sharp itself NULL: nothing) a part kept at level-0
+ * resolution at every level: the Composite Model's spikes, which ride in their
+ * own lanes, so only the smooth remainder answers for the level. */
+int spm_pretest_run_sharp(const spm_spectrum *const *spectra, const spm_spectrum *const *sharp,
+                          int n, const spm_pretest_opts *o, spm_pretest_result *results);
+/* Print the decision table (one row per spectrum and level) to f. */
+#include <stdio.h>
+void spm_pretest_print(FILE *f, const char *const *names, const spm_pretest_result *r, int n,
+                       const spm_pretest_opts *o);
+#endif

@@ -1,0 +1,72 @@
+/* The kernels' parameter lists, written once for both sides of the host-kernel
+ * contract. Each list is X(device type, host type, name) entries joined by S:
+ * the kernels declare their parameters with SPM_KERNEL_PARAM and SPM_COMMA,
+ * and the host lays out one struct field per argument (spm_*_args, in this
+ * order) and sets the kernel's arguments from it, so the two cannot disagree
+ * on the order. Host types: cl_mem for a buffer, spm_u32 for a uint, the
+ * struct itself for a struct. */
+#ifndef SPM_KERNEL_ARGS_H
+#define SPM_KERNEL_ARGS_H
+
+#define SPM_COMMA ,
+#define SPM_KERNEL_PARAM(dev, host, name) dev name
+
+/* spm_trace (kernels/trace.cl): one batch of a pass, npaths paths, the samples
+ * of pixels first_pixel ... (records indexed from 0 within the batch).
+ * counters[0]: truncated paths; counters[1]: BVH stack overflows. */
+#define SPM_TRACE_ARGS(X, S)                                            \
+    X(__global const spm_tri *, cl_mem, tris) S                         \
+    X(__global const spm_bvh_node *, cl_mem, nodes) S                   \
+    X(__global const uint *, cl_mem, emitters) S                        \
+    X(__global const spm_material *, cl_mem, mats) S                    \
+    X(__global const uchar *, cl_mem, lvlk) S                           \
+    X(const spm_trace_params, spm_trace_params, p) S                    \
+    X(uint, spm_u32, init_level) S                                      \
+    X(uint, spm_u32, npaths) S                                          \
+    X(__global spm_dev_head *, cl_mem, heads) S                         \
+    X(__global spm_vertex *, cl_mem, verts) S                           \
+    X(__global uchar *, cl_mem, levels) S                               \
+    X(__global uint *, cl_mem, counters) S                              \
+    X(uint, spm_u32, first_pixel)
+
+/* Every shade kernel (kernels/shade_body.clh): entries begin .. end-1 of idx
+ * are its bucket of the batch's npaths records (device layout, spm_shared.h);
+ * tab and cmf are its shade table's rows and XYZ weights (host/spectral/modes.h);
+ * XYZ per path into xyz. */
+#define SPM_SHADE_ARGS(X, S)                                            \
+    X(__global const spm_dev_head *, cl_mem, heads) S                   \
+    X(__global const spm_vertex *, cl_mem, verts) S                     \
+    X(uint, spm_u32, npaths) S                                          \
+    X(__global const uint *, cl_mem, idx) S                             \
+    X(uint, spm_u32, begin) S                                           \
+    X(uint, spm_u32, end) S                                             \
+    X(__global const float *, cl_mem, tab) S                            \
+    X(__global const float *, cl_mem, cmf) S                            \
+    X(__global float *, cl_mem, xyz)
+
+/* ...followed, in a mode whose lanes are drawn per path (hero), by its extra
+ * table (SPM_HERO_*) and each path's RNG key: path pi of the batch is pixel
+ * first_pixel + pi / spp, sample first_sample + pi % spp. */
+#define SPM_SHADE_PATH_ARGS(X, S)                                       \
+    X(__global const float *, cl_mem, extra) S                          \
+    X(uint, spm_u32, seed) S                                            \
+    X(uint, spm_u32, spp) S                                             \
+    X(uint, spm_u32, first_sample) S                                    \
+    X(uint, spm_u32, first_pixel)
+
+/* spm_accumulate (kernels/shade.cl): per pixel of the batch (npix) the sum of
+ * its spp samples' XYZ, in sample order, into pass_xyz; counters[2] counts the
+ * non-finite samples left out. */
+#define SPM_ACCUM_ARGS(X, S)                                            \
+    X(__global const float *, cl_mem, xyz) S                            \
+    X(uint, spm_u32, npix) S                                            \
+    X(uint, spm_u32, spp) S                                             \
+    X(__global float *, cl_mem, pass_xyz) S                             \
+    X(__global uint *, cl_mem, counters)
+
+/* Counters the kernels add to (one buffer of SPM_NCOUNTERS uints, zeroed a pass). */
+#define SPM_COUNTER_TRUNCATED 0
+#define SPM_COUNTER_STACK 1
+#define SPM_COUNTER_NONFINITE 2
+#define SPM_NCOUNTERS 4
+#endif

@@ -1,0 +1,76 @@
+#!/bin/bash
+# Every mode under Oclgrind, the OpenCL simulator that checks every memory
+# access, API call and (--data-races) unsynchronised access: tiny renders run
+# clean (nothing in Oclgrind's log) and give PoCL's image within the tolerance
+# between two compilers. A kernel with an out-of-range read must be caught,
+# or a clean log would prove nothing. Oclgrind is not an ICD in Debian: the
+# `oclgrind` wrapper preloads it and it is then the only platform; registered
+# as one beside PoCL, it is numbered last and left out of --device all.
+# (--uninitialized is not used: it aborts on LLVM's freeze instruction.)
+source "$(dirname "$0")/lib_cli.sh"
+source "$HERE/lib_platforms.sh"
+OG=(oclgrind --check-api --data-races)
+
+# grind NAME LOG ARGS...: specmip render ARGS under Oclgrind, its messages in LOG.
+grind() {
+    local name=$1 log=$2; shift 2
+    rm -f "$log"
+    "${OG[@]}" --log "$log" "$BIN" render "$@" > "$T/og.out" 2> "$T/og.err"
+    local rc=$?
+    check "$name: exit 0 under Oclgrind (got $rc)" test $rc -eq 0
+    [ $rc -eq 0 ] || cat "$T/og.err" >&2
+}
+
+check "the simulator is the device" \
+    test "$("${OG[@]}" "$BIN" devices | grep -c '^  device 0: Oclgrind Simulator')" = 1
+
+R=(--width 24 --height 18 --spp 2 --seed 9 --quiet)
+for run in "${RUNS[@]}"; do
+    set -- $run
+    mode=$1; shift
+    name="$mode $(basename "$1" .scene)${2:+ $2 $3}"
+    grind "$name" "$T/og.log" "$@" --mode "$mode" "${R[@]}" -o "$T/o.exr"
+    if [ -s "$T/og.log" ]; then
+        bad "$name: Oclgrind reported errors"
+        head -40 "$T/og.log" >&2
+    else
+        ok
+    fi
+    "$BIN" render "$@" --mode "$mode" "${R[@]}" -o "$T/p.exr"
+    close_images "$name: Oclgrind vs PoCL" "$T/p.exr" "$T/o.exr"
+done
+
+# Registered as an ICD beside PoCL (Debian does not register it), the
+# simulator claims every device type, so the loader lists it first; specmip
+# numbers it after PoCL's CPU device and --device all leaves it out.
+V=$T/vendors
+mkdir "$V"
+cp /etc/OpenCL/vendors/pocl.icd "$V/"
+echo "$(dpkg -L oclgrind | grep -m1 '/liboclgrind-rt-icd\.so$')" > "$V/oclgrind.icd"
+first=$(OCL_ICD_VENDORS=$V clinfo -l | sed -n 's/^Platform #0: //p')
+check "registered: the loader lists Oclgrind first (got '$first'; else this proves nothing)" \
+    test "$first" = Oclgrind
+OCL_ICD_VENDORS=$V "$BIN" devices > "$T/devices.txt"
+check "registered: PoCL is platform 0" grep -q '^platform 0: Portable Computing Language' "$T/devices.txt"
+check "registered: the simulator is device 1" grep -q '^  device 1: Oclgrind Simulator' "$T/devices.txt"
+check "registered: devices says the simulator is not in all" \
+    grep -q 'not in --device all (a simulator)' "$T/devices.txt"
+OCL_ICD_VENDORS=$V "$BIN" render "${R[@]}" --device all --json -o "$T/all.exr" > "$T/all.json"
+check "registered: --device all takes PoCL alone" \
+    jq -e '[.devices[].name] | length == 1 and (.[0] | test("Oclgrind") | not)' "$T/all.json" > /dev/null
+check "under the wrapper: --device all takes the simulator" \
+    test "$("${OG[@]}" "$BIN" render "${R[@]}" --device all --json -o "$T/all.exr" | jq -r '.devices[0].name')" \
+    = "0: Oclgrind Simulator"
+
+# The same check on kernels with one read past the end of a buffer.
+B=$T/broken
+mkdir "$B"
+cp -r "$DATA/include" "$DATA/kernels" "$B/"
+ln -s "$DATA/scenes" "$B/scenes"
+ln -s "$DATA/spectra" "$B/spectra"
+sed -i 's/^    pass_xyz\[3 \* p + 2\] = sz;/    pass_xyz[3 * p + 2] = sz + xyz[3 * (size_t)npix * spp];/' \
+    "$B/kernels/shade.cl"
+check "broken kernel made" grep -q 'sz + xyz\[3 \* (size_t)npix \* spp\]' "$B/kernels/shade.cl"
+SPECMIP_DATA=$B grind "read past the end" "$T/bad.log" --mode rgb "${R[@]}" -o "$T/b.exr"
+check "read past the end: Oclgrind reports it" grep -q 'Invalid read' "$T/bad.log"
+finish
