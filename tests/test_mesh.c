@@ -343,13 +343,16 @@ int main(void)
     check_materials("cube.glb");
 
     check_fails("cube_strips.ply", "triangle strips");
-    write_file("garbage.glb", "glTF\x02\0\0\0\xff\xff\xff\xff not json", 26);
+    static const char glb[] = "glTF\x02\0\0\0\xff\xff\xff\xff not json";
+    write_file("garbage.glb", glb, sizeof glb - 1);
     check_fails("garbage.glb", "Assimp");
     static const char ply[] = "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
                               "property float x\nproperty float y\nproperty float z\n"
                               "element face 1\nproperty list uchar int vertex_indices\n"
                               "end_header\n\0\0\0\0";
     write_file("truncated.ply", ply, sizeof ply);
+    /* Assimp 5.2 dies of SIGSEGV on this file (in its triangulation): the
+     * child takes the crash, the load fails with a message */
     check_fails("truncated.ply", NULL);
     write_file("empty.stl", "", 0);
     check_fails("empty.stl", NULL);
