@@ -4,13 +4,14 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# The build: compiler, CMake, OpenCL headers and loader, PoCL, OpenImageIO.
+# The build: compiler, CMake, OpenCL headers and loader, PoCL, OpenImageIO,
+# Assimp (mesh files).
 # The tests and scripts: oiiotool/idiff (openimageio-tools), python3, jq,
 # GNU time (/usr/bin/time), gnuplot (bench charts), clinfo; Mesa's Rusticl
 # (mesa-opencl-icd) and Oclgrind, the second and third OpenCL implementations
 # the suite checks the kernels on.
 packages=(build-essential cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
-          libopenimageio-dev openimageio-tools python3 jq time gnuplot-nox clinfo
+          libopenimageio-dev openimageio-tools libassimp-dev python3 jq time gnuplot-nox clinfo
           mesa-opencl-icd oclgrind)
 missing=()
 for p in "${packages[@]}"; do

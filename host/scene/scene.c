@@ -171,6 +171,25 @@ int spm_sb_material(spm_scene_builder *b, const char *name, int refl, int emit,
     return s->nmaterials++;
 }
 
+int spm_sb_degenerate(const float p[3][3])
+{
+    double e1[3], e2[3], c[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = (double)p[1][k] - p[0][k];
+        e2[k] = (double)p[2][k] - p[0][k];
+    }
+    c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double cross = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    double l2 = sqrt(e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]);
+    /* The sine of the angle between the edges below ~1e-6 (MiniLight's epsilon)
+     * leaves no usable normal in float arithmetic; nor does an area so small
+     * that the float cross product of its edges underflows. */
+    return !(cross > 1e-6 * l1 * l2) || 0.5 * cross < 1e-24;
+}
+
 int spm_sb_tri(spm_scene_builder *b, const double p[3][3], int material, int line,
                const char *where, spm_error *err)
 {
@@ -191,21 +210,7 @@ int spm_sb_tri(spm_scene_builder *b, const double p[3][3], int material, int lin
             t.p[v][k] = (float)p[v][k];
         }
     /* Judge the triangle the renderer will see: the float vertices. */
-    double e1[3], e2[3], c[3];
-    for (int k = 0; k < 3; k++) {
-        e1[k] = (double)t.p[1][k] - t.p[0][k];
-        e2[k] = (double)t.p[2][k] - t.p[0][k];
-    }
-    c[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    c[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    c[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    double cross = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-    double l2 = sqrt(e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]);
-    /* The sine of the angle between the edges below ~1e-6 (MiniLight's epsilon)
-     * leaves no usable normal in float arithmetic; nor does an area so small
-     * that the float cross product of its edges underflows. */
-    if (!(cross > 1e-6 * l1 * l2) || 0.5 * cross < 1e-24) {
+    if (spm_sb_degenerate(t.p)) {
         spm_errorf(err, "%s: degenerate triangle (zero area: its vertices coincide or lie on "
                         "one line)", where);
         return 1;

@@ -48,6 +48,9 @@ int spm_sb_material(spm_scene_builder *b, const char *name, int refl, int emit,
  * coordinates and too many triangles are errors. */
 int spm_sb_tri(spm_scene_builder *b, const double p[3][3], int material, int line,
                const char *where, spm_error *err);
+/* Whether a triangle (float vertices, as the renderer sees them) is
+ * degenerate: zero area, or so thin that it has no usable normal. */
+int spm_sb_degenerate(const float p[3][3]);
 /* Camera: direction must not be zero (stored normalised); the field of view
  * is clamped to MiniLight's 10..160 degrees with a warning. */
 int spm_sb_camera(spm_scene_builder *b, const double eye[3], const double dir[3], double fov,

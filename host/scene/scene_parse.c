@@ -5,9 +5,12 @@
 #include "scene_build.h"
 #include "scene_lexer.h"
 #include "csv.h"
+#include "mesh.h"
+#include "interrupt.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -40,6 +43,7 @@ typedef struct {
     spm_names spectra;       /* name -> index into defs */
     spm_names materials;     /* name -> material index */
     int image_line, camera_line, spp_line, bg_line[2];
+    spm_mesh_cache meshes;   /* lifted mesh colours, shared by the scene's meshes */
 } parser;
 
 static void where_now(const parser *p, char *buf, size_t size)
@@ -422,6 +426,141 @@ static int stmt_polygon(parser *p, int nverts)
     return 0;
 }
 
+/* mesh FILE [material NAME] [bind FILE_MATERIAL NAME]... [scale S | scale SX SY SZ]
+ * [rotate AX AY AZ DEGREES] [translate X Y Z]: clauses in any order, the
+ * transform applied as scale, then rotate, then translate. */
+static int stmt_mesh(parser *p)
+{
+    char where[600], fwhere[600], file[SPM_TOK_MAX], path[2048];
+    int line = p->lx.tline;
+    where_now(p, where, sizeof where);
+    if (spm_lex_next(&p->lx, p->err))
+        return 1;
+    where_now(p, fwhere, sizeof fwhere);
+    if (spm_lex_path(&p->lx, "a mesh file name", file, sizeof file, p->err))
+        return 1;
+    double scale[3] = {1, 1, 1}, axis[3] = {0, 1, 0}, deg = 0, tr[3] = {0, 0, 0};
+    int have[4] = {0, 0, 0, 0}, rc = 0, nbinds = 0;
+    spm_mesh_bind *binds = NULL;
+    spm_mesh_opts o = {.material = -1};
+    static const char *keys[4] = {"material", "scale", "rotate", "translate"};
+    while (!rc && p->lx.type != SPM_TOK_NEWLINE && p->lx.type != SPM_TOK_EOF) {
+        char mwhere[600], name[SPM_NAME_MAX];
+        if (spm_lex_is(&p->lx, "bind")) {
+            binds = spm_xrealloc(binds, (size_t)(nbinds + 1) * sizeof *binds);
+            spm_mesh_bind *bd = &binds[nbinds];
+            where_now(p, mwhere, sizeof mwhere);
+            rc = spm_lex_next(&p->lx, p->err) ||
+                 spm_lex_path(&p->lx, "a material name of the mesh file", bd->file_mat,
+                              sizeof bd->file_mat, p->err);
+            for (int j = 0; !rc && j < nbinds; j++)
+                if (!strcmp(binds[j].file_mat, bd->file_mat)) {
+                    spm_errorf(p->err, "%s: file material '%s' is bound twice", mwhere,
+                               bd->file_mat);
+                    rc = 1;
+                }
+            if (!rc)
+                where_now(p, mwhere, sizeof mwhere);
+            if (rc || spm_lex_name(&p->lx, "a material name", name, sizeof name, p->err)) {
+                rc = 1;
+                break;
+            }
+            bd->material = spm_names_get(&p->materials, name);
+            if (bd->material < 0) {
+                spm_errorf(p->err, "%s: unknown material '%s' (define it with 'material %s "
+                                   "...' first)", mwhere, name, name);
+                rc = 1;
+            }
+            nbinds++;
+            continue;
+        }
+        int k = 0;
+        while (k < 4 && (have[k] || !spm_lex_is(&p->lx, keys[k])))
+            k++;
+        if (k == 4) {
+            rc = spm_lex_expected(&p->lx, p->err, "'material', 'bind', 'scale', 'rotate' or "
+                                                  "'translate' (each but 'bind' once)");
+            break;
+        }
+        have[k] = 1;
+        if (spm_lex_next(&p->lx, p->err))
+            return free(binds), 1;
+        where_now(p, mwhere, sizeof mwhere);
+        if (k == 0) {
+            rc = spm_lex_name(&p->lx, "a material name", name, sizeof name, p->err);
+            if (!rc && (o.material = spm_names_get(&p->materials, name)) < 0) {
+                spm_errorf(p->err, "%s: unknown material '%s' (define it with 'material %s "
+                                   "...' first)", mwhere, name, name);
+                rc = 1;
+            }
+        } else if (k == 1) {
+            rc = spm_lex_number(&p->lx, "a scale", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD,
+                                &scale[0], p->err);
+            scale[1] = scale[2] = scale[0];
+            if (!rc && spm_lex_is_number(&p->lx))
+                rc = spm_lex_number(&p->lx, "a scale", -SPM_SCENE_MAX_COORD,
+                                    SPM_SCENE_MAX_COORD, &scale[1], p->err) ||
+                     spm_lex_number(&p->lx, "a scale", -SPM_SCENE_MAX_COORD,
+                                    SPM_SCENE_MAX_COORD, &scale[2], p->err);
+            if (!rc && (scale[0] == 0 || scale[1] == 0 || scale[2] == 0)) {
+                spm_errorf(p->err, "%s: a scale must not be zero (it flattens the mesh)", mwhere);
+                rc = 1;
+            }
+        } else if (k == 2) {
+            rc = vec3(p, "a rotation axis component", -HUGE_VAL, HUGE_VAL, axis) ||
+                 spm_lex_number(&p->lx, "an angle in degrees", -1e6, 1e6, &deg, p->err);
+            double len = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+            if (!rc && !(len > 0 && isfinite(len))) {
+                spm_errorf(p->err, "%s: the rotation axis must be a non-zero vector", mwhere);
+                rc = 1;
+            }
+        } else {
+            rc = vec3(p, "a translation component", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD,
+                      tr);
+        }
+    }
+    if (!rc && file[0] != '/' && snprintf(path, sizeof path, "%s/%s", p->dir, file) >= (int)sizeof path)
+        rc = spm_lex_expected(&p->lx, p->err, "a shorter mesh file name");
+    if (!rc && file[0] == '/')
+        snprintf(path, sizeof path, "%s", file);
+    if (!rc && !file_exists(path)) {
+        spm_errorf(p->err, "%s: mesh file '%s' not found (or not a regular file; looked for %s)",
+                   fwhere, file, path);
+        rc = 1;
+    }
+    if (!rc) {
+        const char *dot = strrchr(file, '.');
+        static const char *exts[] = {".obj", ".ply", ".gltf", ".glb", ".stl"};
+        int ok = 0;
+        for (int i = 0; dot && i < 5; i++)
+            ok |= strcasecmp(dot, exts[i]) == 0;
+        if (!ok) {
+            spm_errorf(p->err, "%s: mesh file '%s': unknown format (the name must end in .obj, "
+                               ".ply, .gltf, .glb or .stl)", fwhere, file);
+            rc = 1;
+        }
+    }
+    if (!rc)
+        rc = spm_lex_end_of_statement(&p->lx, p->err);
+    if (!rc) {
+        spm_mesh_data d;
+        o.binds = binds;
+        o.nbinds = nbinds;
+        o.line = line;
+        spm_mesh_transform(scale, axis, deg, tr, o.m);
+        rc = spm_mesh_import(path, &d, p->err);
+        if (rc && !spm_stop_requested()) { /* say which statement */
+            spm_error inner = *p->err;
+            spm_errorf(p->err, "%s: mesh %.900s", where, inner.msg);
+        }
+        if (!rc)
+            rc = spm_mesh_add(&p->b, &p->meshes, &d, &o, path, where, p->err);
+        spm_mesh_free(&d);
+    }
+    free(binds);
+    return rc;
+}
+
 static int stmt_background(parser *p)
 {
     int dir = spm_lex_is(&p->lx, "up") ? 0 : spm_lex_is(&p->lx, "down") ? 1
@@ -460,6 +599,8 @@ static int statement(parser *p)
         return stmt_polygon(p, 3);
     if (spm_lex_is(lx, "quad"))
         return stmt_polygon(p, 4);
+    if (spm_lex_is(lx, "mesh"))
+        return stmt_mesh(p);
     if (spm_lex_is(lx, "image"))
         return stmt_image(p);
     if (spm_lex_is(lx, "spp"))
@@ -473,7 +614,7 @@ static int statement(parser *p)
             return spm_lex_next(lx, p->err) || fn[i](p);
     return spm_lex_expected(lx, p->err,
                             "a statement (image, spp, camera, spectrum, material, tri, quad, "
-                            "background)");
+                            "mesh, background)");
 }
 
 static void parser_free(parser *p)
@@ -487,6 +628,7 @@ static void parser_free(parser *p)
     free(p->defs);
     spm_names_free(&p->spectra);
     spm_names_free(&p->materials);
+    spm_mesh_cache_free(&p->meshes);
     spm_lex_close(&p->lx);
 }
 
@@ -512,6 +654,7 @@ int spm_scene_parse_text(const char *path, spm_scene *out, spm_error *err)
     p.err = err;
     spm_names_init(&p.spectra);
     spm_names_init(&p.materials);
+    spm_mesh_cache_init(&p.meshes);
     spm_sb_init(&p.b, out, path);
     const char *slash = strrchr(path, '/');
     if (slash)

@@ -11,7 +11,8 @@
  * first) a named stage is reached, printing "specmip: test pause at STAGE" on
  * stderr, until a signal arrives (at most 60 s); then the program goes on as it
  * would have, so what it does next is what it does on a signal at that moment.
- * Stages: load (the scene, per line), csv (a spectrum file, per line), bvh (per
+ * Stages: load (the scene, per line), csv (a spectrum file, per line), mesh (a
+ * mesh file's importer started, its answer not read yet), bvh (per
  * node), pretest (per colour), build (before the OpenCL programs are built),
  * pass (inside a pass, at a batch boundary), write (an image file being
  * written: its temporary file exists, the data are not written yet). */

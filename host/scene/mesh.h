@@ -1,0 +1,115 @@
+/* Triangle meshes from files (the scene format's `mesh` statement): OBJ with
+ * MTL, PLY, glTF 2.0 and STL, read by Assimp in a child process under
+ * resource limits (mesh_import.c), then bound to scene materials, transformed,
+ * filtered of degenerate triangles and added to a scene (mesh_build.c). */
+#ifndef SPM_MESH_H
+#define SPM_MESH_H
+#include "scene_build.h"
+#include <stddef.h>
+#include <stdint.h>
+
+/* The importer's limits. Assimp is C++ with a history of crashes and runaway
+ * allocations on hostile files; a child that exceeds these is killed and the
+ * load fails. 4 GiB of address space holds a 16M-triangle import; 120 s of CPU
+ * is far beyond the ~1 s of a 1M-triangle binary PLY; the wall clock bound
+ * catches a child that blocks without using CPU. */
+#define SPM_MESH_CHILD_AS_BYTES (4ull << 30)
+#define SPM_MESH_CHILD_CPU_SECONDS 120
+#define SPM_MESH_CHILD_WALL_SECONDS 600
+/* Test hook, active only when the environment sets it:
+ * SPECMIP_TEST_MESH_CHILD=crash makes the child die of SIGSEGV before
+ * importing, =hang makes it wait for ever, =as=N limits its address space
+ * to N MiB instead. */
+#define SPM_MESH_MAX_MATERIALS 4096
+#define SPM_MESH_MAX_DEPTH 256 /* node hierarchy depth */
+
+/* What a file held that flat diffuse shading ignores: one warning each. */
+enum {
+    SPM_MESH_IGN_NORMALS = 1 << 0,
+    SPM_MESH_IGN_TEXCOORDS = 1 << 1,
+    SPM_MESH_IGN_COLOURS = 1 << 2,
+    SPM_MESH_IGN_TEXTURES = 1 << 3,
+    SPM_MESH_IGN_NORMAL_MAPS = 1 << 4,
+    SPM_MESH_IGN_GLOSSY = 1 << 5,
+    SPM_MESH_IGN_OPACITY = 1 << 6,
+    SPM_MESH_IGN_CAMERAS = 1 << 7,
+    SPM_MESH_IGN_LIGHTS = 1 << 8,
+    SPM_MESH_IGN_ANIMATION = 1 << 9,
+    SPM_MESH_IGN_POINTS_LINES = 1 << 10,
+    SPM_MESH_IGN_EMISSIVE_STRENGTH = 1 << 11,
+    SPM_MESH_IGN_COUNT = 12
+};
+/* "vertex normals", ... for bit i */
+const char *spm_mesh_ignored_name(int bit);
+
+typedef struct {
+    char name[SPM_NAME_MAX];   /* the file's material name (truncated) */
+    float diffuse[3];          /* linear RGB: diffuse or glTF base colour */
+    float emission[3];         /* linear RGB radiance (times a glTF emissive strength) */
+} spm_mesh_material;
+
+/* A triangle in file coordinates, node transforms applied, in the file's
+ * winding (mirroring node transforms already compensated). */
+typedef struct {
+    float p[3][3];
+    uint32_t mat;              /* index into the file's materials */
+} spm_mesh_tri;
+
+typedef struct {
+    uint32_t ignored;          /* SPM_MESH_IGN_* bits */
+    uint32_t nmats;
+    uint64_t ntris;
+    spm_mesh_material *mats;
+    spm_mesh_tri *tris;
+    void *buf;                 /* owns mats and tris */
+} spm_mesh_data;
+
+/* Imports `path` in a child process. Errors name `path` (and what Assimp
+ * said); a crash or a limit hit in the child is an error; a stop request
+ * (Ctrl-C) kills the child and fails with "interrupted". */
+int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err);
+void spm_mesh_free(spm_mesh_data *d);
+
+/* The child's answer on the pipe, decoded and checked (the parent does not
+ * trust it): counts within limits, sizes that match, material indices in
+ * range, names terminated. Takes ownership of buf (malloc'd) on success. */
+int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out,
+                    spm_error *err);
+/* The same answer made from data (used by the child, and by tests and the
+ * fuzz harness): a malloc'd buffer and its size in *size. */
+void *spm_mesh_encode(const spm_mesh_data *d, size_t *size);
+
+/* A file material bound to a scene material. */
+typedef struct {
+    char file_mat[SPM_NAME_MAX];
+    int material;
+} spm_mesh_bind;
+
+typedef struct {
+    int material;              /* scene material for unbound file materials, -1: lift RGB */
+    const spm_mesh_bind *binds;
+    int nbinds;
+    double m[3][4];            /* scene-from-file transform (x' = M x + t) */
+    int line;                  /* the statement's line */
+} spm_mesh_opts;
+
+/* The statement's transform: scale (per axis, non-zero), then a rotation of
+ * `degrees` about `axis` (non-zero; right-handed), then translate. */
+void spm_mesh_transform(const double scale[3], const double axis[3], double degrees,
+                        const double translate[3], double m[3][4]);
+
+/* Lifted RGB colours shared across a scene's meshes (one fit per colour). */
+typedef struct {
+    spm_names rgb;
+} spm_mesh_cache;
+void spm_mesh_cache_init(spm_mesh_cache *c);
+void spm_mesh_cache_free(spm_mesh_cache *c);
+
+/* Adds the mesh's triangles to the scene: binding, transform (a mirroring one
+ * keeps each face's front side by reversing the winding), degenerate triangles
+ * skipped and counted. `file` names the mesh in messages, `where` the
+ * statement. Prints the triangle count and bounding box unless warnings are
+ * quiet. */
+int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_data *d,
+                 const spm_mesh_opts *o, const char *file, const char *where, spm_error *err);
+#endif

@@ -1,0 +1,223 @@
+/* A mesh's triangles into a scene: file materials bound to scene materials or
+ * lifted from their RGB, the statement's transform, degenerate triangles
+ * skipped and counted. */
+#include "mesh.h"
+#include "interrupt.h"
+#include "rgb2spec.h"
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void spm_mesh_transform(const double scale[3], const double axis[3], double degrees,
+                        const double translate[3], double m[3][4])
+{
+    double len = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+    double x = axis[0] / len, y = axis[1] / len, z = axis[2] / len;
+    double a = degrees * (M_PI / 180.0), c = cos(a), s = sin(a), t = 1.0 - c;
+    /* Rodrigues' rotation matrix, times the scale's diagonal on the right */
+    double r[3][3] = {{t * x * x + c, t * x * y - s * z, t * x * z + s * y},
+                      {t * x * y + s * z, t * y * y + c, t * y * z - s * x},
+                      {t * x * z - s * y, t * y * z + s * x, t * z * z + c}};
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++)
+            m[i][j] = r[i][j] * scale[j];
+        m[i][3] = translate[i];
+    }
+}
+
+void spm_mesh_cache_init(spm_mesh_cache *c) { spm_names_init(&c->rgb); }
+void spm_mesh_cache_free(spm_mesh_cache *c) { spm_names_free(&c->rgb); }
+
+static int finite3(const float v[3])
+{
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+/* A lifted colour, fitted once per distinct RGB. Index, -1 for black, -2 on error. */
+static int rgb_colour(spm_scene_builder *b, spm_mesh_cache *cache, const float rgbf[3],
+                      spm_kind kind, const char *where, spm_error *err)
+{
+    double rgb[3] = {rgbf[0], rgbf[1], rgbf[2]};
+    if (kind == SPM_KIND_REFLECTANCE)
+        for (int i = 0; i < 3; i++) /* the fit clamps to [0, 1]; so does black here */
+            rgb[i] = rgb[i] < 0 ? 0 : rgb[i] > 1 ? 1 : rgb[i];
+    if (rgb[0] <= 0 && rgb[1] <= 0 && rgb[2] <= 0)
+        return -1;
+    char key[128], name[SPM_NAME_MAX];
+    snprintf(key, sizeof key, "%d %a %a %a", (int)kind, rgb[0], rgb[1], rgb[2]);
+    int c = spm_names_get(&cache->rgb, key);
+    if (c >= 0)
+        return c;
+    spm_spectrum sp;
+    spm_error inner;
+    double de;
+    int rc = kind == SPM_KIND_EMISSION ? spm_rgb_to_emission(rgb, &sp, &de, &inner)
+                                       : spm_rgb_to_reflectance(rgb, &sp, &de, &inner);
+    if (rc) {
+        spm_errorf(err, "%s: %s", where, inner.msg);
+        return -2;
+    }
+    /* Beyond ~1 ΔE00 the RGB is outside what a reflectance (shape) can show. */
+    if (de > 1.0)
+        spm_warnf("%s: RGB (%g %g %g) is matched by a spectrum only to ΔE00 %.2g", where,
+                  rgb[0], rgb[1], rgb[2], de);
+    snprintf(name, sizeof name, "%s(%.6g,%.6g,%.6g)", kind == SPM_KIND_EMISSION ? "emit" : "rgb",
+             rgb[0], rgb[1], rgb[2]);
+    c = spm_sb_colour(b, name, &sp, where, err);
+    if (c < 0)
+        return -2;
+    spm_names_put(&cache->rgb, key, c);
+    return c;
+}
+
+/* The scene material of each file material that a triangle uses (-1 unused). */
+static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_data *d,
+                          const spm_mesh_opts *o, const char *file, const char *where,
+                          int *map, spm_error *err)
+{
+    for (uint32_t i = 0; i < d->nmats; i++)
+        map[i] = -2;
+    for (uint64_t t = 0; t < d->ntris; t++)
+        map[d->tris[t].mat] = -1;
+    for (int j = 0; j < o->nbinds; j++) {
+        int found = 0;
+        for (uint32_t i = 0; i < d->nmats; i++)
+            if (d->mats[i].name[0] && !strcmp(d->mats[i].name, o->binds[j].file_mat)) {
+                found = 1;
+                if (map[i] != -2)
+                    map[i] = o->binds[j].material;
+            }
+        if (!found) {
+            char names[400] = "";
+            size_t n = 0;
+            for (uint32_t i = 0; i < d->nmats && n < sizeof names - 80; i++)
+                if (d->mats[i].name[0])
+                    n += (size_t)snprintf(names + n, sizeof names - n, "%s'%s'", n ? ", " : "",
+                                          d->mats[i].name);
+            spm_errorf(err, "%s: bind: %s has no material '%s' (it has %s)", where, file,
+                       o->binds[j].file_mat, n ? names : "none");
+            return 1;
+        }
+    }
+    for (uint32_t i = 0; i < d->nmats; i++) {
+        if (map[i] != -1)
+            continue;
+        if (o->material >= 0) {
+            map[i] = o->material;
+            continue;
+        }
+        const spm_mesh_material *m = &d->mats[i];
+        if (!m->name[0]) {
+            spm_errorf(err, "%s: %s has triangles without a material: give the mesh one with "
+                            "'material NAME'", where, file);
+            return 1;
+        }
+        char mwhere[700];
+        snprintf(mwhere, sizeof mwhere, "%s: %s: material '%s'", where, file, m->name);
+        if (!finite3(m->diffuse) || !finite3(m->emission) || m->emission[0] < 0 ||
+            m->emission[1] < 0 || m->emission[2] < 0) {
+            spm_errorf(err, "%s: colours must be finite and emissions not negative", mwhere);
+            return 1;
+        }
+        int r = rgb_colour(b, cache, m->diffuse, SPM_KIND_REFLECTANCE, mwhere, err);
+        int e = r < -1 ? -2 : rgb_colour(b, cache, m->emission, SPM_KIND_EMISSION, mwhere, err);
+        if (e < -1)
+            return 1;
+        char name[SPM_NAME_MAX];
+        snprintf(name, sizeof name, "%.63s", m->name[0] ? m->name : "mesh");
+        map[i] = spm_sb_material(b, name, r, e, mwhere, err);
+        if (map[i] < 0)
+            return 1;
+    }
+    return 0;
+}
+
+int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_data *d,
+                 const spm_mesh_opts *o, const char *file, const char *where, spm_error *err)
+{
+    if ((uint64_t)b->s->ntris + d->ntris > SPM_SCENE_MAX_TRIS) {
+        spm_errorf(err, "%s: %s: %llu triangles: more than %d in the scene", where, file,
+                   (unsigned long long)d->ntris, SPM_SCENE_MAX_TRIS);
+        return 1;
+    }
+    int *map = spm_xmalloc(((size_t)d->nmats + 1) * sizeof *map);
+    if (bind_materials(b, cache, d, o, file, where, map, err)) {
+        free(map);
+        return 1;
+    }
+    const double (*m)[4] = o->m;
+    double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                 m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                 m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    int flip = det < 0; /* a mirror keeps each face's front side */
+    uint64_t skipped = 0, kept = 0;
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    int rc = 0;
+    for (uint64_t t = 0; t < d->ntris && !rc; t++) {
+        if ((t & 0xffff) == 0 && spm_stop_requested()) {
+            spm_errorf(err, "interrupted while loading %s", file);
+            rc = 1;
+            break;
+        }
+        const spm_mesh_tri *src = &d->tris[t];
+        double p[3][3];
+        for (int v = 0; v < 3; v++) {
+            const float *q = src->p[flip && v ? 3 - v : v];
+            if (!finite3(q)) {
+                spm_errorf(err, "%s: %s: triangle %llu has a coordinate that is not a finite "
+                                "number", where, file, (unsigned long long)t + 1);
+                rc = 1;
+                break;
+            }
+            for (int i = 0; i < 3; i++)
+                p[v][i] = m[i][0] * q[0] + m[i][1] * q[1] + m[i][2] * q[2] + m[i][3];
+        }
+        if (rc)
+            break;
+        float f[3][3];
+        int far = 0;
+        for (int v = 0; v < 3; v++)
+            for (int i = 0; i < 3; i++) {
+                far |= !(fabs(p[v][i]) <= SPM_SCENE_MAX_COORD);
+                f[v][i] = (float)p[v][i];
+            }
+        if (!far && spm_sb_degenerate(f)) {
+            skipped++;
+            continue;
+        }
+        if (spm_sb_tri(b, p, map[src->mat], o->line, where, err)) {
+            spm_error inner = *err;
+            spm_errorf(err, "%.600s (%.300s, triangle %llu, after the transform)", inner.msg,
+                       file, (unsigned long long)t + 1);
+            rc = 1;
+            break;
+        }
+        kept++;
+        for (int v = 0; v < 3; v++)
+            for (int i = 0; i < 3; i++) {
+                lo[i] = fmin(lo[i], f[v][i]);
+                hi[i] = fmax(hi[i], f[v][i]);
+            }
+    }
+    free(map);
+    if (rc)
+        return 1;
+    if (kept == 0) {
+        spm_errorf(err, "%s: %s: all of its %llu triangles are degenerate", where, file,
+                   (unsigned long long)d->ntris);
+        return 1;
+    }
+    if (skipped)
+        spm_warnf("%s: %s: %llu degenerate triangle%s skipped (zero area: vertices that "
+                  "coincide or lie on one line)", where, file, (unsigned long long)skipped,
+                  skipped == 1 ? "" : "s");
+    for (int bit = 0; bit < SPM_MESH_IGN_COUNT; bit++)
+        if (d->ignored & (1u << bit))
+            spm_warnf("%s: %s: %s ignored (shading is flat and diffuse)", where, file,
+                      spm_mesh_ignored_name(bit));
+    if (!spm_quiet_warnings)
+        fprintf(stderr, "specmip: %s: %s: %llu triangles, bounding box (%g %g %g) to (%g %g %g)\n",
+                where, file, (unsigned long long)kept, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    return 0;
+}

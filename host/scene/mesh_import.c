@@ -1,0 +1,510 @@
+/* Mesh import through Assimp's C API, run in a child process: the child reads
+ * the file under address-space, CPU and wall-clock limits, flattens the node
+ * hierarchy and writes its triangles to a pipe (mesh_wire.c); the parent waits
+ * on the pipe, polling for a stop request, and treats a crash or a limit hit
+ * as an error in the file. Options: triangulate only; joining identical
+ * vertices would cost about a second and 380 MB per million triangles and
+ * flat shading does not need it. */
+#define _GNU_SOURCE /* memmem */
+#include "mesh.h"
+#include "interrupt.h"
+#include <assimp/cimport.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#if defined(__SANITIZE_ADDRESS__)
+#define SPM_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SPM_ASAN 1
+#endif
+#endif
+
+/* ---- the child ------------------------------------------------------------- */
+
+typedef struct {
+    int fd;
+    unsigned char buf[1 << 16];
+    size_t n;
+    int failed;
+} writer;
+
+static void w_flush(writer *w)
+{
+    size_t off = 0;
+    while (off < w->n && !w->failed) {
+        ssize_t k = write(w->fd, w->buf + off, w->n - off);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k <= 0)
+            w->failed = 1;
+        else
+            off += (size_t)k;
+    }
+    w->n = 0;
+}
+
+static void w_put(writer *w, const void *p, size_t n)
+{
+    const unsigned char *c = p;
+    while (n) {
+        size_t k = sizeof w->buf - w->n < n ? sizeof w->buf - w->n : n;
+        memcpy(w->buf + w->n, c, k);
+        w->n += k;
+        c += k;
+        n -= k;
+        if (w->n == sizeof w->buf)
+            w_flush(w);
+    }
+}
+
+static void child_fail(writer *w, const char *msg)
+{
+    uint32_t h[6] = {0x4d4d5053u, 1, 0, 0, 0, 0};
+    w_put(w, h, sizeof h);
+    w_put(w, msg, strlen(msg));
+    w_flush(w);
+    _exit(0);
+}
+
+/* x' = M x for a 3x4 row-major affine map */
+typedef double affine[3][4];
+
+static void affine_mul(const affine a, const affine b, affine out)
+{
+    affine r;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 4; j++) {
+            r[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+            if (j == 3)
+                r[i][j] += a[i][3];
+        }
+    memcpy(out, r, sizeof r);
+}
+
+static double affine_det(const affine m)
+{
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
+typedef struct {
+    const struct aiScene *sc;
+    writer *w;
+    uint64_t count;    /* triangles so far */
+    int emit;          /* 0: count only, 1: write */
+    uint32_t ignored;
+    int stl;
+    unsigned char *used; /* per material: a triangle uses it */
+} walk;
+
+static int mesh_tris(walk *k, const struct aiMesh *m, const affine x)
+{
+    int flip = affine_det(x) < 0; /* a mirror: keep each face's front side */
+    if (m->mMaterialIndex >= k->sc->mNumMaterials)
+        child_fail(k->w, "a mesh refers to a material the file does not have");
+    for (unsigned f = 0; f < m->mNumFaces; f++) {
+        const struct aiFace *face = &m->mFaces[f];
+        if (face->mNumIndices != 3) {
+            k->ignored |= SPM_MESH_IGN_POINTS_LINES;
+            continue;
+        }
+        if (++k->count > SPM_SCENE_MAX_TRIS)
+            return 1;
+        k->used[m->mMaterialIndex] = 1;
+        /* checked while counting, before anything is written */
+        for (int v = 0; v < 3; v++)
+            if (face->mIndices[v] >= m->mNumVertices)
+                child_fail(k->w, "a face refers to a vertex the file does not have");
+        if (!k->emit)
+            continue;
+        spm_mesh_tri t;
+        for (int v = 0; v < 3; v++) {
+            unsigned idx = face->mIndices[flip && v ? 3 - v : v];
+            const struct aiVector3D *p = &m->mVertices[idx];
+            for (int i = 0; i < 3; i++)
+                t.p[v][i] = (float)(x[i][0] * p->x + x[i][1] * p->y + x[i][2] * p->z + x[i][3]);
+        }
+        t.mat = m->mMaterialIndex;
+        w_put(k->w, &t, sizeof t);
+    }
+    return 0;
+}
+
+/* Node transforms applied and instances expanded (a mesh used by two nodes
+ * is two sets of triangles). */
+static int walk_node(walk *k, const struct aiNode *n, const affine parent, int depth)
+{
+    if (depth > SPM_MESH_MAX_DEPTH)
+        child_fail(k->w, "the node hierarchy is deeper than 256 levels");
+    const struct aiMatrix4x4 *t = &n->mTransformation;
+    affine local = {{t->a1, t->a2, t->a3, t->a4}, {t->b1, t->b2, t->b3, t->b4},
+                    {t->c1, t->c2, t->c3, t->c4}};
+    affine x;
+    affine_mul(parent, local, x);
+    for (unsigned i = 0; i < n->mNumMeshes; i++) {
+        if (n->mMeshes[i] >= k->sc->mNumMeshes)
+            child_fail(k->w, "a node refers to a mesh the file does not have");
+        if (mesh_tris(k, k->sc->mMeshes[n->mMeshes[i]], x))
+            return 1;
+    }
+    for (unsigned i = 0; i < n->mNumChildren; i++)
+        if (walk_node(k, n->mChildren[i], x, depth + 1))
+            return 1;
+    return 0;
+}
+
+static int has_colour(const struct aiMaterial *m, const char *key, unsigned type, unsigned idx,
+                      float out[3])
+{
+    struct aiColor4D c;
+    if (aiGetMaterialColor(m, key, type, idx, &c) != aiReturn_SUCCESS)
+        return 0;
+    out[0] = c.r;
+    out[1] = c.g;
+    out[2] = c.b;
+    return 1;
+}
+
+/* A material; what it holds that is ignored goes to *ignored. Assimp's own
+ * default material (for files without materials) gets no name: such a mesh
+ * needs a `material` clause. */
+static void material(const struct aiMaterial *m, spm_mesh_material *out, uint32_t *ignored)
+{
+    memset(out, 0, sizeof *out);
+    struct aiString s;
+    if (aiGetMaterialString(m, AI_MATKEY_NAME, &s) == aiReturn_SUCCESS &&
+        strcmp(s.data, AI_DEFAULT_MATERIAL_NAME) != 0)
+        snprintf(out->name, sizeof out->name, "%.*s", (int)(s.length < 63 ? s.length : 63),
+                 s.data);
+    if (!out->name[0])
+        return; /* its colours and defaults are Assimp's, not the file's */
+    /* glTF's base colour where there is one, else the diffuse colour */
+    if (!has_colour(m, AI_MATKEY_BASE_COLOR, out->diffuse) &&
+        !has_colour(m, AI_MATKEY_COLOR_DIFFUSE, out->diffuse))
+        out->diffuse[0] = out->diffuse[1] = out->diffuse[2] = 0.0f;
+    if (has_colour(m, AI_MATKEY_COLOR_EMISSIVE, out->emission)) {
+        float strength;
+        if (aiGetMaterialFloatArray(m, AI_MATKEY_EMISSIVE_INTENSITY, &strength, NULL) ==
+            aiReturn_SUCCESS)
+            for (int i = 0; i < 3; i++)
+                out->emission[i] *= strength;
+    }
+    float spec[3], f;
+    if ((has_colour(m, AI_MATKEY_COLOR_SPECULAR, spec) && (spec[0] > 0 || spec[1] > 0 || spec[2] > 0)) ||
+        (aiGetMaterialFloatArray(m, AI_MATKEY_METALLIC_FACTOR, &f, NULL) == aiReturn_SUCCESS && f > 0))
+        *ignored |= SPM_MESH_IGN_GLOSSY;
+    if (aiGetMaterialFloatArray(m, AI_MATKEY_OPACITY, &f, NULL) == aiReturn_SUCCESS && f < 1)
+        *ignored |= SPM_MESH_IGN_OPACITY;
+    for (int type = 1; type <= AI_TEXTURE_TYPE_MAX; type++)
+        if (aiGetMaterialTextureCount(m, (enum aiTextureType)type) > 0)
+            *ignored |= type == aiTextureType_NORMALS || type == aiTextureType_HEIGHT ||
+                                  type == aiTextureType_NORMAL_CAMERA
+                              ? SPM_MESH_IGN_NORMAL_MAPS
+                              : SPM_MESH_IGN_TEXTURES;
+}
+
+static int ends_with_ci(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    if (n < m)
+        return 0;
+    for (size_t i = 0; i < m; i++)
+        if (tolower((unsigned char)s[n - m + i]) != suffix[i])
+            return 0;
+    return 1;
+}
+
+/* Assimp 5.2 turns a PLY's triangle strips into one triangle (upstream
+ * issue 2337, fixed after 5.2), so such a file is refused rather than
+ * rendered wrong. The header is text up to "end_header". */
+static int ply_has_strips(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return 0;
+    char line[256];
+    int strips = 0;
+    for (int n = 0; n < 1000 && fgets(line, sizeof line, f); n++) {
+        if (!strncmp(line, "end_header", 10))
+            break;
+        strips |= !strncmp(line, "element tristrips", 17);
+    }
+    fclose(f);
+    return strips;
+}
+
+/* Whether the file's bytes (the first 64 MiB: glTF's JSON comes first)
+ * contain `needle`. Assimp 5.2 drops glTF's emissive strength without a word. */
+static int file_mentions(const char *path, const char *needle)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return 0;
+    static char buf[(1 << 20) + 64];
+    size_t keep = 0, m = strlen(needle);
+    int found = 0;
+    for (int i = 0; i < 64 && !found; i++) {
+        size_t n = fread(buf + keep, 1, 1 << 20, f);
+        if (n == 0)
+            break;
+        found = memmem(buf, keep + n, needle, m) != NULL;
+        size_t tail = keep + n < m ? keep + n : m - 1;
+        memmove(buf, buf + keep + n - tail, tail);
+        keep = tail;
+    }
+    fclose(f);
+    return found;
+}
+
+static void child_main(const char *path, int fd, pid_t parent)
+{
+    signal(SIGINT, SIG_DFL); /* Ctrl-C reaches the whole process group: end at once */
+    signal(SIGTERM, SIG_DFL);
+    signal(SIGPIPE, SIG_DFL);
+    struct rlimit cpu = {SPM_MESH_CHILD_CPU_SECONDS, SPM_MESH_CHILD_CPU_SECONDS + 5};
+    setrlimit(RLIMIT_CPU, &cpu);
+    /* test hook (mesh.h): a crash, or a smaller address-space limit */
+    const char *hook = getenv("SPECMIP_TEST_MESH_CHILD");
+    if (hook && !strcmp(hook, "crash")) {
+        signal(SIGSEGV, SIG_DFL); /* past a sanitizer's handler */
+        raise(SIGSEGV);
+    }
+    rlim_t as_bytes = SPM_MESH_CHILD_AS_BYTES;
+    if (hook && !strncmp(hook, "as=", 3) && strtoul(hook + 3, NULL, 10) > 0)
+        as_bytes = (rlim_t)strtoul(hook + 3, NULL, 10) << 20;
+#ifndef SPM_ASAN /* ASan reserves terabytes of shadow address space */
+    struct rlimit as = {as_bytes, as_bytes};
+    setrlimit(RLIMIT_AS, &as);
+#else
+    (void)as_bytes;
+#endif
+    alarm(SPM_MESH_CHILD_WALL_SECONDS);
+    prctl(PR_SET_PDEATHSIG, SIGKILL); /* a parent killed outright takes the child along */
+    if (getppid() != parent)
+        _exit(1);
+    while (hook && !strcmp(hook, "hang"))
+        pause();
+    static writer w;
+    w.fd = fd;
+    if (ends_with_ci(path, ".ply") && ply_has_strips(path))
+        child_fail(&w, "PLY triangle strips (element tristrips) are not supported: the "
+                       "importer (Assimp 5.2) reads only one triangle of them; convert the "
+                       "strips to a face list");
+    const struct aiScene *sc = aiImportFile(path, aiProcess_Triangulate);
+    if (!sc) {
+        char msg[700];
+        const char *why = aiGetErrorString();
+        if (why && why[0])
+            snprintf(msg, sizeof msg, "Assimp: %s", why);
+        else /* what Assimp says when an allocation fails */
+            snprintf(msg, sizeof msg, "the importer failed without saying why (it may have run "
+                                      "out of memory: its limit is %llu MiB)",
+                     (unsigned long long)(as_bytes >> 20));
+        child_fail(&w, msg);
+    }
+    if (!sc->mRootNode)
+        child_fail(&w, "the file has no scene (no root node)");
+    walk k = {sc, &w, 0, 0, 0, ends_with_ci(path, ".stl"), NULL};
+    if (sc->mNumMaterials > SPM_MESH_MAX_MATERIALS)
+        child_fail(&w, "more than 4096 materials");
+    k.used = calloc(sc->mNumMaterials + 1, 1);
+    if (!k.used)
+        child_fail(&w, "out of memory");
+    affine id = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+    if (walk_node(&k, sc->mRootNode, id, 0)) {
+        char msg[128];
+        snprintf(msg, sizeof msg, "more than %d triangles (node instances expanded)",
+                 SPM_SCENE_MAX_TRIS);
+        child_fail(&w, msg);
+    }
+    if (k.count == 0)
+        child_fail(&w, "the file has no triangles");
+    spm_mesh_material *mats = calloc(sc->mNumMaterials, sizeof *mats);
+    if (!mats)
+        child_fail(&w, "out of memory");
+    for (unsigned i = 0; i < sc->mNumMaterials; i++) {
+        uint32_t ign = 0;
+        material(sc->mMaterials[i], &mats[i], &ign);
+        if (k.used[i])
+            k.ignored |= ign;
+    }
+    for (unsigned i = 0; i < sc->mNumMeshes; i++) {
+        const struct aiMesh *m = sc->mMeshes[i];
+        /* STL always carries facet normals: not worth a warning */
+        if (m->mNormals && !k.stl)
+            k.ignored |= SPM_MESH_IGN_NORMALS;
+        if (m->mTextureCoords[0])
+            k.ignored |= SPM_MESH_IGN_TEXCOORDS;
+        if (m->mColors[0])
+            k.ignored |= SPM_MESH_IGN_COLOURS;
+        if (m->mNumBones || m->mNumAnimMeshes)
+            k.ignored |= SPM_MESH_IGN_ANIMATION;
+    }
+    if (sc->mNumTextures)
+        k.ignored |= SPM_MESH_IGN_TEXTURES;
+    if ((ends_with_ci(path, ".gltf") || ends_with_ci(path, ".glb")) &&
+        file_mentions(path, "KHR_materials_emissive_strength"))
+        k.ignored |= SPM_MESH_IGN_EMISSIVE_STRENGTH;
+    if (sc->mNumCameras)
+        k.ignored |= SPM_MESH_IGN_CAMERAS;
+    if (sc->mNumLights)
+        k.ignored |= SPM_MESH_IGN_LIGHTS;
+    if (sc->mNumAnimations)
+        k.ignored |= SPM_MESH_IGN_ANIMATION;
+    uint32_t h[6] = {0x4d4d5053u, 0, k.ignored, sc->mNumMaterials, 0, 0};
+    uint64_t n = k.count;
+    memcpy(&h[4], &n, sizeof n);
+    w_put(&w, h, sizeof h);
+    w_put(&w, mats, sc->mNumMaterials * sizeof *mats);
+    k.emit = 1;
+    k.count = 0;
+    walk_node(&k, sc->mRootNode, id, 0);
+    w_flush(&w);
+    _exit(w.failed ? 3 : 0);
+}
+
+/* ---- the parent ------------------------------------------------------------ */
+
+static int child_error(const char *path, int status, spm_error *err)
+{
+    if (WIFSIGNALED(status)) {
+        int sig = WTERMSIG(status);
+        if (sig == SIGXCPU)
+            spm_errorf(err, "%s: the importer ran out of CPU time (limit %d s)", path,
+                       SPM_MESH_CHILD_CPU_SECONDS);
+        else if (sig == SIGALRM)
+            spm_errorf(err, "%s: the importer took too long (limit %d s)", path,
+                       SPM_MESH_CHILD_WALL_SECONDS);
+        else
+            spm_errorf(err, "%s: the importer crashed (%s)", path, strsignal(sig));
+    } else {
+        spm_errorf(err, "%s: the importer failed (exit status %d%s)", path, WEXITSTATUS(status),
+                   WEXITSTATUS(status) == 127 ? "" : "; it may have run out of memory");
+    }
+    return 1;
+}
+
+int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    int fds[2];
+    if (pipe(fds)) {
+        spm_errorf(err, "%s: cannot start the importer: %s", path, strerror(errno));
+        return 1;
+    }
+    fflush(stdout);
+    fflush(stderr);
+    pid_t parent = getpid();
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        spm_errorf(err, "%s: cannot start the importer: %s", path, strerror(errno));
+        return 1;
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        child_main(path, fds[1], parent);
+    }
+    close(fds[1]);
+    spm_test_pause("mesh");
+    /* the header first: it says how much follows, so memory is allocated once */
+    unsigned char head[24];
+    size_t have = 0, want = sizeof head, max_err = sizeof head + 1024;
+    unsigned char *buf = NULL;
+    int rc = 0, eof = 0;
+    double t0 = spm_now();
+    while (!eof) {
+        if (spm_stop_requested()) {
+            spm_errorf(err, "interrupted while loading %s", path);
+            rc = 2;
+            break;
+        }
+        if (spm_now() - t0 > SPM_MESH_CHILD_WALL_SECONDS + 10) {
+            spm_errorf(err, "%s: the importer took too long (limit %d s)", path,
+                       SPM_MESH_CHILD_WALL_SECONDS);
+            rc = 2;
+            break;
+        }
+        struct pollfd pfd = {fds[0], POLLIN, 0};
+        int pr = poll(&pfd, 1, 100);
+        if (pr < 0 && errno != EINTR) {
+            spm_errorf(err, "%s: waiting for the importer: %s", path, strerror(errno));
+            rc = 2;
+            break;
+        }
+        if (pr <= 0)
+            continue;
+        unsigned char *dst = buf ? buf + have : head + have;
+        size_t room = buf ? want - have : sizeof head - have;
+        unsigned char sink[256];
+        if (room == 0) { /* more than announced: read to see it */
+            dst = sink;
+            room = sizeof sink;
+        }
+        ssize_t k = read(fds[0], dst, room);
+        if (k < 0 && (errno == EINTR || errno == EAGAIN))
+            continue;
+        if (k <= 0) {
+            eof = 1;
+            break;
+        }
+        if (dst == sink) {
+            have = want + 1; /* marks the excess for the decoder's size check */
+            continue;
+        }
+        have += (size_t)k;
+        if (!buf && have == sizeof head) {
+            uint32_t status, nmats;
+            uint64_t ntris;
+            memcpy(&status, head + 4, 4);
+            memcpy(&nmats, head + 12, 4);
+            memcpy(&ntris, head + 16, 8);
+            if (status != 0)
+                want = max_err;
+            else if (nmats <= SPM_MESH_MAX_MATERIALS && ntris <= SPM_SCENE_MAX_TRIS)
+                want = sizeof head + nmats * sizeof(spm_mesh_material) +
+                       ntris * sizeof(spm_mesh_tri);
+            buf = spm_xmalloc(want > sizeof head ? want : sizeof head);
+            memcpy(buf, head, sizeof head);
+        }
+    }
+    close(fds[0]);
+    int status = 0;
+    if (rc)
+        kill(pid, SIGKILL);
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+        ;
+    if (rc) {
+        free(buf);
+        return 1;
+    }
+    if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
+        free(buf);
+        return child_error(path, status, err);
+    }
+    if (!buf) {
+        spm_errorf(err, "%s: the importer returned no data", path);
+        return 1;
+    }
+    if (spm_mesh_decode(buf, have > want ? want + 1 : have, path, out, err)) {
+        free(buf);
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,107 @@
+/* The child importer's answer on its pipe: a header, the file's materials and
+ * the triangles, in this machine's byte order. The parent checks everything
+ * before use: a child that misbehaves must not take the renderer down. */
+#include "mesh.h"
+#include <stdlib.h>
+#include <string.h>
+
+#define WIRE_MAGIC 0x4d4d5053u /* "SPMM" */
+
+typedef struct {
+    uint32_t magic, status, ignored, nmats;
+    uint64_t ntris;
+} wire_header;
+
+void *spm_mesh_encode(const spm_mesh_data *d, size_t *size)
+{
+    wire_header h = {WIRE_MAGIC, 0, d->ignored, d->nmats, d->ntris};
+    size_t n = sizeof h + d->nmats * sizeof *d->mats + d->ntris * sizeof *d->tris;
+    unsigned char *buf = spm_xmalloc(n);
+    memcpy(buf, &h, sizeof h);
+    if (d->nmats)
+        memcpy(buf + sizeof h, d->mats, d->nmats * sizeof *d->mats);
+    if (d->ntris)
+        memcpy(buf + sizeof h + d->nmats * sizeof *d->mats, d->tris, d->ntris * sizeof *d->tris);
+    *size = n;
+    return buf;
+}
+
+int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out,
+                    spm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    wire_header h;
+    if (size < sizeof h) {
+        spm_errorf(err, "%s: the importer returned no data", path);
+        return 1;
+    }
+    memcpy(&h, buf, sizeof h);
+    if (h.magic != WIRE_MAGIC) {
+        spm_errorf(err, "%s: the importer returned garbage", path);
+        return 1;
+    }
+    if (h.status != 0) {
+        char msg[600];
+        size_t n = size - sizeof h < sizeof msg - 1 ? size - sizeof h : sizeof msg - 1;
+        memcpy(msg, (char *)buf + sizeof h, n);
+        msg[n] = 0;
+        for (size_t i = 0; i < n; i++)
+            if ((unsigned char)msg[i] < 32 || msg[i] == 127)
+                msg[i] = ' ';
+        while (n > 0 && msg[n - 1] == ' ')
+            msg[--n] = 0;
+        spm_errorf(err, "%s: %s", path, msg[0] ? msg : "the importer failed");
+        return 1;
+    }
+    if (h.nmats > SPM_MESH_MAX_MATERIALS) {
+        spm_errorf(err, "%s: more than %d materials", path, SPM_MESH_MAX_MATERIALS);
+        return 1;
+    }
+    if (h.ntris == 0) {
+        spm_errorf(err, "%s: the file has no triangles", path);
+        return 1;
+    }
+    if (h.ntris > SPM_SCENE_MAX_TRIS) {
+        spm_errorf(err, "%s: more than %d triangles", path, SPM_SCENE_MAX_TRIS);
+        return 1;
+    }
+    size_t want = sizeof h + h.nmats * sizeof(spm_mesh_material) + h.ntris * sizeof(spm_mesh_tri);
+    if (size != want || (h.ntris > 0 && h.nmats == 0)) {
+        spm_errorf(err, "%s: the importer returned %zu bytes where %zu were due", path, size,
+                   want);
+        return 1;
+    }
+    spm_mesh_material *mats = (spm_mesh_material *)((char *)buf + sizeof h);
+    spm_mesh_tri *tris = (spm_mesh_tri *)((char *)buf + sizeof h + h.nmats * sizeof *mats);
+    for (uint32_t i = 0; i < h.nmats; i++)
+        mats[i].name[SPM_NAME_MAX - 1] = 0;
+    for (uint64_t t = 0; t < h.ntris; t++)
+        if (tris[t].mat >= h.nmats) {
+            spm_errorf(err, "%s: the importer returned a bad material index", path);
+            return 1;
+        }
+    out->ignored = h.ignored & ((1u << SPM_MESH_IGN_COUNT) - 1);
+    out->nmats = h.nmats;
+    out->ntris = h.ntris;
+    out->mats = mats;
+    out->tris = tris;
+    out->buf = buf;
+    return 0;
+}
+
+void spm_mesh_free(spm_mesh_data *d)
+{
+    free(d->buf);
+    memset(d, 0, sizeof *d);
+}
+
+const char *spm_mesh_ignored_name(int bit)
+{
+    static const char *names[SPM_MESH_IGN_COUNT] = {
+        "vertex normals", "texture coordinates", "vertex colours", "textures", "normal maps",
+        "glossy and metallic parameters", "opacity", "cameras", "lights",
+        "animations, skins and morph targets", "points and lines",
+        "glTF emissive strengths (KHR_materials_emissive_strength, which Assimp 5.2 does not "
+        "read: emissions are the emissiveFactor alone)"};
+    return bit >= 0 && bit < SPM_MESH_IGN_COUNT ? names[bit] : "?";
+}

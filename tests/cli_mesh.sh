@@ -1,0 +1,100 @@
+#!/bin/bash
+# The mesh statement from the command line: an emissive glTF quad lights the
+# scene through its front face only (the winding decides); the README's mesh
+# example renders; bad mesh input exits 2 naming the file with nothing
+# written; Ctrl-C while the importer runs exits 130 and leaves no child.
+# usage: bash tests/cli_mesh.sh /path/to/specmip
+source "$(dirname "$0")/lib_cli.sh"
+python3 "$ROOT/tools/gen_meshes.py" "$T" || { echo "FAIL: gen_meshes.py"; exit 1; }
+R=(--backend cpu --quiet)
+avg() {  # avg IMAGE WxH+X+Y: mean of the region's first channel
+    oiiotool "$1" --cut "$2" --printstats | awk '/Stats Avg/ { print $3 }'
+}
+above() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a > b) }'; }
+
+# 1. The quad faces the camera (-z): the centre sees its emission and the floor
+#    in front of it is lit. Turned round, the camera sees its black back and the
+#    floor between them gets nothing.
+cat > "$T/quad.scene" << 'S'
+image 16 16
+camera position 0 0 -4 direction 0 0 1 fov 60
+spectrum white equal
+material floor reflect white 0.8
+quad floor -3 -1 -3  -3 -1 3  3 -1 3  3 -1 -3
+S
+cp "$T/quad.scene" "$T/back.scene"
+echo "mesh quad_emit.gltf" >> "$T/quad.scene"
+echo "mesh quad_emit.gltf rotate 0 1 0 180" >> "$T/back.scene"
+"$BIN" render "$T/quad.scene" "${R[@]}" --spp 16 -o "$T/front.exr" 2> "$T/err"
+check "front: renders" test $? -eq 0
+check "front: prints the triangle count and box" \
+    grep -q "quad_emit.gltf: 2 triangles, bounding box (-1 -1 0) to (1 1 0)" "$T/err"
+check "front: the quad is seen emitting" above "$(avg "$T/front.exr" 2x2+7+7)" 0.5
+check "front: the floor is lit" above "$(avg "$T/front.exr" 16x3+0+13)" 0.01
+"$BIN" render "$T/back.scene" "${R[@]}" --spp 16 -o "$T/back.exr" 2> /dev/null
+check "back: the quad's back is black" test "$(avg "$T/back.exr" 2x2+7+7)" = 0.000000
+check "back: the floor before it is dark" test "$(avg "$T/back.exr" 16x3+0+13)" = 0.000000
+
+# A glTF emissive strength, which the importer drops, is warned about.
+python3 -c 'import json, sys; d = json.load(open(sys.argv[1]))
+d["materials"][0]["extensions"] = {"KHR_materials_emissive_strength": {"emissiveStrength": 5}}
+json.dump(d, open(sys.argv[2], "w"))' "$T/quad_emit.gltf" "$T/strength.gltf"
+sed 's/quad_emit.gltf/strength.gltf/' "$T/quad.scene" > "$T/strength.scene"
+"$BIN" render "$T/strength.scene" "${R[@]}" --spp 1 -o "$T/s.exr" 2> "$T/err"
+check "emissive strength: warned" grep -q "warning: .*KHR_materials_emissive_strength" "$T/err"
+
+# 2. The README's mesh example (the first block with a mesh statement).
+awk '/^```/ { if (b) { if (m) { printf "%s", buf; exit } b = 0; buf = ""; m = 0; next } b = 1; next }
+     b { buf = buf $0 "\n"; if ($1 == "mesh") m = 1 }' "$ROOT/README.md" > "$T/room.scene"
+check "README has a mesh example" grep -q '^mesh' "$T/room.scene"
+check "README mesh example renders" "$BIN" render "$T/room.scene" "${R[@]}" --spp 1 --width 16 \
+    --height 12 -o "$T/room.exr"
+
+# 3. Bad input: exit 2, the file named, nothing written.
+refused() {  # refused NAME STATEMENT EXPECTED-TEXT
+    sed '$d' "$T/quad.scene" > "$T/$1.scene"
+    echo "$2" >> "$T/$1.scene"
+    rm -f "$T/out.exr"
+    "$BIN" render "$T/$1.scene" "${R[@]}" --spp 1 -o "$T/out.exr" 2> "$T/err"
+    local rc=$?
+    check "$1: exit 2 (got $rc)" test $rc -eq 2
+    check "$1: says '$3'" grep -q -- "$3" "$T/err"
+    check "$1: nothing written" test ! -e "$T/out.exr"
+}
+printf 'solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n' > "$T/cut.stl"
+head -c 300 "$T/cube.glb" > "$T/cut.glb"
+head -c 400 "$T/cube_binary.ply" > "$T/cut.ply"  # Assimp 5.2 crashes on it: the child's crash
+refused missing "mesh nosuch.obj" "mesh file 'nosuch.obj' not found"
+refused format "mesh quad.scene" "unknown format"
+refused garbage "mesh cut.glb" "cut.glb"
+refused truncated "mesh cut.stl material floor" "cut.stl"
+refused cut_ply "mesh cut.ply material floor" "cut.ply: the importer"
+refused nomaterial "mesh cube_ascii.stl" "cube_ascii.stl has triangles without a material"
+refused unbound "mesh cube.obj bind blue floor" "cube.obj has no material 'blue' (it has 'red', 'white')"
+refused unknown "mesh cube.obj material paint" "unknown material 'paint'"
+refused zeroscale "mesh cube.obj scale 1 0 1" "a scale must not be zero"
+refused axis "mesh cube.obj rotate 0 0 0 10" "the rotation axis must be a non-zero vector"
+refused strips "mesh cube_strips.ply material floor" "triangle strips"
+refused twice "mesh cube.obj scale 2 scale 3" "expected 'material', 'bind'"
+SPECMIP_TEST_MESH_CHILD=crash refused crash "mesh cube.obj" "cube.obj: the importer crashed"
+
+# 4. Ctrl-C while the importer runs (a child that never answers; the parent
+#    held at the "mesh" test pause): exit 130 within a few seconds, nothing
+#    written, the child killed.
+rm -f "$T/out.exr"
+SPECMIP_TEST_MESH_CHILD=hang SPECMIP_TEST_PAUSE=mesh "$BIN" render "$T/quad.scene" "${R[@]}" \
+    -o "$T/out.exr" 2> "$T/err" &
+pid=$!
+for i in $(seq 600); do grep -q "test pause at mesh" "$T/err" && break; sleep 0.1; done
+child=$(ps -o pid= --ppid $pid | tr -d ' ' | head -n 1)
+check "interrupt: the importer runs at the pause" test -n "$child" -a -e "/proc/$child"
+kill -INT $pid
+for i in $(seq 100); do kill -0 $pid 2> /dev/null || break; sleep 0.1; done  # 10 s: generous
+kill -0 $pid 2> /dev/null && { bad "interrupt: still running 10 s after the signal"; kill -9 $pid; }
+wait $pid
+rc=$?
+check "interrupt: exit 130 (got $rc)" test $rc -eq 130
+check "interrupt: says so" grep -q "interrupted while loading .*quad_emit.gltf" "$T/err"
+check "interrupt: nothing written" test ! -e "$T/out.exr"
+check "interrupt: the importer is gone" test ! -e "/proc/$child"
+finish

@@ -1,0 +1,376 @@
+/* Meshes: every format tools/gen_meshes.py writes imports to the same
+ * triangles (glTF's node hierarchy flattened); the importer's failures are
+ * errors naming the file (bad files, a crash, the memory limit); the child's
+ * answer is checked before use; binding, the statement's transform, mirroring
+ * and degenerate filtering. */
+#include "mesh.h"
+#include "testutil.h"
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static char dir[256];
+
+typedef struct {
+    float v[9];
+} tri9;
+
+/* Rotate so the smallest vertex comes first (keeps the winding), for sorting. */
+static void canon(tri9 *t)
+{
+    int best = 0;
+    for (int i = 1; i < 3; i++)
+        {
+            const float *a = &t->v[3 * i], *b = &t->v[3 * best];
+            int less = a[0] != b[0] ? a[0] < b[0] : a[1] != b[1] ? a[1] < b[1] : a[2] < b[2];
+            if (less)
+                best = i;
+        }
+    tri9 r;
+    for (int i = 0; i < 9; i++)
+        r.v[i] = t->v[(3 * best + i) % 9];
+    *t = r;
+}
+
+static int cmp_tri(const void *a, const void *b)
+{
+    const float *x = ((const tri9 *)a)->v, *y = ((const tri9 *)b)->v;
+    for (int i = 0; i < 9; i++)
+        if (x[i] != y[i])
+            return x[i] < y[i] ? -1 : 1;
+    return 0;
+}
+
+static size_t read_tris(const char *name, tri9 *out, size_t cap)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "r");
+    size_t n = 0;
+    while (f && n < cap) {
+        tri9 t;
+        int k = 0;
+        for (; k < 9 && fscanf(f, "%f", &t.v[k]) == 1; k++)
+            ;
+        if (k < 9)
+            break;
+        canon(&t);
+        out[n++] = t;
+    }
+    if (f)
+        fclose(f);
+    qsort(out, n, sizeof *out, cmp_tri);
+    return n;
+}
+
+static int import(const char *name, spm_mesh_data *d, spm_error *err)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return spm_mesh_import(path, d, err);
+}
+
+/* The file's triangles equal the expected ones to `tol` (0: bit for bit). */
+static void check_same(const char *name, const char *expected, double tol)
+{
+    tri9 want[64], got[64];
+    size_t n = read_tris(expected, want, 64);
+    spm_mesh_data d;
+    spm_error err;
+    if (import(name, &d, &err)) {
+        CHECK(0, "%s imports: %s", name, err.msg);
+        return;
+    }
+    CHECK(d.ntris == n, "%s: %llu triangles, expected %zu", name, (unsigned long long)d.ntris,
+          n);
+    size_t m = d.ntris < 64 ? d.ntris : 64;
+    for (size_t i = 0; i < m; i++) {
+        memcpy(got[i].v, d.tris[i].p, sizeof got[i].v);
+        canon(&got[i]);
+    }
+    qsort(got, m, sizeof *got, cmp_tri);
+    double worst = 0;
+    for (size_t i = 0; i < m && i < n; i++)
+        for (int k = 0; k < 9; k++)
+            worst = fmax(worst, fabs((double)got[i].v[k] - want[i].v[k]));
+    CHECK(worst <= tol, "%s: triangles differ from %s by %g", name, expected, worst);
+    spm_mesh_free(&d);
+}
+
+/* The +x and -x faces (4 triangles) are 'red', the rest 'white'. */
+static void check_materials(const char *name)
+{
+    spm_mesh_data d;
+    spm_error err;
+    if (import(name, &d, &err)) {
+        CHECK(0, "%s imports: %s", name, err.msg);
+        return;
+    }
+    int red = 0, white = 0, wrong = 0;
+    for (uint64_t t = 0; t < d.ntris; t++) {
+        const spm_mesh_material *m = &d.mats[d.tris[t].mat];
+        int side = d.tris[t].p[0][0] == d.tris[t].p[1][0] && d.tris[t].p[1][0] == d.tris[t].p[2][0];
+        if (!strcmp(m->name, "red") && m->diffuse[0] == 0.8f && m->diffuse[1] == 0.1f)
+            red++, wrong += !side;
+        else if (!strcmp(m->name, "white") && m->diffuse[0] == 0.7f && m->diffuse[2] == 0.7f)
+            white++, wrong += side;
+        else
+            wrong++;
+    }
+    CHECK(red == 4 && white == 8 && wrong == 0, "%s: %d red, %d white, %d wrong", name, red,
+          white, wrong);
+    spm_mesh_free(&d);
+}
+
+static void check_fails(const char *name, const char *needle)
+{
+    spm_mesh_data d;
+    spm_error err;
+    int rc = import(name, &d, &err);
+    CHECK(rc != 0, "%s is refused", name);
+    if (rc) {
+        CHECK(strstr(err.msg, name) != NULL, "the error names %s: %s", name, err.msg);
+        CHECK(!needle || strstr(err.msg, needle), "the error says '%s': %s", needle, err.msg);
+    } else {
+        spm_mesh_free(&d);
+    }
+}
+
+static void write_file(const char *name, const void *data, size_t n)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    fwrite(data, 1, n, f);
+    fclose(f);
+}
+
+/* ---- the answer's decoder ---- */
+
+static void check_decode(void)
+{
+    spm_mesh_material mats[2] = {{"a", {0.5f, 0.5f, 0.5f}, {0, 0, 0}}, {"b", {1, 0, 0}, {0, 0, 0}}};
+    spm_mesh_tri tris[2] = {{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1}, {{{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}, 0}};
+    spm_mesh_data d = {0, 2, 2, mats, tris, NULL}, out;
+    spm_error err;
+    size_t n;
+    unsigned char *buf = spm_mesh_encode(&d, &n);
+    unsigned char *copy = spm_xmalloc(n);
+    memcpy(copy, buf, n);
+    CHECK(spm_mesh_decode(copy, n, "x", &out, &err) == 0 && out.ntris == 2 &&
+              out.tris[0].mat == 1 && !strcmp(out.mats[1].name, "b"),
+          "a well-formed answer decodes");
+    spm_mesh_free(&out);
+    struct {
+        size_t off, len;
+        uint64_t value;
+        const char *what;
+    } bad[] = {{0, 4, 0x12345678, "a bad magic"},
+               {12, 4, 5000, "too many materials"},
+               {16, 8, (uint64_t)1 << 40, "too many triangles"},
+               {16, 8, 3, "a count that does not match the size"},
+               {16, 8, 0, "no triangles"},
+               {24 + 2 * sizeof(spm_mesh_material) + offsetof(spm_mesh_tri, mat), 4, 2,
+                "a material index out of range"}};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        copy = spm_xmalloc(n);
+        memcpy(copy, buf, n);
+        memcpy(copy + bad[i].off, &bad[i].value, bad[i].len);
+        int rc = spm_mesh_decode(copy, n, "x", &out, &err);
+        CHECK(rc != 0, "an answer with %s is refused", bad[i].what);
+        free(copy);
+    }
+    copy = spm_xmalloc(n);
+    memcpy(copy, buf, n);
+    CHECK(spm_mesh_decode(copy, n - 1, "x", &out, &err) != 0, "a truncated answer is refused");
+    free(copy);
+    free(buf);
+}
+
+/* ---- building ---- */
+
+typedef struct {
+    spm_scene s;
+    spm_scene_builder b;
+    spm_mesh_cache cache;
+    int grey, lamp;
+} bscene;
+
+static void bs_open(bscene *x)
+{
+    spm_sb_init(&x->b, &x->s, "<test>");
+    spm_mesh_cache_init(&x->cache);
+    spm_spectrum sp;
+    spm_error err;
+    spm_spectrum_constant(0.5, SPM_KIND_REFLECTANCE, &sp);
+    int c = spm_sb_colour(&x->b, "grey", &sp, "t", &err);
+    x->grey = spm_sb_material(&x->b, "grey", c, -1, "t", &err);
+    spm_spectrum_constant(1.0, SPM_KIND_EMISSION, &sp);
+    c = spm_sb_colour(&x->b, "lamp", &sp, "t", &err);
+    x->lamp = spm_sb_material(&x->b, "lamp", -1, c, "t", &err);
+}
+
+static void bs_close(bscene *x)
+{
+    spm_mesh_cache_free(&x->cache);
+    spm_sb_done(&x->b, 0);
+}
+
+static void identity(spm_mesh_opts *o)
+{
+    double one[3] = {1, 1, 1}, axis[3] = {0, 0, 1}, zero[3] = {0, 0, 0};
+    memset(o, 0, sizeof *o);
+    o->material = -1;
+    spm_mesh_transform(one, axis, 0, zero, o->m);
+}
+
+static void check_build(void)
+{
+    spm_mesh_material mats[3] = {{"a", {0.8f, 0.2f, 0.1f}, {0, 0, 0}},
+                                 {"b", {0.8f, 0.2f, 0.1f}, {0, 0, 0}},
+                                 {"c", {0, 0, 0}, {2, 2, 2}}};
+    spm_mesh_tri tris[4] = {{{{1, 0, 0}, {1, 1, 0}, {1, 0, 1}}, 0},
+                            {{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, 1}, /* collinear */
+                            {{{0, 0, 0}, {0, 0, 0}, {0, 1, 0}}, 1}, /* coincident */
+                            {{{0, 0, 3}, {1, 0, 3}, {0, 1, 3}}, 1}};
+    spm_mesh_data d = {0, 3, 4, mats, tris, NULL};
+    spm_error err;
+    spm_quiet_warnings = 1;
+
+    /* lifted: a and b share one colour and one material; degenerate ones skipped */
+    bscene x;
+    bs_open(&x);
+    spm_mesh_opts o;
+    identity(&o);
+    int rc = spm_mesh_add(&x.b, &x.cache, &d, &o, "m", "t", &err);
+    CHECK(rc == 0, "a mesh with degenerate triangles loads: %s", rc ? err.msg : "");
+    CHECK(x.s.ntris == 2, "2 of 4 triangles kept (%d)", x.s.ntris);
+    CHECK(x.s.ntris == 2 && x.s.tris[0].material == x.s.tris[1].material &&
+              x.s.tris[0].material != x.grey && x.s.tris[0].material != x.lamp,
+          "two file materials of one RGB lift to one material");
+    CHECK(x.s.ncolours == 3, "one lifted colour (%d colours)", x.s.ncolours);
+    bs_close(&x);
+
+    /* bind and material */
+    spm_mesh_bind binds[1] = {{"b", 0}};
+    bs_open(&x);
+    identity(&o);
+    binds[0].material = x.lamp;
+    o.binds = binds;
+    o.nbinds = 1;
+    o.material = x.grey;
+    rc = spm_mesh_add(&x.b, &x.cache, &d, &o, "m", "t", &err);
+    CHECK(rc == 0 && x.s.ntris == 2 && x.s.tris[0].material == x.grey &&
+              x.s.tris[1].material == x.lamp,
+          "bind wins over material for its file material");
+    CHECK(x.s.ncolours == 2, "nothing lifted when all is bound (%d colours)", x.s.ncolours);
+    bs_close(&x);
+
+    bs_open(&x);
+    identity(&o);
+    snprintf(binds[0].file_mat, sizeof binds[0].file_mat, "nosuch");
+    o.binds = binds;
+    o.nbinds = 1;
+    rc = spm_mesh_add(&x.b, &x.cache, &d, &o, "m", "t", &err);
+    CHECK(rc != 0 && strstr(err.msg, "nosuch") && strstr(err.msg, "'a'"),
+          "binding a material the file lacks is an error listing its materials: %s", err.msg);
+    bs_close(&x);
+
+    /* scale, then rotate, then translate: (1 0 0) -> (2 0 0) -> (0 2 0) -> (0 2 5) */
+    double scale[3] = {2, 2, 2}, axis[3] = {0, 0, 1}, tr[3] = {0, 0, 5};
+    bs_open(&x);
+    identity(&o);
+    spm_mesh_transform(scale, axis, 90, tr, o.m);
+    o.material = x.grey;
+    spm_mesh_data one = {0, 3, 1, mats, tris, NULL};
+    rc = spm_mesh_add(&x.b, &x.cache, &one, &o, "m", "t", &err);
+    /* 1e-6: cos 90 degrees in double is 6e-17, times coordinates of 2 */
+    CHECK(rc == 0 && fabsf(x.s.tris[0].p[0][0]) < 1e-6f && x.s.tris[0].p[0][1] == 2.0f &&
+              x.s.tris[0].p[0][2] == 5.0f,
+          "transform order: (1 0 0) went to (%g %g %g), not (0 2 5)", x.s.tris[0].p[0][0],
+          x.s.tris[0].p[0][1], x.s.tris[0].p[0][2]);
+    bs_close(&x);
+
+    /* a mirror keeps the front face: the normal of the mirrored triangle is the mirror
+     * image of the original's (+x at x = 1 becomes -x at x = -1) */
+    double mirror[3] = {-1, 1, 1}, zero[3] = {0, 0, 0};
+    bs_open(&x);
+    identity(&o);
+    spm_mesh_transform(mirror, axis, 0, zero, o.m);
+    o.material = x.grey;
+    rc = spm_mesh_add(&x.b, &x.cache, &one, &o, "m", "t", &err);
+    if (rc == 0) {
+        const float(*p)[3] = x.s.tris[0].p;
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; k++) {
+            e1[k] = p[1][k] - p[0][k];
+            e2[k] = p[2][k] - p[0][k];
+        }
+        double nx = e1[1] * e2[2] - e1[2] * e2[1]; /* the original's is +1 */
+        CHECK(nx < 0 && p[0][0] == -1.0f, "a mirrored triangle faces -x (normal x %g)", nx);
+    } else {
+        CHECK(0, "mirror: %s", err.msg);
+    }
+    bs_close(&x);
+
+    /* all degenerate: an error, not an empty mesh */
+    spm_mesh_data degen = {0, 3, 2, mats, tris + 1, NULL};
+    bs_open(&x);
+    identity(&o);
+    rc = spm_mesh_add(&x.b, &x.cache, &degen, &o, "m", "t", &err);
+    CHECK(rc != 0 && strstr(err.msg, "degenerate"), "a mesh of degenerate triangles is refused");
+    bs_close(&x);
+}
+
+int main(void)
+{
+    snprintf(dir, sizeof dir, "/tmp/spm_test_mesh.%d", (int)getpid());
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "python3 %s/tools/gen_meshes.py %s", SPM_SOURCE_DIR, dir);
+    if (system(cmd) != 0) {
+        CHECK(0, "%s", cmd);
+        TEST_END();
+    }
+    const char *cubes[] = {"cube.obj", "cube_ascii.ply", "cube_binary.ply", "cube.gltf",
+                           "cube.glb", "cube_ascii.stl", "cube_binary.stl"};
+    for (int i = 0; i < 7; i++)
+        check_same(cubes[i], "cube.tris", 0);
+    /* 1e-5: Assimp turns glTF's quaternion into a float matrix; its rounding
+     * (a few ulps of 1) times coordinates up to 12 */
+    check_same("hier.gltf", "hier.tris", 1e-5);
+    check_materials("cube.obj");
+    check_materials("cube.gltf");
+    check_materials("cube.glb");
+
+    check_fails("cube_strips.ply", "triangle strips");
+    static const char glb[] = "glTF\x02\0\0\0\xff\xff\xff\xff not json";
+    write_file("garbage.glb", glb, sizeof glb - 1);
+    check_fails("garbage.glb", "Assimp");
+    static const char ply[] = "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+                              "property float x\nproperty float y\nproperty float z\n"
+                              "element face 1\nproperty list uchar int vertex_indices\n"
+                              "end_header\n\0\0\0\0";
+    write_file("truncated.ply", ply, sizeof ply);
+    /* Assimp 5.2 dies of SIGSEGV on this file (in its triangulation): the
+     * child takes the crash, the load fails with a message */
+    check_fails("truncated.ply", NULL);
+    write_file("empty.stl", "", 0);
+    check_fails("empty.stl", NULL);
+    static const char badidx[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";
+    write_file("badindex.obj", badidx, sizeof badidx - 1);
+    check_fails("badindex.obj", NULL);
+    setenv("SPECMIP_TEST_MESH_CHILD", "crash", 1);
+    check_fails("cube.obj", "crashed");
+#if !defined(__SANITIZE_ADDRESS__) /* no address-space limit under ASan (mesh_import.c) */
+    setenv("SPECMIP_TEST_MESH_CHILD", "as=1", 1); /* 1 MiB: less than the process already maps */
+    check_fails("cube.obj", NULL);
+#endif
+    unsetenv("SPECMIP_TEST_MESH_CHILD");
+
+    check_decode();
+    check_build();
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "could not remove %s\n", dir);
+    TEST_END();
+}
