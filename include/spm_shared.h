@@ -25,13 +25,24 @@ typedef int32_t spm_i32;
 #define SPM_VECS_PER_LEVEL 5    /* a level is five vectors: 5x16, 5x8, 5x4, 5x2 */
 #define SPM_MAX_SPIKES 16       /* Composite Model: spike lanes per scene */
 #define SPM_HERO_LANES 4
-/* hero's table, one array: the CDF of its wavelength density over the 1 nm
- * bins (401 values), the density per nm (400), then the CMF at 380..780 nm
- * (3 x 401, channel-major). */
-#define SPM_HERO_CDF 0
-#define SPM_HERO_PDF (SPM_TRUTH_BINS + 1)
-#define SPM_HERO_CMF (2 * SPM_TRUTH_BINS + 1)
-#define SPM_HERO_FLOATS (SPM_HERO_CMF + 3 * (SPM_TRUTH_BINS + 1))
+/* hero's wavelength density: pbrt-v4's visible importance a / cosh^2(a (l - c))
+ * truncated to 380-780 nm (host/spectral/tables.c derives its inverse). */
+#define SPM_HERO_CENTER 538.0f  /* nm */
+#define SPM_HERO_A 0.0072f      /* per nm */
+/* hero's table, one array: t0 = tanh(a (380 - c)), dt = tanh(a (780 - c)) - t0,
+ * the density's factor a / dt; the tanh of each 1 nm bin edge (401 values:
+ * bin j holds edge[j] <= y < edge[j + 1]); a direct index of the bins, one
+ * per SPM_HERO_CELLS-th of the sample space (no later than the bin of the
+ * cell's start, as a float); then truth's XYZ weights of each 1 nm bin as
+ * (x, y, z, 0). */
+#define SPM_HERO_CELLS 4096
+#define SPM_HERO_T0 0
+#define SPM_HERO_DT 1
+#define SPM_HERO_PDFK 2
+#define SPM_HERO_EDGE 4
+#define SPM_HERO_INDEX (SPM_HERO_EDGE + SPM_TRUTH_BINS + 4)
+#define SPM_HERO_CMF (SPM_HERO_INDEX + SPM_HERO_CELLS)
+#define SPM_HERO_FLOATS (SPM_HERO_CMF + 4 * SPM_TRUTH_BINS)
 /* mlc tables hold, per colour and level, the smooth bins then the spike lanes */
 #define SPM_MLC_STRIDE(l) (SPM_LEVEL_BINS(l) + SPM_MAX_SPIKES)
 

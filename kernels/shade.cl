@@ -7,7 +7,7 @@
  *                        (n = 5; mlc: 5 + the spike lanes as more vectors)
  *   SPM_SHADE_TRUTH_NV=n 400 1 nm bins = 25 x float16
  *   SPM_SHADE_RGB        3 components in a float4, XYZ by the sRGB matrix
- *   SPM_SHADE_HERO       4 wavelengths in a float4, gathered from level 0
+ *   SPM_SHADE_HERO       4 wavelengths in a float4, gathered from the 1 nm rows
  * Contraction is left on: fma() is what the body asks for anyway. */
 #include "spm_shared.h"
 #include "spm_rng.h"
@@ -66,35 +66,39 @@
 #endif
 
 #ifdef SPM_SHADE_HERO
-/* Lane wavelength from a uniform x: the 1 nm bin j with cdf[j] <= x < cdf[j+1],
- * the offset f in it (the CDF is linear inside), the level-0 bin j/5, and the
- * lane's XYZ weight: CMF(380+j+f) / pdf / lanes (spectra piecewise constant). */
-inline void hero_lane(__global const float *hero, float x, uint *bin, float4 *w, float *sfw)
+/* The 1 nm bin holding y = t0 + x dt: the direct index of x's cell is that
+ * bin or the one before it (host/spectral/tables.c), so one comparison with
+ * the next bin's edge settles it. */
+inline uint hero_bin(__global const float *hero, float x, float y)
 {
-#pragma OPENCL FP_CONTRACT OFF /* rounds as the CPU reference's lerp */
-    __global const float *cdf = hero + SPM_HERO_CDF;
-    uint lo = 0, hi = SPM_TRUTH_BINS;
-    while (hi - lo > 1u) {
-        uint mid = (lo + hi) >> 1;
-        if (cdf[mid] <= x)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    float width = cdf[lo + 1] - cdf[lo];
-    float f = width > 0.0f ? clamp((x - cdf[lo]) / width, 0.0f, 1.0f) : 0.0f;
-    float pdf = hero[SPM_HERO_PDF + lo];
-    float wt[3];
-    for (int ch = 0; ch < 3; ch++) {
-        __global const float *cp = hero + SPM_HERO_CMF + ch * (SPM_TRUTH_BINS + 1);
-        float cmf = cp[lo] + (cp[lo + 1] - cp[lo]) * f;
-        wt[ch] = pdf > 0.0f ? cmf / pdf / (float)SPM_HERO_LANES : 0.0f;
-    }
-    *bin = lo / (SPM_TRUTH_BINS / SPM_L0_BINS);
-    *w = (float4)(wt[0], wt[1], wt[2], 0.0f);
-    /* spectral records: the lane's share of its 5 nm bin's mean */
-    *sfw = pdf > 0.0f ? 1.0f / (pdf * (float)SPM_HERO_LANES *
-                                (float)(SPM_TRUTH_BINS / SPM_L0_BINS)) : 0.0f;
+    uint j = (uint)hero[SPM_HERO_INDEX + (uint)(x * (float)SPM_HERO_CELLS)];
+    j += y >= hero[SPM_HERO_EDGE + j + 1] ? 1u : 0u;
+    return min(j, (uint)SPM_TRUTH_BINS - 1u);
+}
+
+/* A path's four lanes from its uniform u (host/spectral/tables.c derives the
+ * density): x = frac(u + i/4), y = t0 + x dt = tanh(a (l - 538)) at the
+ * lane's wavelength l, its 1 nm bin, and the lane's XYZ weights: truth's
+ * weights of the bin over the density a (1 - y^2) / dt and the lane count;
+ * for spectral records, the factor that turns a lane's radiance into its
+ * share of its 5 nm bin's mean: 1 / (density lanes 5 nm). */
+inline void hero_lanes(__global const float *hero, float u, uint4 *bin, float4 *w, float4 *sfw)
+{
+#pragma OPENCL FP_CONTRACT OFF /* rounds as the CPU reference */
+    float4 x = u + (float4)(0.0f, 0.25f, 0.5f, 0.75f);
+    x = select(x, x - 1.0f, x >= 1.0f);
+    float4 y = hero[SPM_HERO_T0] + x * hero[SPM_HERO_DT];
+    uint4 b = (uint4)(hero_bin(hero, x.s0, y.s0), hero_bin(hero, x.s1, y.s1),
+                      hero_bin(hero, x.s2, y.s2), hero_bin(hero, x.s3, y.s3));
+    float4 r = 1.0f / (hero[SPM_HERO_PDFK] * (1.0f - y * y) * (float)SPM_HERO_LANES);
+    __global const float *cw = hero + SPM_HERO_CMF;
+    float4 c0 = vload4(b.s0, cw) * r.s0, c1 = vload4(b.s1, cw) * r.s1;
+    float4 c2 = vload4(b.s2, cw) * r.s2, c3 = vload4(b.s3, cw) * r.s3;
+    w[0] = (float4)(c0.x, c1.x, c2.x, c3.x);
+    w[1] = (float4)(c0.y, c1.y, c2.y, c3.y);
+    w[2] = (float4)(c0.z, c1.z, c2.z, c3.z);
+    *bin = b;
+    *sfw = r / (float)(SPM_TRUTH_BINS / SPM_L0_BINS);
 }
 
 #define SB_NAME spm_shade_hero
@@ -102,28 +106,21 @@ inline void hero_lane(__global const float *hero, float x, uint *bin, float4 *w,
 #define SB_NV 1
 #define SB_EXTRA_ARGS , SPM_SHADE_PATH_ARGS(SPM_KERNEL_PARAM, SPM_COMMA)
 #define SB_PREPARE                                                                     \
-    uint hb[4];                                                                        \
-    float4 hw[4];                                                                      \
-    float hs[4];                                                                       \
-    {                                                                                  \
-        float u = spm_rng(seed, first_pixel + pi / spp, first_sample + pi % spp, SPM_DIM_HERO); \
-        for (int l = 0; l < SPM_HERO_LANES; l++) {                                     \
-            float x = u + (float)l / (float)SPM_HERO_LANES;                                   \
-            hero_lane(extra, x >= 1.0f ? x - 1.0f : x, &hb[l], &hw[l], &hs[l]);         \
-        }                                                                              \
-    }                                                                                  \
-    float4 hcmf[3] = {(float4)(hw[0].x, hw[1].x, hw[2].x, hw[3].x),                     \
-                      (float4)(hw[0].y, hw[1].y, hw[2].y, hw[3].y),                     \
-                      (float4)(hw[0].z, hw[1].z, hw[2].z, hw[3].z)};
+    uint4 hb;                                                                          \
+    float4 hcmf[3], hs;                                                                \
+    hero_lanes(extra, spm_rng(seed, first_pixel + pi / spp, first_sample + pi % spp, SPM_DIM_HERO), \
+               &hb, hcmf, &hs);
 #define SB_LOAD(c, k)                                                                  \
-    ((float4)(tab[(size_t)(c) * SPM_L0_BINS + hb[0]], tab[(size_t)(c) * SPM_L0_BINS + hb[1]], \
-              tab[(size_t)(c) * SPM_L0_BINS + hb[2]], tab[(size_t)(c) * SPM_L0_BINS + hb[3]]))
+    ((float4)(tab[(size_t)(c) * SPM_TRUTH_BINS + hb.s0], tab[(size_t)(c) * SPM_TRUTH_BINS + hb.s1], \
+              tab[(size_t)(c) * SPM_TRUTH_BINS + hb.s2], tab[(size_t)(c) * SPM_TRUTH_BINS + hb.s3]))
 #define SB_CMF(ch, k) hcmf[ch]
 #define SB_SPEC_STORE                                                                  \
     for (uint b = 0; b < SPM_SPEC_BINS; b++)                                           \
         so[b] = 0.0f;                                                                  \
-    for (int l = 0; l < SPM_HERO_LANES; l++)                                           \
-        so[hb[l]] += lf[l] * hs[l];
+    so[hb.s0 / (SPM_TRUTH_BINS / SPM_L0_BINS)] += lf[0] * hs.s0;                        \
+    so[hb.s1 / (SPM_TRUTH_BINS / SPM_L0_BINS)] += lf[1] * hs.s1;                        \
+    so[hb.s2 / (SPM_TRUTH_BINS / SPM_L0_BINS)] += lf[2] * hs.s2;                        \
+    so[hb.s3 / (SPM_TRUTH_BINS / SPM_L0_BINS)] += lf[3] * hs.s3;
 #include "shade_body.clh"
 #endif
 

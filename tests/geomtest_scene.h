@@ -115,12 +115,7 @@ static inline void ts_tables(const spm_scene *s, spm_tables *t)
     }
     for (int i = 0; i < SPM_TRUTH_BINS; i++)
         t->cmf_truth[1][i] = 1.0f / SPM_TRUTH_BINS;
-    for (int i = 0; i <= SPM_TRUTH_BINS; i++) {
-        t->cmf_point[1][i] = 1.0f / SPM_TRUTH_BINS; /* per nm, like cmf_truth */
-        t->hero_cdf[i] = (float)i / SPM_TRUTH_BINS;
-    }
-    for (int i = 0; i < SPM_TRUTH_BINS; i++)
-        t->hero_pdf[i] = 1.0f / SPM_TRUTH_BINS;
+    spm_tables_fill_hero(t);
     t->lvlk = calloc((size_t)n * SPM_PRETEST_KMAX + 1, 1);
     t->mlc_lvlk = calloc((size_t)n * SPM_PRETEST_KMAX + 1, 1);
     t->nmaterials = s->nmaterials;

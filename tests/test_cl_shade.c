@@ -20,7 +20,12 @@
  * 4 + 2 log2(lanes) ulps of the largest XYZ component (2^-23 relative each):
  * 7 for rgb, 8 for hero, 17 for 80 bins, 21 for truth's 400. The largest
  * component, not each, because rgb's matrix has negative entries whose
- * cancellation can leave a component small against its terms. */
+ * cancellation can leave a component small against its terms. hero's lanes
+ * add no more: both sides compute y, the density and the weights with the
+ * same uncontracted float operations, and pick each lane's 1 nm bin by
+ * comparing y with the same bin edges, so atanh's rounding, which differs
+ * between the OpenCL library and the C one, never changes which bin a lane
+ * reads (a lane in the wrong bin would be off by percents, not ulps). */
 static double ulps_allowed(int lanes)
 {
     return 4.0 + 2.0 * log2((double)lanes);

@@ -3,6 +3,7 @@
  * (bins, 1 nm bins, spike lanes, RGB channels or hero wavelengths), then
  * turns the lanes into XYZ with per-lane weights. Plain scalar float loops. */
 #include "refcpu.h"
+#include <math.h>
 #include "spm_rng.h"
 
 #define MAX_LANES SPM_TRUTH_BINS
@@ -81,64 +82,51 @@ static lanes table_lanes(const spm_shade_table *tab)
 typedef struct {
     int idx[SPM_HERO_LANES];
     float w[3][SPM_HERO_LANES];
-    float pdf[SPM_HERO_LANES]; /* the lane wavelength's density, per nm */
+    float sfw[SPM_HERO_LANES]; /* spectral records: a lane's radiance to its share of
+                                  its 5 nm bin's mean, 1 / (density lanes 5 nm) */
 } path_lanes;
 
-/* The 1 nm bin j holding sample-space position xi: cdf[j] <= xi < cdf[j + 1]. */
-static int hero_bin(const float *cdf, float xi)
-{
-    int lo = 0, hi = SPM_TRUTH_BINS;
-    while (hi - lo > 1) {
-        int mid = (lo + hi) / 2;
-        if (cdf[mid] <= xi)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return lo;
-}
-
-/* Hero wavelengths of one path: lane i at xi = frac(u + i/4) mapped through
- * the inverse of the piecewise-linear cdf; spectra from the level-0 bin
- * holding it (piecewise constant), CMF interpolated linearly, each lane
- * divided by its density and by the lane count. */
+/* Hero wavelengths of one path (host/spectral/tables.c derives the density):
+ * lane i at xi = frac(u + i/4), y = t0 + xi dt, wavelength 538 + atanh(y)/a
+ * nm; its 1 nm bin j is atanh's guess moved to the bin whose edges bracket y;
+ * the lane reads the spectra's 1 nm bin j and weighs it by truth's weight of
+ * that bin over the density a (1 - y^2) / dt and the lane count. */
 static lanes hero_path(const spm_shade_table *tab, float u, path_lanes *pl)
 {
-    const float *cdf = tab->extra + SPM_HERO_CDF, *pdfs = tab->extra + SPM_HERO_PDF;
+    const float *hx = tab->extra, *edge = hx + SPM_HERO_EDGE;
     for (int i = 0; i < SPM_HERO_LANES; i++) {
         float xi = u + (float)i / (float)SPM_HERO_LANES;
         if (xi >= 1.0f)
             xi -= 1.0f;
-        int j = hero_bin(cdf, xi);
-        float width = cdf[j + 1] - cdf[j];
-        float f = width > 0.0f ? (xi - cdf[j]) / width : 0.0f;
-        f = f < 0.0f ? 0.0f : (f > 1.0f ? 1.0f : f);
-        float pdf = pdfs[j];
-        pl->pdf[i] = pdf;
-        pl->idx[i] = j / (SPM_TRUTH_BINS / SPM_L0_BINS);
-        for (int ch = 0; ch < 3; ch++) {
-            const float *cp = tab->extra + SPM_HERO_CMF + ch * (SPM_TRUTH_BINS + 1);
-            float a = cp[j], b = cp[j + 1];
-            float cmf = a + (b - a) * f;
-            pl->w[ch][i] = pdf > 0.0f ? cmf / pdf / (float)SPM_HERO_LANES : 0.0f;
-        }
+        float y = hx[SPM_HERO_T0] + xi * hx[SPM_HERO_DT];
+        float nm = atanhf(y) / SPM_HERO_A + (SPM_HERO_CENTER - (float)SPM_LAMBDA_MIN);
+        int j = nm > 0.0f ? (int)nm : 0;
+        j = j < SPM_TRUTH_BINS - 1 ? j : SPM_TRUTH_BINS - 1;
+        while (j > 0 && y < edge[j])
+            j--;
+        while (j < SPM_TRUTH_BINS - 1 && y >= edge[j + 1])
+            j++;
+        float pdf = hx[SPM_HERO_PDFK] * (1.0f - y * y);
+        float r = 1.0f / (pdf * (float)SPM_HERO_LANES);
+        pl->idx[i] = j;
+        pl->sfw[i] = r / (float)(SPM_TRUTH_BINS / SPM_L0_BINS);
+        for (int ch = 0; ch < 3; ch++)
+            pl->w[ch][i] = hx[SPM_HERO_CMF + 4 * j + ch] * r;
     }
     return (lanes){tab->rows, (size_t)tab->stride, SPM_HERO_LANES, pl->idx,
                    {pl->w[0], pl->w[1], pl->w[2]}};
 }
 
 /* The spectral bins of lanes L: through the slot's map, or (per-path lanes)
- * each lane into the level-0 (5 nm) bin of its wavelength. */
+ * each lane into the level-0 (5 nm) bin holding its 1 nm bin. */
 static void lanes_to_bins(const spm_spec_map *map, const path_lanes *pl, int per_path, int nbins,
                           const float *L, float *out)
 {
-    if (per_path) {
-        const float nm = (float)(SPM_TRUTH_BINS / SPM_L0_BINS);
+    if (per_path) { /* idx: the lane's 1 nm bin */
         for (int b = 0; b < nbins; b++)
             out[b] = 0.0f;
         for (int l = 0; l < SPM_HERO_LANES; l++)
-            if (pl->pdf[l] > 0.0f)
-                out[pl->idx[l]] += L[l] / (pl->pdf[l] * (float)SPM_HERO_LANES * nm);
+            out[pl->idx[l] / (SPM_TRUTH_BINS / SPM_L0_BINS)] += L[l] * pl->sfw[l];
         return;
     }
     const uint32_t *lane = map->idx + map->nbins + 1;

@@ -65,21 +65,26 @@ static void mlc_fill(const spm_tables *t, int l, spm_shade_table *o)
     }
 }
 
-/* ---- hero: level-0 rows, read at four wavelengths drawn per path ---------- */
+/* ---- hero: truth's 1 nm rows, read at four wavelengths drawn per path ----- */
 static void hero_layout(const spm_tables *t, int level, spm_shade_table *o)
 {
     (void)t, (void)level;
-    o->lanes = SPM_L0_BINS, o->width = 4, o->stride = SPM_L0_BINS;
+    o->lanes = SPM_TRUTH_BINS, o->width = 4, o->stride = SPM_TRUTH_BINS;
     o->nextra = SPM_HERO_FLOATS;
 }
 
 static void hero_fill(const spm_tables *t, int level, spm_shade_table *o)
 {
     (void)level;
-    copy_rows(o->rows, o->stride, t->lvl[0], SPM_L0_BINS, t->ncolours, SPM_L0_BINS);
-    memcpy(o->extra + SPM_HERO_CDF, t->hero_cdf, sizeof t->hero_cdf);
-    memcpy(o->extra + SPM_HERO_PDF, t->hero_pdf, sizeof t->hero_pdf);
-    memcpy(o->extra + SPM_HERO_CMF, t->cmf_point, sizeof t->cmf_point);
+    copy_rows(o->rows, o->stride, t->truth, SPM_TRUTH_BINS, t->ncolours, SPM_TRUTH_BINS);
+    o->extra[SPM_HERO_T0] = t->hero_t0;
+    o->extra[SPM_HERO_DT] = t->hero_dt;
+    o->extra[SPM_HERO_PDFK] = t->hero_pdfk;
+    memcpy(o->extra + SPM_HERO_EDGE, t->hero_edge, sizeof t->hero_edge);
+    memcpy(o->extra + SPM_HERO_INDEX, t->hero_index, sizeof t->hero_index);
+    for (int i = 0; i < SPM_TRUTH_BINS; i++)
+        for (int ch = 0; ch < 3; ch++)
+            o->extra[SPM_HERO_CMF + 4 * i + ch] = t->cmf_truth[ch][i];
 }
 
 /* ---- rgb: three components; XYZ by the colour module's sRGB matrix -------- */

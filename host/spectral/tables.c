@@ -69,32 +69,47 @@ static void fill_cmf(spm_tables *t)
             for (int b = 0; b < SPM_L0_BINS; b++)
                 t->cmf_lvl[l][c][b] = b < SPM_LEVEL_BINS(l) ? (float)lw[c][b] : 0.0f;
     }
-    for (int i = 0; i <= SPM_TRUTH_BINS; i++) {
-        double p[3];
-        spm_cmf_point(SPM_LAMBDA_MIN + i, p);
-        for (int c = 0; c < 3; c++)
-            t->cmf_point[c][i] = (float)p[c];
-    }
 }
 
-/* hero: sampling density proportional to x+y+z (visible importance) mixed
- * with 10% uniform so no visible wavelength has a vanishing density. */
-static void fill_hero(spm_tables *t)
+/* hero: pbrt-v4's visible-importance density p(l) ~ sech^2(a (l - c)),
+ * a = 0.0072 / nm, c = 538 nm, truncated to 380-780 nm and renormalised.
+ * Since d/dl tanh(a (l - c)) = a sech^2(a (l - c)), its CDF on [380, 780] is
+ *   F(l) = (tanh(a (l - c)) - t0) / dt,  t0 = tanh(a (380 - c)),
+ *                                        dt = tanh(a (780 - c)) - t0,
+ * so u in [0, 1) maps to y = t0 + u dt, l = c + atanh(y) / a, and the
+ * density there is exactly
+ *   p(l) = F'(l) = a sech^2(a (l - c)) / dt = a (1 - y^2) / dt,
+ * as tanh(a (l - c)) = y. (pbrt's constants 0.85691062 = -tanh(a (360 - c)),
+ * 1.82750197 = its dt and 0.0039398042 = a / dt are this on 360-830 nm.)
+ * F is monotone, so the 1 nm bin holding l is the one whose edges' tanh
+ * bracket y: comparing y with the edges makes the bin exact whatever the
+ * rounding of atanh. The kernel finds it without atanh: y is linear in u, so
+ * the sample space is cut into SPM_HERO_CELLS cells of 1.75 / 4096 = 4.3e-4
+ * in y, narrower than the narrowest bin (0.0072 (1 - 0.94^2) = 8.4e-4 at
+ * 780 nm). A cell's entry is the bin of its start less 1e-6 in y: far above
+ * the float rounding of y and of the edges (a few 1e-8), far below a bin.
+ * So it is never past the bin of a sample in the cell, and the cell and
+ * margin, shorter than a bin, hold at most one edge: the sample is in the
+ * entry's bin or the next, and one comparison with an edge decides. */
+void spm_tables_fill_hero(spm_tables *t)
 {
-    double w[SPM_TRUTH_BINS], sum = 0.0;
-    for (int i = 0; i < SPM_TRUTH_BINS; i++) {
-        w[i] = t->cmf_truth[0][i] + t->cmf_truth[1][i] + t->cmf_truth[2][i];
-        sum += w[i];
+    const double a = SPM_HERO_A, c = SPM_HERO_CENTER;
+    double t0 = tanh(a * (SPM_LAMBDA_MIN - c)), dt = tanh(a * (SPM_LAMBDA_MAX - c)) - t0;
+    double edge[SPM_TRUTH_BINS + 1];
+    t->hero_t0 = (float)t0;
+    t->hero_dt = (float)dt;
+    t->hero_pdfk = (float)(a / dt);
+    for (int i = 0; i <= SPM_TRUTH_BINS; i++) {
+        edge[i] = tanh(a * (SPM_LAMBDA_MIN + i - c));
+        t->hero_edge[i] = (float)edge[i];
     }
-    double acc = 0.0;
-    t->hero_cdf[0] = 0.0f;
-    for (int i = 0; i < SPM_TRUTH_BINS; i++) {
-        double p = 0.9 * w[i] / sum + 0.1 / SPM_TRUTH_BINS; /* probability of the 1 nm bin */
-        t->hero_pdf[i] = (float)p;                           /* bins are 1 nm: per nm too */
-        acc += p;
-        t->hero_cdf[i + 1] = (float)acc;
+    int j = 0;
+    for (int k = 0; k < SPM_HERO_CELLS; k++) {
+        double y = t0 + dt * k / SPM_HERO_CELLS - 1e-6;
+        while (j < SPM_TRUTH_BINS - 1 && y >= edge[j + 1])
+            j++;
+        t->hero_index[k] = (float)j;
     }
-    t->hero_cdf[SPM_TRUTH_BINS] = 1.0f;
 }
 
 static void fill_materials(const spm_scene *sc, spm_tables *t)
@@ -140,7 +155,7 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
         fill_rgb(&sc->colours[c].s, &d65, white_rgb, &t->rgb[(size_t)c * 4]);
     }
     fill_cmf(t);
-    fill_hero(t);
+    spm_tables_fill_hero(t);
     fill_materials(sc, t);
 
     /* ml levels: the pretest over the scene's whole set of colours */

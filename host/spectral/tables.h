@@ -26,10 +26,10 @@ typedef struct {
     float spike_cmf[3][SPM_MAX_SPIKES];
     uint8_t *mlc_lvlk;             /* as lvlk, for the smooth parts */
 
-    /* hero: density over 380-780 nm tabulated per truth bin (piecewise constant) */
-    float hero_pdf[SPM_TRUTH_BINS];      /* per nm, integrates to 1 */
-    float hero_cdf[SPM_TRUTH_BINS + 1];
-    float cmf_point[3][SPM_TRUTH_BINS + 1]; /* CMF at 380..780 nm (same normalisation as the weights, per nm) */
+    /* hero: the wavelength density's constants (spm_shared.h SPM_HERO_*) */
+    float hero_t0, hero_dt, hero_pdfk;
+    float hero_edge[SPM_TRUTH_BINS + 1];
+    float hero_index[SPM_HERO_CELLS];
 
     spm_material *materials;       /* per scene material */
     int nmaterials;
@@ -39,4 +39,6 @@ typedef struct {
 int spm_tables_build(const spm_scene *scene, const spm_pretest_opts *po, spm_tables *t,
                      spm_error *err);
 void spm_tables_free(spm_tables *t);
+/* Fills the hero fields: needs nothing else of the tables. */
+void spm_tables_fill_hero(spm_tables *t);
 #endif
