@@ -94,9 +94,39 @@ int spm_mpi_start(spm_mpi *m, spm_error *err)
     return 0;
 }
 
+typedef struct hub hub;
+typedef struct {
+    hub *h;
+    int rank, dev;
+    int state; /* 0 idle, 1 requested, 2 sent, 3 answered */
+    pass_req req;
+    pass_head head;
+    float *img;
+} proxy;
+
+struct hub {
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+    size_t npix;
+    int nproxies;
+    proxy *p[SPM_MAX_BACKENDS];
+    int render_done;
+    int signalled[1]; /* per rank, allocated with the hub */
+};
+
+static hub *the_hub;
+
 void spm_mpi_end(spm_mpi *m, int torn_down)
 {
-    if (m->started && !torn_down)
+    if (!m->started)
+        return;
+    if (torn_down && m->rank == 0 && the_hub) { /* the ranks that wait in signalled_exit */
+        int zero = 0;
+        for (int rk = 1; rk < m->size; rk++)
+            if (the_hub->signalled[rk])
+                MPI_Send(&zero, 1, MPI_INT, rk, TAG_DONE, MPI_COMM_WORLD);
+    }
+    if (!torn_down)
         MPI_Finalize();
     m->started = 0;
 }
@@ -128,6 +158,7 @@ struct worker {
     pthread_cond_t cv;
     int quit;
     size_t npix;
+    double slow_s; /* seconds added to every pass */
     spm_render_setup *s;
     dev_slot slot[SPM_MAX_BACKENDS];
 };
@@ -140,6 +171,10 @@ static void render_request(worker *w, dev_slot *d)
     memset(d->img, 0, w->npix * 3 * sizeof(float));
     b->ctl = (spm_pass_ctl){&spm_stop_flag, NULL, NULL};
     d->head.rc = b->pass(b, d->req.first_sample, d->req.spp, d->img, &d->head.st, &d->head.err);
+    if (w->slow_s > 0) { /* the test hook SPECMIP_TEST_SLOW_PASS */
+        struct timespec t = {(time_t)w->slow_s, (long)((w->slow_s - (double)(time_t)w->slow_s) * 1e9)};
+        nanosleep(&t, NULL);
+    }
 }
 
 static void *dev_thread(void *arg)
@@ -161,12 +196,24 @@ static void *dev_thread(void *arg)
     return NULL;
 }
 
-/* A signal: rank 0 hears of it, and this rank ends at once (mpirun is ending
- * the job; MPI_Finalize would wait for ranks that may be gone). */
+/* A signal: rank 0 hears of it, and this rank ends once rank 0 has written
+ * the image (mpirun ends the whole job as soon as one rank exits with an
+ * error). MPI_Finalize is left out: it would wait for ranks that may be gone. */
 static void signalled_exit(void)
 {
-    int one = 1;
+    int one = 1, flag = 0;
     MPI_Send(&one, 1, MPI_INT, 0, TAG_SIGNALLED, MPI_COMM_WORLD);
+    while (!flag) {
+        MPI_Status st;
+        MPI_Iprobe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
+        if (flag && st.MPI_TAG != TAG_DONE) { /* a pass request that crossed: dropped */
+            pass_req q;
+            MPI_Recv(&q, sizeof q, MPI_BYTE, 0, st.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            flag = 0;
+        }
+        if (!flag)
+            nap();
+    }
     _exit(SPM_EXIT_INTERRUPTED);
 }
 
@@ -245,7 +292,9 @@ int spm_mpi_worker(spm_mpi *m, spm_render_config *c)
     } else {
         s.scene.width = pi.width;
         s.scene.height = pi.height;
-        c->spp = pi.spp;
+        c->spp = pi.spp; /* what rank 0 renders, whatever this rank's command line says */
+        c->mode = pi.mode;
+        c->seed = pi.seed;
         info.rc = spm_render_setup_backends(c, &s, &info.err);
     }
     free(buf);
@@ -260,6 +309,8 @@ int spm_mpi_worker(spm_mpi *m, spm_render_config *c)
         pthread_cond_init(&w->cv, NULL);
         w->s = &s;
         w->npix = (size_t)pi.width * (size_t)pi.height;
+        const char *slow = getenv("SPECMIP_TEST_SLOW_PASS");
+        w->slow_s = slow ? atof(slow) : 0.0;
         for (int i = 0; i < s.nb; i++) {
             dev_slot *d = &w->slot[i];
             d->w = w;
@@ -299,27 +350,6 @@ int spm_mpi_worker(spm_mpi *m, spm_render_config *c)
 
 /* ---- rank 0 ---- */
 
-typedef struct hub hub;
-typedef struct {
-    hub *h;
-    int rank, dev;
-    int state; /* 0 idle, 1 requested, 2 sent, 3 answered */
-    pass_req req;
-    pass_head head;
-    float *img;
-} proxy;
-
-struct hub {
-    pthread_mutex_t mu;
-    pthread_cond_t cv;
-    size_t npix;
-    int nproxies;
-    proxy *p[SPM_MAX_BACKENDS];
-    int render_done;
-    int signalled[1]; /* per rank, allocated with the hub */
-};
-
-static hub *the_hub;
 
 /* The proxy's pass: rank 0's main thread sends the request and receives the
  * answer; this thread waits for it, or stops at a signal. */
@@ -375,7 +405,8 @@ int spm_mpi_share(spm_mpi *m, int rc, const spm_render_config *c, spm_render_set
     MPI_Bcast(&go, 1, MPI_INT, 0, MPI_COMM_WORLD);
     if (rc)
         return rc;
-    spm_prepared_info pi = {s->scene.width, s->scene.height, spm_render_spp(c, &s->scene)};
+    spm_prepared_info pi = {s->scene.width, s->scene.height, spm_render_spp(c, &s->scene),
+                            c->mode, c->seed};
     size_t n;
     void *buf = spm_prepared_pack(&s->geom, &s->tables, &pi, &n);
     uint64_t n64 = n;

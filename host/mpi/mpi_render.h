@@ -28,8 +28,10 @@ int spm_mpi_start(spm_mpi *m, spm_error *err);
  * is being torn down by mpirun: then MPI is left as it is. */
 void spm_mpi_end(spm_mpi *m, int torn_down);
 
-/* A rank above 0: the whole render from the prepared scene. Returns its exit
- * code (rank 0 reports every error). */
+/* A rank above 0: the whole render from the prepared scene, in rank 0's mode
+ * and seed on this rank's own devices (--device, --backend). Returns its exit
+ * code (rank 0 reports every error). A test hook: SPECMIP_TEST_SLOW_PASS=S
+ * in a rank's environment makes it wait S seconds after each of its passes. */
 int spm_mpi_worker(spm_mpi *m, spm_render_config *c);
 
 /* Rank 0, after spm_render_setup_open returned rc: tells the others whether
