@@ -54,6 +54,8 @@ static void usage(FILE *f)
         "  --progress             progress line on stderr even when it is not a terminal\n"
         "  --quiet                no progress line\n"
         "  --verbose              print the pretest's level table\n"
+        "Under mpirun every rank renders passes on its own --device/--backend; rank 0 reads\n"
+        "the scene, sends it to the others and alone writes outputs (README: several machines).\n"
         "Ctrl-C (or SIGTERM) stops within a batch of paths, writes the image of the passes done\n"
         "and exits 130 (nothing is written when no pass is done); a second Ctrl-C exits at once\n"
         "without writing. Existing outputs are replaced only by complete images.\n",
