@@ -595,12 +595,19 @@ int spm_mpi_check_signalled(spm_mpi *m, spm_error *err)
             nap();
     } while (missing && spm_now() - t0 < 0.3);
     free(spare);
+    /* every silent rank is named: under load a live one may answer late */
+    char list[256] = "";
+    int nmissing = 0;
     for (int rk = 1; rk < m->size; rk++)
         if (!h->signalled[rk]) {
-            spm_errorf(err, "rank %d stopped without a signal of its own: it died, and mpirun "
-                            "is ending the job", rk);
-            return 1;
+            size_t at = strlen(list);
+            snprintf(list + at, sizeof list - at, "%srank %d stopped without a signal of its own",
+                     nmissing++ ? "; " : "", rk);
         }
-    return 0;
+    if (!nmissing)
+        return 0;
+    spm_errorf(err, "%s: %s, and mpirun is ending the job", list,
+               nmissing > 1 ? "one of them died" : "it died");
+    return 1;
 }
 #endif
