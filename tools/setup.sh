@@ -9,10 +9,12 @@ cd "$(dirname "$0")/.."
 # The tests and scripts: oiiotool/idiff (openimageio-tools), python3, jq,
 # GNU time (/usr/bin/time), gnuplot (bench charts), clinfo; Mesa's Rusticl
 # (mesa-opencl-icd) and Oclgrind, the second and third OpenCL implementations
-# the suite checks the kernels on.
+# the suite checks the kernels on. OpenMPI (libopenmpi-dev, openmpi-bin) for a
+# render across processes and machines (mpirun; the build works without it),
+# procps (pgrep) for its tests.
 packages=(build-essential cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
           libopenimageio-dev openimageio-tools libassimp-dev python3 jq time gnuplot-nox clinfo
-          mesa-opencl-icd oclgrind)
+          mesa-opencl-icd oclgrind libopenmpi-dev openmpi-bin procps)
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

@@ -4,6 +4,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "cli_args.h"
+#include "mpi_render.h"
 #include "commands.h"
 #include "film_spectral.h"
 #include "output.h"
@@ -58,6 +59,8 @@ static void usage(FILE *f)
         "  --progress             progress line on stderr even when it is not a terminal\n"
         "  --quiet                no progress line\n"
         "  --verbose              print the pretest's level table\n"
+        "Under mpirun every rank renders passes on its own --device/--backend; rank 0 reads\n"
+        "the scene, sends it to the others and alone writes outputs (README: several machines).\n"
         "Ctrl-C (or SIGTERM) stops within a batch of paths, writes the image of the passes done\n"
         "and exits 130 (nothing is written when no pass is done); a second Ctrl-C exits at once\n"
         "without writing. Existing outputs are replaced only by complete images.\n",
@@ -88,6 +91,18 @@ static int parse_devices(const char *s, spm_render_config *c)
     } while (*p);
     c->all_devices = 0;
     return 0;
+}
+
+/* The test hook of util.h: SPECMIP_TEST_REFUSE_SCENE_FILES=others makes the
+ * ranks above 0 refuse every scene file, =all every process. */
+static void refuse_scene_files(const spm_mpi *m)
+{
+    static char who[32];
+    const char *v = getenv("SPECMIP_TEST_REFUSE_SCENE_FILES");
+    if (!v || !(!strcmp(v, "all") || (!strcmp(v, "others") && m->rank > 0)))
+        return;
+    snprintf(who, sizeof who, "rank %d", m->rank);
+    spm_input_files_refused = who;
 }
 
 int spm_cmd_render(int argc, char **argv)
@@ -236,21 +251,45 @@ int spm_cmd_render(int argc, char **argv)
     }
     spm_error err;
     err.msg[0] = 0;
+    spm_mpi mpi;
+    if (spm_mpi_start(&mpi, &err)) {
+        fprintf(stderr, "specmip render: %s\n", err.msg);
+        return SPM_EXIT_RUNTIME;
+    }
+    if (mpi.size > 1 && nspectral) {
+        /* the ranks' pass images carry XYZ only */
+        if (mpi.rank == 0)
+            fprintf(stderr, "specmip render: a .spectral.exr output is not supported under "
+                            "mpirun yet; render it in one process\n");
+        spm_mpi_end(&mpi, 0);
+        return SPM_EXIT_INPUT;
+    }
+    refuse_scene_files(&mpi);
     /* from here on a signal is acted on (interrupt.h), until the outputs are written */
     spm_catch_interrupts();
-    /* an output we cannot write is reported before any work, not after */
-    if (spm_output_check_all(outputs, nout, &err)) {
-        fprintf(stderr, "specmip render: %s\n", err.msg);
+    if (mpi.rank > 0) { /* renders what rank 0 sends; rank 0 alone reports and writes */
+        int wrc = spm_mpi_worker(&mpi, &cfg);
         spm_release_interrupts();
-        return SPM_EXIT_INPUT;
+        return wrc;
+    }
+    /* an output we cannot write is reported before any work, not after */
+    int rc = spm_output_check_all(outputs, nout, &err) ? SPM_EXIT_INPUT : 0;
+    if (rc) {
+        fprintf(stderr, "specmip render: %s\n", err.msg);
+        spm_mpi_share(&mpi, rc, &cfg, NULL, &err);
+        spm_mpi_end(&mpi, 0);
+        spm_release_interrupts();
+        return rc;
     }
 
     spm_render_setup s;
-    int rc = spm_render_setup_open(&cfg, &s, &err);
+    rc = spm_render_setup_open(&cfg, &s, &err);
+    rc = spm_mpi_share(&mpi, rc, &cfg, &s, &err);
     if (rc) {
         fprintf(stderr, "specmip render: %s%s\n", err.msg,
                 rc == SPM_EXIT_INTERRUPTED ? "; nothing rendered, no image written" : "");
         spm_render_setup_close(&s);
+        spm_mpi_end(&mpi, 0);
         spm_release_interrupts();
         return rc;
     }
@@ -260,6 +299,7 @@ int spm_cmd_render(int argc, char **argv)
     if (spm_film_init(&film, s.scene.width, s.scene.height, &err)) {
         fprintf(stderr, "specmip render: %s\n", err.msg);
         spm_render_setup_close(&s);
+        spm_mpi_end(&mpi, 0); /* the other ranks wait for passes: mpirun ends them */
         spm_release_interrupts();
         return SPM_EXIT_INPUT;
     }
@@ -273,9 +313,14 @@ int spm_cmd_render(int argc, char **argv)
     spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), &spm_stop_flag, progress};
     spm_run_result res;
     double t0 = spm_now();
-    rc = spm_render_run(s.b, s.nb, npix, &ro, &film, &res, &err);
+    rc = spm_mpi_render_run(&mpi, &s, npix, &ro, &film, &res, &err);
     s.times.render_s = spm_now() - t0;
-    if (rc) {
+    int torn_down = res.interrupted; /* mpirun is ending every rank */
+    if (!rc && res.interrupted && spm_mpi_check_signalled(&mpi, &err)) {
+        /* a rank died: what the others did is not what was asked for */
+        fprintf(stderr, "specmip render: %s; no image written\n", err.msg);
+        rc = SPM_EXIT_RUNTIME;
+    } else if (rc) {
         /* the render is not what was asked for: existing outputs stay */
         fprintf(stderr, "specmip render: %s; no image written\n", err.msg);
         rc = SPM_EXIT_RUNTIME;
@@ -316,5 +361,6 @@ int spm_cmd_render(int argc, char **argv)
         spm_render_stats_text(json ? stderr : stdout, &cfg, &s, &res);
     spm_film_free(&film);
     spm_render_setup_close(&s);
+    spm_mpi_end(&mpi, torn_down);
     return rc;
 }

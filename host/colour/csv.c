@@ -163,7 +163,7 @@ static int read_line(FILE *fp, char *buf)
 int spm_csv_load(const char *path, spm_csv *out, spm_error *err)
 {
     memset(out, 0, sizeof *out);
-    FILE *fp = fopen(path, "r");
+    FILE *fp = spm_fopen_input(path, "r");
     if (!fp) {
         spm_errorf(err, "%s:0: cannot open: %s", path, strerror(errno));
         return 1;

@@ -176,6 +176,12 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
         spm_pretest_print(stderr, names, s->tables.pretest, s->scene.ncolours, &c->pretest);
         free((void *)names);
     }
+    return spm_render_setup_backends(c, s, err);
+}
+
+int spm_render_setup_backends(const spm_render_config *c, spm_render_setup *s, spm_error *err)
+{
+    int rc;
     if (spm_render_plan_init(&s->plan, &s->geom, &s->tables, c->mode, c->seed, err))
         return SPM_EXIT_INPUT;
     if (c->spec_nm) {

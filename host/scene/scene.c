@@ -29,7 +29,7 @@ int spm_scene_load(const char *path, spm_scene *out, spm_error *err)
         spm_errorf(err, "%s: is a directory, not a scene file", path);
         return 1;
     }
-    FILE *f = fopen(path, "rb");
+    FILE *f = spm_fopen_input(path, "rb");
     if (!f) {
         spm_errorf(err, "%s: cannot open: %s", path, strerror(errno));
         return 1;

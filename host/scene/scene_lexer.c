@@ -29,7 +29,7 @@ int spm_lex_open(spm_lexer *lx, const char *path, spm_error *err)
 {
     memset(lx, 0, sizeof *lx);
     lx->path = path;
-    lx->f = fopen(path, "rb");
+    lx->f = spm_fopen_input(path, "rb");
     if (!lx->f) {
         spm_errorf(err, "%s: cannot open: %s", path, strerror(errno));
         return 1;

@@ -1,4 +1,5 @@
 #include "util.h"
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,4 +47,17 @@ double spm_now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+const char *spm_input_files_refused;
+
+FILE *spm_fopen_input(const char *path, const char *mode)
+{
+    if (spm_input_files_refused) {
+        fprintf(stderr, "specmip: test hook: %s refuses to open %s\n", spm_input_files_refused,
+                path);
+        errno = EACCES;
+        return NULL;
+    }
+    return fopen(path, mode);
 }

@@ -3,6 +3,7 @@
 #define SPM_UTIL_H
 #include <stddef.h>
 #include <stdarg.h>
+#include <stdio.h>
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -29,6 +30,13 @@ void *spm_xmalloc(size_t n);
 void *spm_xcalloc(size_t count, size_t size);
 void *spm_xrealloc(void *p, size_t n);
 char *spm_xstrdup(const char *s);
+
+/* Opens a file the scene names (the scene, its includes, spectrum files) for
+ * reading. A test hook: while spm_input_files_refused names who refuses (e.g.
+ * "rank 1"), every such open fails with EACCES and says so on stderr, which
+ * proves a process rendered without reading any scene file. */
+FILE *spm_fopen_input(const char *path, const char *mode);
+extern const char *spm_input_files_refused;
 
 /* Monotonic wall clock in seconds. */
 double spm_now(void);

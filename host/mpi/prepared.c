@@ -1,0 +1,180 @@
+/* The prepared scene as bytes (prepared.h): a header, the structs with their
+ * pointers cleared, then each array as its byte length and its bytes. */
+#include "prepared.h"
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Changes whenever the layout of what is packed changes: the magic and the
+ * sizes of the packed structs make a block from another build an error. */
+#define PREP_MAGIC 0x53504d50u /* "SPMP" */
+
+typedef struct {
+    uint32_t magic;
+    uint32_t sizes[6];
+    spm_prepared_info info;
+} prep_header;
+
+static void header_sizes(uint32_t s[6])
+{
+    s[0] = sizeof(spm_geometry);
+    s[1] = sizeof(spm_tables);
+    s[2] = sizeof(spm_tri);
+    s[3] = sizeof(spm_bvh_node);
+    s[4] = sizeof(spm_material);
+    s[5] = sizeof(spm_pretest_result);
+}
+
+typedef struct {
+    unsigned char *p;
+    size_t n, cap;
+} writer;
+
+static void put(writer *w, const void *src, size_t n)
+{
+    if (w->n + n > w->cap) {
+        w->cap = (w->n + n) * 2 + 4096;
+        w->p = spm_xrealloc(w->p, w->cap);
+    }
+    if (n)
+        memcpy(w->p + w->n, src, n);
+    w->n += n;
+}
+
+static void put_array(writer *w, const void *a, size_t n)
+{
+    uint64_t len = a ? n : 0;
+    put(w, &len, sizeof len);
+    put(w, a, (size_t)len);
+}
+
+typedef struct {
+    const unsigned char *p;
+    size_t n, at;
+    int bad;
+} reader;
+
+static void get(reader *r, void *dst, size_t n)
+{
+    if (r->bad || n > r->n - r->at) {
+        r->bad = 1;
+        memset(dst, 0, n);
+        return;
+    }
+    memcpy(dst, r->p + r->at, n);
+    r->at += n;
+}
+
+/* An array of exactly `want` bytes, or NULL when packed as absent. */
+static void *get_array(reader *r, size_t want)
+{
+    uint64_t len = 0;
+    get(r, &len, sizeof len);
+    if (r->bad || len == 0)
+        return NULL;
+    if (len != want || len > r->n - r->at) {
+        r->bad = 1;
+        return NULL;
+    }
+    /* one spare element, as the builders allocate (a count of zero stays valid) */
+    void *a = spm_xcalloc((size_t)len + 16, 1);
+    get(r, a, (size_t)len);
+    return a;
+}
+
+/* Byte sizes of the tables' arrays, from their counts. */
+static size_t lvl_bytes(const spm_tables *t, int l)
+{
+    return (size_t)t->ncolours * SPM_LEVEL_BINS(l) * sizeof(float);
+}
+static size_t mlc_bytes(const spm_tables *t, int l)
+{
+    return (size_t)t->ncolours * SPM_MLC_STRIDE(l) * sizeof(float);
+}
+static size_t lvlk_bytes(const spm_tables *t) { return (size_t)t->ncolours * SPM_PRETEST_KMAX; }
+
+void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_prepared_info *info,
+                        size_t *n)
+{
+    writer w = {0};
+    prep_header h;
+    memset(&h, 0, sizeof h);
+    h.magic = PREP_MAGIC;
+    header_sizes(h.sizes);
+    h.info = *info;
+    put(&w, &h, sizeof h);
+    spm_geometry gs = *g;
+    gs.tris = NULL;
+    gs.nodes = NULL;
+    gs.emitters = NULL;
+    put(&w, &gs, sizeof gs);
+    put_array(&w, g->tris, (size_t)g->ntris * sizeof *g->tris);
+    put_array(&w, g->nodes, (size_t)g->nnodes * sizeof *g->nodes);
+    put_array(&w, g->emitters, (size_t)g->nemitters * sizeof *g->emitters);
+    spm_tables ts = *t;
+    for (int l = 0; l < SPM_NUM_LEVELS; l++)
+        ts.lvl[l] = ts.mlc_lvl[l] = NULL;
+    ts.truth = ts.rgb = NULL;
+    ts.lvlk = ts.mlc_lvlk = NULL;
+    ts.pretest = NULL;
+    ts.materials = NULL;
+    put(&w, &ts, sizeof ts);
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        put_array(&w, t->lvl[l], lvl_bytes(t, l));
+        put_array(&w, t->mlc_lvl[l], mlc_bytes(t, l));
+    }
+    put_array(&w, t->truth, (size_t)t->ncolours * SPM_TRUTH_BINS * sizeof(float));
+    put_array(&w, t->rgb, (size_t)t->ncolours * 4 * sizeof(float));
+    put_array(&w, t->lvlk, lvlk_bytes(t));
+    put_array(&w, t->mlc_lvlk, lvlk_bytes(t));
+    put_array(&w, t->pretest, (size_t)t->ncolours * sizeof *t->pretest);
+    put_array(&w, t->materials, (size_t)t->nmaterials * sizeof *t->materials);
+    *n = w.n;
+    return w.p;
+}
+
+int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *t,
+                        spm_prepared_info *info, spm_error *err)
+{
+    reader r = {buf, n, 0, 0};
+    memset(g, 0, sizeof *g);
+    memset(t, 0, sizeof *t);
+    prep_header h, want;
+    memset(&want, 0, sizeof want);
+    header_sizes(want.sizes);
+    get(&r, &h, sizeof h);
+    if (r.bad || h.magic != PREP_MAGIC || memcmp(h.sizes, want.sizes, sizeof want.sizes)) {
+        spm_errorf(err, "the prepared scene (%zu bytes) comes from another build of specmip", n);
+        return 1;
+    }
+    *info = h.info;
+    get(&r, g, sizeof *g);
+    int ntris = g->ntris, nnodes = g->nnodes, nem = g->nemitters;
+    if (ntris < 0 || nnodes < 0 || nem < 0)
+        r.bad = 1;
+    g->tris = get_array(&r, (size_t)ntris * sizeof *g->tris);
+    g->nodes = get_array(&r, (size_t)nnodes * sizeof *g->nodes);
+    g->emitters = get_array(&r, (size_t)nem * sizeof *g->emitters);
+    get(&r, t, sizeof *t);
+    if (t->ncolours < 0 || t->nmaterials < 0)
+        r.bad = 1;
+    for (int l = 0; l < SPM_NUM_LEVELS && !r.bad; l++) {
+        t->lvl[l] = get_array(&r, lvl_bytes(t, l));
+        t->mlc_lvl[l] = get_array(&r, mlc_bytes(t, l));
+    }
+    if (!r.bad) {
+        t->truth = get_array(&r, (size_t)t->ncolours * SPM_TRUTH_BINS * sizeof(float));
+        t->rgb = get_array(&r, (size_t)t->ncolours * 4 * sizeof(float));
+        t->lvlk = get_array(&r, lvlk_bytes(t));
+        t->mlc_lvlk = get_array(&r, lvlk_bytes(t));
+        t->pretest = get_array(&r, (size_t)t->ncolours * sizeof *t->pretest);
+        t->materials = get_array(&r, (size_t)t->nmaterials * sizeof *t->materials);
+    }
+    if (r.bad || r.at != n) {
+        spm_errorf(err, "the prepared scene is damaged (%zu bytes, read %zu)", n, r.at);
+        spm_geometry_free(g);
+        spm_tables_free(t);
+        return 1;
+    }
+    return 0;
+}
