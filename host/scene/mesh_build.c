@@ -3,7 +3,6 @@
  * skipped and counted. */
 #include "mesh.h"
 #include "interrupt.h"
-#include "rgb2spec.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,41 +33,16 @@ static int finite3(const float v[3])
     return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
 }
 
-/* A lifted colour, fitted once per distinct RGB. Index, -1 for black, -2 on error. */
+/* A lifted colour (spm_sb_rgb_colour); a reflectance is clamped to [0, 1]
+ * first, as the fit would. Index, -1 for black, -2 on error. */
 static int rgb_colour(spm_scene_builder *b, spm_mesh_cache *cache, const float rgbf[3],
                       spm_kind kind, const char *where, spm_error *err)
 {
     double rgb[3] = {rgbf[0], rgbf[1], rgbf[2]};
     if (kind == SPM_KIND_REFLECTANCE)
-        for (int i = 0; i < 3; i++) /* the fit clamps to [0, 1]; so does black here */
+        for (int i = 0; i < 3; i++)
             rgb[i] = rgb[i] < 0 ? 0 : rgb[i] > 1 ? 1 : rgb[i];
-    if (rgb[0] <= 0 && rgb[1] <= 0 && rgb[2] <= 0)
-        return -1;
-    char key[128], name[SPM_NAME_MAX];
-    snprintf(key, sizeof key, "%d %a %a %a", (int)kind, rgb[0], rgb[1], rgb[2]);
-    int c = spm_names_get(&cache->rgb, key);
-    if (c >= 0)
-        return c;
-    spm_spectrum sp;
-    spm_error inner;
-    double de;
-    int rc = kind == SPM_KIND_EMISSION ? spm_rgb_to_emission(rgb, &sp, &de, &inner)
-                                       : spm_rgb_to_reflectance(rgb, &sp, &de, &inner);
-    if (rc) {
-        spm_errorf(err, "%s: %s", where, inner.msg);
-        return -2;
-    }
-    /* Beyond ~1 ΔE00 the RGB is outside what a reflectance (shape) can show. */
-    if (de > 1.0)
-        spm_warnf("%s: RGB (%g %g %g) is matched by a spectrum only to ΔE00 %.2g", where,
-                  rgb[0], rgb[1], rgb[2], de);
-    snprintf(name, sizeof name, "%s(%.6g,%.6g,%.6g)", kind == SPM_KIND_EMISSION ? "emit" : "rgb",
-             rgb[0], rgb[1], rgb[2]);
-    c = spm_sb_colour(b, name, &sp, where, err);
-    if (c < 0)
-        return -2;
-    spm_names_put(&cache->rgb, key, c);
-    return c;
+    return spm_sb_rgb_colour(b, &cache->rgb, rgb, kind, where, err);
 }
 
 /* The scene material of each file material that a triangle uses (-1 unused). */

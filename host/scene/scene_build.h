@@ -41,6 +41,11 @@ void spm_sb_done(spm_scene_builder *b, int ok);
  * one's name is kept). Returns its index or -1 with err filled. */
 int spm_sb_colour(spm_scene_builder *b, const char *name, const spm_spectrum *sp,
                   const char *where, spm_error *err);
+/* The colour of an RGB reflectance or emission (linear sRGB), lifted to a
+ * spectrum by the Jakob–Hanika fit once per distinct value: fits[] maps the
+ * exact value to the colour it gave. Index, -1 for black, -2 with err filled. */
+int spm_sb_rgb_colour(spm_scene_builder *b, spm_names *fits, const double rgb[3], spm_kind kind,
+                      const char *where, spm_error *err);
 /* A material, shared with one of the same colours. Index or -1. */
 int spm_sb_material(spm_scene_builder *b, const char *name, int refl, int emit,
                     const char *where, spm_error *err);

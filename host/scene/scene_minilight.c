@@ -39,37 +39,11 @@ static int vec(ml_parser *p, const char *what, double lo, double hi, double v[3]
 
 static int is_black(const double rgb[3]) { return rgb[0] == 0 && rgb[1] == 0 && rgb[2] == 0; }
 
-/* The colour of an RGB reflectivity or emission, fitted once per distinct value.
+/* The colour of an RGB reflectivity or emission (spm_sb_rgb_colour).
  * Returns its index, -1 for black, -2 on error. */
 static int rgb_colour(ml_parser *p, const double rgb[3], spm_kind kind, const char *where)
 {
-    if (is_black(rgb))
-        return -1;
-    char key[128], name[SPM_NAME_MAX];
-    snprintf(key, sizeof key, "%d %a %a %a", (int)kind, rgb[0], rgb[1], rgb[2]);
-    int c = spm_names_get(&p->rgb_colours, key);
-    if (c >= 0)
-        return c;
-    spm_spectrum sp;
-    spm_error inner;
-    double de;
-    int rc = kind == SPM_KIND_EMISSION ? spm_rgb_to_emission(rgb, &sp, &de, &inner)
-                                       : spm_rgb_to_reflectance(rgb, &sp, &de, &inner);
-    if (rc) {
-        spm_errorf(p->err, "%s: %s", where, inner.msg);
-        return -2;
-    }
-    /* Beyond ~1 ΔE00 the RGB is outside what a reflectance (shape) can show. */
-    if (de > 1.0)
-        spm_warnf("%s: RGB (%g %g %g) is matched by a spectrum only to ΔE00 %.2g", where,
-                  rgb[0], rgb[1], rgb[2], de);
-    snprintf(name, sizeof name, "%s(%.6g,%.6g,%.6g)", kind == SPM_KIND_EMISSION ? "emit" : "rgb",
-             rgb[0], rgb[1], rgb[2]);
-    c = spm_sb_colour(&p->b, name, &sp, where, p->err);
-    if (c < 0)
-        return -2;
-    spm_names_put(&p->rgb_colours, key, c);
-    return c;
+    return spm_sb_rgb_colour(&p->b, &p->rgb_colours, rgb, kind, where, p->err);
 }
 
 static int header(ml_parser *p)
