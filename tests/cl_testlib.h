@@ -2,6 +2,7 @@
  * geometry and tables, pass parameters, and record comparison helpers. */
 #ifndef SPM_CL_TESTLIB_H
 #define SPM_CL_TESTLIB_H
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -99,5 +100,33 @@ static inline uint64_t cl_test_path_hash(const spm_path *p)
     h = fnv(h, &p->h, offsetof(spm_path_head, pad0));
     spm_u32 n = p->h.nvert <= SPM_MAX_DEPTH ? p->h.nvert : SPM_MAX_DEPTH;
     return fnv(h, p->v, n * sizeof p->v[0]);
+}
+
+/* Kernel against CPU reference, one path record. The kernel's ray arithmetic
+ * is the reference's operation by operation (contraction off, correctly
+ * rounded divide/sqrt); cos/sin may differ by a few ulps (OpenCL allows 4), so
+ * a bounce direction can differ in its last bits. That moves a weight by far
+ * less than 1e-4 relative unless a cosine is itself tiny (grazing), and flips
+ * a discrete decision (which triangle, shadowed or not) only for a ray within
+ * ulps of an edge: the callers bound how many paths may do that. */
+#define CL_TEST_WEIGHT_REL 1e-4
+
+static inline int cl_test_close_rel(float a, float b)
+{
+    float m = fabsf(a) > fabsf(b) ? fabsf(a) : fabsf(b);
+    return fabsf(a - b) <= CL_TEST_WEIGHT_REL * m;
+}
+
+/* 0: same path; 1: diverged (a discrete difference or a weight beyond tolerance). */
+static inline int cl_test_path_differs(const spm_path *a, const spm_path *b)
+{
+    if (a->h.nvert != b->h.nvert || a->h.end != b->h.end || a->h.first_emit != b->h.first_emit ||
+        a->h.bg != b->h.bg || !cl_test_close_rel(a->h.first_emit_c, b->h.first_emit_c) ||
+        !cl_test_close_rel(a->h.bg_c, b->h.bg_c))
+        return 1;
+    for (spm_u32 j = 0; j < a->h.nvert && j < SPM_MAX_DEPTH; j++)
+        if (a->v[j].ids != b->v[j].ids || !cl_test_close_rel(a->v[j].c, b->v[j].c))
+            return 1;
+    return 0;
 }
 #endif

@@ -11,32 +11,12 @@
 #define SPP 4
 #define SEED 11u
 #define MIN_TRIS 100000
-/* As in test_cl_trace.c: cos/sin may differ by a few ulps between the kernel
- * and the reference, which moves a weight by far less than 1e-4 relative
- * and flips a discrete decision only for a ray within ulps of an edge. With
- * 100k small triangles edges are much denser than in the Cornell box, so the
- * ceiling on diverging paths is 1 in 100 (the count is printed); a real
- * transport mismatch diverges on most paths. */
-#define WEIGHT_REL 1e-4
+/* Kernel and reference differ as cl_test_path_differs (cl_testlib.h) allows:
+ * a weight by far less than 1e-4 relative, a discrete decision only for a ray
+ * within ulps of an edge. With 100k small triangles edges are much denser
+ * than in the Cornell box, so the ceiling on diverging paths is 1 in 100 (the
+ * count is printed); a real transport mismatch diverges on most paths. */
 #define MAX_DIVERGENT_FRACTION 1e-2
-
-static int close_rel(float a, float b)
-{
-    float m = fabsf(a) > fabsf(b) ? fabsf(a) : fabsf(b);
-    return fabsf(a - b) <= WEIGHT_REL * m;
-}
-
-static int path_differs(const spm_path *a, const spm_path *b)
-{
-    if (a->h.nvert != b->h.nvert || a->h.end != b->h.end || a->h.first_emit != b->h.first_emit ||
-        a->h.bg != b->h.bg || !close_rel(a->h.first_emit_c, b->h.first_emit_c) ||
-        !close_rel(a->h.bg_c, b->h.bg_c))
-        return 1;
-    for (spm_u32 j = 0; j < a->h.nvert && j < SPM_MAX_DEPTH; j++)
-        if (a->v[j].ids != b->v[j].ids || !close_rel(a->v[j].c, b->v[j].c))
-            return 1;
-    return 0;
-}
 
 static uint64_t records_hash(const spm_path *p, size_t n)
 {
@@ -100,7 +80,7 @@ int main(void)
         if (!strcmp(s.scene.materials[m].name, "paint"))
             paint = s.scene.materials[m].refl;
     for (size_t i = 0; i < n; i++) {
-        diverged += path_differs(&gp[i], &cp[i]);
+        diverged += cl_test_path_differs(&gp[i], &cp[i]);
         exact += cl_test_path_hash(&gp[i]) == cl_test_path_hash(&cp[i]);
         hit_mesh += cp[i].h.nvert > 0 && (int)(cp[i].v[0].ids & 0xffffu) == paint;
     }

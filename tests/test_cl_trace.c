@@ -10,37 +10,12 @@
 #define SPP 8
 #define SEED 7u
 
-/* The kernel's ray arithmetic is the reference's operation by operation
- * (contraction off, correctly rounded divide/sqrt); cos/sin may differ by a
- * few ulps (OpenCL allows 4), so a bounce direction can differ in its last
- * bits. That moves a weight by far less than 1e-4 relative unless a cosine
- * is itself tiny (grazing), and flips a discrete decision (which triangle,
- * shadowed or not) only for a ray within ulps of an edge. */
-#define WEIGHT_REL 1e-4
-/* Such paths must stay rare: with at most a few ulps of direction error per
- * bounce, a flip needs a ray within ~1e-6 of an edge in a scene of a few
- * dozen triangles; 1 in 1000 paths is a generous ceiling (measured: see the
- * printed count), while a real transport mismatch diverges on most paths. */
+/* Paths that diverge (cl_test_path_differs in cl_testlib.h) must stay rare:
+ * with at most a few ulps of direction error per bounce, a flip needs a ray
+ * within ~1e-6 of an edge in a scene of a few dozen triangles; 1 in 1000
+ * paths is a generous ceiling (measured: see the printed count), while a
+ * real transport mismatch diverges on most paths. */
 #define MAX_DIVERGENT_FRACTION 1e-3
-
-static int close_rel(float a, float b)
-{
-    float m = fabsf(a) > fabsf(b) ? fabsf(a) : fabsf(b);
-    return fabsf(a - b) <= WEIGHT_REL * m;
-}
-
-/* 0: same path; 1: diverged (discrete difference or a weight beyond tolerance). */
-static int path_differs(const spm_path *a, const spm_path *b)
-{
-    if (a->h.nvert != b->h.nvert || a->h.end != b->h.end || a->h.first_emit != b->h.first_emit ||
-        a->h.bg != b->h.bg || !close_rel(a->h.first_emit_c, b->h.first_emit_c) ||
-        !close_rel(a->h.bg_c, b->h.bg_c))
-        return 1;
-    for (spm_u32 j = 0; j < a->h.nvert && j < SPM_MAX_DEPTH; j++)
-        if (a->v[j].ids != b->v[j].ids || !close_rel(a->v[j].c, b->v[j].c))
-            return 1;
-    return 0;
-}
 
 static void compare_pass(const cl_test_scene *s, spm_cl_renderer *r, int mode, spm_u32 first)
 {
@@ -54,7 +29,7 @@ static void compare_pass(const cl_test_scene *s, spm_cl_renderer *r, int mode, s
     spm_ref_trace(&s->geom, s->tables.materials, cl_test_lvlk(&s->tables, mode), &p, cp, cl);
     size_t diverged = 0, level_diff = 0, exact = 0, vertices = 0, escaped = 0, lit = 0;
     for (size_t i = 0; i < n; i++) {
-        int d = path_differs(&gp[i], &cp[i]);
+        int d = cl_test_path_differs(&gp[i], &cp[i]);
         diverged += d;
         level_diff += !d && gl[i] != cl[i];
         exact += cl_test_path_hash(&gp[i]) == cl_test_path_hash(&cp[i]);
