@@ -496,6 +496,32 @@ static proxy *find_proxy(hub *h, int rank, int dev)
 }
 
 /* Carries one message from another rank, if one is waiting: 1 if it did. */
+/* A pass image from rank src. A rank that dies between its head and its image
+ * would leave a blocking receive waiting for ever; once a stop is requested
+ * (mpirun signals every rank when one dies) the receive is given up after
+ * 0.5 s and left pending: the job is being torn down (no MPI_Finalize
+ * follows) and a dead sender writes nothing more into buf. 1: received. */
+static int recv_image(float *buf, int n, int src)
+{
+    MPI_Request rq;
+    MPI_Irecv(buf, n, MPI_FLOAT, src, TAG_IMAGE, MPI_COMM_WORLD, &rq);
+    double stop_at = 0;
+    for (;;) {
+        int done = 0;
+        MPI_Test(&rq, &done, MPI_STATUS_IGNORE);
+        if (done)
+            return 1;
+        if (spm_stop_requested()) {
+            double now = spm_now();
+            if (!stop_at)
+                stop_at = now;
+            else if (now - stop_at > 0.5)
+                return 0;
+        }
+        nap();
+    }
+}
+
 static int take_message(hub *h, float *spare)
 {
     int flag;
@@ -517,9 +543,8 @@ static int take_message(hub *h, float *spare)
     int wanted = p && p->state == 2;
     pthread_mutex_unlock(&h->mu);
     /* the image goes to the proxy while its pass waits for it; else it is dropped */
-    if (head.rc == 0)
-        MPI_Recv(wanted ? p->img : spare, (int)(h->npix * 3), MPI_FLOAT, src, TAG_IMAGE,
-                 MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (head.rc == 0 && !recv_image(wanted ? p->img : spare, (int)(h->npix * 3), src))
+        wanted = 0; /* the rank died between head and image: its pass is not answered */
     if (wanted) {
         pthread_mutex_lock(&h->mu);
         p->head = head;
