@@ -14,6 +14,9 @@ statement reads, plus the expected triangles as text:
                         parent; a mirror)
   quad_emit.gltf        one emissive quad facing -z (towards a camera on -z)
   big.ply + (N given)   a procedural binary PLY of about N triangles (a bumpy sphere)
+  big.scene             with N: the Cornell box (scenes/cornell.scene) with big.ply in it
+  big_text.scene        the same box and sphere, the sphere as `tri` statements
+                        (its degenerate pole triangles left out)
 
 Coordinates are small integers, exact in every format, so all must import to
 the same triangles bit for bit.
@@ -203,7 +206,27 @@ def big(out, n):
         f.write(ply_header('binary_little_endian', len(verts), 'face', len(faces)).encode())
         f.write(b''.join(struct.pack('<3f', *p) for p in verts))
         f.write(b''.join(struct.pack('<B3i', 3, *t) for t in faces))
+    big_scenes(out, verts, faces, rings, segs)
     return len(faces)
+
+
+def big_scenes(out, verts, faces, rings, segs):
+    """The sphere in the Cornell box, as a mesh statement and as text."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    with open(os.path.join(here, '..', 'scenes', 'cornell.scene')) as f:
+        box = f.read()
+    scale, shift = 0.12, (0.28, 0.2, 0.3)
+    w(os.path.join(out, 'big.scene'),
+      box + 'mesh big.ply material white scale %g translate %g %g %g\n' % ((scale,) + shift))
+    lines = [box]
+    for k, t in enumerate(faces):
+        ring, first = (k // 2) // segs, k % 2 == 0
+        if (ring == 0 and first) or (ring == rings - 1 and not first):
+            continue  # a pole triangle: two corners coincide
+        p = [struct.unpack('<3f', struct.pack('<3f', *verts[i])) for i in t]
+        lines.append('tri white ' + '  '.join(' '.join('%.9g' % (c * scale + o)
+                                                       for c, o in zip(v, shift)) for v in p))
+    w(os.path.join(out, 'big_text.scene'), '\n'.join(lines) + '\n')
 
 
 def main():
