@@ -49,6 +49,12 @@ int spm_brute_intersect(const spm_geometry *g, const float o[3], const float d[3
  * padded relative to its own magnitude and g->cam.eye's (bvh_build.c). Called
  * by spm_geometry_build. */
 int spm_bvh_build(spm_geometry *g, spm_error *err);
+/* The same on nthreads threads (1: the calling thread alone; small scenes
+ * always build on one). The tree does not depend on nthreads or on the
+ * threads' timing. spm_bvh_build uses spm_bvh_default_threads(): the online
+ * cores, at most 16. */
+int spm_bvh_build_threads(spm_geometry *g, int nthreads, spm_error *err);
+int spm_bvh_default_threads(void);
 /* The SAH cost (spm_bvh_stats) of nodes[0, nnodes) and their leaf count. */
 double spm_bvh_sah_cost(const spm_bvh_node *nodes, int nnodes, int *leaves);
 /* Nodes whose box spm_bvh_intersect tested, counted per thread: a cost
