@@ -28,6 +28,10 @@ typedef struct {
 /* Builds triangles (MiniLight's edges/normal/tangent/area), a binned-SAH BVH
  * and the emitter list. Zero-area triangles are an input error naming the line. */
 int spm_geometry_build(const spm_scene *scene, spm_geometry *g, spm_error *err);
+/* The same, freeing the scene's triangles (scene->tris NULL, ntris 0) once
+ * they are converted, before the BVH build: a render needs them no more, and
+ * a million of them are 44 MB. */
+int spm_geometry_build_consume(spm_scene *scene, spm_geometry *g, spm_error *err);
 void spm_geometry_free(spm_geometry *g);
 spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg, int w, int h);
 
