@@ -1,0 +1,80 @@
+/* `specmip bench --rays`: traversal alone, on the rays a render traces.
+ * The CPU reference traces a scene's paths and records every ray it casts
+ * (camera and bounce rays: closest hit; shadow rays: "is the closest hit the
+ * emitter or nothing"), each with the triangle it leaves. The rays are
+ * replayed through kernels/rays.cl (the renderer's traversal, traverse.clh),
+ * through the reference's traversal and, when built with it, through Embree
+ * 3; closest-hit and shadow rays are timed separately and the answers
+ * compared ray by ray. A ray file (--rays-save / --rays-load) keeps a ray
+ * set; it names the geometry it was made on by a hash. */
+#ifndef SPM_BENCH_RAYS_H
+#define SPM_BENCH_RAYS_H
+#include <stddef.h>
+#include "geometry.h"
+#include "render_plan.h"
+#include "util.h"
+
+/* rays[0 .. nclosest) closest-hit rays, then n - nclosest shadow rays. */
+typedef struct {
+    spm_ray *rays;
+    size_t n, nclosest;
+} spm_rayset;
+
+/* One traversal's answers and costs per ray set. */
+typedef struct {
+    double closest_s, shadow_s;         /* fastest of the repeats, traversal only */
+    double nodes_closest, nodes_shadow; /* per ray (-1: not counted) */
+    double tris_closest, tris_shadow;   /* triangle tests per ray (-1: not counted) */
+    unsigned stack_overflows;
+} spm_rays_timing;
+
+/* Records the rays of spp samples per pixel of the plan's scene (pass 0,
+ * the plan's seed), traced by the CPU reference. 0, or an exit code
+ * (interrupted: 130) with err filled. */
+int spm_rays_record(const spm_render_plan *plan, int spp, spm_rayset *rs, spm_error *err);
+void spm_rayset_free(spm_rayset *rs);
+/* FNV-1a over the triangles and nodes: a ray file fits only this geometry. */
+spm_u32 spm_rays_geometry_hash(const spm_geometry *g);
+/* 0, or 1 with err naming the file (bad or foreign file: an input error). */
+int spm_rays_save(const char *path, const spm_geometry *g, const spm_rayset *rs, spm_error *err);
+int spm_rays_load(const char *path, const spm_geometry *g, spm_rayset *rs, spm_error *err);
+
+/* Replays through kernels/rays.cl on OpenCL device `device`: the fastest of
+ * `repeat` timed launches per ray kind; with stats, one more run of the
+ * counting build for nodes and triangle tests. hits[n] receives the answers.
+ * 0, or 1 with err filled. */
+int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, int repeat,
+                       int stats, int *hits, spm_rays_timing *tm, char *devname, size_t devlen,
+                       spm_error *err);
+/* The same through the CPU reference's traversal (spm_bvh_intersect), one
+ * thread: a closest-hit ray's answer is its hit, a shadow ray's its closest
+ * hit. nodes_* counts box tests there (a different unit from the kernel's). */
+void spm_rays_replay_ref(const spm_geometry *g, const spm_rayset *rs, int *hits,
+                         spm_rays_timing *tm);
+/* Rays whose answers differ: a closest-hit ray's triangle, a shadow ray's
+ * verdict (occluded: an answer other than -1 and the emitter). */
+void spm_rays_compare(const spm_rayset *rs, const int *a, const int *b, size_t *closest_bad,
+                      size_t *shadow_bad);
+
+/* Embree 3 (built with SPM_HAVE_EMBREE; otherwise 1 with err saying so):
+ * the same geometry and rays, rtcIntersect1 / rtcOccluded1 on `threads`
+ * threads, the origin triangle (and a shadow ray's emitter) skipped by a
+ * context filter; info describes the set-up. hits as above (a shadow ray's
+ * answer: -1 unoccluded, INT_MAX occluded). */
+int spm_rays_replay_embree(const spm_geometry *g, const spm_rayset *rs, int repeat, int threads,
+                           int *hits, spm_rays_timing *tm, char *info, size_t infolen,
+                           spm_error *err);
+
+typedef struct {
+    const char *scene;     /* NULL: the built-in scene */
+    int width, height, spp;
+    spm_u32 seed;
+    int device, repeat, threads;
+    int stats, embree, json;
+    const char *save, *load;
+} spm_rays_opts;
+
+/* The whole benchmark: prints a table (or, with json, one JSON object) on
+ * stdout. Returns the exit code, err filled on failure. */
+int spm_bench_rays(const spm_rays_opts *o, spm_error *err);
+#endif
