@@ -187,6 +187,7 @@ int spm_bvh_build(spm_geometry *g, spm_error *err)
     int n = g->ntris;
     g->nodes = NULL;
     g->nnodes = 0;
+    g->bvh = (spm_bvh_stats){0, 0.0, 0};
     if (n == 0)
         return 0;
     prim *pr = spm_xmalloc((size_t)n * sizeof *pr);
@@ -251,6 +252,8 @@ int spm_bvh_build(spm_geometry *g, spm_error *err)
     memcpy(g->tris, sorted, (size_t)n * sizeof *sorted);
     free(sorted);
     free(idx);
+    g->bvh.sah_cost = spm_bvh_sah_cost(nodes, nnodes, &g->bvh.leaves);
+    g->bvh.threads = 1;
     pad_boxes(nodes, nnodes, g->cam.eye);
     g->nodes = nodes;
     g->nnodes = nnodes;
