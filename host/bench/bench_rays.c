@@ -483,7 +483,7 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
     }
     int have_embree = 0;
     if (!rc && o->embree) {
-        if (spm_rays_replay_embree(g, &rs, o->repeat, o->threads, hem, &tem, einfo, sizeof einfo,
+        if (spm_rays_replay_embree(g, &rs, o->repeat, o->threads, o->embree_quality, hem, &tem, einfo, sizeof einfo,
                                    err)) {
             rc = spm_stop_requested() ? SPM_EXIT_INTERRUPTED : SPM_EXIT_RUNTIME;
         } else {

@@ -58,11 +58,11 @@ void spm_rays_compare(const spm_rayset *rs, const int *a, const int *b, size_t *
 
 /* Embree 3 (built with SPM_HAVE_EMBREE; otherwise 1 with err saying so):
  * the same geometry and rays, rtcIntersect1 / rtcOccluded1 on `threads`
- * threads, the origin triangle (and a shadow ray's emitter) skipped by a
+ * threads, BVH build quality `quality` (0 low, 1 medium, 2 high), the origin triangle (and a shadow ray's emitter) skipped by a
  * context filter; info describes the set-up. hits as above (a shadow ray's
  * answer: -1 unoccluded, INT_MAX occluded). */
 int spm_rays_replay_embree(const spm_geometry *g, const spm_rayset *rs, int repeat, int threads,
-                           int *hits, spm_rays_timing *tm, char *info, size_t infolen,
+                           int quality, int *hits, spm_rays_timing *tm, char *info, size_t infolen,
                            spm_error *err);
 
 typedef struct {
@@ -70,7 +70,7 @@ typedef struct {
     int width, height, spp;
     spm_u32 seed;
     int device, repeat, threads;
-    int stats, embree, json;
+    int stats, embree, embree_quality, json;
     const char *save, *load;
 } spm_rays_opts;
 

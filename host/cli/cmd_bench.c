@@ -64,7 +64,8 @@ static void usage(FILE *f)
         "                     (recorded on the same scene and BVH, else an input error)\n"
         "  --rays-stats       also count nodes visited and triangle tests per ray\n"
         "  --embree           also replay through Embree 3 (when built with it), --threads N\n"
-        "                     threads (default 2), and give specmip/Embree ratios\n"
+        "                     threads (default 2), and give specmip/Embree ratios;\n"
+        "                     --embree-quality low|medium|high its BVH (default medium)\n"
         "  --json             the ray benchmark's results as one JSON object on stdout\n"
         "Ctrl-C stops the current render, which is dropped; finished rows are kept (exit 130);\n"
         "a second Ctrl-C exits at once.\n");
@@ -155,7 +156,8 @@ static int parse_args(int argc, char **argv, options *o)
         static const char *const with_value[] = {
             "--scenes", "--modes", "--spp", "--truth-spp", "--sweep-spp", "--size", "--thresholds",
             "--threshold", "--blur", "--repeat", "--seed", "--backend", "--device", "--out", "--ops-items",
-            "--ops-iters", "--rays", "--rays-spp", "--rays-save", "--rays-load", "--threads"};
+            "--ops-iters", "--rays", "--rays-spp", "--rays-save", "--rays-load", "--threads",
+            "--embree-quality"};
         int takes_value = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++)
             takes_value |= !strcmp(a, with_value[k]);
@@ -188,6 +190,14 @@ static int parse_args(int argc, char **argv, options *o)
             o->rays.stats = 1;
         } else if (!strcmp(a, "--embree")) {
             o->rays.embree = 1;
+        } else if (!strcmp(a, "--embree-quality")) {
+            static const char *const q[] = {"low", "medium", "high"};
+            o->rays.embree_quality = -1;
+            for (int k = 0; k < 3; k++)
+                if (!strcmp(v, q[k]))
+                    o->rays.embree_quality = k;
+            if (o->rays.embree_quality < 0)
+                return fail("--embree-quality is low, medium or high, not '%s'%s", v, "");
         } else if (!strcmp(a, "--json")) {
             o->rays.json = 1;
         } else if (!strcmp(a, "--threads")) {
@@ -379,6 +389,7 @@ int spm_cmd_bench(int argc, char **argv)
     o.charts = 1;
     o.ops_items = 4096;
     o.ops_iters = 1024;
+    o.rays.embree_quality = 1; /* medium, Embree's default */
     spm_bench_plan *p = &o.plan;
     static const double sweep[] = {1, 2, 3, 4, 5, 6, 7};
     memcpy(p->thresholds, sweep, sizeof sweep);
