@@ -55,12 +55,17 @@ void spm_rays_replay_ref(const spm_geometry *g, const spm_rayset *rs, int *hits,
  * verdict (occluded: an answer other than -1 and the emitter). */
 void spm_rays_compare(const spm_rayset *rs, const int *a, const int *b, size_t *closest_bad,
                       size_t *shadow_bad);
+/* Of the rays whose answers differ, those where b's triangle is one that
+ * MiniLight's test rejects as seen edge-on (|det| < SPM_RAY_EPSILON, an
+ * absolute bound: tiny triangles are edge-on over a wider cone of angles). */
+size_t spm_rays_differ_edge_on(const spm_geometry *g, const spm_rayset *rs, const int *a,
+                               const int *b);
 
 /* Embree 3 (built with SPM_HAVE_EMBREE; otherwise 1 with err saying so):
  * the same geometry and rays, rtcIntersect1 / rtcOccluded1 on `threads`
  * threads, BVH build quality `quality` (0 low, 1 medium, 2 high), the origin triangle (and a shadow ray's emitter) skipped by a
  * context filter; info describes the set-up. hits as above (a shadow ray's
- * answer: -1 unoccluded, INT_MAX occluded). */
+ * answer: -1 unoccluded, else the closest occluder, found after the timed runs). */
 int spm_rays_replay_embree(const spm_geometry *g, const spm_rayset *rs, int repeat, int threads,
                            int quality, int *hits, spm_rays_timing *tm, char *info, size_t infolen,
                            spm_error *err);
@@ -70,6 +75,7 @@ typedef struct {
     int width, height, spp;
     spm_u32 seed;
     int device, repeat, threads;
+    int group;             /* the replay's work-group size; 0: the renderer's (64) */
     int stats, embree, embree_quality, json;
     const char *save, *load;
 } spm_rays_opts;

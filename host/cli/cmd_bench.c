@@ -63,6 +63,7 @@ static void usage(FILE *f)
         "  --rays-save FILE, --rays-load FILE   write the recorded rays / replay a file's\n"
         "                     (recorded on the same scene and BVH, else an input error)\n"
         "  --rays-stats       also count nodes visited and triangle tests per ray\n"
+        "  --rays-group N     the replay's work-group size (default 64, the renderer's)\n"
         "  --embree           also replay through Embree 3 (when built with it), --threads N\n"
         "                     threads (default 2), and give specmip/Embree ratios;\n"
         "                     --embree-quality low|medium|high its BVH (default medium)\n"
@@ -157,7 +158,7 @@ static int parse_args(int argc, char **argv, options *o)
             "--scenes", "--modes", "--spp", "--truth-spp", "--sweep-spp", "--size", "--thresholds",
             "--threshold", "--blur", "--repeat", "--seed", "--backend", "--device", "--out", "--ops-items",
             "--ops-iters", "--rays", "--rays-spp", "--rays-save", "--rays-load", "--threads",
-            "--embree-quality"};
+            "--embree-quality", "--rays-group"};
         int takes_value = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++)
             takes_value |= !strcmp(a, with_value[k]);
@@ -182,6 +183,10 @@ static int parse_args(int argc, char **argv, options *o)
             if (spm_arg_long("bench", a, v, 1, 1 << 16, &n))
                 return SPM_EXIT_INPUT;
             o->rays.spp = (int)n;
+        } else if (!strcmp(a, "--rays-group")) {
+            if (spm_arg_long("bench", a, v, 1, 1024, &n))
+                return SPM_EXIT_INPUT;
+            o->rays.group = (int)n;
         } else if (!strcmp(a, "--rays-save")) {
             o->rays.save = v;
         } else if (!strcmp(a, "--rays-load")) {
