@@ -55,4 +55,21 @@ bad_file "missing file" "nothere.bin" --rays "$T/s.scene" --rays-load "$T/nother
 bad_file "unwritable ray file" "nodir/r.bin" --rays "$T/s.scene" --size 8x8 --rays-save "$T/nodir/r.bin"
 bad_file "--embree without --rays" "go with --rays" --embree
 bad_file "bad --rays-spp" "rays-spp" --rays default --rays-spp 0
+
+# 5. bench/scale.sh at a tiny size: a row per case with every column, the
+#    replay equal to the reference, and the chart
+SPECMIP=$BIN SCALE_SHAPES="sphere soup" SCALE_SIZES=200 SCALE_SCENES=0 SCALE_RENDER="16x16 1" \
+  SCALE_RAYS="24x24 1" SCALE_REPEAT=1 SCALE_EMBREE=0 bash "$ROOT/bench/scale.sh" "$T/scale" \
+  > "$T/scale.log" 2>&1
+check "scale.sh runs (exit 0)" test $? -eq 0
+check "scale.sh: a row per case" test "$(grep -c '^sphere-200,\|^soup-200,' "$T/scale/scale.csv")" -eq 2
+check "scale.sh: every row has the header's columns" awk -F, 'NR == 1 { n = NF } NF != n { exit 1 }' \
+  "$T/scale/scale.csv"
+check "scale.sh: triangles, rays/s and memory filled in" awk -F, \
+  'NR > 1 && !($2 >= 190 && $12 > 0 && $13 > 0 && $9 > 0) { exit 1 }' "$T/scale/scale.csv"
+check "scale.sh: replay = reference" awk -F, 'NR > 1 && $20 != 0 { exit 1 }' "$T/scale/scale.csv"
+check "scale.sh: chart written" test -s "$T/scale/scale.png"
+SPECMIP=$BIN SCALE_SIZES=abc bash "$ROOT/bench/scale.sh" "$T/scale2" > /dev/null 2> "$T/err"
+check "scale.sh: a bad size exits 2" test $? -eq 2
+check "scale.sh: says why" grep -q "SCALE_SIZES: 'abc'" "$T/err"
 finish

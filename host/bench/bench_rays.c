@@ -360,6 +360,8 @@ void spm_rays_replay_ref(const spm_geometry *g, const spm_rayset *rs, int *hits,
         unsigned long long n0 = spm_bvh_nodes_tested;
         double t0 = spm_now();
         for (size_t i = b; i < e; i++) {
+            if (!(i & 4095) && spm_stop_requested())
+                return; /* the caller sees the flag */
             float t;
             hits[i] = spm_bvh_intersect(g, rs->rays[i].o, rs->rays[i].d, rs->rays[i].skip, &t);
         }
@@ -503,6 +505,10 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
     if (!rc) {
         spm_rays_replay_ref(g, &rs, href, &tref);
         spm_rays_compare(&rs, hcl, href, &rcb, &rsb);
+        if (spm_stop_requested()) {
+            spm_errorf(err, "interrupted while replaying rays");
+            rc = SPM_EXIT_INTERRUPTED;
+        }
     }
     int have_embree = 0;
     if (!rc && o->embree) {

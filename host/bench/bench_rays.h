@@ -48,7 +48,8 @@ int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, 
                        spm_error *err);
 /* The same through the CPU reference's traversal (spm_bvh_intersect), one
  * thread: a closest-hit ray's answer is its hit, a shadow ray's its closest
- * hit. nodes_* counts box tests there (a different unit from the kernel's). */
+ * hit. nodes_* counts box tests there (a different unit from the kernel's).
+ * Stops early when a stop is requested (interrupt.h). */
 void spm_rays_replay_ref(const spm_geometry *g, const spm_rayset *rs, int *hits,
                          spm_rays_timing *tm);
 /* Rays whose answers differ: a closest-hit ray's triangle, a shadow ray's
