@@ -122,6 +122,7 @@ set output out
 set datafile separator ","
 set multiplot layout 1,3 title title
 set logscale xy
+set format x "10^{%T}"
 set xlabel "triangles"
 set key top left
 set grid
