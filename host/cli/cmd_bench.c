@@ -108,7 +108,7 @@ typedef struct {
     const char *out;
     int quick, charts, ops, ops_items, ops_iters;
     spm_rays_opts rays;
-    int rays_on, have_repeat;
+    int rays_on;
     int have_spp, have_truth_spp, have_size, have_sweep_spp, have_scenes;
 } options;
 
@@ -274,7 +274,6 @@ static int parse_args(int argc, char **argv, options *o)
             if (spm_arg_long("bench", a, v, 1, 100, &n))
                 return SPM_EXIT_INPUT;
             p->repeat = (int)n;
-            o->have_repeat = 1;
         } else if (!strcmp(a, "--seed")) {
             if (spm_arg_long("bench", a, v, 0, 0xfffffffdL, &n))
                 return SPM_EXIT_INPUT;
@@ -409,8 +408,8 @@ int spm_cmd_bench(int argc, char **argv)
     p->stop = &spm_stop_flag;
     spm_pretest_defaults(&p->pretest);
     int rc = parse_args(argc, argv, &o);
-    if (!rc && (o.rays_on || o.rays.save || o.rays.load || o.rays.json || o.rays.embree ||
-                o.rays.stats) && !o.rays_on)
+    if (!rc && !o.rays_on &&
+        (o.rays.save || o.rays.load || o.rays.json || o.rays.embree || o.rays.stats))
         rc = fail("--rays-save, --rays-load, --rays-stats, --embree and --json go with --rays%s%s",
                   "", "");
     if (!rc && o.rays_on)
