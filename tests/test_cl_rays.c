@@ -53,7 +53,7 @@ static void one_scene(const char *name)
     int *hcl = spm_xmalloc(rs.n * sizeof *hcl), *href = spm_xmalloc(rs.n * sizeof *href);
     spm_rays_timing tcl, tref;
     char dev[256];
-    rc = spm_rays_replay_cl(0, &s.geom, &rs, 1, 1, hcl, &tcl, dev, sizeof dev, &err);
+    rc = spm_rays_replay_cl(0, &s.geom, &rs, 1, 1, hcl, &tcl, dev, sizeof dev, NULL, NULL, &err);
     CHECK(rc == 0, "%s: %s", what, err.msg);
     if (!rc) {
         spm_rays_replay_ref(&s.geom, &rs, href, &tref);

@@ -279,7 +279,7 @@ static int count_costs(spm_cl_ctx *c, cl_program prog, rays_args *a, const spm_r
 
 int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, int repeat,
                        int stats, int *hits, spm_rays_timing *tm, char *devname, size_t devlen,
-                       spm_error *err)
+                       void (*each)(void *ctx, int run), void *ctx, spm_error *err)
 {
     memset(tm, 0, sizeof *tm);
     tm->nodes_closest = tm->nodes_shadow = tm->tris_closest = tm->tris_shadow = -1;
@@ -321,6 +321,8 @@ int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, 
             tm->closest_s = sc < tm->closest_s ? sc : tm->closest_s;
             tm->shadow_s = ss < tm->shadow_s ? ss : tm->shadow_s;
         }
+        if (!bad && each)
+            each(ctx, r);
         if (!bad && spm_stop_requested()) {
             spm_errorf(err, "interrupted while replaying rays");
             bad = 1;
@@ -466,6 +468,27 @@ static void text_row(FILE *f, const char *what, const spm_rayset *rs, const spm_
     fprintf(f, "\n");
 }
 
+/* Embree's runs between the kernel's (spm_rays_replay_cl's `each`) */
+typedef struct {
+    spm_rays_embree *e;
+    spm_rays_timing *tm;
+    int rc;
+    spm_error err;
+} interleave;
+
+static void embree_run(void *ctx, int run)
+{
+    interleave *il = ctx;
+    double sc, ss;
+    if (il->rc)
+        return;
+    il->rc = spm_rays_embree_run(il->e, &sc, &ss, &il->err);
+    if (!il->rc && run > 0) { /* run 0 is the warm-up, as the kernel's */
+        il->tm->closest_s = sc < il->tm->closest_s ? sc : il->tm->closest_s;
+        il->tm->shadow_s = ss < il->tm->shadow_s ? ss : il->tm->shadow_s;
+    }
+}
+
 int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
 {
     if (o->group)
@@ -498,10 +521,31 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
     int *hem = spm_xmalloc((rs.n + 1) * sizeof *hem);
     spm_rays_timing tcl, tref, tem;
     char dev[256] = "", einfo[512] = "";
-    if (!rc && spm_rays_replay_cl(o->device, g, &rs, o->repeat, o->stats, hcl, &tcl, dev,
-                                  sizeof dev, err))
-        rc = spm_stop_requested() ? SPM_EXIT_INTERRUPTED : SPM_EXIT_RUNTIME;
     size_t rcb = 0, rsb = 0, ecb = 0, esb = 0, eedge = 0;
+    /* Embree's scene is built first, then its runs alternate with the kernel's */
+    interleave il = {NULL, &tem, 0, {{0}}};
+    memset(&tem, 0, sizeof tem);
+    tem.nodes_closest = tem.nodes_shadow = tem.tris_closest = tem.tris_shadow = -1;
+    tem.closest_s = tem.shadow_s = INFINITY;
+    if (!rc && o->embree) {
+        il.e = spm_rays_embree_open(g, &rs, o->threads, o->embree_quality, hem, einfo,
+                                    sizeof einfo, err);
+        if (!il.e)
+            rc = spm_stop_requested() ? SPM_EXIT_INTERRUPTED : SPM_EXIT_RUNTIME;
+    }
+    if (!rc && spm_rays_replay_cl(o->device, g, &rs, o->repeat, o->stats, hcl, &tcl, dev,
+                                  sizeof dev, il.e ? embree_run : NULL, &il, err))
+        rc = spm_stop_requested() ? SPM_EXIT_INTERRUPTED : SPM_EXIT_RUNTIME;
+    if (!rc && il.rc) {
+        *err = il.err;
+        rc = spm_stop_requested() ? SPM_EXIT_INTERRUPTED : SPM_EXIT_RUNTIME;
+    }
+    spm_error cerr;
+    if (spm_rays_embree_close(il.e, &cerr) && !rc) {
+        *err = cerr;
+        rc = SPM_EXIT_RUNTIME;
+    }
+    int have_embree = !rc && il.e;
     if (!rc) {
         spm_rays_replay_ref(g, &rs, href, &tref);
         spm_rays_compare(&rs, hcl, href, &rcb, &rsb);
@@ -510,16 +554,9 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
             rc = SPM_EXIT_INTERRUPTED;
         }
     }
-    int have_embree = 0;
-    if (!rc && o->embree) {
-        if (spm_rays_replay_embree(g, &rs, o->repeat, o->threads, o->embree_quality, hem, &tem, einfo, sizeof einfo,
-                                   err)) {
-            rc = spm_stop_requested() ? SPM_EXIT_INTERRUPTED : SPM_EXIT_RUNTIME;
-        } else {
-            have_embree = 1;
-            spm_rays_compare(&rs, hcl, hem, &ecb, &esb);
-            eedge = spm_rays_differ_edge_on(g, &rs, hcl, hem);
-        }
+    if (have_embree) {
+        spm_rays_compare(&rs, hcl, hem, &ecb, &esb);
+        eedge = spm_rays_differ_edge_on(g, &rs, hcl, hem);
     }
     if (!rc) {
         size_t ns = rs.n - rs.nclosest;
@@ -558,9 +595,9 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
             text_row(stdout, "reference", &rs, &tref);
             if (have_embree)
                 text_row(stdout, "Embree", &rs, &tem);
-            printf("  specmip: %s, fastest of %d\n"
+            printf("  specmip: %s, fastest of %d%s\n"
                    "  reference: the CPU reference's traversal, 1 thread (nodes: box tests)\n",
-                   what, o->repeat);
+                   what, o->repeat, have_embree ? ", each run beside one of Embree's" : "");
             if (have_embree) {
                 printf("  Embree: %s, fastest of %d\n", einfo, o->repeat);
                 printf("  specmip / Embree rays/s: closest %.3f, shadow %.3f\n",

@@ -40,12 +40,14 @@ int spm_rays_save(const char *path, const spm_geometry *g, const spm_rayset *rs,
 int spm_rays_load(const char *path, const spm_geometry *g, spm_rayset *rs, spm_error *err);
 
 /* Replays through kernels/rays.cl on OpenCL device `device`: the fastest of
- * `repeat` timed launches per ray kind; with stats, one more run of the
- * counting build for nodes and triangle tests. hits[n] receives the answers.
- * 0, or 1 with err filled. */
+ * `repeat` timed launches per ray kind, after a warm-up; with stats, one more
+ * run of the counting build for nodes and triangle tests. hits[n] receives
+ * the answers. each, when not NULL, is called after every launch pair (the
+ * warm-up's too) with its run number: the benchmark times Embree there, so
+ * both sides are timed under the same machine load. 0, or 1 with err filled. */
 int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, int repeat,
                        int stats, int *hits, spm_rays_timing *tm, char *devname, size_t devlen,
-                       spm_error *err);
+                       void (*each)(void *ctx, int run), void *ctx, spm_error *err);
 /* The same through the CPU reference's traversal (spm_bvh_intersect), one
  * thread: a closest-hit ray's answer is its hit, a shadow ray's its closest
  * hit. nodes_* counts box tests there (a different unit from the kernel's).
@@ -62,11 +64,21 @@ void spm_rays_compare(const spm_rayset *rs, const int *a, const int *b, size_t *
 size_t spm_rays_differ_edge_on(const spm_geometry *g, const spm_rayset *rs, const int *a,
                                const int *b);
 
-/* Embree 3 (built with SPM_HAVE_EMBREE; otherwise 1 with err saying so):
- * the same geometry and rays, rtcIntersect1 / rtcOccluded1 on `threads`
- * threads, BVH build quality `quality` (0 low, 1 medium, 2 high), the origin triangle (and a shadow ray's emitter) skipped by a
- * context filter; info describes the set-up. hits as above (a shadow ray's
- * answer: -1 unoccluded, else the closest occluder, found after the timed runs). */
+/* Embree 3 (built with SPM_HAVE_EMBREE; otherwise open fails saying so): the
+ * same geometry and rays, rtcIntersect1 / rtcOccluded1 on `threads` threads,
+ * BVH build quality `quality` (0 low, 1 medium, 2 high), the origin triangle
+ * (and a shadow ray's emitter) skipped by a context filter; info describes
+ * the set-up. Open builds the scene (NULL with err filled on failure); each
+ * run times one pass over each ray kind, writing hits as above (a shadow
+ * ray's answer: -1 unoccluded, else INT_MAX); close names each shadow ray's
+ * occluder in hits, untimed, and frees. 0, or 1 with err filled. */
+typedef struct spm_rays_embree spm_rays_embree;
+spm_rays_embree *spm_rays_embree_open(const spm_geometry *g, const spm_rayset *rs, int threads,
+                                      int quality, int *hits, char *info, size_t infolen,
+                                      spm_error *err);
+int spm_rays_embree_run(spm_rays_embree *e, double *closest_s, double *shadow_s, spm_error *err);
+int spm_rays_embree_close(spm_rays_embree *e, spm_error *err);
+/* All of it with `repeat` timed runs after a warm-up, the fastest counting. */
 int spm_rays_replay_embree(const spm_geometry *g, const spm_rayset *rs, int repeat, int threads,
                            int quality, int *hits, spm_rays_timing *tm, char *info, size_t infolen,
                            spm_error *err);

@@ -1,18 +1,32 @@
 /* The Embree 3 side of `specmip bench --rays` (bench_rays.h). Optional: built
  * with SPM_HAVE_EMBREE (CMake finds libembree-dev), a stub otherwise. */
 #include "bench_rays.h"
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #ifndef SPM_HAVE_EMBREE
-int spm_rays_replay_embree(const spm_geometry *g, const spm_rayset *rs, int repeat, int threads,
-                           int quality, int *hits, spm_rays_timing *tm, char *info, size_t infolen,
-                           spm_error *err)
+spm_rays_embree *spm_rays_embree_open(const spm_geometry *g, const spm_rayset *rs, int threads,
+                                      int quality, int *hits, char *info, size_t infolen,
+                                      spm_error *err)
 {
-    (void)g, (void)rs, (void)repeat, (void)threads, (void)quality, (void)hits, (void)info, (void)infolen;
-    memset(tm, 0, sizeof *tm);
+    (void)g, (void)rs, (void)threads, (void)quality, (void)hits, (void)info, (void)infolen;
     spm_errorf(err, "this specmip was built without Embree (apt-get install libembree-dev, then "
                     "configure again), so --embree is not available");
+    return NULL;
+}
+
+int spm_rays_embree_run(spm_rays_embree *e, double *closest_s, double *shadow_s, spm_error *err)
+{
+    (void)e, (void)closest_s, (void)shadow_s;
+    spm_errorf(err, "built without Embree");
     return 1;
+}
+
+int spm_rays_embree_close(spm_rays_embree *e, spm_error *err)
+{
+    (void)e, (void)err;
+    return 0;
 }
 #else
 #include <embree3/rtcore.h>
@@ -149,12 +163,17 @@ static void on_error(void *user, enum RTCError code, const char *str)
     spm_errorf(err, "Embree error %d: %s", (int)code, str ? str : "");
 }
 
-int spm_rays_replay_embree(const spm_geometry *g, const spm_rayset *rs, int repeat, int threads,
-                           int quality, int *hits, spm_rays_timing *tm, char *info, size_t infolen,
-                           spm_error *err)
+struct spm_rays_embree {
+    RTCDevice dev;
+    job j;
+    int threads;
+    spm_error *err; /* Embree's error callback writes here */
+};
+
+spm_rays_embree *spm_rays_embree_open(const spm_geometry *g, const spm_rayset *rs, int threads,
+                                      int quality, int *hits, char *info, size_t infolen,
+                                      spm_error *err)
 {
-    memset(tm, 0, sizeof *tm);
-    tm->nodes_closest = tm->nodes_shadow = tm->tris_closest = tm->tris_shadow = -1;
     if (threads < 1 || threads > 64)
         threads = 2;
     char cfg[64];
@@ -163,7 +182,7 @@ int spm_rays_replay_embree(const spm_geometry *g, const spm_rayset *rs, int repe
     RTCDevice dev = rtcNewDevice(cfg);
     if (!dev) {
         spm_errorf(err, "rtcNewDevice(%s) failed (error %d)", cfg, (int)rtcGetDeviceError(NULL));
-        return 1;
+        return NULL;
     }
     rtcSetDeviceErrorFunction(dev, on_error, err);
     RTCScene scene = rtcNewScene(dev);
@@ -197,30 +216,75 @@ int spm_rays_replay_embree(const spm_geometry *g, const spm_rayset *rs, int repe
     double t0 = spm_now();
     rtcCommitScene(scene);
     double build_s = spm_now() - t0;
-    int rc = err->msg[0] != 0;
-    job j = {scene, g, rs, hits, 0, 0, 0};
+    snprintf(info, infolen, "Embree %d.%d.%d, %s build quality, rtcIntersect1/rtcOccluded1 on %d "
+             "threads, FTZ+DAZ (build %.3f s)", RTC_VERSION_MAJOR, RTC_VERSION_MINOR,
+             RTC_VERSION_PATCH, qname[quality], threads, build_s);
+    if (err->msg[0]) {
+        rtcReleaseScene(scene);
+        rtcReleaseDevice(dev);
+        return NULL;
+    }
+    spm_rays_embree *e = spm_xcalloc(1, sizeof *e);
+    e->dev = dev;
+    e->j = (job){scene, g, rs, hits, 0, 0, 0};
+    e->threads = threads;
+    e->err = err;
+    return e;
+}
+
+int spm_rays_embree_run(spm_rays_embree *e, double *closest_s, double *shadow_s, spm_error *err)
+{
+    *closest_s = run(&e->j, 0, e->j.rs->nclosest, e->threads);
+    *shadow_s = run(&e->j, e->j.rs->nclosest, e->j.rs->n, e->threads);
+    if (spm_stop_requested()) {
+        spm_errorf(err, "interrupted while replaying rays");
+        return 1;
+    }
+    if (e->err->msg[0]) {
+        *err = *e->err;
+        return 1;
+    }
+    return 0;
+}
+
+int spm_rays_embree_close(spm_rays_embree *e, spm_error *err)
+{
+    if (!e)
+        return 0;
+    const spm_rayset *rs = e->j.rs;
+    int rc = 0;
+    for (size_t i = rs->nclosest; i < rs->n && !spm_stop_requested(); i++)
+        if (e->j.hits[i] == INT_MAX)
+            occluder(&e->j, i);
+    if (e->err->msg[0]) {
+        *err = *e->err;
+        rc = 1;
+    }
+    rtcReleaseScene(e->j.scene);
+    rtcReleaseDevice(e->dev);
+    free(e);
+    return rc;
+}
+#endif
+
+int spm_rays_replay_embree(const spm_geometry *g, const spm_rayset *rs, int repeat, int threads,
+                           int quality, int *hits, spm_rays_timing *tm, char *info, size_t infolen,
+                           spm_error *err)
+{
+    memset(tm, 0, sizeof *tm);
+    tm->nodes_closest = tm->nodes_shadow = tm->tris_closest = tm->tris_shadow = -1;
     tm->closest_s = tm->shadow_s = INFINITY;
+    spm_rays_embree *e = spm_rays_embree_open(g, rs, threads, quality, hits, info, infolen, err);
+    if (!e)
+        return 1;
+    int rc = 0;
     for (int r = 0; r <= repeat && !rc; r++) {
-        double sc = run(&j, 0, rs->nclosest, threads);
-        double ss = run(&j, rs->nclosest, rs->n, threads);
-        if (spm_stop_requested()) {
-            spm_errorf(err, "interrupted while replaying rays");
-            rc = 1;
-        }
-        if (r > 0) { /* run 0 warms the caches up, as on the OpenCL side */
+        double sc, ss;
+        rc = spm_rays_embree_run(e, &sc, &ss, err);
+        if (!rc && r > 0) { /* run 0 warms the caches up, as on the OpenCL side */
             tm->closest_s = sc < tm->closest_s ? sc : tm->closest_s;
             tm->shadow_s = ss < tm->shadow_s ? ss : tm->shadow_s;
         }
     }
-    for (size_t i = rs->nclosest; i < rs->n && !rc; i++)
-        if (hits[i] == INT_MAX)
-            occluder(&j, i);
-    rc = rc || err->msg[0] != 0;
-    snprintf(info, infolen, "Embree %d.%d.%d, %s build quality, rtcIntersect1/rtcOccluded1 on %d "
-             "threads, FTZ+DAZ (build %.3f s)", RTC_VERSION_MAJOR, RTC_VERSION_MINOR,
-             RTC_VERSION_PATCH, qname[quality], threads, build_s);
-    rtcReleaseScene(scene);
-    rtcReleaseDevice(dev);
-    return rc;
+    return spm_rays_embree_close(e, err) || rc;
 }
-#endif
