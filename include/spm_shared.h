@@ -206,6 +206,20 @@ typedef struct {
     spm_u32 pad;
 } spm_trace_params;
 
+/* A ray replayed by `specmip bench --rays` (kernels/rays.cl, host/bench/bench_rays.c):
+ * one of the rays a render's paths trace, with what the traversal is asked.
+ * emitter == SPM_RAY_CLOSEST: the closest hit other than `skip` (a camera or
+ * bounce ray); otherwise a shadow ray towards a point on emitter triangle
+ * `emitter`, asking whether the closest hit other than `skip` is that
+ * emitter or nothing (trace.cl's shadow test). */
+typedef struct {
+    float o[3];
+    spm_u32 skip;      /* the triangle the ray leaves; 0xFFFFFFFF: none (a camera ray) */
+    float d[3];
+    spm_u32 emitter;
+} spm_ray;
+#define SPM_RAY_CLOSEST 0xFFFFFFFFu
+
 #define SPM_D2_MIN 1e-6f
 #define SPM_RAY_EPSILON (1.0f / 1048576.0f)  /* MiniLight's determinant epsilon */
 #define SPM_PI_F 3.14159265358979323846f
