@@ -30,7 +30,7 @@ d = json.load(sys.stdin)
 print("%.2f / %.2f / %.2f" % (d["mean"], d["p99"], d["max"]))'
 }
 
-printf '| scene | T | ref vs truth mean / p99 / max | ml vs truth mean / p99 / max | ml paths per level (80/40/20/10 bins) | ml ÷ ref | ml ÷ truth |\n'
+printf '| scene | T | ref vs truth mean / p99 / max | ml vs truth mean / p99 / max | ml paths per level (400/80/40/20/10 bins) | ml ÷ ref | ml ÷ truth |\n'
 printf '|---|---|---|---|---|---|---|\n'
 for scene in "$here"/scenes/*.scene; do
     name=$(basename "$scene" .scene)
@@ -49,7 +49,7 @@ paths = ml["paths"] or 1
 share = {}
 for lv in ml["levels"]:
     share[lv["level"]] = share.get(lv["level"], 0) + lv["paths"]
-shares = " / ".join("%.1f%%" % (100.0 * share.get(l, 0) / paths) for l in range(4))
+shares = " / ".join("%.1f%%" % (100.0 * share.get(l, 0) / paths) for l in range(5))
 r = lambda m: js[m]["stages"]["render_s"]
 print(f"| {name} | {t} | {rde} | {mde} | {shares} | {r('ml') / r('ref'):.2f} | {r('ml') / r('truth'):.2f} |")
 PY
