@@ -180,7 +180,7 @@ typedef struct {
 typedef struct {
     spm_u32 refl;      /* reflectance colour id (SPM_NONE: black) */
     spm_u32 emit;      /* emission colour id (SPM_NONE: not an emitter) */
-    float mean;        /* level-0 mean reflectance: Russian roulette survival */
+    float mean;        /* mean reflectance (the same at every level): Russian roulette survival */
     float inv_mean;    /* 1 / mean (0 when mean == 0) */
 } spm_material;
 

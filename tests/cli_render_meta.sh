@@ -83,7 +83,10 @@ for word in ("load", "BVH", "tables+pretest", "kernel build", "render", "output"
 assert d["spp"] == 2 and d["spp_requested"] == 2
 if mode in ("ml", "mlc"):
     assert sum(l["paths"] for l in d["levels"]) == d["paths"], d["levels"]
-    assert d["threshold"] == 2 and d["metric"] == "de00", d
+    # every level of the chain, the 1 nm truth first (README "Statistics")
+    assert [(l["level"], l["bins"]) for l in d["levels"]] == \
+        [(0, 400), (1, 80), (2, 40), (3, 20), (4, 10)], d["levels"]
+    assert d["threshold"] == 2 and d["metric"] == "de00" and d["coarsest_level"] == 3, d
     assert "level  bins" in text, text
 else:
     assert d["levels"] is None and d["threshold"] is None, d
