@@ -130,7 +130,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         vx->ids = (refl & 0xFFFFu) | (eid << 16);
         vx->c = c;
 
-        /* Russian roulette on the level-0 mean reflectance */
+        /* Russian roulette on the mean reflectance (the same at every level) */
         if (!(spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_RR) < m.mean)) {
             hd.end = SPM_END_ABSORBED;
             j++;
