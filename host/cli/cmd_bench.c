@@ -44,11 +44,12 @@ static void usage(FILE *f)
         "  --budgets B,...    equal-time budgets, ascending, as multiples of ref's time at\n"
         "                     --equal-spp (default 0.25,1,4; 'none': no equal-time part)\n"
         "  --equal-spp N      the base spp of those budgets (default: the largest --spp)\n"
-        "  --calib-spp N      spp of each mode's calibration run (default: --equal-spp / 8,\n"
+        "  --calib-spp N      spp of each mode's calibration run (default: --equal-spp / 4,\n"
         "                     at least 1)\n"
         "  --threshold T      pretest threshold of the main rows (default 2)\n"
         "  --blur N           box blur before dE (default 5, as `specmip compare`)\n"
-        "  --repeat N         each timed render runs N times, the fastest counts (default 3)\n"
+        "  --repeat N         each timed render runs N times, the fastest counts (default 3;\n"
+        "                     the modes take turns)\n"
         "  --seed S           seed of the compared renders (truth uses S+1, S+2 too; default 1)\n"
         "  --backend B        opencl (default) | cpu\n"
         "  --device D         OpenCL device index (default 0)\n"
@@ -299,7 +300,7 @@ static int finish_plan(options *o, glob_t *g)
     if (!o->have_equal_spp)
         p->equal_spp = p->spps[p->nspp - 1];
     if (!o->have_calib_spp)
-        p->calib_spp = p->equal_spp / 8 > 1 ? p->equal_spp / 8 : 1;
+        p->calib_spp = p->equal_spp / 4 > 1 ? p->equal_spp / 4 : 1;
     int found = 0;
     for (int i = 0; i < p->nspp; i++)
         found |= p->spps[i] == p->sweep_spp;
