@@ -39,7 +39,7 @@ static void usage(FILE *f)
         "  --spp N,...        samples per pixel, ascending (default 64)\n"
         "  --truth-spp N      spp of the converged truth (default 1024)\n"
         "  --size WxH         image size (default 96x96)\n"
-        "  --thresholds T,... the ml threshold sweep (default 1,2,4; 'none': no sweep)\n"
+        "  --thresholds T,... the ml threshold sweep (default 1,2; 'none': no sweep)\n"
         "  --sweep-spp N      spp of the sweep (default: the largest --spp)\n"
         "  --budgets B,...    equal-time budgets, ascending, as multiples of ref's time at\n"
         "                     --equal-spp (default 0.25,1,4; 'none': no equal-time part)\n"
@@ -48,7 +48,7 @@ static void usage(FILE *f)
         "                     at least 1)\n"
         "  --threshold T      pretest threshold of the main rows (default 2)\n"
         "  --blur N           box blur before dE (default 5, as `specmip compare`)\n"
-        "  --repeat N         each timed render runs N times, the fastest counts (default 3;\n"
+        "  --repeat N         each timed render runs N times, the fastest counts (default 2;\n"
         "                     the modes take turns)\n"
         "  --seed S           seed of the compared renders (truth uses S+1, S+2 too; default 1)\n"
         "  --backend B        opencl (default) | cpu\n"
@@ -357,9 +357,9 @@ int spm_cmd_bench(int argc, char **argv)
     o.ops_items = 4096;
     o.ops_iters = 1024;
     spm_bench_plan *p = &o.plan;
-    static const double sweep[] = {1, 2, 4};
+    static const double sweep[] = {1, 2};
     memcpy(p->thresholds, sweep, sizeof sweep);
-    p->nthresholds = 3;
+    p->nthresholds = 2;
     static const double budgets[] = {0.25, 1, 4};
     memcpy(p->budgets, budgets, sizeof budgets);
     p->nbudgets = 3;
@@ -367,7 +367,7 @@ int spm_cmd_bench(int argc, char **argv)
         p->modes[m] = m;
     p->nmodes = SPM_MODE_COUNT;
     p->blur = 5;
-    p->repeat = 3;
+    p->repeat = 2;
     p->seed = 1;
     p->progress = isatty(2);
     p->stop = &spm_stop_flag;
