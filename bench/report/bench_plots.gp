@@ -5,6 +5,7 @@
 #   dat     directory of the tables the report script prepared (bias, levels)
 #   nsc     number of scenes
 #   sweep   1 if the CSV has threshold-sweep rows     lvmodes  "ml mlc" (those present)
+#   equal   1 if the CSV has equal-time rows
 term = 'pngcairo font "DejaVu Sans,10" noenhanced'
 set datafile missing "NaN"
 cols = (nsc <= 1) ? 1 : (nsc <= 4 ? 2 : 3)
@@ -13,26 +14,25 @@ set terminal @term size (cols == 1 ? 640 : 420 * cols), (cols == 1 ? 440 : 300 *
 q(s) = "'".s."'"
 pick(scene, kind, mode, c) = "< ".sel." -v scene=".scene." -v kind=".kind." -v mode=".mode." -v cols=".c." ".q(csv)
 
-# 1. time against error, log-log, one curve per mode over the spp; floors dashed.
-# The noise at each spp (same in every row of that spp) is drawn at truth's time if
-# truth has rows, else at the first mode's. One more panel holds the key.
-nmode = strstrt(" ".modes." ", " truth ") > 0 ? "truth" : word(modes, 1)
+# 1. error against time at equal time, log-log, one curve per mode over the
+# budgets (the "equal" rows); the floor of two converged truths dotted. One more
+# panel holds the key.
+if (equal) {
 np = nsc + 1
 cols1 = np <= 4 ? 2 : 3
 rows1 = (np + cols1 - 1) / cols1
 set terminal @term size 420 * cols1, 300 * rows1 + 40
 set output out."/time_error.png"
-set multiplot layout rows1, cols1 title "Error against a converged truth (mean dE00) vs wall time per render"
+set multiplot layout rows1, cols1 title "Error against a converged truth (mean dE00) at equal time: each mode's spp set for the time"
 set logscale xy
-set xlabel "wall time [s]"
+set xlabel "wall time per render [s]"
 set ylabel "mean dE00 vs converged truth"
 set grid
 unset key
 do for [s in scenes] {
     set title s
-    plot for [m in modes] pick(s, "main", m, "wall_s,err_mean") using 1:2 with linespoints, \
-         pick(s, "main", nmode, "wall_s,noise_mean") using 1:2 with lines dt 2 lc "gray30", \
-         pick(s, "main", "", "wall_s,conv_floor_mean") using 1:2 with lines dt 3 lc "black"
+    plot for [m in modes] pick(s, "equal", m, "wall_s,err_mean") using 1:2 with linespoints, \
+         pick(s, "equal", "", "wall_s,conv_floor_mean") using 1:2 with lines dt 3 lc "black"
 }
 unset title
 unset border
@@ -45,13 +45,13 @@ set xrange [0:1]
 set yrange [0:1]
 set key center center font ",9"
 plot for [m in modes] NaN with linespoints title m, \
-     NaN with lines dt 2 lc "gray30" title "noise: 2 truth renders, same spp", \
      NaN with lines dt 3 lc "black" title "floor: 2 converged truths"
 unset multiplot
 set border
 set tics
 set grid
 set autoscale xy
+}
 
 # 2. bias: same seed, same paths; what the spectral method alone costs
 set terminal @term size 1000,440

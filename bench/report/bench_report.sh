@@ -2,8 +2,9 @@
 # Charts (gnuplot) and RESULTS.md from a `specmip bench` directory:
 #   bench/report/bench_report.sh DIR [OUTDIR]
 # reads DIR/bench.csv, DIR/bench_meta.txt and, if present, DIR/ops.csv and
-# DIR/ops_meta.txt (from `specmip bench --ops --out DIR`); writes time_error.png, bias.png,
-# threshold.png, levels.png and RESULTS.md into OUTDIR (default DIR).
+# DIR/ops_meta.txt (from `specmip bench --ops --out DIR`); writes time_error.png (error
+# against time at equal time), bias.png, threshold.png, levels.png and RESULTS.md into
+# OUTDIR (default DIR).
 # For the README: bench/report/bench_report.sh bench-out docs
 set -eu
 dir=${1:?usage: bench_report.sh DIR [OUTDIR]}
@@ -21,6 +22,7 @@ scenes=$($sel -v kind=main -v cols=scene "$csv" | awk '!s[$0]++' | tr '\n' ' ')
 modes=$($sel -v kind=main -v cols=mode "$csv" | awk '!s[$0]++' | tr '\n' ' ')
 nsc=$(echo $scenes | wc -w)
 sweep=$($sel -v kind=sweep -v cols=scene "$csv" | head -1 | wc -l)
+equal=$($sel -v kind=equal -v cols=scene "$csv" | head -1 | wc -l)
 # the levelled modes among them, from the bench's copy of `specmip modes`
 [ -s "$dir/modes.tsv" ] || { echo "bench_report.sh: no $dir/modes.tsv (written by specmip bench)" >&2; exit 2; }
 lvmodes=$(for m in $(awk -F'\t' '$2 == "levelled" { print $1 }' "$dir/modes.tsv"); do
@@ -30,7 +32,7 @@ for w in bias_ref bias_truth; do awk -v what=$w -f "$here/bench_tables.awk" "$cs
 for m in $lvmodes; do awk -v what=levels -v mode=$m -f "$here/bench_tables.awk" "$csv" > "$tmp/levels_$m.dat"; done
 
 gnuplot -e "csv='$csv'; out='$out'; sel='$sel'; scenes='$scenes'; modes='$modes'; nsc=$nsc; \
-            dat='$tmp'; sweep=$sweep; lvmodes='$lvmodes'" "$here/bench_plots.gp"
+            dat='$tmp'; sweep=$sweep; equal=$equal; lvmodes='$lvmodes'" "$here/bench_plots.gp"
 
 # Fewer colours (if ImageMagick is there): the charts are committed to docs/.
 if command -v convert > /dev/null; then

@@ -10,19 +10,26 @@
 
 typedef struct {
     const char *scene;     /* file name without directory and extension */
-    const char *kind;      /* "main" (modes x spp) or "sweep" (ml over thresholds) */
+    const char *kind;      /* "main" (modes x spp), "equal" (modes x time budgets) or "sweep"
+                              (ml over thresholds) */
     const char *mode;
     double threshold;      /* pretest threshold the tables were built with */
     int spp, width, height;
     unsigned seed;
     double wall_s;         /* whole render (spm_render_run), after a warm-up pass */
-    double time_vs_ref;    /* wall_s / wall_s of ref at the same scene and spp */
+    double time_vs_ref;    /* wall_s / wall_s of ref at the same scene and spp; equal rows:
+                              wall_s / budget_s */
     spm_pass_stats st;     /* kernel stage times, paths, per-level paths */
     spm_de_stats bias_ref, bias_truth; /* same seed: against ref and truth */
     spm_de_stats err;      /* against the converged truth (independent seed) */
     spm_de_stats noise;    /* two independent truth renders at this spp */
+    int no_bias;           /* equal rows: the modes ran at different spp, so bias and noise
+                              are not measured (their fields are left empty) */
     double conv_floor;     /* mean ΔE00 of two independent converged truth renders */
     int truth_spp;         /* spp of the converged truth */
+    double budget;         /* equal rows: the budget as a multiple of ref's time at the base spp */
+    double budget_s;       /* equal rows: that budget in seconds (from the calibration) */
+    double conv_floor_p99; /* p99 ΔE00 of the two converged truths */
 } spm_bench_row;
 
 typedef struct {

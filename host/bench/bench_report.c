@@ -45,6 +45,17 @@ void spm_bench_write_meta(const char *dir, const char *what, int use_cpu, int de
     }
 }
 
+void spm_bench_meta_elapsed(const char *dir, const char *what, double seconds)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s_meta.txt", dir, what);
+    FILE *f = fopen(path, "a");
+    if (!f)
+        return;
+    fprintf(f, "elapsed: %.0f s\n", seconds);
+    fclose(f);
+}
+
 int spm_bench_report(const char *dir)
 {
     char script[4096];

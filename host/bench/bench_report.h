@@ -8,6 +8,8 @@
  * the report then states less, the numbers are unaffected. */
 void spm_bench_write_meta(const char *dir, const char *what, int use_cpu, int device, int argc,
                           char **argv);
+/* Appends "elapsed: S s" (the study's wall time) to DIR/<what>_meta.txt. */
+void spm_bench_meta_elapsed(const char *dir, const char *what, double seconds);
 /* Runs bash bench/report/bench_report.sh DIR; 0, or SPM_EXIT_RUNTIME with a message on stderr. */
 int spm_bench_report(const char *dir);
 #endif

@@ -4,6 +4,7 @@
 #include <string.h>
 #include "bench_image.h"
 #include "render_setup.h"
+#include "scene_build.h"
 
 #define MAX_BACKENDS_PER_SCENE (SPM_MODE_COUNT + 4)
 
@@ -11,6 +12,7 @@ typedef struct {
     const spm_bench_plan *p;
     spm_bench_csv *csv;
     double t0, units_total, units_done;
+    double floor_p99; /* the scene's two converged truths: p99 ΔE00 */
 } study;
 
 /* One scene's setup and its backends, one per (mode, seed), created on first
@@ -142,6 +144,25 @@ static int render(study *st, scene_run *r, int mode, spm_u32 seed, int spp, int 
     return render_with(st, r, b, spp, times, spm_mode_name(mode), o, err);
 }
 
+/* One more render of mode into o, the modes' repeats taken in turns so that a
+ * burst of load elsewhere on the machine slows one round of every mode, not
+ * all the runs of one: the first run's image is kept (a repeat gives the same
+ * image) and the fastest run's statistics. */
+static int render_again(study *st, scene_run *r, int mode, spm_u32 seed, int spp, int first,
+                        render_out *o, spm_error *err)
+{
+    render_out t;
+    int rc = render(st, r, mode, seed, spp, 1, &t, err);
+    if (!rc && first) {
+        *o = t;
+        return 0;
+    }
+    if (!rc && t.res.wall_s < o->res.wall_s)
+        o->res = t.res;
+    spm_image_free(&t.img);
+    return rc;
+}
+
 static int open_scene(const spm_bench_plan *p, const char *path, int mode, double threshold,
                       scene_run *r, spm_error *err)
 {
@@ -258,6 +279,7 @@ static int sweep(study *st, scene_run *main, const char *path, const sweep_base 
             row_init(&row, &r, "sweep", SPM_MODE_ML, p->thresholds[t], p->sweep_spp, &o, p);
             row.time_vs_ref = ref.res.wall_s > 0 ? o.res.wall_s / ref.res.wall_s : 0.0;
             row.conv_floor = conv_floor;
+            row.conv_floor_p99 = st->floor_p99;
             row.noise = base->noise;
             if (accuracy(p, &row, &o.img, &base->ref, &base->truth, conv, err) ||
                 spm_bench_csv_write(st->csv, &row, err))
@@ -282,8 +304,9 @@ static int one_spp(study *st, scene_run *r, int spp, const spm_image *conv, doub
     memset(out, 0, sizeof out);
     memset(&noise, 0, sizeof noise);
     int rc = 0;
-    for (int i = 0; i < nm && !rc; i++)
-        rc = render(st, r, modes[i], p->seed, spp, p->repeat, &out[i], err);
+    for (int k = 0; k < p->repeat && !rc; k++)
+        for (int i = 0; i < nm && !rc; i++)
+            rc = render_again(st, r, modes[i], p->seed, spp, k == 0, &out[i], err);
     /* the noise floor at this spp: truth with the next seed */
     if (!rc)
         rc = render(st, r, SPM_MODE_TRUTH, p->seed + 1, spp, 1, &noise, err);
@@ -298,6 +321,7 @@ static int one_spp(study *st, scene_run *r, int spp, const spm_image *conv, doub
         row.time_vs_ref = out[1].res.wall_s > 0 ? out[i].res.wall_s / out[1].res.wall_s : 0.0;
         row.noise = noise_de;
         row.conv_floor = conv_floor;
+        row.conv_floor_p99 = st->floor_p99;
         if (accuracy(p, &row, &out[i].img, &out[1].img, &out[0].img, conv, err) ||
             spm_bench_csv_write(st->csv, &row, err))
             rc = SPM_EXIT_RUNTIME;
@@ -311,6 +335,80 @@ static int one_spp(study *st, scene_run *r, int spp, const spm_image *conv, doub
     for (int i = 0; i < nm; i++)
         spm_image_free(&out[i].img);
     spm_image_free(&noise.img);
+    return rc;
+}
+
+/* The modes timed at equal time: ref (its time is the budget unit) and the
+ * requested ones. */
+static int equal_modes(const spm_bench_plan *p, int *out)
+{
+    int n = 0;
+    out[n++] = SPM_MODE_REF;
+    for (int i = 0; i < p->nmodes; i++)
+        if (p->modes[i] != SPM_MODE_REF)
+            out[n++] = p->modes[i];
+    return n;
+}
+
+/* The spp whose render takes about budget_s at s_per_spp seconds a sample
+ * (render time is close to linear in spp: a pass is at least 2^16 paths, so
+ * the fixed cost per render is a small part of even the calibration run). */
+static int equal_spp_for(double budget_s, double s_per_spp)
+{
+    double n = s_per_spp > 0 ? budget_s / s_per_spp : 1.0;
+    if (!(n >= 1.0))
+        return 1;
+    if (n > SPM_SCENE_MAX_SPP)
+        return SPM_SCENE_MAX_SPP;
+    return (int)(n + 0.5);
+}
+
+/* Equal time: each mode's time per sample from a short run (the fastest of
+ * p->repeat, the modes in turns), then, per budget b, each mode at the spp
+ * that takes about b x ref's time at p->equal_spp, compared with the converged
+ * truth. A budget's renders run once: the row records the time they took. */
+static int equal_time(study *st, scene_run *r, const spm_image *conv, double conv_floor,
+                      spm_error *err)
+{
+    const spm_bench_plan *p = st->p;
+    int modes[SPM_MODE_COUNT + 1];
+    int nm = equal_modes(p, modes);
+    double s_per_spp[SPM_MODE_COUNT + 1];
+    render_out cal[SPM_MODE_COUNT + 1];
+    memset(cal, 0, sizeof cal);
+    int rc = 0;
+    for (int k = 0; k < p->repeat && !rc; k++)
+        for (int i = 0; i < nm && !rc; i++)
+            rc = render_again(st, r, modes[i], p->seed, p->calib_spp, k == 0, &cal[i], err);
+    for (int i = 0; i < nm; i++) {
+        s_per_spp[i] = cal[i].res.wall_s / p->calib_spp;
+        spm_image_free(&cal[i].img);
+    }
+    double unit_s = s_per_spp[0] * p->equal_spp; /* ref at the base spp */
+    for (int b = 0; b < p->nbudgets && !rc; b++) {
+        double budget_s = p->budgets[b] * unit_s;
+        for (int i = 0; i < nm && !rc; i++) {
+            if (!has_mode(p, modes[i]))
+                continue;
+            int spp = equal_spp_for(budget_s, s_per_spp[i]);
+            render_out o;
+            rc = render(st, r, modes[i], p->seed, spp, 1, &o, err);
+            spm_bench_row row;
+            if (!rc) {
+                row_init(&row, r, "equal", modes[i], p->pretest.threshold, spp, &o, p);
+                row.no_bias = 1;
+                row.budget = p->budgets[b];
+                row.budget_s = budget_s;
+                row.time_vs_ref = budget_s > 0 ? o.res.wall_s / budget_s : 0.0;
+                row.conv_floor = conv_floor;
+                row.conv_floor_p99 = st->floor_p99;
+                if (spm_bench_delta_e(conv, &o.img, p->blur, &row.err, err) ||
+                    spm_bench_csv_write(st->csv, &row, err))
+                    rc = SPM_EXIT_RUNTIME;
+            }
+            spm_image_free(&o.img);
+        }
+    }
     return rc;
 }
 
@@ -335,8 +433,11 @@ static int one_scene(study *st, const char *path, spm_error *err)
     if (!rc && spm_bench_delta_e(&conv.img, &conv2.img, p->blur, &floor_de, err))
         rc = SPM_EXIT_RUNTIME;
     spm_image_free(&conv2.img);
+    st->floor_p99 = floor_de.p99;
     for (int i = 0; i < p->nspp && !rc; i++)
         rc = one_spp(st, &r, p->spps[i], &conv.img, floor_de.mean, &base, err);
+    if (!rc && p->nbudgets)
+        rc = equal_time(st, &r, &conv.img, floor_de.mean, err);
     if (!rc && p->nthresholds && has_mode(p, SPM_MODE_ML) && base.ref.rgb)
         rc = sweep(st, &r, path, &base, &conv.img, floor_de.mean, err);
     close_scene(&r);
@@ -352,7 +453,7 @@ static int one_scene(study *st, const char *path, spm_error *err)
 
 int spm_bench_study(const spm_bench_plan *p, spm_bench_csv *csv, spm_error *err)
 {
-    study st = {p, csv, spm_now(), 0.0, 0.0};
+    study st = {p, csv, spm_now(), 0.0, 0.0, 0.0};
     int modes[SPM_MODE_COUNT + 2];
     int nm = rendered_modes(p, modes);
     double per_scene = 2.0 * p->truth_spp;
@@ -360,6 +461,13 @@ int spm_bench_study(const spm_bench_plan *p, spm_bench_csv *csv, spm_error *err)
         per_scene += (nm * p->repeat + 1.0) * p->spps[i];
     if (has_mode(p, SPM_MODE_ML))
         per_scene += 2.0 * p->nthresholds * p->sweep_spp * p->repeat; /* ml and ref */
+    if (p->nbudgets) { /* calibration, then about the budget's ref spp per mode */
+        int em[SPM_MODE_COUNT + 1];
+        int ne = equal_modes(p, em);
+        per_scene += (double)ne * p->calib_spp * p->repeat;
+        for (int b = 0; b < p->nbudgets; b++)
+            per_scene += (double)p->nmodes * p->budgets[b] * p->equal_spp;
+    }
     st.units_total = per_scene * p->nscenes;
     int rc = 0;
     for (int s = 0; s < p->nscenes && !rc; s++)

@@ -1,7 +1,10 @@
 /* The speed/accuracy study behind `specmip bench`: for each scene,
  * every mode at several spp with the same seed (timed side by side), compared
  * against ref and truth of that seed (bias) and against a converged truth of
- * other seeds (error); then ml over a range of pretest thresholds. */
+ * other seeds (error); then every mode at equal time (its spp chosen from a
+ * short calibration run so that its render takes a multiple of ref's time at a
+ * base spp), against the converged truth; then ml over a range of pretest
+ * thresholds. */
 #ifndef SPM_BENCH_STUDY_H
 #define SPM_BENCH_STUDY_H
 #include <signal.h>
@@ -10,6 +13,7 @@
 
 #define SPM_BENCH_MAX_SPP 16
 #define SPM_BENCH_MAX_THRESHOLDS 16
+#define SPM_BENCH_MAX_BUDGETS 8
 
 typedef struct {
     const char *const *scenes;
@@ -22,6 +26,11 @@ typedef struct {
     double thresholds[SPM_BENCH_MAX_THRESHOLDS]; /* the sweep (none: no sweep) */
     int nthresholds;
     int sweep_spp;               /* one of spps */
+    double budgets[SPM_BENCH_MAX_BUDGETS]; /* equal time: multiples of ref's time at equal_spp,
+                                              ascending (none: no equal-time part) */
+    int nbudgets;
+    int equal_spp;               /* the base spp whose ref time is the budget unit */
+    int calib_spp;               /* the short run each mode's time per sample comes from */
     int width, height;           /* 0: the scene's */
     int blur;                    /* box blur before ΔE (odd, or 0/1 for none) */
     int repeat;                  /* timed renders run this often; the fastest counts */

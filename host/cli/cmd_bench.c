@@ -29,19 +29,28 @@ static void usage(FILE *f)
         "The speed/accuracy study: renders every scene in every mode at several spp with one\n"
         "seed, side by side, and writes DIR/bench.csv (one row per render: times, paths/s,\n"
         "paths per level, bias = dE00 against ref and truth of the same seed, error = dE00\n"
-        "against a converged truth of another seed with the noise floors), then charts\n"
-        "(DIR/*.png) and DIR/RESULTS.md through bench/report/bench_report.sh (gnuplot).\n\n"
+        "against a converged truth of another seed with the noise floors); then every mode at\n"
+        "equal time: its spp chosen from a short calibration run so that its render takes\n"
+        "each budget x ref's time at the base spp, its error against the converged truth;\n"
+        "then charts (DIR/*.png) and DIR/RESULTS.md through bench/report/bench_report.sh\n"
+        "(gnuplot).\n\n"
         "  --scenes A,B,...   scene files (default: the bundled scenes/*.scene)\n"
         "  --modes M,...      modes with rows (default: every mode, 'specmip modes';\n"
         "                     truth and ref are always rendered: the others are measured on them)\n"
-        "  --spp N,...        samples per pixel, ascending (default 1,4,16,64)\n"
+        "  --spp N,...        samples per pixel, ascending (default 64)\n"
         "  --truth-spp N      spp of the converged truth (default 1024)\n"
-        "  --size WxH         image size (default 128x128)\n"
-        "  --thresholds T,... the ml threshold sweep (default 1,2,3,4,5,6,7; 'none': no sweep)\n"
+        "  --size WxH         image size (default 96x96)\n"
+        "  --thresholds T,... the ml threshold sweep (default 1,2; 'none': no sweep)\n"
         "  --sweep-spp N      spp of the sweep (default: the largest --spp)\n"
+        "  --budgets B,...    equal-time budgets, ascending, as multiples of ref's time at\n"
+        "                     --equal-spp (default 0.25,1,4; 'none': no equal-time part)\n"
+        "  --equal-spp N      the base spp of those budgets (default: the largest --spp)\n"
+        "  --calib-spp N      spp of each mode's calibration run (default: --equal-spp / 4,\n"
+        "                     at least 1)\n"
         "  --threshold T      pretest threshold of the main rows (default 2)\n"
         "  --blur N           box blur before dE (default 5, as `specmip compare`)\n"
-        "  --repeat N         each timed render runs N times, the fastest counts (default 3)\n"
+        "  --repeat N         each timed render runs N times, the fastest counts (default 2;\n"
+        "                     the modes take turns)\n"
         "  --seed S           seed of the compared renders (truth uses S+1, S+2 too; default 1)\n"
         "  --backend B        opencl (default) | cpu\n"
         "  --device D         OpenCL device index (default 0)\n"
@@ -110,7 +119,8 @@ typedef struct {
     int quick, charts, ops, ops_items, ops_iters;
     spm_rays_opts rays;
     int rays_on;
-    int have_spp, have_truth_spp, have_size, have_sweep_spp, have_scenes;
+    int have_spp, have_truth_spp, have_size, have_sweep_spp, have_scenes, have_equal_spp,
+        have_calib_spp;
 } options;
 
 static int split_names(char *s, const char **out, int max)
@@ -159,7 +169,7 @@ static int parse_args(int argc, char **argv, options *o)
             "--scenes", "--modes", "--spp", "--truth-spp", "--sweep-spp", "--size", "--thresholds",
             "--threshold", "--blur", "--repeat", "--seed", "--backend", "--device", "--out", "--ops-items",
             "--ops-iters", "--rays", "--rays-spp", "--rays-save", "--rays-load", "--threads",
-            "--embree-quality", "--rays-group"};
+            "--embree-quality", "--rays-group", "--budgets", "--equal-spp", "--calib-spp"};
         int takes_value = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++)
             takes_value |= !strcmp(a, with_value[k]);
@@ -244,6 +254,28 @@ static int parse_args(int argc, char **argv, options *o)
                 p->sweep_spp = (int)n;
                 o->have_sweep_spp = 1;
             }
+        } else if (!strcmp(a, "--equal-spp") || !strcmp(a, "--calib-spp")) {
+            if (spm_arg_long("bench", a, v, 1, SPM_SCENE_MAX_SPP, &n))
+                return SPM_EXIT_INPUT;
+            if (!strcmp(a, "--equal-spp")) {
+                p->equal_spp = (int)n;
+                o->have_equal_spp = 1;
+            } else {
+                p->calib_spp = (int)n;
+                o->have_calib_spp = 1;
+            }
+        } else if (!strcmp(a, "--budgets")) {
+            if (!strcmp(v, "none")) {
+                p->nbudgets = 0;
+            } else {
+                if (parse_list(a, v, 0.01, 1000, SPM_BENCH_MAX_BUDGETS, list, &nl))
+                    return SPM_EXIT_INPUT;
+                for (int k = 1; k < nl; k++)
+                    if (list[k] <= list[k - 1])
+                        return fail("--budgets takes ascending numbers, not '%s'%s", v, "");
+                memcpy(p->budgets, list, (size_t)nl * sizeof *list);
+                p->nbudgets = nl;
+            }
         } else if (!strcmp(a, "--size")) {
             int w, h;
             char end;
@@ -306,17 +338,21 @@ static int parse_args(int argc, char **argv, options *o)
 static int finish_plan(options *o, glob_t *g)
 {
     spm_bench_plan *p = &o->plan;
-    static const int spps[] = {1, 4, 16, 64};
+    static const int spps[] = {64};
     if (!o->have_spp) {
-        p->nspp = 4;
+        p->nspp = 1;
         memcpy(p->spps, spps, sizeof spps);
     }
     if (!o->have_truth_spp)
         p->truth_spp = o->quick ? 512 : 1024;
     if (!o->have_size)
-        p->width = p->height = o->quick ? 64 : 128;
+        p->width = p->height = o->quick ? 64 : 96;
     if (!o->have_sweep_spp)
         p->sweep_spp = p->spps[p->nspp - 1];
+    if (!o->have_equal_spp)
+        p->equal_spp = p->spps[p->nspp - 1];
+    if (!o->have_calib_spp)
+        p->calib_spp = p->equal_spp / 4 > 1 ? p->equal_spp / 4 : 1;
     int found = 0;
     for (int i = 0; i < p->nspp; i++)
         found |= p->spps[i] == p->sweep_spp;
@@ -396,14 +432,17 @@ int spm_cmd_bench(int argc, char **argv)
     o.ops_iters = 1024;
     o.rays.embree_quality = 1; /* medium, Embree's default */
     spm_bench_plan *p = &o.plan;
-    static const double sweep[] = {1, 2, 3, 4, 5, 6, 7};
+    static const double sweep[] = {1, 2};
     memcpy(p->thresholds, sweep, sizeof sweep);
-    p->nthresholds = 7;
+    p->nthresholds = 2;
+    static const double budgets[] = {0.25, 1, 4};
+    memcpy(p->budgets, budgets, sizeof budgets);
+    p->nbudgets = 3;
     for (int m = 0; m < SPM_MODE_COUNT; m++)
         p->modes[m] = m;
     p->nmodes = SPM_MODE_COUNT;
     p->blur = 5;
-    p->repeat = 3;
+    p->repeat = 2;
     p->seed = 1;
     p->progress = isatty(2);
     p->stop = &spm_stop_flag;
@@ -435,8 +474,11 @@ int spm_cmd_bench(int argc, char **argv)
     } else {
         spm_bench_csv csv;
         rc = spm_bench_csv_open(&csv, o.out, &err) ? SPM_EXIT_INPUT : 0;
+        double t0 = spm_now();
         if (!rc)
             rc = spm_bench_study(p, &csv, &err);
+        if (!rc)
+            spm_bench_meta_elapsed(o.out, "bench", spm_now() - t0);
         /* an interrupted study keeps its finished rows under the final name */
         spm_error close_err;
         if (csv.f && spm_bench_csv_close(&csv, &close_err) && !rc) {
