@@ -35,17 +35,26 @@ SPM_INLINE spm_u32 spm_mix32(spm_u32 x)
     return x;
 }
 
-/* The key's hash with mixer `mix` after the seed's (scalar) one: pixel,
- * sample and dim may be vectors when mix takes them. */
-#define SPM_RNG_HASH(mix, seed, pixel, sample, dim)                                  \
-    mix(mix(mix(spm_mix32((seed) ^ 0x9e3779b9U) ^ (pixel)) ^ ((sample) * 0x85ebca6bU)) ^ \
-        ((dim) * 0xc2b2ae35U))
+/* The key's hash into h: pixel, sample and dim (and h) may be vectors, which
+ * the kernels mix without a call (a 16-wide argument changes the x86 ABI on
+ * CPUs without AVX-512). */
+#define SPM_RNG_HASH_STEPS(h, seed, pixel, sample, dim)  \
+    do {                                                 \
+        (h) = spm_mix32((seed) ^ 0x9e3779b9U) ^ (pixel); \
+        SPM_MIX32_STEPS(h);                              \
+        (h) ^= (sample) * 0x85ebca6bU;                   \
+        SPM_MIX32_STEPS(h);                              \
+        (h) ^= (dim) * 0xc2b2ae35U;                      \
+        SPM_MIX32_STEPS(h);                              \
+    } while (0)
 /* The 24 random bits of a hash to a float in [0, 1) (exact). */
 #define SPM_RNG_UNIT (1.0f / 16777216.0f)
 
 SPM_INLINE spm_u32 spm_rng_u32(spm_u32 seed, spm_u32 pixel, spm_u32 sample, spm_u32 dim)
 {
-    return SPM_RNG_HASH(spm_mix32, seed, pixel, sample, dim);
+    spm_u32 h;
+    SPM_RNG_HASH_STEPS(h, seed, pixel, sample, dim);
+    return h;
 }
 
 /* Uniform in [0, 1). */

@@ -66,68 +66,72 @@
 #endif
 
 #ifdef SPM_SHADE_HERO
-/* hero sets up its paths 8 at a time: the draw of a path's wavelengths is
+/* hero sets up its paths 16 at a time: the draw of a path's wavelengths is
  * scalar integer and table work (key, RNG, 4 bins, 4 densities), as long as
  * the shading itself, and PoCL runs a work-group's work-items one after the
  * other without vectorising across them. So the first HERO_PREP work-items
- * of a group each draw for 8 of its paths in 8-wide vectors, into local
- * memory, and after a barrier every work-item reads its own. (16-wide
- * vectors as builtins' arguments change the x86 ABI on CPUs without
- * AVX-512, and clang warns of it, see SB_FMA in shade_body.clh.) */
-#define HERO_VW 8
+ * of a group each draw for 16 of its paths in 16-wide vectors, into local
+ * memory, and after a barrier every work-item reads its own (8 at a time
+ * took 0.07 of ref's shade time more). Only operators take the 16-wide
+ * vectors; builtins get their float8 halves (HERO_HALVES), as SB_FMA in
+ * shade_body.clh: a 16-wide argument changes the x86 ABI on CPUs without
+ * AVX-512, and clang warns of it. */
+#define HERO_VW 16
 #define HERO_PREP (SPM_LOCAL_SIZE / HERO_VW)
+#define HERO_HALVES(T, f, v) ((T)(f((v).lo), f((v).hi)))
 
-inline uint8 hero_mix8(uint8 x)
-{
-    SPM_MIX32_STEPS(x);
-    return x;
-}
+/* t[o + v.sk] for each of the 16 lanes of v */
+#define HERO_GATHER16(t, o, v)                                                          \
+    ((float16)(t[(o) + (v).s0], t[(o) + (v).s1], t[(o) + (v).s2], t[(o) + (v).s3],      \
+               t[(o) + (v).s4], t[(o) + (v).s5], t[(o) + (v).s6], t[(o) + (v).s7],      \
+               t[(o) + (v).s8], t[(o) + (v).s9], t[(o) + (v).sa], t[(o) + (v).sb],      \
+               t[(o) + (v).sc], t[(o) + (v).sd], t[(o) + (v).se], t[(o) + (v).sf]))
 
-/* t[o + v.sk] for each of the 8 lanes of v */
-#define HERO_GATHER8(t, o, v)                                                           \
-    ((float8)(t[(o) + (v).s0], t[(o) + (v).s1], t[(o) + (v).s2], t[(o) + (v).s3],       \
-              t[(o) + (v).s4], t[(o) + (v).s5], t[(o) + (v).s6], t[(o) + (v).s7]))
-
-/* The four lanes of the paths of bucket entries e0 .. e0+7 (those before
+/* The four lanes of the paths of bucket entries e0 .. e0+15 (those before
  * end; host/spectral/tables.c derives the density): the path's uniform u
  * from its key; lane k at x = frac(u + k/4), y = t0 + x dt = tanh(a (l -
  * 538)) at its wavelength l; its 1 nm bin, which the direct index of x's
  * cell gives or puts one before (one comparison with the next bin's edge
  * settles it); and 1 / (density a (1 - y^2) / dt times the lane count).
- * Lane k of the 8 paths goes to bin[k * SPM_LOCAL_SIZE ...], r likewise: one
- * vector store each (stored path by path, the scattered stores took 0.14
- * of ref's shade time). The same float operations as the CPU reference, lane
+ * Lane k of the 16 paths goes to bin[k * SPM_LOCAL_SIZE ...], r likewise:
+ * vector stores (stored path by path, the scattered stores took 0.14 of
+ * ref's shade time). The same float operations as the CPU reference, lane
  * by lane, uncontracted. */
-inline void hero_draw8(__global const float *hero, __global const uint *idx, uint e0, uint end,
+inline void hero_draw16(__global const float *hero, __global const uint *idx, uint e0, uint end,
                         uint seed, spm_divisor spp, uint first_sample, uint first_pixel,
                         __local uint *bin, __local float *r)
 {
 #pragma OPENCL FP_CONTRACT OFF /* rounds as the CPU reference */
-    uint8 pi;
-    if (e0 + HERO_VW <= end) {
-        pi = vload8(0, idx + e0);
-    } else {
-        uint part[HERO_VW];
+    uint part[HERO_VW];
+    __global const uint *src = idx + e0;
+    if (e0 + HERO_VW > end) {
         for (uint p = 0; p < HERO_VW; p++)
             part[p] = e0 + p < end ? idx[e0 + p] : 0u;
-        pi = vload8(0, part);
+        src = NULL;
     }
-    uint8 q = SPM_DIVISOR_QUOTIENT(pi, mul_hi(pi, (uint8)spp.mul), spp);
-    uint8 h = SPM_RNG_HASH(hero_mix8, seed, first_pixel + q, first_sample + (pi - q * spp.d),
-                            SPM_DIM_HERO);
-    float8 u = convert_float8(h >> 8) * SPM_RNG_UNIT;
+    uint16 pi = src ? (uint16)(vload8(0, src), vload8(1, src))
+                    : (uint16)(vload8(0, part), vload8(1, part));
+    uint16 t1 = (uint16)(mul_hi(pi.lo, (uint8)spp.mul), mul_hi(pi.hi, (uint8)spp.mul));
+    uint16 q = SPM_DIVISOR_QUOTIENT(pi, t1, spp);
+    uint16 h;
+    SPM_RNG_HASH_STEPS(h, seed, first_pixel + q, first_sample + (pi - q * spp.d), SPM_DIM_HERO);
+    float16 u = HERO_HALVES(float16, convert_float8, h >> 8) * SPM_RNG_UNIT;
     for (uint k = 0; k < SPM_HERO_LANES; k++) {
-        float8 x = u + (float)k / (float)SPM_HERO_LANES;
-        x = select(x, x - 1.0f, x >= 1.0f);
-        float8 y = hero[SPM_HERO_T0] + x * hero[SPM_HERO_DT];
-        uint8 cell = convert_uint8(x * (float)SPM_HERO_CELLS);
-        uint8 j = convert_uint8(HERO_GATHER8(hero, SPM_HERO_INDEX, cell));
-        j = select(j, j + 1u, y >= HERO_GATHER8(hero, SPM_HERO_EDGE + 1, j));
-        /* a vector bound: Oclgrind 21.10 gets min(vector, scalar) wrong */
-        j = min(j, (uint8)(SPM_TRUTH_BINS - 1u));
-        float8 w = 1.0f / (hero[SPM_HERO_PDFK] * (1.0f - y * y) * (float)SPM_HERO_LANES);
-        vstore8(j, 0, bin + k * SPM_LOCAL_SIZE);
-        vstore8(w, 0, r + k * SPM_LOCAL_SIZE);
+        float16 x = u + (float)k / (float)SPM_HERO_LANES;
+        x = x >= 1.0f ? x - 1.0f : x;
+        float16 y = hero[SPM_HERO_T0] + x * hero[SPM_HERO_DT];
+        uint16 cell = HERO_HALVES(uint16, convert_uint8, x * (float)SPM_HERO_CELLS);
+        uint16 j = HERO_HALVES(uint16, convert_uint8, HERO_GATHER16(hero, SPM_HERO_INDEX, cell));
+        /* select on halves: Oclgrind 21.10 gets ?: (or -=) with this
+         * uint16 comparison wrong */
+        int16 up = y >= HERO_GATHER16(hero, SPM_HERO_EDGE + 1, j);
+        j = (uint16)(select(j.lo, j.lo + 1u, up.lo), select(j.hi, j.hi + 1u, up.hi));
+        j = j < (uint16)(SPM_TRUTH_BINS - 1u) ? j : (uint16)(SPM_TRUTH_BINS - 1u);
+        float16 w = 1.0f / (hero[SPM_HERO_PDFK] * (1.0f - y * y) * (float)SPM_HERO_LANES);
+        vstore8(j.lo, 0, bin + k * SPM_LOCAL_SIZE);
+        vstore8(j.hi, 1, bin + k * SPM_LOCAL_SIZE);
+        vstore8(w.lo, 0, r + k * SPM_LOCAL_SIZE);
+        vstore8(w.hi, 1, r + k * SPM_LOCAL_SIZE);
     }
 }
 
@@ -156,7 +160,7 @@ inline void hero_xyz(__global const float *hero, uint4 b, float4 r, float4 L, fl
     {                                                                                  \
         uint l = (uint)get_local_id(0);                                                \
         if (l < HERO_PREP)                                                             \
-            hero_draw8(extra, idx, i - l + HERO_VW * l, end, seed, spp, first_sample, \
+            hero_draw16(extra, idx, i - l + HERO_VW * l, end, seed, spp, first_sample, \
                         first_pixel, hbin + HERO_VW * l, hr + HERO_VW * l);            \
         barrier(CLK_LOCAL_MEM_FENCE);                                                  \
     }
