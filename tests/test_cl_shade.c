@@ -8,7 +8,7 @@
 /* 7 samples a pixel: hero's kernel divides a path's index by spp with a
  * multiply and shifts, trivial for a power of two. Batches of BATCH_PIX
  * pixels end inside the lit image, in a part work-group (1407 paths: 63 of
- * the last 64), whose part vector of 8 hero draws from fewer indices. */
+ * the last 64), whose part vector of 16 hero draws from fewer indices. */
 #define BATCH_PIX 201
 #define W 23
 #define H 24
