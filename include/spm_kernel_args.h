@@ -46,11 +46,13 @@
 
 /* ...followed, in a mode whose lanes are drawn per path (hero), by its extra
  * table (SPM_HERO_*) and each path's RNG key: path pi of the batch is pixel
- * first_pixel + pi / spp, sample first_sample + pi % spp. */
+ * first_pixel + pi / spp, sample first_sample + pi % spp (spp as a divisor,
+ * spm_shared.h: spp.d). Such a kernel sets up its work-group's paths
+ * together, so it is launched in work-groups of SPM_LOCAL_SIZE. */
 #define SPM_SHADE_PATH_ARGS(X, S)                                       \
     X(__global const float *, cl_mem, extra) S                          \
     X(uint, spm_u32, seed) S                                            \
-    X(uint, spm_u32, spp) S                                             \
+    X(const spm_divisor, spm_divisor, spp) S                            \
     X(uint, spm_u32, first_sample) S                                    \
     X(uint, spm_u32, first_pixel)
 
@@ -87,6 +89,9 @@
     X(uint, spm_u32, nrays) S                                           \
     X(__global int *, cl_mem, hits) S                                   \
     X(__global uint *, cl_mem, counters)
+
+/* The work-group size of every launch. */
+#define SPM_LOCAL_SIZE 64
 
 /* Counters the kernels add to (one buffer of SPM_NCOUNTERS uints, zeroed a pass). */
 #define SPM_COUNTER_TRUNCATED 0

@@ -18,29 +18,48 @@
 #define SPM_DIM_DIR_B 5u
 #define SPM_DIM_HERO 0x7fffff00u  /* hero wavelength offset, shade stage only */
 
-/* "lowbias32" integer mixer (Wellons): full avalanche, cheap. */
+/* "lowbias32" integer mixer (Wellons): full avalanche, cheap. Its steps on x
+ * of any unsigned 32-bit integer type (the kernels also mix 16 keys at once). */
+#define SPM_MIX32_STEPS(x)   \
+    do {                     \
+        (x) ^= (x) >> 16;    \
+        (x) *= 0x7feb352dU;  \
+        (x) ^= (x) >> 15;    \
+        (x) *= 0x846ca68bU;  \
+        (x) ^= (x) >> 16;    \
+    } while (0)
+
 SPM_INLINE spm_u32 spm_mix32(spm_u32 x)
 {
-    x ^= x >> 16;
-    x *= 0x7feb352dU;
-    x ^= x >> 15;
-    x *= 0x846ca68bU;
-    x ^= x >> 16;
+    SPM_MIX32_STEPS(x);
     return x;
 }
 
+/* The key's hash into h: pixel, sample and dim (and h) may be vectors, which
+ * the kernels mix without a call (a 16-wide argument changes the x86 ABI on
+ * CPUs without AVX-512). */
+#define SPM_RNG_HASH_STEPS(h, seed, pixel, sample, dim)  \
+    do {                                                 \
+        (h) = spm_mix32((seed) ^ 0x9e3779b9U) ^ (pixel); \
+        SPM_MIX32_STEPS(h);                              \
+        (h) ^= (sample) * 0x85ebca6bU;                   \
+        SPM_MIX32_STEPS(h);                              \
+        (h) ^= (dim) * 0xc2b2ae35U;                      \
+        SPM_MIX32_STEPS(h);                              \
+    } while (0)
+/* The 24 random bits of a hash to a float in [0, 1) (exact). */
+#define SPM_RNG_UNIT (1.0f / 16777216.0f)
+
 SPM_INLINE spm_u32 spm_rng_u32(spm_u32 seed, spm_u32 pixel, spm_u32 sample, spm_u32 dim)
 {
-    spm_u32 h = spm_mix32(seed ^ 0x9e3779b9U);
-    h = spm_mix32(h ^ pixel);
-    h = spm_mix32(h ^ (sample * 0x85ebca6bU));
-    h = spm_mix32(h ^ (dim * 0xc2b2ae35U));
+    spm_u32 h;
+    SPM_RNG_HASH_STEPS(h, seed, pixel, sample, dim);
     return h;
 }
 
 /* Uniform in [0, 1). */
 SPM_INLINE float spm_rng(spm_u32 seed, spm_u32 pixel, spm_u32 sample, spm_u32 dim)
 {
-    return (float)(spm_rng_u32(seed, pixel, sample, dim) >> 8) * (1.0f / 16777216.0f);
+    return (float)(spm_rng_u32(seed, pixel, sample, dim) >> 8) * SPM_RNG_UNIT;
 }
 #endif

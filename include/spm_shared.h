@@ -225,6 +225,36 @@ typedef struct {
 } spm_ray;
 #define SPM_RAY_CLOSEST 0xFFFFFFFFu
 
+/* Division by a divisor d fixed for a launch, as a multiply and two shifts
+ * (Granlund & Montgomery 1994, fig. 4.1): exact for every 32-bit n and d >= 1.
+ * The host makes it (spm_divisor_make); the shade kernels divide a path's
+ * index by spp with it, 16 paths at a time (x86 has no vector division). */
+typedef struct {
+    spm_u32 d;
+    spm_u32 mul;       /* floor(2^32 (2^l - d) / d) + 1, l = ceil(log2 d) */
+    spm_u32 sh1, sh2;  /* min(l, 1), max(l - 1, 0) */
+} spm_divisor;
+/* n / d from t1 = the high 32 bits of n * mul (any integer vector type) */
+#define SPM_DIVISOR_QUOTIENT(n, t1, dv) (((t1) + (((n) - (t1)) >> (dv).sh1)) >> (dv).sh2)
+
+#ifndef __OPENCL_VERSION__
+SPM_INLINE spm_divisor spm_divisor_make(spm_u32 d)
+{
+    spm_u32 l = 0;
+    while (l < 32 && ((uint64_t)1 << l) < d)
+        l++;
+    spm_divisor v = {d, (spm_u32)((((uint64_t)1 << l) - d) * ((uint64_t)1 << 32) / d + 1),
+                     l < 1 ? l : 1, l > 1 ? l - 1 : 0};
+    return v;
+}
+
+SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
+{
+    spm_u32 t1 = (spm_u32)(((uint64_t)n * dv.mul) >> 32);
+    return SPM_DIVISOR_QUOTIENT(n, t1, dv);
+}
+#endif
+
 #define SPM_D2_MIN 1e-6f
 #define SPM_RAY_EPSILON (1.0f / 1048576.0f)  /* MiniLight's determinant epsilon */
 #define SPM_PI_F 3.14159265358979323846f

@@ -67,61 +67,128 @@
 #endif
 
 #ifdef SPM_SHADE_HERO
-/* The 1 nm bin holding y = t0 + x dt: the direct index of x's cell is that
- * bin or the one before it (host/spectral/tables.c), so one comparison with
- * the next bin's edge settles it. */
-inline uint hero_bin(__global const float *hero, float x, float y)
-{
-    uint j = (uint)hero[SPM_HERO_INDEX + (uint)(x * (float)SPM_HERO_CELLS)];
-    j += y >= hero[SPM_HERO_EDGE + j + 1] ? 1u : 0u;
-    return min(j, (uint)SPM_TRUTH_BINS - 1u);
-}
+/* hero sets up its paths 16 at a time: the draw of a path's wavelengths is
+ * scalar integer and table work (key, RNG, 4 bins, 4 densities), as long as
+ * the shading itself, and PoCL runs a work-group's work-items one after the
+ * other without vectorising across them. So the first HERO_PREP work-items
+ * of a group each draw for 16 of its paths in 16-wide vectors, into local
+ * memory, and after a barrier every work-item reads its own (8 at a time
+ * took 0.07 of ref's shade time more). Only operators take the 16-wide
+ * vectors; builtins get their float8 halves (HERO_HALVES), as SB_FMA in
+ * shade_body.clh: a 16-wide argument changes the x86 ABI on CPUs without
+ * AVX-512, and clang warns of it. */
+#define HERO_VW 16
+#define HERO_PREP (SPM_LOCAL_SIZE / HERO_VW)
+#define HERO_HALVES(T, f, v) ((T)(f((v).lo), f((v).hi)))
 
-/* A path's four lanes from its uniform u (host/spectral/tables.c derives the
- * density): x = frac(u + i/4), y = t0 + x dt = tanh(a (l - 538)) at the
- * lane's wavelength l, its 1 nm bin, and the lane's XYZ weights: truth's
- * weights of the bin over the density a (1 - y^2) / dt and the lane count;
- * for spectral records, the factor that turns a lane's radiance into its
- * share of its 5 nm bin's mean: 1 / (density lanes 5 nm). */
-inline void hero_lanes(__global const float *hero, float u, uint4 *bin, float4 *w, float4 *sfw)
+/* t[o + v.sk] for each of the 16 lanes of v */
+#define HERO_GATHER16(t, o, v)                                                          \
+    ((float16)(t[(o) + (v).s0], t[(o) + (v).s1], t[(o) + (v).s2], t[(o) + (v).s3],      \
+               t[(o) + (v).s4], t[(o) + (v).s5], t[(o) + (v).s6], t[(o) + (v).s7],      \
+               t[(o) + (v).s8], t[(o) + (v).s9], t[(o) + (v).sa], t[(o) + (v).sb],      \
+               t[(o) + (v).sc], t[(o) + (v).sd], t[(o) + (v).se], t[(o) + (v).sf]))
+
+/* The four lanes of the paths of bucket entries e0 .. e0+15 (those before
+ * end; host/spectral/tables.c derives the density): the path's uniform u
+ * from its key; lane k at x = frac(u + k/4), y = t0 + x dt = tanh(a (l -
+ * 538)) at its wavelength l; its 1 nm bin, which the direct index of x's
+ * cell gives or puts one before (one comparison with the next bin's edge
+ * settles it); and 1 / (density a (1 - y^2) / dt times the lane count).
+ * Lane k of the 16 paths goes to bin[k * SPM_LOCAL_SIZE ...], r likewise:
+ * vector stores (stored path by path, the scattered stores took 0.14 of
+ * ref's shade time). The same float operations as the CPU reference, lane
+ * by lane, uncontracted. */
+inline void hero_draw16(__global const float *hero, __global const uint *idx, uint e0, uint end,
+                        uint seed, spm_divisor spp, uint first_sample, uint first_pixel,
+                        __local uint *bin, __local float *r)
 {
 #pragma OPENCL FP_CONTRACT OFF /* rounds as the CPU reference */
-    float4 x = u + (float4)(0.0f, 0.25f, 0.5f, 0.75f);
-    x = select(x, x - 1.0f, x >= 1.0f);
-    float4 y = hero[SPM_HERO_T0] + x * hero[SPM_HERO_DT];
-    uint4 b = (uint4)(hero_bin(hero, x.s0, y.s0), hero_bin(hero, x.s1, y.s1),
-                      hero_bin(hero, x.s2, y.s2), hero_bin(hero, x.s3, y.s3));
-    float4 r = 1.0f / (hero[SPM_HERO_PDFK] * (1.0f - y * y) * (float)SPM_HERO_LANES);
+    uint part[HERO_VW];
+    __global const uint *src = idx + e0;
+    if (e0 + HERO_VW > end) {
+        for (uint p = 0; p < HERO_VW; p++)
+            part[p] = e0 + p < end ? idx[e0 + p] : 0u;
+        src = NULL;
+    }
+    uint16 pi = src ? (uint16)(vload8(0, src), vload8(1, src))
+                    : (uint16)(vload8(0, part), vload8(1, part));
+    uint16 t1 = (uint16)(mul_hi(pi.lo, (uint8)spp.mul), mul_hi(pi.hi, (uint8)spp.mul));
+    uint16 q = SPM_DIVISOR_QUOTIENT(pi, t1, spp);
+    uint16 h;
+    SPM_RNG_HASH_STEPS(h, seed, first_pixel + q, first_sample + (pi - q * spp.d), SPM_DIM_HERO);
+    float16 u = HERO_HALVES(float16, convert_float8, h >> 8) * SPM_RNG_UNIT;
+    for (uint k = 0; k < SPM_HERO_LANES; k++) {
+        float16 x = u + (float)k / (float)SPM_HERO_LANES;
+        x = x >= 1.0f ? x - 1.0f : x;
+        float16 y = hero[SPM_HERO_T0] + x * hero[SPM_HERO_DT];
+        uint16 cell = HERO_HALVES(uint16, convert_uint8, x * (float)SPM_HERO_CELLS);
+        uint16 j = HERO_HALVES(uint16, convert_uint8, HERO_GATHER16(hero, SPM_HERO_INDEX, cell));
+        /* select on halves: Oclgrind 21.10 gets ?: (or -=) with this
+         * uint16 comparison wrong */
+        int16 up = y >= HERO_GATHER16(hero, SPM_HERO_EDGE + 1, j);
+        j = (uint16)(select(j.lo, j.lo + 1u, up.lo), select(j.hi, j.hi + 1u, up.hi));
+        j = j < (uint16)(SPM_TRUTH_BINS - 1u) ? j : (uint16)(SPM_TRUTH_BINS - 1u);
+        float16 w = 1.0f / (hero[SPM_HERO_PDFK] * (1.0f - y * y) * (float)SPM_HERO_LANES);
+        vstore8(j.lo, 0, bin + k * SPM_LOCAL_SIZE);
+        vstore8(j.hi, 1, bin + k * SPM_LOCAL_SIZE);
+        vstore8(w.lo, 0, r + k * SPM_LOCAL_SIZE);
+        vstore8(w.hi, 1, r + k * SPM_LOCAL_SIZE);
+    }
+}
+
+/* XYZ of the lanes' radiance L: lane k weighs truth's XYZ weights of its bin
+ * by r.sk; summed as the dot product's pairs, (0 + 2) + (1 + 3). */
+inline void hero_xyz(__global const float *hero, uint4 b, float4 r, float4 L, float *out)
+{
+#pragma OPENCL FP_CONTRACT OFF /* rounds as the CPU reference */
     __global const float *cw = hero + SPM_HERO_CMF;
-    float4 c0 = vload4(b.s0, cw) * r.s0, c1 = vload4(b.s1, cw) * r.s1;
-    float4 c2 = vload4(b.s2, cw) * r.s2, c3 = vload4(b.s3, cw) * r.s3;
-    w[0] = (float4)(c0.x, c1.x, c2.x, c3.x);
-    w[1] = (float4)(c0.y, c1.y, c2.y, c3.y);
-    w[2] = (float4)(c0.z, c1.z, c2.z, c3.z);
-    *bin = b;
-    *sfw = r / (float)(SPM_TRUTH_BINS / SPM_NM5_BINS);
+    float4 t0 = L.s0 * (vload4(b.s0, cw) * r.s0), t1 = L.s1 * (vload4(b.s1, cw) * r.s1);
+    float4 t2 = L.s2 * (vload4(b.s2, cw) * r.s2), t3 = L.s3 * (vload4(b.s3, cw) * r.s3);
+    float4 s = (t0 + t2) + (t1 + t3);
+    out[0] = s.x;
+    out[1] = s.y;
+    out[2] = s.z;
 }
 
 #define SB_NAME spm_shade_hero
 #define SB_W 4
 #define SB_NV 1
 #define SB_EXTRA_ARGS , SPM_SHADE_PATH_ARGS(SPM_KERNEL_PARAM, SPM_COMMA)
+#define SB_ATTR __attribute__((reqd_work_group_size(SPM_LOCAL_SIZE, 1, 1)))
+#define SB_GROUP                                                                       \
+    __local uint hbin[SPM_HERO_LANES * SPM_LOCAL_SIZE];                                \
+    __local float hr[SPM_HERO_LANES * SPM_LOCAL_SIZE];                                 \
+    {                                                                                  \
+        uint l = (uint)get_local_id(0);                                                \
+        if (l < HERO_PREP)                                                             \
+            hero_draw16(extra, idx, i - l + HERO_VW * l, end, seed, spp, first_sample, \
+                        first_pixel, hbin + HERO_VW * l, hr + HERO_VW * l);            \
+        barrier(CLK_LOCAL_MEM_FENCE);                                                  \
+    }
+#define HERO_LOCAL4(a, l)                                                              \
+    ((a)[l], (a)[(l) + SPM_LOCAL_SIZE], (a)[(l) + 2 * SPM_LOCAL_SIZE], (a)[(l) + 3 * SPM_LOCAL_SIZE])
 #define SB_PREPARE                                                                     \
-    uint4 hb;                                                                          \
-    float4 hcmf[3], hs;                                                                \
-    hero_lanes(extra, spm_rng(seed, first_pixel + pi / spp, first_sample + pi % spp, SPM_DIM_HERO), \
-               &hb, hcmf, &hs);
-#define SB_LOAD(c, k)                                                                  \
-    ((float4)(tab[(size_t)(c) * SPM_TRUTH_BINS + hb.s0], tab[(size_t)(c) * SPM_TRUTH_BINS + hb.s1], \
-              tab[(size_t)(c) * SPM_TRUTH_BINS + hb.s2], tab[(size_t)(c) * SPM_TRUTH_BINS + hb.s3]))
-#define SB_CMF(ch, k) hcmf[ch]
+    uint hl = (uint)get_local_id(0);                                                   \
+    uint4 hb = (uint4)HERO_LOCAL4(hbin, hl);                                           \
+    float4 hw = (float4)HERO_LOCAL4(hr, hl);
+/* A colour's values at the four bins. Read through a volatile pointer: four
+ * scalar loads, which LLVM would otherwise merge into a gather (vgatherqps),
+ * 0.06 of ref's shade time slower here. */
+inline float4 hero_load(__global const float *row, uint4 b)
+{
+    __global const volatile float *v = row;
+    return (float4)(v[b.s0], v[b.s1], v[b.s2], v[b.s3]);
+}
+#define SB_LOAD(c, k) hero_load(tab + (size_t)(c) * SPM_TRUTH_BINS, hb)
+#define SB_XYZ hero_xyz(extra, hb, hw, L[0], out);
+/* for spectral records, the factor that turns a lane's radiance into its
+ * share of its 5 nm bin's mean: 1 / (density lanes 5 nm) */
+#define HERO_SPEC(k) so[hb.s##k / (SPM_TRUTH_BINS / SPM_NM5_BINS)] +=                    \
+    lf[k] * (hw.s##k / (float)(SPM_TRUTH_BINS / SPM_NM5_BINS));
 #define SB_SPEC_STORE                                                                  \
     for (uint b = 0; b < SPM_SPEC_BINS; b++)                                           \
         so[b] = 0.0f;                                                                  \
-    so[hb.s0 / (SPM_TRUTH_BINS / SPM_NM5_BINS)] += lf[0] * hs.s0;                        \
-    so[hb.s1 / (SPM_TRUTH_BINS / SPM_NM5_BINS)] += lf[1] * hs.s1;                        \
-    so[hb.s2 / (SPM_TRUTH_BINS / SPM_NM5_BINS)] += lf[2] * hs.s2;                        \
-    so[hb.s3 / (SPM_TRUTH_BINS / SPM_NM5_BINS)] += lf[3] * hs.s3;
+    HERO_SPEC(0) HERO_SPEC(1) HERO_SPEC(2) HERO_SPEC(3)
 #include "shade_body.clh"
 #endif
 

@@ -87,7 +87,8 @@ int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOT
          * for the same reason. */
         shade_args a = {r->heads, r->verts,  (spm_u32)b->n, ids,     (spm_u32)off[s],
                         (spm_u32)off[s + 1], r->tab[s], r->cmf[s], r->xyz};
-        shade_path_args pa = {r->extra, r->params.seed, b->spp, b->first_sample, b->first_pixel};
+        shade_path_args pa = {r->extra, r->params.seed, spm_divisor_make(b->spp), b->first_sample,
+                              b->first_pixel};
         shade_spec_args sa = {r->smap[s], r->sfac[s]};
         cl_uint i = 0;
         int rc = set_shade_args(r->k_shade[s], r->kname[s], &a, &i, err) ||

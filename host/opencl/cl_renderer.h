@@ -20,7 +20,7 @@
 #define NSLOTS SPM_NUM_LEVELS
 /* Work-group size asked for (PoCL runs a group's work-items in one thread; 64
  * amortises the per-group cost and keeps the last group's waste small). */
-#define LOCAL_SIZE 64
+#define LOCAL_SIZE SPM_LOCAL_SIZE
 
 struct spm_cl_renderer {
     spm_cl_ctx cl;
