@@ -101,27 +101,31 @@ static double product_error(const ctx_t *cx, const vec_t ref, const vec_t test, 
     return metric == SPM_METRIC_DEAB ? spm_delta_e_ab(lr, lt) : spm_delta_e_2000(lr, lt);
 }
 
-/* A level's error in one product, and whether it passes: under the threshold,
- * or no worse than level 0's in the same product. What level 0 misses is the
- * lanes' own error (a lane holds one mean per colour, so a product of means
- * stands for the mean of a product), which no level of the smooth part
- * removes: a finer level would cost without helping. */
-static void judge(const double e[SPM_NUM_LEVELS], const spm_pretest_opts *o,
-                  double worst[SPM_NUM_LEVELS], unsigned char fail[SPM_NUM_LEVELS])
+/* A level's error in one product (e: against truth; own: against level 0 in
+ * composite form) and whether it passes: under the threshold against truth,
+ * or, where level 0 itself is not (the lanes' own error: a lane holds one mean
+ * per colour, so a product of means stands for the mean of a product, and no
+ * level of the smooth part removes that), its own sampling error under the
+ * threshold: a finer level would cost without reaching truth. */
+static void judge(const double e[SPM_NUM_LEVELS], const double own[SPM_NUM_LEVELS],
+                  const spm_pretest_opts *o, double worst[SPM_NUM_LEVELS],
+                  unsigned char fail[SPM_NUM_LEVELS])
 {
     for (int l = 0; l < SPM_NUM_LEVELS; l++) {
         worst[l] = maxd(worst[l], e[l]);
-        if (l > 0 && e[l] > o->threshold && e[l] > e[0])
+        if (l > 0 && e[l] > o->threshold && (e[0] <= o->threshold || own[l] > o->threshold))
             fail[l] = 1;
     }
 }
 
-/* Product error at every level: pr the truth product, pt[l] the test one. */
+/* Product errors at every level: pr the truth product, pt[l] the test ones. */
 static void errors(const ctx_t *cx, const vec_t pr, vec_t *pt, spm_metric metric,
-                   double e[SPM_NUM_LEVELS])
+                   double e[SPM_NUM_LEVELS], double own[SPM_NUM_LEVELS])
 {
-    for (int l = 0; l < SPM_NUM_LEVELS; l++)
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
         e[l] = product_error(cx, pr, pt[l], metric);
+        own[l] = l ? product_error(cx, pt[0], pt[l], metric) : 0.0;
+    }
 }
 
 /* Context C: s times 1..SEQ_MAX_OTHERS other reflectances (and a random light
@@ -153,13 +157,13 @@ static void sequences(const ctx_t *cx, int self, int is_light, const vec_t s_tru
             mul(pr, cx->truth[cx->refl[r]]);
             mul(f, cx->comp0[cx->refl[r]]);
         }
-        double e[SPM_NUM_LEVELS];
+        double e[SPM_NUM_LEVELS], own[SPM_NUM_LEVELS];
         for (int l = 0; l < SPM_NUM_LEVELS; l++) {
             memcpy(pt[l], f, sizeof f);
             mul(pt[l], s_test[l]);
         }
-        errors(cx, pr, pt, o->metric, e);
-        judge(e, o, worst, fail);
+        errors(cx, pr, pt, o->metric, e, own);
+        judge(e, own, o, worst, fail);
     }
 }
 
@@ -177,10 +181,10 @@ static void run_one(const ctx_t *cx, const spm_mlc_colour *c, int self, const sp
     unsigned char fail_ac[SPM_NUM_LEVELS] = {0}, fail_k[SPM_PRETEST_KMAX][SPM_NUM_LEVELS];
     memset(fail_k, 0, sizeof fail_k);
     if (is_light) { /* an emission ends the product: every k is s on its own */
-        double e[SPM_NUM_LEVELS];
-        errors(cx, s_truth, s_test, o->metric, e);
+        double e[SPM_NUM_LEVELS], own[SPM_NUM_LEVELS];
+        errors(cx, s_truth, s_test, o->metric, e, own);
         for (int k = 0; k < SPM_PRETEST_KMAX; k++)
-            judge(e, o, res->err_k[k], fail_k[k]);
+            judge(e, own, o, res->err_k[k], fail_k[k]);
     } else {
         int nl = cx->nlights ? cx->nlights : 1;
         for (int li = 0; li < nl; li++) {
@@ -192,9 +196,9 @@ static void run_one(const ctx_t *cx, const spm_mlc_colour *c, int self, const sp
                 mul(pr, s_truth);
                 for (int l = 0; l < SPM_NUM_LEVELS; l++)
                     mul(pt[l], s_test[l]);
-                double e[SPM_NUM_LEVELS];
-                errors(cx, pr, pt, o->metric, e);
-                judge(e, o, res->err_k[k], fail_k[k]);
+                double e[SPM_NUM_LEVELS], own[SPM_NUM_LEVELS];
+                errors(cx, pr, pt, o->metric, e, own);
+                judge(e, own, o, res->err_k[k], fail_k[k]);
             }
         }
     }
