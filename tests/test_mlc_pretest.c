@@ -139,7 +139,7 @@ static void recompute(const char *scene)
 
 /* One light's lanes on their own give the XYZ of the spikes they stand for
  * (the lane weights are means over the spikes, not the CMFs at their
- * centroids, which miss by ~1 % across a 10 nm line): cornell_spiky's F11
+ * centroids, which miss F11's by 0.1-0.6 % per channel): cornell_spiky's F11
  * alone, its spikes split as the tables split them. Float tables: 1e-5. */
 static void lanes_alone(void)
 {
