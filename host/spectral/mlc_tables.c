@@ -1,10 +1,11 @@
 /* Composite Model tables (mlc): every emission is split into a smooth part and
  * spikes; the scene's spikes share a pattern table of at most SPM_MAX_SPIKES
  * lanes. Per colour and level a row holds the smooth bins, then the lanes:
- * an emission's energy in each lane, a reflectance's value at each lane's
- * wavelength. The lane XYZ weights are the CMFs at those wavelengths, so a
- * spike is a delta of the given area and the shade arithmetic stays one fused
- * vector multiply-add. */
+ * an emission's energy in each lane, a reflectance's mean over each lane's
+ * spike profile. The lane XYZ weights are the CMFs' means over the same
+ * profiles, so a spike is a delta of the given area and the shade arithmetic
+ * stays one fused vector multiply-add. The levels come from the composite's
+ * error against truth (mlc_pretest.c). */
 #include "mlc_tables.h"
 #include <stdlib.h>
 #include <string.h>
