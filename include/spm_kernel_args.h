@@ -74,9 +74,27 @@
     X(__global float *, cl_mem, pass_xyz) S                             \
     X(__global uint *, cl_mem, counters)
 
+/* spm_rays (kernels/rays.cl): rays [first, first + nrays) of the buffer, each
+ * one traversal (spm_ray), its answer into hits (the triangle, or -1). A
+ * shadow ray's answer is -1 or the emitter when unoccluded, else an
+ * occluder. Built with -DSPM_RAYS_STATS, counters[SPM_COUNTER_NODES] and
+ * [SPM_COUNTER_TRIS] add up the nodes visited and triangles tested. */
+#define SPM_RAYS_ARGS(X, S)                                             \
+    X(__global const spm_tri *, cl_mem, tris) S                         \
+    X(__global const spm_bvh_node *, cl_mem, nodes) S                   \
+    X(__global const spm_ray *, cl_mem, rays) S                         \
+    X(uint, spm_u32, first) S                                           \
+    X(uint, spm_u32, nrays) S                                           \
+    X(__global int *, cl_mem, hits) S                                   \
+    X(__global uint *, cl_mem, counters)
+
 /* Counters the kernels add to (one buffer of SPM_NCOUNTERS uints, zeroed a pass). */
 #define SPM_COUNTER_TRUNCATED 0
 #define SPM_COUNTER_STACK 1
 #define SPM_COUNTER_NONFINITE 2
 #define SPM_NCOUNTERS 4
+/* the ray replay's, in a buffer of its own of SPM_RAYS_NCOUNTERS */
+#define SPM_COUNTER_NODES 4
+#define SPM_COUNTER_TRIS 5
+#define SPM_RAYS_NCOUNTERS 8
 #endif

@@ -18,11 +18,16 @@ typedef int32_t spm_i32;
 /* ---- spectral domain ---------------------------------------------------- */
 #define SPM_LAMBDA_MIN 380
 #define SPM_LAMBDA_MAX 780
-#define SPM_L0_BINS 80          /* level 0: 5 nm bins */
-#define SPM_NUM_LEVELS 4        /* levels 0..3: 80, 40, 20, 10 bins */
-#define SPM_LEVEL_BINS(l) (SPM_L0_BINS >> (l))
 #define SPM_TRUTH_BINS 400      /* 1 nm bins: ground truth */
-#define SPM_VECS_PER_LEVEL 5    /* a level is five vectors: 5x16, 5x8, 5x4, 5x2 */
+#define SPM_NM5_BINS 80         /* 5 nm bins: ref, and the spectral images' default */
+/* The mip chain: level 0 is the 1 nm truth, level 1 the 5 nm bins, and each
+ * coarser level averages pairs: 400, 80, 40, 20, 10 bins, read by the shade
+ * kernels as 25 x float16, then five vectors of 16, 8, 4, 2 floats. */
+#define SPM_NUM_LEVELS 5
+#define SPM_LEVEL_BINS(l) ((l) ? SPM_NM5_BINS >> ((l) - 1) : SPM_TRUTH_BINS)
+#define SPM_LEVEL_WIDTH(l) ((l) <= 1 ? 16 : 32 >> (l))
+#define SPM_REF_LEVEL 1         /* ref's level: every spectrum at 5 nm */
+#define SPM_DEFAULT_COARSEST 3  /* the pretest's coarsest level unless told: 20 bins */
 #define SPM_MAX_SPIKES 16       /* Composite Model: spike lanes per scene */
 #define SPM_HERO_LANES 4
 /* hero's wavelength density: pbrt-v4's visible importance a / cosh^2(a (l - c))
@@ -175,7 +180,7 @@ typedef struct {
 typedef struct {
     spm_u32 refl;      /* reflectance colour id (SPM_NONE: black) */
     spm_u32 emit;      /* emission colour id (SPM_NONE: not an emitter) */
-    float mean;        /* level-0 mean reflectance: Russian roulette survival */
+    float mean;        /* mean reflectance (the same at every level): Russian roulette survival */
     float inv_mean;    /* 1 / mean (0 when mean == 0) */
 } spm_material;
 
@@ -205,6 +210,20 @@ typedef struct {
     spm_u32 first_sample;  /* sample index of this pass's first sample */
     spm_u32 pad;
 } spm_trace_params;
+
+/* A ray replayed by `specmip bench --rays` (kernels/rays.cl, host/bench/bench_rays.c):
+ * one of the rays a render's paths trace, with what the traversal is asked.
+ * emitter == SPM_RAY_CLOSEST: the closest hit other than `skip` (a camera or
+ * bounce ray); otherwise a shadow ray towards a point on emitter triangle
+ * `emitter`, asking whether the closest hit other than `skip` is that
+ * emitter or nothing (trace.cl's shadow test). */
+typedef struct {
+    float o[3];
+    spm_u32 skip;      /* the triangle the ray leaves; 0xFFFFFFFF: none (a camera ray) */
+    float d[3];
+    spm_u32 emitter;
+} spm_ray;
+#define SPM_RAY_CLOSEST 0xFFFFFFFFu
 
 #define SPM_D2_MIN 1e-6f
 #define SPM_RAY_EPSILON (1.0f / 1048576.0f)  /* MiniLight's determinant epsilon */

@@ -3,9 +3,11 @@
  * is the one body in shade_body.clh at a fixed vector width; the host compiles
  * only what the scene and mode use (-D below, as the mode descriptors in
  * host/spectral/modes.c ask for them; n: vectors per colour of its shade table):
- *   SPM_SHADE_L<l>_NV=n  level l: 80>>l bins as 5 vectors of 16>>l floats
- *                        (n = 5; mlc: 5 + the spike lanes as more vectors)
- *   SPM_SHADE_TRUTH_NV=n 400 1 nm bins = 25 x float16
+ *   SPM_SHADE_L<l>_NV=n  level l (spm_shared.h): level 0 the 400 1 nm bins as
+ *                        float16 (n = 25: truth, and ml's finest level),
+ *                        level l > 0 80>>(l-1) bins as 5 vectors of
+ *                        16, 8, 4, 2 floats (n = 5); mlc: the spike lanes
+ *                        as more vectors
  *   SPM_SHADE_RGB        3 components in a float4, XYZ by the sRGB matrix
  *   SPM_SHADE_HERO       4 wavelengths in a float4, gathered from the 1 nm rows
  * Contraction is left on: fma() is what the body asks for anyway. */
@@ -34,27 +36,26 @@
 #endif
 #ifdef SPM_SHADE_L1_NV
 #define SB_NAME spm_shade_l1
-#define SB_W 8
+#define SB_W 16
 #define SB_NV SPM_SHADE_L1_NV
 #include "shade_body.clh"
 #endif
 #ifdef SPM_SHADE_L2_NV
 #define SB_NAME spm_shade_l2
-#define SB_W 4
+#define SB_W 8
 #define SB_NV SPM_SHADE_L2_NV
 #include "shade_body.clh"
 #endif
 #ifdef SPM_SHADE_L3_NV
 #define SB_NAME spm_shade_l3
-#define SB_W 2
+#define SB_W 4
 #define SB_NV SPM_SHADE_L3_NV
 #include "shade_body.clh"
 #endif
-
-#ifdef SPM_SHADE_TRUTH_NV
-#define SB_NAME spm_shade_truth
-#define SB_W 16
-#define SB_NV SPM_SHADE_TRUTH_NV
+#ifdef SPM_SHADE_L4_NV
+#define SB_NAME spm_shade_l4
+#define SB_W 2
+#define SB_NV SPM_SHADE_L4_NV
 #include "shade_body.clh"
 #endif
 
@@ -98,7 +99,7 @@ inline void hero_lanes(__global const float *hero, float u, uint4 *bin, float4 *
     w[1] = (float4)(c0.y, c1.y, c2.y, c3.y);
     w[2] = (float4)(c0.z, c1.z, c2.z, c3.z);
     *bin = b;
-    *sfw = r / (float)(SPM_TRUTH_BINS / SPM_L0_BINS);
+    *sfw = r / (float)(SPM_TRUTH_BINS / SPM_NM5_BINS);
 }
 
 #define SB_NAME spm_shade_hero
@@ -117,10 +118,10 @@ inline void hero_lanes(__global const float *hero, float u, uint4 *bin, float4 *
 #define SB_SPEC_STORE                                                                  \
     for (uint b = 0; b < SPM_SPEC_BINS; b++)                                           \
         so[b] = 0.0f;                                                                  \
-    so[hb.s0 / (SPM_TRUTH_BINS / SPM_L0_BINS)] += lf[0] * hs.s0;                        \
-    so[hb.s1 / (SPM_TRUTH_BINS / SPM_L0_BINS)] += lf[1] * hs.s1;                        \
-    so[hb.s2 / (SPM_TRUTH_BINS / SPM_L0_BINS)] += lf[2] * hs.s2;                        \
-    so[hb.s3 / (SPM_TRUTH_BINS / SPM_L0_BINS)] += lf[3] * hs.s3;
+    so[hb.s0 / (SPM_TRUTH_BINS / SPM_NM5_BINS)] += lf[0] * hs.s0;                        \
+    so[hb.s1 / (SPM_TRUTH_BINS / SPM_NM5_BINS)] += lf[1] * hs.s1;                        \
+    so[hb.s2 / (SPM_TRUTH_BINS / SPM_NM5_BINS)] += lf[2] * hs.s2;                        \
+    so[hb.s3 / (SPM_TRUTH_BINS / SPM_NM5_BINS)] += lf[3] * hs.s3;
 #include "shade_body.clh"
 #endif
 

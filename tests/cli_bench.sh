@@ -15,7 +15,7 @@ csv=$T/out/bench.csv
 check "CSV written" test -s "$csv"
 check "no part file left" test ! -e "$csv.part"
 for c in scene kind mode threshold spp wall_s kernel_s trace_s shade_s paths_per_s l0_paths l1_paths \
-         l2_paths l3_paths bias_ref_mean bias_ref_p99 bias_ref_max bias_truth_mean err_mean \
+         l2_paths l3_paths l4_paths bias_ref_mean bias_ref_p99 bias_ref_max bias_truth_mean err_mean \
          noise_mean conv_floor_mean; do
     check "header has $c" grep -q "^\(.*,\)\?$c\(,.*\)\?$" <(head -1 "$csv")
 done
@@ -29,7 +29,7 @@ check "numbers finite" awk -F, 'NR > 1 { for (i = 4; i <= NF; i++)
 check "modes and kinds" test "$(awk -F, 'NR > 1 { print $2 "/" $3 }' "$csv" | sort | uniq -c | awk '{ printf "%s%s", $1, $2 }')" = "2main/ml2main/ref2sweep/ml"
 # every path is counted at exactly one level, and 32x32 pixels x spp paths ran
 check "level counts add up to the paths" awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
-    { if ($c["l0_paths"] + $c["l1_paths"] + $c["l2_paths"] + $c["l3_paths"] != $c["paths"] ||
+    { if ($c["l0_paths"] + $c["l1_paths"] + $c["l2_paths"] + $c["l3_paths"] + $c["l4_paths"] != $c["paths"] ||
           $c["paths"] != 1024 * $c["spp"]) exit 1 }' "$csv"
 # ref against itself: the same image, so exactly 0; ml differs from ref only by its levels
 check "ref's bias against ref is 0" test "$(awk -F, '$3 == "ref"' "$csv" | wc -l)" -eq 2 -a \
@@ -43,15 +43,15 @@ check "main rows: time_vs_ref is wall_s over ref's wall_s at that spp" awk -F, '
             w = f[c["wall_s"]]; r = ref[f[c["spp"]]]; q = f[c["time_vs_ref"]]
             if (!(r > 0) || (q - w / r) ^ 2 > (q * (5e-7 / w + 5e-7 / r) + 5e-5) ^ 2) exit 1 }
           if (length(ref) != 2) exit 1 }' "$csv"
-# ml on coarser levels differs from ref (its bias is not 0), and the sweep's
+# ml off ref's level 1 differs from ref (its bias is not 0), and the sweep's
 # thresholds reach the tables: threshold 4 puts paths on coarser levels than 1
-check "ml on coarser levels: bias against ref above 0" awk -F, '
+check "ml off ref's level: bias against ref above 0" awk -F, '
     NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
-    $c["mode"] == "ml" && $c["l0_paths"] < $c["paths"] { n++; if (!($c["bias_ref_mean"] > 0)) exit 1 }
+    $c["mode"] == "ml" && $c["l1_paths"] < $c["paths"] { n++; if (!($c["bias_ref_mean"] > 0)) exit 1 }
     END { exit !(n >= 2) }' "$csv"
 check "sweep: a higher threshold, coarser levels" awk -F, '
     NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
-    $c["kind"] == "sweep" { m[$c["threshold"]] = $c["l1_paths"] + 2 * $c["l2_paths"] + 3 * $c["l3_paths"] }
+    $c["kind"] == "sweep" { m[$c["threshold"]] = $c["l1_paths"] + 2 * $c["l2_paths"] + 3 * $c["l3_paths"] + 4 * $c["l4_paths"] }
     END { exit !(m[4] > m[1]) }' "$csv"
 check "the converged floor is the same in every row" test "$(col "$csv" conv_floor_mean | sort -u | wc -l)" -eq 1
 

@@ -17,12 +17,12 @@ compile() {  # compile FILE DEFINES...: 0 when clang accepts it with no diagnost
         return 1
     fi
 }
-all_shade="-DSPM_SHADE_TRUTH -DSPM_SHADE_RGB -DSPM_SHADE_HERO"
+all_shade="-DSPM_SHADE_RGB -DSPM_SHADE_HERO"
 check "trace.cl" compile trace.cl
 # shellcheck disable=SC2086
-check "shade.cl, ml widths" compile shade.cl -DSPM_SHADE_L0_NV=5 -DSPM_SHADE_L1_NV=5 \
-    -DSPM_SHADE_L2_NV=5 -DSPM_SHADE_L3_NV=5 $all_shade
-check "shade.cl, mlc widths" compile shade.cl -DSPM_SHADE_L0_NV=7 -DSPM_SHADE_L1_NV=8 \
-    -DSPM_SHADE_L2_NV=10 -DSPM_SHADE_L3_NV=14
+check "shade.cl, ml widths" compile shade.cl -DSPM_SHADE_L0_NV=25 -DSPM_SHADE_L1_NV=5 \
+    -DSPM_SHADE_L2_NV=5 -DSPM_SHADE_L3_NV=5 -DSPM_SHADE_L4_NV=5 $all_shade
+check "shade.cl, mlc widths" compile shade.cl -DSPM_SHADE_L0_NV=26 -DSPM_SHADE_L1_NV=6 \
+    -DSPM_SHADE_L2_NV=7 -DSPM_SHADE_L3_NV=9 -DSPM_SHADE_L4_NV=13
 check "opbench.cl" compile opbench.cl
 finish

@@ -95,6 +95,13 @@ for k in ("wall_s", "trace_s", "shade_s", "paths_per_s", "levels", "devices", "t
     assert k in d, k
 assert d["paths"] == 32 * 32, d["paths"]
 assert sum(l["paths"] for l in d["levels"]) == d["paths"]
+b = d["bvh"]
+assert b["triangles"] == 32, b              # the built-in box
+assert b["nodes"] == 2 * b["leaves"] - 1, b  # every interior node has two children
+assert b["leaves"] >= b["triangles"] / 2, b  # leaves hold at most 2 triangles
+assert b["sah_cost"] >= 1.0, b               # at least the root's own box test
+assert b["threads"] >= 1, b
+assert d["peak_rss_bytes"] > 1 << 20, d["peak_rss_bytes"]
 PY
 
 finish

@@ -19,7 +19,7 @@ attr() { oiiotool --info -v "$1" | sed -n "s/^ *$2: \"\{0,1\}\([^\"]*\)\"\{0,1\}
 
 # 2. EXR metadata of an ml render, typed; the same as text in PNG
 "$BIN" "${R[@]}" "$ROOT/scenes/cornell_spiky.scene" --spp 3 --seed 4000000000 --threshold 1.5 \
-  --metric deab --coarsest-level 3 -o "$T/m.exr" -o "$T/m.png" 2>"$T/err" || bad "render: $(cat "$T/err")"
+  --metric deab --coarsest-level 4 -o "$T/m.exr" -o "$T/m.png" 2>"$T/err" || bad "render: $(cat "$T/err")"
 oiiotool --info -v "$T/m.exr" > "$T/m.info"
 python3 - "$T/m.info" "$ROOT/scenes/cornell_spiky.scene" "$want" <<'PY' && ok || bad "EXR metadata"
 import re, sys
@@ -35,7 +35,7 @@ assert val("specmip:seed") == '"4000000000"'
 assert val("specmip:scene") == f'"{sys.argv[2]}"'
 assert float(val("specmip:threshold")) == 1.5                          # a float
 assert val("specmip:metric") == '"deab"'
-assert val("specmip:coarsestLevel") == "3"
+assert val("specmip:coarsestLevel") == "4"
 assert val("specmip:version") == f'"{sys.argv[3]}"'
 assert val("Software") == f'"specmip {sys.argv[3]}"'
 assert float(val("renderTimeSeconds")) > 0
@@ -83,7 +83,10 @@ for word in ("load", "BVH", "tables+pretest", "kernel build", "render", "output"
 assert d["spp"] == 2 and d["spp_requested"] == 2
 if mode in ("ml", "mlc"):
     assert sum(l["paths"] for l in d["levels"]) == d["paths"], d["levels"]
-    assert d["threshold"] == 2 and d["metric"] == "de00", d
+    # every level of the chain, the 1 nm truth first (README "Statistics")
+    assert [(l["level"], l["bins"]) for l in d["levels"]] == \
+        [(0, 400), (1, 80), (2, 40), (3, 20), (4, 10)], d["levels"]
+    assert d["threshold"] == 2 and d["metric"] == "de00" and d["coarsest_level"] == 3, d
     assert "level  bins" in text, text
 else:
     assert d["levels"] is None and d["threshold"] is None, d
@@ -139,9 +142,10 @@ printf 'image 8 8\nspp 0\n' > "$T/spp.scene"
 scene_max=$("$BIN" render "$T/spp.scene" 2>&1 | sed -n 's/.*from 1 to \([0-9]*\).*/\1/p')
 [ -n "$help_max" ] && [ "$help_max" = "$cli_max" ] && [ "$cli_max" = "$scene_max" ] && ok \
   || bad "largest spp: help '$help_max', command line '$cli_max', scene '$scene_max'"
-# --coarsest-level: help names 0 to 3, and those are what is accepted
-grep -q 'coarsest-level L .* 0 (80 bins' "$T/help" && grep -q '1 (40), 2 (20, default) or 3 (10)' "$T/help" \
-  && "$BIN" render --coarsest-level 4 2>&1 | grep -q 'from 0 to 3' \
+# --coarsest-level: help names 0 to 4, and those are what is accepted
+grep -q 'coarsest-level L .* 0 (400 bins of 1 nm' "$T/help" \
+  && grep -q '1 (80), 2 (40), 3 (20, default) or 4 (10)' "$T/help" \
+  && "$BIN" render --coarsest-level 5 2>&1 | grep -q 'from 0 to 4' \
   && "$BIN" "${R[@]}" --spp 1 --coarsest-level 0 -o "$T/c0.exr" && ok || bad "--coarsest-level range"
 # --tonemap auto: documented, and the same image as linear
 "$BIN" "${R[@]}" --spp 2 --tonemap auto -o "$T/auto.png" && "$BIN" "${R[@]}" --spp 2 --tonemap linear -o "$T/lin.png"

@@ -3,8 +3,9 @@
 # and p99 ΔE00 after the 5x5 blur), beside ml. Its levels come from the
 # composite representation's error against truth, so where the two modes
 # shade at nearly the same levels mlc is at least as close to truth as ml
-# (its lanes hold what the bins smear), and where the lanes carry the whole
-# light (narrowline) it is closer whatever the levels.
+# (its lanes hold what the bins smear). Where the lanes carry the whole light
+# (narrowline) ml's pretest sends every path to 1 nm, which is truth, while
+# mlc keeps the threshold at 20 bins.
 source "$(dirname "$0")/lib_cli.sh"
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$PWD/pocl-cache}
 S=48 SPP=16
@@ -24,9 +25,10 @@ at_most() {
 }
 
 # The margin: on cornell_spiky and metameric at T = 1 the two modes' level
-# shares differ by a few per cent of the paths (ml's pretest is against 5 nm,
-# mlc's against truth), so their arithmetic is not the same on every path;
-# 10 % covers that. mlc's earlier level choice was 1.3 to 1.8 times ml's error.
+# shares differ by a few per cent of the paths (ml's pretest is of its bins,
+# mlc's of its composite), so their arithmetic is not the same on every path;
+# 10 % covers that. mlc's earlier level choice was 1.3 to 1.8 times ml's error,
+# and on narrowline (p99 2.0 at both thresholds) missed the threshold.
 for scene in cornell_spiky metameric narrowline; do
     render $scene truth "$T/truth.exr" || { bad "$scene truth render"; continue; }
     for t in 1 2; do
@@ -37,7 +39,7 @@ for scene in cornell_spiky metameric narrowline; do
             mlc=$(de "$T/truth.exr" "$T/mlc.exr" $f)
             # the threshold is a promise against truth: mlc keeps it
             at_most "$scene T=$t mlc $f within the threshold" "$mlc" $t 1
-            if [ $t = 1 ] || [ $scene = narrowline ]; then
+            if [ $t = 1 ] && [ $scene != narrowline ]; then
                 at_most "$scene T=$t mlc $f against ml's" "$mlc" "$ml" 1.1
             fi
         done

@@ -8,7 +8,7 @@
 source "$(dirname "$0")/lib_cli.sh"
 
 # One reflectance, checked in Python: keys present, white patch near Y = 88.7
-# (Ohta's white_9_5 under D65), near neutral, the four levels and their bins.
+# (Ohta's white_9_5 under D65), near neutral, the five levels and their bins.
 out=$("$BIN" spectrum "$ROOT/spectra/colorchecker_n_ohta.csv" --column white_9_5 --json)
 if [ $? -eq 0 ] && python3 -c '
 import json, sys
@@ -17,21 +17,21 @@ for k in ("XYZ", "Lab", "sRGB", "levels", "chosen_level"):
     assert k in d, k
 assert abs(d["XYZ"][1] - 88.7) < 0.5, d["XYZ"]          # README: Y ~ 88.7
 assert abs(d["Lab"][1]) < 2 and abs(d["Lab"][2]) < 3, d["Lab"]  # near neutral
-assert [l["bins"] for l in d["levels"]] == [80, 40, 20, 10]
+assert [l["bins"] for l in d["levels"]] == [400, 80, 40, 20, 10]
 # level_k: one level per occurrence count a path can have (records of 64 vertices)
-assert d["chosen_level"] in (0, 1, 2) and len(d["level_k"]) == 64
+assert d["chosen_level"] in (0, 1, 2, 3) and len(d["level_k"]) == 64
 ' "$out"; then ok; else bad "white_9_5 JSON: $out"; fi
 
 # The levels table and the pretest against a recomputation here from the XYZ
-# that --level prints (the level's colour, the light kept at level 0):
+# that --level prints (the level's colour, the light kept at level 0, 1 nm):
 # - a reflectance's level-l dE00 and dEab are those of its level-l colour
 #   against its level-0 colour, under the CIELAB white of the same light;
 # - a light alone is pretested on its own (README: its error at level l is
 #   the colour difference of level l against level 0, both scaled by the
 #   factor that takes level 0 to Y = 50, against the D65 white of Y = 100), so the chosen level, and every level_k,
-#   is the coarsest of 1..2 whose error is within the threshold: tried at 0,
+#   is the coarsest of 1..3 whose error is within the threshold: tried at 0,
 #   at a huge threshold and just below and above each error;
-# - a flat reflectance samples exactly at every level: level 2 even at
+# - a flat reflectance samples exactly at every level: level 3 even at
 #   threshold 0; a coloured one fails at 0 and passes a huge threshold.
 printf 'wavelength_nm,value\n380,1\n780,1\n' > "$T/one.csv"
 printf 'wavelength_nm,value\n380,0.5\n780,0.5\n' > "$T/half.csv"
@@ -88,9 +88,9 @@ for patch in ("white_9_5", "red"):
     for light in ("D65", "F11"):
         white = spectrum(f"{T}/one.csv", "--illuminant", light, "--level", "0")["XYZ"]
         at = [spectrum(CC, "--column", patch, "--illuminant", light, "--level", str(l))
-              for l in range(4)]
+              for l in range(5)]
         lab0 = lab(at[0]["XYZ"], white)
-        for l in range(1, 4):
+        for l in range(1, 5):
             labl = lab(at[l]["XYZ"], white)
             got = at[0]["levels"][l]
             check(abs(got["dE00"] - de00(lab0, labl)) < TOL,
@@ -106,23 +106,23 @@ for name, metric in (("illuminant_F11", "de00"), ("illuminant_F11", "deab"),
                      ("illuminant_A", "de00"), ("lightsource_nist_mercury", "de00"),
                      ("illuminant_LED_B1", "de00")):
     f = f"{ROOT}/spectra/{name}.csv"
-    xyz = [spectrum(f, "--emission", "--level", str(l))["XYZ"] for l in range(3)]
+    xyz = [spectrum(f, "--emission", "--level", str(l))["XYZ"] for l in range(4)]
     de = de00 if metric == "de00" else de_ab
     err = [de(lab(at_y50(xyz[0], xyz[0][1]), d65), lab(at_y50(xyz[l], xyz[0][1]), d65))
-           for l in range(3)]
+           for l in range(4)]
     thresholds = [0.0, 1e6] + [e * g for e in err[1:] if e > 100 * TOL for g in (0.99, 1.01)]
     for thr in thresholds:
         d = spectrum(f, "--emission", "--metric", metric, "--threshold", repr(thr))
-        want = max([0] + [l for l in (1, 2) if err[l] <= thr])
+        want = max([0] + [l for l in (1, 2, 3) if err[l] <= thr])
         check(d["chosen_level"] == want and d["level_k"] == [want] * 64,
               f"{name} ({metric}) at threshold {thr}: level {d['chosen_level']}, "
-              f"level_k {d['level_k']}; errors {err[1]:.6f} {err[2]:.6f} say {want}")
+              f"level_k {d['level_k']}; errors {err[1]:.6f} {err[2]:.6f} {err[3]:.6f} say {want}")
         nchecked += 1
 check(nchecked >= 25, f"only {nchecked} thresholds tried")
 
-check(spectrum(f"{T}/half.csv", "--threshold", "0")["chosen_level"] == 2, "flat: level 2 at 0")
+check(spectrum(f"{T}/half.csv", "--threshold", "0")["chosen_level"] == 3, "flat: level 3 at 0")
 w = [spectrum(CC, "--column", "white_9_5", "--threshold", t)["chosen_level"] for t in ("0", "1e6")]
-check(w == [0, 2], f"white_9_5 at thresholds 0 and 1e6: levels {w}")
+check(w == [0, 3], f"white_9_5 at thresholds 0 and 1e6: levels {w}")
 for f in fails:
     print("FAIL:", f, file=sys.stderr)
 sys.exit(1 if fails else 0)

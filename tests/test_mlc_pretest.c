@@ -28,8 +28,9 @@ static double de(const double ref[3], const double test[3])
 
 /* XYZ of light e times colour c^k (k = 0: the light alone; e < 0: c alone),
  * from the float tables: truth from the 1 nm rows and weights; composite from
- * mlc's level-0 row of e and its level-l row of c, in level-0 bins (a level-l
- * bin covers 2^l of them) and the lanes, with the shade table's weights. */
+ * mlc's level-0 row of e (its smooth part at 1 nm) and its level-l row of c,
+ * in 1 nm bins (a level-l bin covers SPM_TRUTH_BINS / SPM_LEVEL_BINS(l) of
+ * them) and the lanes, with the 1 nm weights and the lanes' shade weights. */
 static void truth_xyz(const spm_tables *t, int e, int c, int k, double xyz[3])
 {
     for (int ch = 0; ch < 3; ch++) {
@@ -48,13 +49,14 @@ static void composite_xyz(const spm_tables *t, int e, int c, int k, int l, doubl
 {
     const float *re = &t->mlc_lvl[0][(size_t)e * SPM_MLC_STRIDE(0)];
     const float *rc = &t->mlc_lvl[l][(size_t)c * SPM_MLC_STRIDE(l)];
+    int width = SPM_TRUTH_BINS / SPM_LEVEL_BINS(l);
     for (int ch = 0; ch < 3; ch++) {
         double s = 0.0;
-        for (int b = 0; b < SPM_L0_BINS; b++) {
+        for (int b = 0; b < SPM_TRUTH_BINS; b++) {
             double v = re[b];
             for (int j = 0; j < k; j++)
-                v *= rc[b >> l];
-            s += v * t->cmf_lvl[0][ch][b];
+                v *= rc[b / width];
+            s += v * t->cmf_truth[ch][b];
         }
         for (int q = 0; q < t->nspikes; q++) {
             double v = re[SPM_LEVEL_BINS(0) + q];
@@ -103,10 +105,11 @@ static void recompute(const char *scene)
                     /* c on its own, at level l */
                     truth_xyz(&t, c, c, 0, ref);
                     const float *rc = &t.mlc_lvl[l][(size_t)c * SPM_MLC_STRIDE(l)];
+                    int width = SPM_TRUTH_BINS / SPM_LEVEL_BINS(l);
                     for (int ch = 0; ch < 3; ch++) {
                         double s = 0.0;
-                        for (int b = 0; b < SPM_L0_BINS; b++)
-                            s += rc[b >> l] * t.cmf_lvl[0][ch][b];
+                        for (int b = 0; b < SPM_TRUTH_BINS; b++)
+                            s += rc[b / width] * t.cmf_truth[ch][b];
                         for (int q = 0; q < t.nspikes; q++)
                             s += rc[SPM_LEVEL_BINS(l) + q] * t.spike_cmf[ch][q];
                         test[ch] = s;
@@ -172,7 +175,7 @@ static void lanes_alone(void)
         for (int i = 0; i < SPM_TRUTH_BINS; i++)
             want += (sc.colours[e].s.nm1[i] - smooth.nm1[i]) * w[ch][i];
         for (int q = 0; q < t.nspikes; q++)
-            got += row[SPM_L0_BINS + q] * t.spike_cmf[ch][q];
+            got += row[SPM_LEVEL_BINS(0) + q] * t.spike_cmf[ch][q];
         CHECK(fabs(got - want) <= 1e-5 * fabs(want), "F11 lanes, XYZ channel %d: %.7g, spikes %.7g",
               ch, got, want);
     }

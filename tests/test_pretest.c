@@ -34,16 +34,18 @@ static void test_equal_energy(void)
     spm_error err;
     spm_pretest_result r;
     spm_spectrum_constant(1.0, SPM_KIND_EMISSION, &ee);
-    CHECK(run1(&ee, NULL, 2.0, &r) == 2, "equal-energy light: level %d", r.level);
-    CHECK(r.err[2] < 1e-9, "equal-energy light error %g", r.err[2]);
+    CHECK(run1(&ee, NULL, 2.0, &r) == SPM_DEFAULT_COARSEST, "equal-energy light: level %d",
+          r.level);
+    CHECK(r.err[SPM_DEFAULT_COARSEST] < 1e-9, "equal-energy light error %g",
+          r.err[SPM_DEFAULT_COARSEST]);
     spm_spectrum_constant(0.5, SPM_KIND_REFLECTANCE, &ee);
     CHECK(spm_spectrum_load(data("spectra/illuminant_D65_1nm.csv"), NULL, SPM_KIND_EMISSION, &d65,
                             &err) == 0, "%s", err.msg);
-    CHECK(run1(&ee, &d65, 2.0, &r) == 2, "grey under D65: level %d", r.level);
+    CHECK(run1(&ee, &d65, 2.0, &r) == SPM_DEFAULT_COARSEST, "grey under D65: level %d", r.level);
 }
 
 /* F11 lighting the ColorChecker (a scene's set): context C multiplies its
- * lines with the patches, which level 2 cannot follow at threshold 2. (F11
+ * lines with the patches, which 20 nm bins cannot follow at threshold 2. (F11
  * seen on its own keeps its energy per 20 nm bin and passes: about 1.2.) */
 static void test_f11(const spm_spectrum *patches, int npatches)
 {
@@ -60,8 +62,8 @@ static void test_f11(const spm_spectrum *patches, int npatches)
     spm_pretest_defaults(&o);
     spm_pretest_result r[64];
     spm_pretest_run(set, n, &o, r);
-    CHECK(npatches == 24 && r[n - 1].level < 2, "F11 with %d patches: level %d (errors %g %g)",
-          npatches, r[n - 1].level, r[n - 1].err[1], r[n - 1].err[2]);
+    CHECK(npatches == 24 && r[n - 1].level < 3, "F11 with %d patches: level %d (errors %g %g)",
+          npatches, r[n - 1].level, r[n - 1].err[2], r[n - 1].err[3]);
 }
 
 typedef struct {
@@ -104,25 +106,23 @@ static void load_bundle(bundle *b)
 }
 
 /* The pretest's error recomputed here from the spectrum and colour APIs alone,
- * as pretest.c defines it: s at `level` (each bin held over the level-0 bins it
- * covers) to the power k, times f0 at level 0 (NULL: no other factor), against
- * the same product with s at level 0; both scaled by the factor that takes
- * the level-0 product to Y = 50 and taken to CIELAB against the D65 white of Y = 100. XYZ is summed over the 1 nm
- * weights, not the level-0 ones the pretest uses. */
+ * as pretest.c defines it: s at `level` (each bin held over the 1 nm bins it
+ * covers) to the power k, times f0 at 1 nm (NULL: no other factor), against
+ * the same product with s at level 0, its own 1 nm values; both scaled by the
+ * factor that takes the 1 nm product to Y = 50 and taken to CIELAB against the
+ * D65 white of Y = 100. */
 static double expect_error(const spm_spectrum *s, int level, int k, const double *f0,
                            spm_metric metric)
 {
-    double s0[SPM_L0_BINS], sl[SPM_L0_BINS], xyz[2][3] = {{0}};
-    spm_spectrum_level(s, 0, s0);
+    double sl[SPM_TRUTH_BINS], xyz[2][3] = {{0}};
     spm_spectrum_level(s, level, sl);
     const double(*w)[SPM_TRUTH_BINS] = spm_cmf_truth();
-    int per = SPM_TRUTH_BINS / SPM_L0_BINS, step = SPM_L0_BINS / SPM_LEVEL_BINS(level);
+    int per = SPM_TRUTH_BINS / SPM_LEVEL_BINS(level);
     for (int i = 0; i < SPM_TRUTH_BINS; i++) {
-        int b = i / per;
-        double p0 = f0 ? f0[b] : 1.0, pl = p0;
+        double p0 = f0 ? f0[i] : 1.0, pl = p0;
         for (int j = 0; j < k; j++) {
-            p0 *= s0[b];
-            pl *= sl[b / step];
+            p0 *= s->nm1[i];
+            pl *= sl[i / per];
         }
         for (int c = 0; c < 3; c++) {
             xyz[0][c] += p0 * w[c][i];
@@ -146,10 +146,9 @@ static double expect_error(const spm_spectrum *s, int level, int k, const double
                                      : spm_delta_e_2000(lab[0], lab[1]);
 }
 
-/* The two computations differ only in how the XYZ sums are split (80 level-0
- * weights or 400 truth weights): relative rounding of ~1e-15 on XYZ, which
- * the Lab and dE00 formulas (slopes of order 100 around Y = 50) leave far
- * below 1e-9. */
+/* The two computations differ only in rounding (the order of each XYZ sum's
+ * terms and of the scaling): relative ~1e-15 on XYZ, which the Lab and dE00
+ * formulas (slopes of order 100 around Y = 50) leave far below 1e-9. */
 #define ERR_TOL 1e-9
 
 /* The coarsest level in 1..coarsest whose error e[l] is within thr, else 0
@@ -191,8 +190,7 @@ static int thresholds_around(const double *e, double *thr)
  * is s^k under D65, the error per k and level and the levels per k follow. */
 static void test_errors_and_levels(const bundle *b, const spm_spectrum *d65, double *worst_diff)
 {
-    double d65_0[SPM_L0_BINS];
-    spm_spectrum_level(d65, 0, d65_0);
+    const double *d65_0 = d65->nm1;
     int checked = 0;
     for (int i = 0; i < b->n; i++) {
         int is_light = b->s[i].kind == SPM_KIND_EMISSION;
@@ -208,7 +206,7 @@ static void test_errors_and_levels(const bundle *b, const spm_spectrum *d65, dou
         const double *worst = e_upto[SPM_PRETEST_KMAX - 1];
         double thr[2 + 2 * SPM_NUM_LEVELS];
         int nthr = thresholds_around(worst, thr);
-        for (int coarsest = 2; coarsest <= 3; coarsest++)
+        for (int coarsest = SPM_DEFAULT_COARSEST; coarsest < SPM_NUM_LEVELS; coarsest++)
             for (int t = 0; t < nthr; t++) {
                 spm_pretest_opts o;
                 spm_pretest_defaults(&o);
@@ -231,8 +229,9 @@ static void test_errors_and_levels(const bundle *b, const spm_spectrum *d65, dou
                 }
                 int unclear = 0, want = expect_level(worst, coarsest, thr[t], &unclear);
                 CHECK(unclear || r->level == want,
-                      "%s, threshold %g, coarsest %d: level %d, errors %g %g %g say %d",
-                      b->names[i], thr[t], coarsest, r->level, worst[1], worst[2], worst[3], want);
+                      "%s, threshold %g, coarsest %d: level %d, errors %g %g %g %g say %d",
+                      b->names[i], thr[t], coarsest, r->level, worst[1], worst[2], worst[3],
+                      worst[4], want);
                 for (int k = 0; k < SPM_PRETEST_KMAX; k++) {
                     unclear = 0;
                     want = expect_level(e_upto[k], coarsest, thr[t], &unclear);
@@ -250,7 +249,7 @@ static void test_errors_and_levels(const bundle *b, const spm_spectrum *d65, dou
  * its two lights' (context B); a light's is the worse of itself alone (A) and
  * of the light times r^m, m = 1..4 (context C: its 64 random sequences of 1..4
  * reflectances, here all r, draw every m). Returns how much C adds to F11's
- * level-2 error. */
+ * error at 20 nm. */
 static double two_lights(const spm_spectrum *patch, const spm_spectrum *d65,
                          const spm_spectrum *f11, const char *name)
 {
@@ -259,10 +258,7 @@ static double two_lights(const spm_spectrum *patch, const spm_spectrum *d65,
     spm_pretest_defaults(&o);
     spm_pretest_result r[3];
     spm_pretest_run(set, 3, &o, r);
-    double l0[2][SPM_L0_BINS], p0[SPM_L0_BINS];
-    spm_spectrum_level(d65, 0, l0[0]);
-    spm_spectrum_level(f11, 0, l0[1]);
-    spm_spectrum_level(patch, 0, p0);
+    const double *l0[2] = {d65->nm1, f11->nm1}, *p0 = patch->nm1;
     double c_adds = 0.0;
     for (int l = 1; l < SPM_NUM_LEVELS; l++) {
         double want = 0.0;
@@ -272,20 +268,20 @@ static double two_lights(const spm_spectrum *patch, const spm_spectrum *d65,
         CHECK(fabs(r[0].err[l] - want) <= ERR_TOL, "%s under D65 and F11, level %d: %.9g vs %.9g",
               name, l, r[0].err[l], want);
         for (int li = 0; li < 2; li++) {
-            double f[SPM_L0_BINS];
-            for (int bb = 0; bb < SPM_L0_BINS; bb++)
+            double f[SPM_TRUTH_BINS];
+            for (int bb = 0; bb < SPM_TRUTH_BINS; bb++)
                 f[bb] = 1.0;
             double a = expect_error(set[1 + li], l, 1, NULL, SPM_METRIC_DE00);
             want = a;
             for (int m = 1; m <= 4; m++) {
-                for (int bb = 0; bb < SPM_L0_BINS; bb++)
+                for (int bb = 0; bb < SPM_TRUTH_BINS; bb++)
                     f[bb] *= p0[bb];
                 want = maxd(want, expect_error(set[1 + li], l, 1, f, SPM_METRIC_DE00));
             }
             CHECK(fabs(r[1 + li].err[l] - want) <= ERR_TOL,
                   "%s with %s, level %d: %.9g vs %.9g", li ? "F11" : "D65", name, l,
                   r[1 + li].err[l], want);
-            if (li == 1 && l == 2)
+            if (li == 1 && l == SPM_DEFAULT_COARSEST)
                 c_adds = want - a;
         }
     }
@@ -306,7 +302,7 @@ static void test_two_lights(const bundle *b, const spm_spectrum *d65)
         if (b->s[i].kind == SPM_KIND_REFLECTANCE)
             most = maxd(most, two_lights(&b->s[i], d65, f11, b->names[i]));
     /* F11's lines times a coloured patch: for some patch context C must decide */
-    CHECK(most > 0.1, "context C never raises F11's level-2 error (at most %g)", most);
+    CHECK(most > 0.1, "context C never raises F11's 20 nm error (at most %g)", most);
 }
 
 /* Over the bundle: a higher threshold never picks a finer level, and at
@@ -327,8 +323,8 @@ static void test_monotone(const bundle *b, spm_spectrum *d65)
                 spread[lvl]++;
         }
     }
-    CHECK(spread[0] + spread[1] > 0 && spread[2] > 0, "levels at threshold 2: %d %d %d",
-          spread[0], spread[1], spread[2]);
+    CHECK(spread[0] + spread[1] + spread[2] > 0 && spread[3] > 0,
+          "levels at threshold 2: %d %d %d %d", spread[0], spread[1], spread[2], spread[3]);
 }
 
 static void test_set_and_determinism(const bundle *b)
@@ -357,7 +353,7 @@ static void test_set_and_determinism(const bundle *b)
     o.seed = 1;
     o.metric = SPM_METRIC_DEAB;
     spm_pretest_run(set, n, &o, r3);
-    CHECK(r3[0].err[2] != r1[0].err[2], "the metric is used: %g vs %g", r3[0].err[2], r1[0].err[2]);
+    CHECK(r3[0].err[3] != r1[0].err[3], "the metric is used: %g vs %g", r3[0].err[3], r1[0].err[3]);
     if (getenv("SPM_PRETEST_VERBOSE")) {
         const char *names[40];
         for (int i = 0; i < n; i++)

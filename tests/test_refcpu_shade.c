@@ -110,7 +110,8 @@ static void test_binned_modes(const spm_tables *t)
 {
     float xyz[3];
     double ex[3];
-    /* ref: level 0; ml: the path's level byte (set-by bits ignored) */
+    /* ref: its level (5 nm); ml: the path's level byte (set-by bits ignored),
+     * level 0 truth's 1 nm bins */
     for (int l = 0; l < SPM_NUM_LEVELS; l++) {
         int nb = SPM_LEVEL_BINS(l);
         for (int ch = 0; ch < 3; ch++) {
@@ -122,8 +123,8 @@ static void test_binned_modes(const spm_tables *t)
         snprintf(what, sizeof what, "ml at level %d", l);
         shade_one(t, SPM_MODE_ML, (uint8_t)(l | (SPM_SETBY_REFLECTOR << SPM_SETBY_SHIFT)), xyz);
         check_xyz(xyz, ex, what);
-        if (l == 0) {
-            shade_one(t, SPM_MODE_REF, 2, xyz); /* ref ignores the level byte */
+        if (l == SPM_REF_LEVEL) {
+            shade_one(t, SPM_MODE_REF, 3, xyz); /* ref ignores the level byte */
             check_xyz(xyz, ex, "ref");
         }
         /* mlc: smooth bins then the spike lanes */

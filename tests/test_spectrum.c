@@ -25,13 +25,19 @@ static double trapezoid(const double *wl, const double *v, size_t n)
     return sum;
 }
 
+/* A level's bin width in nm. */
+static int level_nm(int l)
+{
+    return (SPM_LAMBDA_MAX - SPM_LAMBDA_MIN) / SPM_LEVEL_BINS(l);
+}
+
 static double level_integral(const spm_spectrum *s, int level)
 {
-    double bins[SPM_L0_BINS], sum = 0.0;
+    double bins[SPM_TRUTH_BINS], sum = 0.0;
     spm_spectrum_level(s, level, bins);
     for (int b = 0; b < SPM_LEVEL_BINS(level); b++)
         sum += bins[b];
-    return sum * (5 << level);
+    return sum * level_nm(level);
 }
 
 /* Relative 1e-5 is the bound; the double arithmetic here reaches ~1e-14. */
@@ -119,16 +125,21 @@ static void test_line(void)
     int rc = spm_spectrum_load(data("tests/data/spectra/line546.csv"), NULL, SPM_KIND_EMISSION,
                                &s, &err);
     CHECK(rc == 0, "%s", err.msg);
-    /* The triangle 545-547 nm has area 1; it must stay in the bin holding
-     * 545-550 nm at every level, with every other bin exactly zero. */
+    /* The triangle 545-547 nm has area 1; it must stay in the bins it
+     * covers at every level (545-546 and 546-547 nm at 1 nm, the one holding
+     * 545-550 nm above), with every other bin exactly zero. */
     for (int l = 0; l < SPM_NUM_LEVELS; l++) {
-        double bins[SPM_L0_BINS];
+        double bins[SPM_TRUTH_BINS], area = 0.0;
         spm_spectrum_level(&s, l, bins);
-        int home = (546 - SPM_LAMBDA_MIN) / (5 << l), nonzero = 0;
-        for (int b = 0; b < SPM_LEVEL_BINS(l); b++)
+        int first = (545 - SPM_LAMBDA_MIN) / level_nm(l), last = (546 - SPM_LAMBDA_MIN) / level_nm(l);
+        int nonzero = 0;
+        for (int b = 0; b < SPM_LEVEL_BINS(l); b++) {
             nonzero += bins[b] != 0.0;
-        CHECK(nonzero == 1, "level %d: %d non-zero bins", l, nonzero);
-        CHECK_NEAR(bins[home] * (5 << l), 1.0, 1e-12, "line area in its bin");
+            if (b >= first && b <= last)
+                area += bins[b] * level_nm(l);
+        }
+        CHECK(nonzero == last - first + 1, "level %d: %d non-zero bins", l, nonzero);
+        CHECK_NEAR(area, 1.0, 1e-12, "line area in its bins");
     }
 }
 
@@ -136,7 +147,7 @@ static void check_bounded(const spm_spectrum *s, const char *what)
 {
     /* 1e-12: the segment integrals may round a few ulps above a value of 1. */
     for (int l = 0; l < SPM_NUM_LEVELS; l++) {
-        double bins[SPM_L0_BINS], mx = 0.0, mn = 1.0;
+        double bins[SPM_TRUTH_BINS], mx = 0.0, mn = 1.0;
         spm_spectrum_level(s, l, bins);
         for (int b = 0; b < SPM_LEVEL_BINS(l); b++) {
             mx = bins[b] > mx ? bins[b] : mx;
@@ -217,9 +228,9 @@ static void test_cmf(void)
     CHECK(spm_cmf_init(&err) == 0, "%s", err.msg);
     const double (*w)[SPM_TRUTH_BINS] = spm_cmf_truth();
     for (int l = 0; l < SPM_NUM_LEVELS; l++) {
-        double lw[3][SPM_L0_BINS];
+        double lw[3][SPM_TRUTH_BINS];
         spm_cmf_level(l, lw);
-        int width = 5 << l;
+        int width = level_nm(l);
         for (int k = 0; k < 3; k++)
             for (int b = 0; b < SPM_LEVEL_BINS(l); b++) {
                 double sum = 0.0;
@@ -228,8 +239,8 @@ static void test_cmf(void)
                 CHECK_NEAR(lw[k][b], sum, 1e-15, "level weight = sum of truth weights");
             }
         /* equal-energy emission 1 -> Y = 1 at every level */
-        double ones[SPM_L0_BINS], xyz[3];
-        for (int b = 0; b < SPM_L0_BINS; b++)
+        double ones[SPM_TRUTH_BINS], xyz[3];
+        for (int b = 0; b < SPM_TRUTH_BINS; b++)
             ones[b] = 1.0;
         spm_xyz_bins(ones, l, xyz);
         CHECK_NEAR(xyz[1], 1.0, 1e-12, "equal-energy Y at a level");
@@ -268,11 +279,11 @@ static void test_blackbody(void)
     CHECK_NEAR(xyz[1] / sum, 0.40745, 5e-5, "blackbody y");
     /* Mean over 559-561 nm = value at 560 up to the curvature term (~1e-6). */
     CHECK_NEAR(0.5 * (bb.nm1[179] + bb.nm1[180]), 1.0, 1e-5, "relative to 560 nm");
-    double l0[SPM_L0_BINS], mean = 0.0;
-    spm_spectrum_level(&bb, 0, l0);
-    for (int b = 0; b < SPM_L0_BINS; b++)
-        mean += l0[b] / SPM_L0_BINS;
-    CHECK_NEAR(spm_spectrum_mean(&bb), mean, 1e-12, "mean = mean of level 0");
+    double l1[SPM_NM5_BINS], mean = 0.0;
+    spm_spectrum_level(&bb, 1, l1);
+    for (int b = 0; b < SPM_NM5_BINS; b++)
+        mean += l1[b] / SPM_NM5_BINS;
+    CHECK_NEAR(spm_spectrum_mean(&bb), mean, 1e-12, "mean = mean of the 5 nm level");
 }
 
 int main(void)

@@ -53,34 +53,39 @@ static spm_de_stats compare(const char *scene, const char *what, const rt_render
 
 /* A light 4 nm wide (587-591 nm) over reflectance steps inside it. ref's 5 nm
  * bins cannot resolve it (ref vs truth measured mean 1.1, p99 3.1), so:
- * ml must detect it - the pretest keeps the line at level 0 and the line's
- * paths are shaded there, set by the emitter - and stays as good as ref; mlc
- * carries the line as a spike lane at its centroid and beats ref against truth. */
+ * ml must detect it - the pretest, which measures every level against 1 nm,
+ * keeps the line at level 0 (1 nm) and the line's paths are shaded there, set
+ * by the emitter - and so hold p99 <= T against truth at T = 1 and 2, where
+ * a 5 nm top of the chain could not (ml vs truth p99 2.3 at both: ref's
+ * error); mlc carries the line as a spike lane at its centroid and beats ref
+ * against truth. */
 static void narrowline(void)
 {
     const char *sc = "narrowline.scene";
-    rt_render_out truth, ref, ml, mlc;
+    rt_render_out truth, ref, ml, ml1, mlc;
     inspect_ctx c = {"line589", 0, {0}, 0, {0}};
     if (render(sc, SPM_MODE_TRUTH, 0, &truth, NULL) | render(sc, SPM_MODE_REF, 0, &ref, NULL) |
-        render(sc, SPM_MODE_ML, 0, &ml, &c) | render(sc, SPM_MODE_MLC, 0, &mlc, NULL))
+        render(sc, SPM_MODE_ML, 0, &ml, &c) | render(sc, SPM_MODE_ML, 1.0, &ml1, NULL) |
+        render(sc, SPM_MODE_MLC, 0, &mlc, NULL))
         goto out;
     spm_de_stats rt = compare(sc, "ref/truth", &truth, &ref);
-    CHECK(rt.p99 > T / 4, "narrowline: ref vs truth p99 %.3f: the scene no longer breaks 5 nm bins",
+    CHECK(rt.p99 > T / 2, "narrowline: ref vs truth p99 %.3f: the scene no longer breaks 5 nm bins",
           rt.p99);
     CHECK(c.found && c.pretest.level == 0, "narrowline: pretest level of the line %d, not 0",
           c.pretest.level);
     /* the line lights every path that reaches the light: most of the image.
-     * The step walls under it are at level 0 too (their luminance under the
-     * line is off at 40 nm), and a path's level is set by the first colour
-     * met that asks for it, so count level 0 set by either. */
+     * A path's level is set by the first colour met that asks for it, so
+     * count level 0 set by either. */
     unsigned long long l0 = ml.run.total.level_paths[0][SPM_SETBY_EMITTER] +
                             ml.run.total.level_paths[0][SPM_SETBY_REFLECTOR];
     printf("narrowline ml: %llu of %llu paths at level 0\n", l0,
            (unsigned long long)ml.run.total.paths);
     CHECK(l0 * 2 > ml.run.total.paths, "narrowline: only %llu paths at level 0", l0);
-    spm_de_stats mr = compare(sc, "ml/ref", &ref, &ml);
-    CHECK(mr.p99 <= T && mr.mean <= T / 2, "narrowline: ml vs ref mean %.3f p99 %.3f", mr.mean,
-          mr.p99);
+    spm_de_stats mt = compare(sc, "ml/truth", &truth, &ml);
+    spm_de_stats mt1 = compare(sc, "ml(T=1)/truth", &truth, &ml1);
+    CHECK(mt.p99 <= T && mt.mean <= T / 2, "narrowline: ml vs truth mean %.3f p99 %.3f", mt.mean,
+          mt.p99);
+    CHECK(mt1.p99 <= 1.0, "narrowline: ml (threshold 1) vs truth p99 %.3f > 1", mt1.p99);
     int lane = -1;
     for (int k = 0; k < c.nspikes; k++)
         if (fabs(c.spike_wl[k] - 589.0) <= 1.0)
@@ -91,7 +96,7 @@ static void narrowline(void)
           rt.mean);
 out:
     spm_image_free(&truth.img), spm_image_free(&ref.img), spm_image_free(&ml.img),
-        spm_image_free(&mlc.img);
+        spm_image_free(&ml1.img), spm_image_free(&mlc.img);
 }
 
 /* One saturated reflectance everywhere: a path's colour is R^k. The pretest's
@@ -126,8 +131,8 @@ static void saturated_box(void)
     spm_de_stats rt = compare(sc, "ref/truth", &truth, &ref);
     spm_de_stats mt = compare(sc, "ml/truth", &truth, &ml);
     spm_de_stats mt1 = compare(sc, "ml(T=1)/truth", &truth, &ml1);
-    /* ref's own error against truth (measured p99 0.15) is well under T = 1,
-     * so ml's bound is not eaten by the 5 nm top of its chain here */
+    /* ref's own error against truth (measured p99 0.15) is well under T = 1:
+     * the error here is the coarse levels' */
     CHECK(rt.p99 < 0.5, "saturated_box: ref vs truth p99 %.3f", rt.p99);
     CHECK(mt.p99 <= T, "saturated_box: ml vs truth p99 %.3f > %.3f", mt.p99, T);
     CHECK(mt1.p99 <= 1.0, "saturated_box: ml (threshold 1) vs truth p99 %.3f > 1", mt1.p99);
@@ -145,10 +150,11 @@ out:
  * chains again, but here a coarse level's error in R^k is mostly one of
  * luminance (a 20 nm bin's mean raised to the k-th power is darker than the
  * mean of R^k), which the pretest measured as nothing while it scaled each
- * product to its own luminance: ml vs truth p99 4.4 at T = 2. Against truth
- * ml must hold p99 <= T at T = 2; at T = 1 the 5 nm top of the chain is the
- * limit (ref vs truth p99 1.6: only 1 nm bins do better), so there ml is held
- * to T against ref, the level it was pretested against. */
+ * product to its own luminance: ml vs truth p99 4.4 at T = 2. Even 5 nm bins
+ * miss it on the longest chains (ref vs truth p99 1.6), so at T = 1 only the
+ * 1 nm top of the chain holds the bound (ml vs truth p99 1.65 with a 5 nm
+ * top): ml must hold p99 <= T against truth at T = 1 and 2, with the long
+ * chains' paths at level 0, set by the wall. */
 static void magenta_box(void)
 {
     const char *sc = "magenta_box.scene";
@@ -156,14 +162,17 @@ static void magenta_box(void)
     if (render(sc, SPM_MODE_TRUTH, 0, &truth, NULL) | render(sc, SPM_MODE_REF, 0, &ref, NULL) |
         render(sc, SPM_MODE_ML, 0, &ml, NULL) | render(sc, SPM_MODE_ML, 1.0, &ml1, NULL))
         goto out;
-    compare(sc, "ref/truth", &truth, &ref);
+    spm_de_stats rt = compare(sc, "ref/truth", &truth, &ref);
     spm_de_stats mt = compare(sc, "ml/truth", &truth, &ml);
-    spm_de_stats m1 = compare(sc, "ml(T=1)/ref", &ref, &ml1);
+    spm_de_stats mt1 = compare(sc, "ml(T=1)/truth", &truth, &ml1);
+    CHECK(rt.p99 > 1.0, "magenta_box: ref vs truth p99 %.3f: the scene no longer breaks 5 nm bins",
+          rt.p99);
     CHECK(mt.p99 <= T, "magenta_box: ml vs truth p99 %.3f > %.3f", mt.p99, T);
-    CHECK(m1.p99 <= 1.0, "magenta_box: ml (threshold 1) vs ref p99 %.3f > 1", m1.p99);
-    unsigned long long l0 = ml.run.total.level_paths[0][SPM_SETBY_REFLECTOR];
-    printf("magenta_box ml: %llu of %llu paths at level 0, set by the wall\n", l0,
-           (unsigned long long)ml.run.total.paths);
+    CHECK(mt1.p99 <= 1.0, "magenta_box: ml (threshold 1) vs truth p99 %.3f > 1", mt1.p99);
+    unsigned long long l0 = ml1.run.total.level_paths[0][SPM_SETBY_REFLECTOR];
+    printf("magenta_box ml (T=1): %llu of %llu paths at level 0, set by the wall\n", l0,
+           (unsigned long long)ml1.run.total.paths);
+    CHECK(l0 > 0, "magenta_box: no path at level 0 at threshold 1");
 out:
     spm_image_free(&truth.img), spm_image_free(&ref.img), spm_image_free(&ml.img),
         spm_image_free(&ml1.img);

@@ -14,10 +14,22 @@ statement reads, plus the expected triangles as text:
                         parent; a mirror)
   quad_emit.gltf        one emissive quad facing -z (towards a camera on -z)
   big.ply + (N given)   a procedural binary PLY of about N triangles (a bumpy sphere)
+  big.scene             with N: the Cornell box (scenes/cornell.scene) with big.ply in it
+  big_text.scene        the same box and sphere, the sphere as `tri` statements
+                        (its degenerate pole triangles left out)
 
 Coordinates are small integers, exact in every format, so all must import to
 the same triangles bit for bit.
-usage: gen_meshes.py OUTDIR [BIG_TRIANGLES]"""
+
+With --scale, one procedural mesh of about N triangles for the scale benchmark
+(bench/scale.sh), as binary PLY, and a scene beside it that frames it (the
+mesh fills the view: every camera ray hits it) under an emissive quad:
+  sphere   a bumpy sphere seen from inside (closed: paths bounce until absorbed)
+  torus    a bumpy torus seen from inside its tube
+  soup     N random triangles in a cube, edges about 4/cbrt(N) of its side,
+           seen from the cube's front face (seeded: the same N gives the same soup)
+usage: gen_meshes.py OUTDIR [BIG_TRIANGLES]
+       gen_meshes.py --scale SHAPE N OUT.ply OUT.scene   (prints the triangle count)"""
 import base64, json, math, os, struct, sys
 
 # cube [0,2]^3, faces as quads (a b c d) counter-clockwise seen from outside
@@ -203,10 +215,118 @@ def big(out, n):
         f.write(ply_header('binary_little_endian', len(verts), 'face', len(faces)).encode())
         f.write(b''.join(struct.pack('<3f', *p) for p in verts))
         f.write(b''.join(struct.pack('<B3i', 3, *t) for t in faces))
+    big_scenes(out, verts, faces, rings, segs)
+    return len(faces)
+
+
+def big_scenes(out, verts, faces, rings, segs):
+    """The sphere in the Cornell box, as a mesh statement and as text."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    with open(os.path.join(here, '..', 'scenes', 'cornell.scene')) as f:
+        box = f.read()
+    scale, shift = 0.12, (0.28, 0.2, 0.3)
+    w(os.path.join(out, 'big.scene'),
+      box + 'mesh big.ply material white scale %g translate %g %g %g\n' % ((scale,) + shift))
+    lines = [box]
+    for k, t in enumerate(faces):
+        ring, first = (k // 2) // segs, k % 2 == 0
+        if (ring == 0 and first) or (ring == rings - 1 and not first):
+            continue  # a pole triangle: two corners coincide
+        p = [struct.unpack('<3f', struct.pack('<3f', *verts[i])) for i in t]
+        lines.append('tri white ' + '  '.join(' '.join('%.9g' % (c * scale + o)
+                                                       for c, o in zip(v, shift)) for v in p))
+    w(os.path.join(out, 'big_text.scene'), '\n'.join(lines) + '\n')
+
+
+FACE = struct.Struct('<B3i')
+
+
+def write_ply(path, verts, faces):
+    """verts: flat list of floats (xyz ...); faces: list of index triples."""
+    with open(path, 'wb') as f:
+        f.write(ply_header('binary_little_endian', len(verts) // 3, 'face', len(faces)).encode())
+        f.write(struct.pack('<%df' % len(verts), *verts))
+        f.write(b''.join(FACE.pack(3, *t) for t in faces))
+
+
+def grid_shape(n, point, wrap_u):
+    """A (u, v) grid of about n triangles, closed in v (and in u with wrap_u);
+    point(u, v) for u, v in [0, 1] -> xyz."""
+    rows = max(4, int(math.sqrt(n / 2)))
+    cols = max(4, n // (2 * rows))
+    verts = []
+    for i in range(rows + (0 if wrap_u else 1)):
+        for j in range(cols):
+            verts += point(i / rows, j / cols)
+    nrow = len(verts) // (3 * cols)
+    faces = []
+    for i in range(rows):
+        for j in range(cols):
+            a, b = i * cols + j, i * cols + (j + 1) % cols
+            c, d = ((i + 1) % nrow) * cols + j, ((i + 1) % nrow) * cols + (j + 1) % cols
+            faces += [(a, b, d), (a, d, c)]
+    return verts, faces
+
+
+def sphere_point(u, v):
+    th, ph = math.pi * (0.02 + 0.96 * u), 2 * math.pi * v  # open at the poles: no slivers
+    r = 1.0 + 0.05 * math.sin(7 * th) * math.cos(5 * ph)
+    return (r * math.sin(th) * math.cos(ph), r * math.cos(th), r * math.sin(th) * math.sin(ph))
+
+
+def torus_point(u, v):
+    a, b = 2 * math.pi * u, 2 * math.pi * v
+    r = 0.5 + 0.03 * math.sin(9 * a) * math.cos(4 * b)
+    return ((2 + r * math.cos(b)) * math.cos(a), r * math.sin(b), (2 + r * math.cos(b)) * math.sin(a))
+
+
+def soup(n):
+    import random
+    rnd = random.Random(n)
+    size = 4.0 / max(1.0, n ** (1 / 3))  # about as many triangles along a ray at every n
+    verts, faces = [], []
+    for k in range(n):
+        c = [rnd.uniform(-1, 1) for _ in range(3)]
+        for _ in range(3):
+            verts += [c[i] + rnd.uniform(-size, size) for i in range(3)]
+        faces.append((3 * k, 3 * k + 1, 3 * k + 2))
+    return verts, faces
+
+
+# camera, light quad (A B C D, facing down) per shape
+SCALE_SCENES = {
+    'sphere': ('position 0 -0.3 -0.5  direction 0 0 1  fov 60',
+               '-0.2 0.8 -0.2  0.2 0.8 -0.2  0.2 0.8 0.2  -0.2 0.8 0.2'),
+    'torus': ('position 2 0 0  direction -0.3 0 1  fov 50',
+              '1.9 0.4 -0.1  2.1 0.4 -0.1  2.1 0.4 0.1  1.9 0.4 0.1'),
+    'soup': ('position 0 0 -2.2  direction 0 0 1  fov 50',
+             '-0.5 1.3 -0.5  0.5 1.3 -0.5  0.5 1.3 0.5  -0.5 1.3 0.5'),
+}
+
+
+def scale_mesh(shape, n, ply, scene):
+    if shape == 'soup':
+        verts, faces = soup(n)
+    else:
+        verts, faces = grid_shape(n, sphere_point if shape == 'sphere' else torus_point,
+                                  shape == 'torus')
+    write_ply(ply, verts, faces)
+    cam, light = SCALE_SCENES[shape]
+    w(scene, '# %s of %d triangles, generated by tools/gen_meshes.py --scale\n'
+             'image 256 256\nspp 4\ncamera %s\n'
+             'spectrum white equal\nspectrum lamp file illuminant_D65.csv\n'
+             'material paint reflect white 0.7\nmaterial lamp emit lamp 50\n'
+             'quad lamp %s\nmesh %s material paint\n'
+             % (shape, len(faces), cam, light, os.path.basename(ply)))
     return len(faces)
 
 
 def main():
+    if len(sys.argv) == 6 and sys.argv[1] == '--scale' and sys.argv[2] in SCALE_SCENES:
+        print(scale_mesh(sys.argv[2], int(sys.argv[3]), sys.argv[4], sys.argv[5]))
+        return
+    if len(sys.argv) < 2 or sys.argv[1].startswith('-'):
+        sys.exit(__doc__)
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)
     obj(out)

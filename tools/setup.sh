@@ -1,8 +1,15 @@
 #!/usr/bin/env bash
 # Installs what specmip needs from Debian 12 (as root) and builds it into build/.
-# Usage: bash tools/setup.sh [extra cmake options]
+# Usage: bash tools/setup.sh [--bench] [extra cmake options]
+# --bench also installs Embree 3 (libembree-dev), optional and used only by
+# `specmip bench --rays --embree` (bench/scale.sh): nothing else needs it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+bench=()
+if [ "${1:-}" = --bench ]; then
+  bench=(libembree-dev)
+  shift
+fi
 
 # The build: compiler, CMake, OpenCL headers and loader, PoCL, OpenImageIO,
 # Assimp (mesh files).
@@ -14,7 +21,7 @@ cd "$(dirname "$0")/.."
 # procps (pgrep) for its tests.
 packages=(build-essential cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
           libopenimageio-dev openimageio-tools libassimp-dev python3 jq time gnuplot-nox clinfo
-          mesa-opencl-icd oclgrind libopenmpi-dev openmpi-bin procps)
+          mesa-opencl-icd oclgrind libopenmpi-dev openmpi-bin procps "${bench[@]}")
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

@@ -120,7 +120,7 @@ set key default
 set key outside right font ",8"
 do for [m in lvmodes] {
     set title m
-    plot for [i = 2:5] dat."/levels_".m.".dat" using i:xtic(1) title columnheader(i)
+    plot for [i = 2:6] dat."/levels_".m.".dat" using i:xtic(1) title columnheader(i)
 }
 unset multiplot
 }

@@ -95,7 +95,7 @@ END {
         print ""
         print "## Operator costs"
         print ""
-        print "ns per operation on one whole spectrum (`kernels/opbench.cl`), ratio to level 0 in brackets;"
+        print "ns per operation on one whole spectrum (`kernels/opbench.cl`), ratio to 5 nm in brackets;"
         print "measured " O["date"] " on " O["device"] ", each the fastest of repeated runs:"
         print ""
         print "| layout | bins | multiply | scaled add | set | clear |"

@@ -1,6 +1,6 @@
 # Tables for the bar charts from bench.csv (bench/report/bench_report.sh):
 #   what=bias_ref|bias_truth  one row per scene, one column per mode: <what>_mean
-#   what=levels mode=M        one row per scene: share of M's paths at levels 0..3
+#   what=levels mode=M        one row per scene: share of M's paths at levels 0..4
 # Values at each scene's largest spp of the main rows.
 BEGIN { FS = "," }
 NR == 1 { for (i = 1; i <= NF; i++) ix[$i] = i; next }
@@ -18,18 +18,19 @@ END {
         key = f[ix["scene"]] SUBSEP f[ix["mode"]]
         if (what == "levels") {
             tot = f[ix["paths"]] + 0
-            for (l = 0; l < 4; l++)
+            for (l = 0; l < 5; l++)
                 lv[key, l] = tot > 0 ? f[ix["l" l "_paths"]] / tot : 0
         } else {
             val[key] = f[ix[what "_mean"]]
         }
     }
     if (what == "levels") {
-        print "scene \"level 0 (80)\" \"level 1 (40)\" \"level 2 (20)\" \"level 3 (10)\""
+        print "scene \"level 0 (400)\" \"level 1 (80)\" \"level 2 (40)\" \"level 3 (20)\" \"level 4 (10)\""
         for (i = 1; i <= ns; i++)
             if ((order[i], mode, 0) in lv)
-                printf "%s %.4f %.4f %.4f %.4f\n", order[i], lv[order[i], mode, 0],
-                       lv[order[i], mode, 1], lv[order[i], mode, 2], lv[order[i], mode, 3]
+                printf "%s %.4f %.4f %.4f %.4f %.4f\n", order[i], lv[order[i], mode, 0],
+                       lv[order[i], mode, 1], lv[order[i], mode, 2], lv[order[i], mode, 3],
+                       lv[order[i], mode, 4]
         exit
     }
     line = "scene"

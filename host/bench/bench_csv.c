@@ -5,7 +5,7 @@
 #define DE_COLS(p) p "_mean," p "_p99," p "_max"
 const char spm_bench_csv_header[] =
     "scene,kind,mode,threshold,spp,width,height,seed,wall_s,time_vs_ref,kernel_s,trace_s,"
-    "shade_s,paths,paths_per_s,l0_paths,l1_paths,l2_paths,l3_paths,truncated," DE_COLS("bias_ref")
+    "shade_s,paths,paths_per_s,l0_paths,l1_paths,l2_paths,l3_paths,l4_paths,truncated," DE_COLS("bias_ref")
     "," DE_COLS("bias_truth") "," DE_COLS("err") "," DE_COLS("noise") ",conv_floor_mean,truth_spp";
 
 int spm_bench_csv_open(spm_bench_csv *c, const char *dir, spm_error *err)

@@ -14,9 +14,9 @@ typedef struct {
 } layout;
 
 static const layout layouts[] = {
-    {"l0", "level 0: 5 x float16", 16, 5, 80},     {"l1", "level 1: 5 x float8", 8, 5, 40},
-    {"l2", "level 2: 5 x float4", 4, 5, 20},       {"l3", "level 3: 5 x float2", 2, 5, 10},
-    {"truth", "truth: 25 x float16", 16, 25, 400}, {"rgb", "rgb: 1 x float4", 4, 1, 3},
+    {"l0", "5 nm: 5 x float16", 16, 5, 80},       {"l1", "10 nm: 5 x float8", 8, 5, 40},
+    {"l2", "20 nm: 5 x float4", 4, 5, 20},        {"l3", "40 nm: 5 x float2", 2, 5, 10},
+    {"truth", "1 nm: 25 x float16", 16, 25, 400}, {"rgb", "rgb: 1 x float4", 4, 1, 3},
 };
 #define NLAYOUTS (int)(sizeof layouts / sizeof layouts[0])
 static const char *const ops[] = {"mul", "fma", "set", "clear"};

@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include "bench_ops.h"
+#include "bench_rays.h"
 #include "bench_report.h"
 #include "scene_build.h"
 #include "bench_study.h"
@@ -53,6 +54,21 @@ static void usage(FILE *f)
         "                     multiply, scaled add, set, clear per level and vector width,\n"
         "                     ns/op and ratios; writes DIR/ops.csv and prints a table\n"
         "  --ops-items N, --ops-iters K   its work-items (default 4096) and ops each (1024)\n"
+        "  --rays SCENE       traversal alone instead: the CPU reference traces SCENE's paths\n"
+        "                     ('default': the built-in scene) at --size (default 256x256) and\n"
+        "                     --rays-spp N (default 1), recording every camera, bounce and shadow\n"
+        "                     ray; they are replayed through the renderer's traversal\n"
+        "                     (kernels/rays.cl on --device) and the reference's, closest-hit and\n"
+        "                     shadow rays timed apart (fastest of --repeat), answers compared\n"
+        "  --rays-save FILE, --rays-load FILE   write the recorded rays / replay a file's\n"
+        "                     (recorded on the same scene and BVH, else an input error)\n"
+        "  --rays-stats       also count nodes visited and triangle tests per ray\n"
+        "  --rays-group N     the replay's work-group size (default 64, the renderer's)\n"
+        "  --embree           also replay through Embree 3 (when built with it), --threads N\n"
+        "                     threads (default 2), its runs alternating with the kernel's, and\n"
+        "                     give specmip/Embree ratios;\n"
+        "                     --embree-quality low|medium|high its BVH (default medium)\n"
+        "  --json             the ray benchmark's results as one JSON object on stdout\n"
         "Ctrl-C stops the current render, which is dropped; finished rows are kept (exit 130);\n"
         "a second Ctrl-C exits at once.\n");
 }
@@ -92,6 +108,8 @@ typedef struct {
     char *scene_buf;
     const char *out;
     int quick, charts, ops, ops_items, ops_iters;
+    spm_rays_opts rays;
+    int rays_on;
     int have_spp, have_truth_spp, have_size, have_sweep_spp, have_scenes;
 } options;
 
@@ -140,7 +158,8 @@ static int parse_args(int argc, char **argv, options *o)
         static const char *const with_value[] = {
             "--scenes", "--modes", "--spp", "--truth-spp", "--sweep-spp", "--size", "--thresholds",
             "--threshold", "--blur", "--repeat", "--seed", "--backend", "--device", "--out", "--ops-items",
-            "--ops-iters"};
+            "--ops-iters", "--rays", "--rays-spp", "--rays-save", "--rays-load", "--threads",
+            "--embree-quality", "--rays-group"};
         int takes_value = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++)
             takes_value |= !strcmp(a, with_value[k]);
@@ -158,6 +177,39 @@ static int parse_args(int argc, char **argv, options *o)
             o->charts = 0;
         } else if (!strcmp(a, "--ops")) {
             o->ops = 1;
+        } else if (!strcmp(a, "--rays")) {
+            o->rays_on = 1;
+            o->rays.scene = strcmp(v, "default") ? v : NULL;
+        } else if (!strcmp(a, "--rays-spp")) {
+            if (spm_arg_long("bench", a, v, 1, 1 << 16, &n))
+                return SPM_EXIT_INPUT;
+            o->rays.spp = (int)n;
+        } else if (!strcmp(a, "--rays-group")) {
+            if (spm_arg_long("bench", a, v, 1, 1024, &n))
+                return SPM_EXIT_INPUT;
+            o->rays.group = (int)n;
+        } else if (!strcmp(a, "--rays-save")) {
+            o->rays.save = v;
+        } else if (!strcmp(a, "--rays-load")) {
+            o->rays.load = v;
+        } else if (!strcmp(a, "--rays-stats")) {
+            o->rays.stats = 1;
+        } else if (!strcmp(a, "--embree")) {
+            o->rays.embree = 1;
+        } else if (!strcmp(a, "--embree-quality")) {
+            static const char *const q[] = {"low", "medium", "high"};
+            o->rays.embree_quality = -1;
+            for (int k = 0; k < 3; k++)
+                if (!strcmp(v, q[k]))
+                    o->rays.embree_quality = k;
+            if (o->rays.embree_quality < 0)
+                return fail("--embree-quality is low, medium or high, not '%s'%s", v, "");
+        } else if (!strcmp(a, "--json")) {
+            o->rays.json = 1;
+        } else if (!strcmp(a, "--threads")) {
+            if (spm_arg_long("bench", a, v, 1, 64, &n))
+                return SPM_EXIT_INPUT;
+            o->rays.threads = (int)n;
         } else if (!strcmp(a, "--progress")) {
             p->progress = 2;
         } else if (!strcmp(a, "--quiet")) {
@@ -312,6 +364,28 @@ static int make_dir(const char *dir)
     }
 }
 
+/* --rays: the traversal benchmark (bench_rays.c); writes nothing but --rays-save. */
+static int run_rays(options *o)
+{
+    spm_rays_opts *r = &o->rays;
+    r->width = o->have_size ? o->plan.width : 256;
+    r->height = o->have_size ? o->plan.height : 256;
+    r->spp = r->spp ? r->spp : 1;
+    r->seed = o->plan.seed;
+    r->device = o->plan.device;
+    r->repeat = o->plan.repeat;
+    r->threads = r->threads ? r->threads : 2;
+    free(o->scene_buf);
+    spm_catch_interrupts();
+    spm_error err;
+    err.msg[0] = 0;
+    int rc = spm_bench_rays(r, &err);
+    if (rc)
+        fprintf(stderr, "specmip bench: %s\n", err.msg);
+    spm_release_interrupts();
+    return rc;
+}
+
 int spm_cmd_bench(int argc, char **argv)
 {
     options o;
@@ -320,6 +394,7 @@ int spm_cmd_bench(int argc, char **argv)
     o.charts = 1;
     o.ops_items = 4096;
     o.ops_iters = 1024;
+    o.rays.embree_quality = 1; /* medium, Embree's default */
     spm_bench_plan *p = &o.plan;
     static const double sweep[] = {1, 2, 3, 4, 5, 6, 7};
     memcpy(p->thresholds, sweep, sizeof sweep);
@@ -334,6 +409,12 @@ int spm_cmd_bench(int argc, char **argv)
     p->stop = &spm_stop_flag;
     spm_pretest_defaults(&p->pretest);
     int rc = parse_args(argc, argv, &o);
+    if (!rc && !o.rays_on &&
+        (o.rays.save || o.rays.load || o.rays.json || o.rays.embree || o.rays.stats))
+        rc = fail("--rays-save, --rays-load, --rays-stats, --embree and --json go with --rays%s%s",
+                  "", "");
+    if (!rc && o.rays_on)
+        return run_rays(&o);
     glob_t g;
     memset(&g, 0, sizeof g);
     if (!rc)

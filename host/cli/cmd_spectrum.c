@@ -43,8 +43,8 @@ static void help(FILE *f)
             "                     Y = 100, and that white is the CIELAB white.\n"
             "  --emission         FILE is a light: XYZ is scaled to Y = 100 and CIELAB uses the\n"
             "                     D65 white of Y = 100; the pretest sees it on its own\n"
-            "  --level L          compute XYZ, Lab and sRGB from level L (0..3: 80, 40, 20, 10\n"
-            "                     bins) instead of the 1 nm truth; the illuminant stays at level 0\n"
+            "  --level L          compute XYZ, Lab and sRGB from level L (0..4: 400, 80, 40, 20,\n"
+            "                     10 bins) instead of the 1 nm truth; the illuminant stays at 1 nm\n"
             "  --threshold T      pretest threshold (default 2.0)\n"
             "  --metric M         pretest metric: de00 (CIEDE2000, default) or deab (CIE 1976)\n"
             "  --json             one JSON object per spectrum (an array for several columns)\n"
@@ -53,9 +53,10 @@ static void help(FILE *f)
             "  --help             this text\n"
             "\n"
             "sRGB is the IEC 61966-2-1 encoding of XYZ/100, without chromatic adaptation.\n"
-            "The levels table gives each level's difference to level 0 (same illuminant and\n"
-            "white). The pretest (reflectance with the illuminant, or a light alone; levels\n"
-            "0..2) picks the coarsest level whose worst error stays within the threshold.\n"
+            "The levels table gives each level's difference to level 0, the 1 nm truth (same\n"
+            "illuminant and white). The pretest (reflectance with the illuminant, or a light\n"
+            "alone; levels 0..3) picks the coarsest level whose worst error stays within the\n"
+            "threshold.\n"
             "Exit codes: 0 ok, 2 usage or input error (bad files are reported as file:line).\n");
 }
 
@@ -118,7 +119,7 @@ static int parse_args(int argc, char **argv, options *o)
             o->illum = v;
         } else if (!strcmp(a, "--level")) {
             if (parse_number(v, 0, SPM_NUM_LEVELS - 1, &d) || d != (int)d)
-                return usage_error("--level takes 0, 1, 2 or 3, not '%s'", v);
+                return usage_error("--level takes 0, 1, 2, 3 or 4, not '%s'", v);
             o->level = (int)d;
         } else if (!strcmp(a, "--threshold")) {
             if (parse_number(v, 0, 1e9, &d))
@@ -173,14 +174,15 @@ static int load_illuminant(const char *arg, spm_spectrum *out, spm_error *err)
     return spm_spectrum_load(is_file ? arg : path, NULL, SPM_KIND_EMISSION, out, err);
 }
 
-/* XYZ of s at level l (the light at level 0), with level-0 weights. */
+/* XYZ of s at level l (the light at level 0, 1 nm), with 1 nm weights. */
 static void level_xyz(const spm_spectrum *s, int l, const double *light, double scale,
                       double xyz[3])
 {
-    double bins[SPM_L0_BINS], prod[SPM_L0_BINS];
+    double bins[SPM_TRUTH_BINS], prod[SPM_TRUTH_BINS];
+    int w = SPM_TRUTH_BINS / SPM_LEVEL_BINS(l);
     spm_spectrum_level(s, l, bins);
-    for (int b = 0; b < SPM_L0_BINS; b++)
-        prod[b] = bins[b >> l] * light[b];
+    for (int b = 0; b < SPM_TRUTH_BINS; b++)
+        prod[b] = bins[b / w] * light[b];
     spm_xyz_bins(prod, 0, xyz);
     for (int k = 0; k < 3; k++)
         xyz[k] *= scale;
@@ -189,9 +191,9 @@ static void level_xyz(const spm_spectrum *s, int l, const double *light, double 
 static void analyse(const spm_spectrum *s, const spm_spectrum *illum, const options *o,
                     report *r)
 {
-    double light[SPM_L0_BINS], white[3], scale;
+    double light[SPM_TRUTH_BINS], white[3], scale;
     if (s->kind == SPM_KIND_EMISSION) {
-        for (int b = 0; b < SPM_L0_BINS; b++)
+        for (int b = 0; b < SPM_TRUTH_BINS; b++)
             light[b] = 1.0;
         double y0[3];
         level_xyz(s, 0, light, 1.0, y0);
@@ -309,7 +311,7 @@ static void print_text(FILE *f, const char *name, const options *o, const report
     fprintf(f, "  sRGB         %10.4f %10.4f %10.4f  (8-bit %d %d %d)\n", r->enc[0], r->enc[1],
             r->enc[2], (int)(r->enc[0] * 255 + 0.5), (int)(r->enc[1] * 255 + 0.5),
             (int)(r->enc[2] * 255 + 0.5));
-    fprintf(f, "  level  bins    dE00    dEab   (against level 0)\n");
+    fprintf(f, "  level  bins    dE00    dEab   (against level 0, 1 nm)\n");
     for (int l = 0; l < SPM_NUM_LEVELS; l++)
         fprintf(f, "  %5d  %4d  %6.3f  %6.3f\n", l, SPM_LEVEL_BINS(l), r->de00[l], r->deab[l]);
     fprintf(f, "  chosen level %d\n", r->pt.level);

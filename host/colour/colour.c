@@ -33,7 +33,7 @@ void spm_xyz_reflectance(const spm_spectrum *r, const spm_spectrum *illum, doubl
 
 void spm_xyz_bins(const double *bins, int level, double xyz[3])
 {
-    double w[3][SPM_L0_BINS];
+    double w[3][SPM_TRUTH_BINS];
     spm_cmf_level(level, w);
     for (int k = 0; k < 3; k++) {
         double sum = 0.0;

@@ -131,19 +131,23 @@ void spm_spectrum_multiply(spm_spectrum *s, const spm_spectrum *by)
 
 void spm_spectrum_level(const spm_spectrum *s, int level, double *out)
 {
-    const int w = SPM_TRUTH_BINS / SPM_L0_BINS;
-    double l0[SPM_L0_BINS];
-    for (int b = 0; b < SPM_L0_BINS; b++) {
+    if (level == 0) {
+        memcpy(out, s->nm1, sizeof s->nm1);
+        return;
+    }
+    const int w = SPM_TRUTH_BINS / SPM_NM5_BINS;
+    double l1[SPM_NM5_BINS];
+    for (int b = 0; b < SPM_NM5_BINS; b++) {
         double sum = 0.0;
         for (int j = 0; j < w; j++)
             sum += s->nm1[b * w + j];
-        l0[b] = sum / w;
+        l1[b] = sum / w;
     }
     /* Each coarser level averages pairs of the finer one, in place. */
-    for (int l = 1; l <= level; l++)
+    for (int l = 2; l <= level; l++)
         for (int b = 0; b < SPM_LEVEL_BINS(l); b++)
-            l0[b] = 0.5 * (l0[2 * b] + l0[2 * b + 1]);
-    memcpy(out, l0, (size_t)SPM_LEVEL_BINS(level) * sizeof *out);
+            l1[b] = 0.5 * (l1[2 * b] + l1[2 * b + 1]);
+    memcpy(out, l1, (size_t)SPM_LEVEL_BINS(level) * sizeof *out);
 }
 
 double spm_spectrum_mean(const spm_spectrum *s)
@@ -232,10 +236,10 @@ const double (*spm_cmf_truth(void))[SPM_TRUTH_BINS]
     return (const double(*)[SPM_TRUTH_BINS])cmf_w;
 }
 
-void spm_cmf_level(int level, double out[3][SPM_L0_BINS])
+void spm_cmf_level(int level, double out[3][SPM_TRUTH_BINS])
 {
     cmf_require();
-    int w = (SPM_TRUTH_BINS / SPM_L0_BINS) << level;
+    int w = SPM_TRUTH_BINS / SPM_LEVEL_BINS(level);
     for (int k = 0; k < 3; k++)
         for (int b = 0; b < SPM_LEVEL_BINS(level); b++) {
             double sum = 0.0;

@@ -32,9 +32,10 @@ void spm_spectrum_blackbody(double kelvin, spm_spectrum *out);
 void spm_spectrum_scale(spm_spectrum *s, double f);
 void spm_spectrum_multiply(spm_spectrum *s, const spm_spectrum *by);
 
-/* Level l bins (SPM_LEVEL_BINS(l) values) of s, as bin means. */
+/* Level l bins (SPM_LEVEL_BINS(l) values: level 0 the 1 nm bins) of s, as
+ * bin means. */
 void spm_spectrum_level(const spm_spectrum *s, int level, double *out);
-/* Mean of the spectrum over 380-780 nm (= mean of level 0). */
+/* Mean of the spectrum over 380-780 nm (= mean of any level). */
 double spm_spectrum_mean(const spm_spectrum *s);
 double spm_spectrum_max(const spm_spectrum *s);
 
@@ -47,7 +48,7 @@ double spm_spectrum_max(const spm_spectrum *s);
  * <data>/spectra/cie1931_2deg_cmf_1nm.csv; returns 0 or fills err. */
 int spm_cmf_init(spm_error *err);
 const double (*spm_cmf_truth(void))[SPM_TRUTH_BINS];
-void spm_cmf_level(int level, double out[3][SPM_L0_BINS]);
+void spm_cmf_level(int level, double out[3][SPM_TRUTH_BINS]);
 void spm_cmf_point(double lambda_nm, double out[3]);
 /* The integral of the CIE 1931 y-bar over 380-780 nm, in nm: the weights are
  * the CMFs divided by it, so a spectrum of 1 per nm has Y = 1. */

@@ -52,6 +52,16 @@ static inline void spm_ref_path_key(const spm_trace_params *p, size_t i, spm_u32
     *sample = p->first_sample + (spm_u32)(i % p->spp_per_pass);
 }
 
+/* Ray recording (`specmip bench --rays`): while set on a thread, every ray
+ * that thread's reference trace casts is passed to fn as a spm_ray
+ * (spm_shared.h: a shadow ray names its emitter triangle) before it is cast.
+ * It only observes: the paths are the same with it or without. */
+typedef struct {
+    void (*fn)(void *ctx, const spm_ray *ray);
+    void *ctx;
+} spm_ref_ray_sink;
+extern _Thread_local spm_ref_ray_sink spm_ref_rays;
+
 /* Paths [begin, end) of the pass into paths[0 .. end-begin-1] and likewise
  * levels (a batch or a slice per thread); start_level from
  * spm_plan_level_start (render_plan.h). */

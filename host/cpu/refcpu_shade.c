@@ -6,7 +6,7 @@
 #include <math.h>
 #include "spm_rng.h"
 
-#define MAX_LANES SPM_TRUTH_BINS
+#define MAX_LANES (SPM_TRUTH_BINS + SPM_MAX_SPIKES) /* mlc at level 0 */
 
 /* Colour c's lane l is base[c * stride + (idx ? idx[l] : l)]; XYZ channel ch
  * of the lanes is sum over l of lane l * w[ch][l]. */
@@ -109,7 +109,7 @@ static lanes hero_path(const spm_shade_table *tab, float u, path_lanes *pl)
         float pdf = hx[SPM_HERO_PDFK] * (1.0f - y * y);
         float r = 1.0f / (pdf * (float)SPM_HERO_LANES);
         pl->idx[i] = j;
-        pl->sfw[i] = r / (float)(SPM_TRUTH_BINS / SPM_L0_BINS);
+        pl->sfw[i] = r / (float)(SPM_TRUTH_BINS / SPM_NM5_BINS);
         for (int ch = 0; ch < 3; ch++)
             pl->w[ch][i] = hx[SPM_HERO_CMF + 4 * j + ch] * r;
     }
@@ -126,7 +126,7 @@ static void lanes_to_bins(const spm_spec_map *map, const path_lanes *pl, int per
         for (int b = 0; b < nbins; b++)
             out[b] = 0.0f;
         for (int l = 0; l < SPM_HERO_LANES; l++)
-            out[pl->idx[l] / (SPM_TRUTH_BINS / SPM_L0_BINS)] += L[l] * pl->sfw[l];
+            out[pl->idx[l] / (SPM_TRUTH_BINS / SPM_NM5_BINS)] += L[l] * pl->sfw[l];
         return;
     }
     const uint32_t *lane = map->idx + map->nbins + 1;

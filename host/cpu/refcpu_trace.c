@@ -52,6 +52,16 @@ static float rnd(const rng_key *k, spm_u32 dim)
     return spm_rng(k->seed, k->pixel, k->sample, dim);
 }
 
+_Thread_local spm_ref_ray_sink spm_ref_rays;
+
+static void record_ray(const float o[3], const float d[3], spm_u32 skip, spm_u32 emitter)
+{
+    if (!spm_ref_rays.fn)
+        return;
+    spm_ray r = {{o[0], o[1], o[2]}, skip, {d[0], d[1], d[2]}, emitter};
+    spm_ref_rays.fn(spm_ref_rays.ctx, &r);
+}
+
 /* Next-event estimation at hit point x on triangle `hit` (normal n) reached
  * along d: one emitter triangle chosen uniformly, a uniform point on it, a
  * shadow ray. Returns the emitter's emission colour and its weight
@@ -75,6 +85,7 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
         q[i] = em->v0[i] + em->e1[i] * a + em->e2[i] * b;
     v3_sub(ev, q, x);
     v3_normalise(l, ev);
+    record_ray(x, l, hit, ei);
     int blocker = spm_bvh_intersect(g, x, l, hit, &ts);
     if (blocker >= 0 && (spm_u32)blocker != ei)
         return SPM_NONE;
@@ -143,6 +154,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
     spm_u32 skip = 0xFFFFFFFFu;
     for (int j = 0;; j++) {
         float t;
+        record_ray(o, d, skip, SPM_RAY_CLOSEST);
         int hit = spm_bvh_intersect(g, o, d, skip, &t);
         if (hit < 0) {
             escape(p, d, weight, path);

@@ -119,3 +119,31 @@ int spm_bvh_intersect(const spm_geometry *g, const float o[3], const float d[3],
         }
     }
 }
+
+static double node_area(const spm_bvh_node *n)
+{
+    double d[3];
+    for (int i = 0; i < 3; i++)
+        d[i] = n->bmax[i] > n->bmin[i] ? (double)n->bmax[i] - (double)n->bmin[i] : 0.0;
+    return 2.0 * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+}
+
+double spm_bvh_sah_cost(const spm_bvh_node *nodes, int nnodes, int *leaves)
+{
+    int nl = 0;
+    double sum = 0.0;
+    for (int k = 0; k < nnodes; k++) {
+        double a = node_area(&nodes[k]);
+        if (nodes[k].count) {
+            nl++;
+            sum += a * (double)nodes[k].count;
+        } else {
+            sum += a;
+        }
+    }
+    if (leaves)
+        *leaves = nl;
+    double root = nnodes ? node_area(&nodes[0]) : 0.0;
+    /* a flat root (all triangles in one plane) has area 0: cost as one box test per node */
+    return root > 0.0 ? sum / root : (double)nnodes;
+}

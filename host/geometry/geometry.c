@@ -86,7 +86,7 @@ static void list_emitters(const spm_scene *sc, spm_geometry *g)
             g->emitters[g->nemitters++] = (spm_u32)i;
 }
 
-int spm_geometry_build(const spm_scene *scene, spm_geometry *g, spm_error *err)
+static int build(spm_scene *owned, const spm_scene *scene, spm_geometry *g, spm_error *err)
 {
     memset(g, 0, sizeof *g);
     g->ntris = scene->ntris;
@@ -97,6 +97,11 @@ int spm_geometry_build(const spm_scene *scene, spm_geometry *g, spm_error *err)
             return 1;
         }
     }
+    if (owned) { /* the scene's copy is not needed again: not held through the BVH build */
+        free(owned->tris);
+        owned->tris = NULL;
+        owned->ntris = 0;
+    }
     /* the camera first: the BVH pads its boxes by the eye's magnitude too */
     g->cam = spm_camera_make(scene->eye, scene->dir, scene->fov_deg, scene->width, scene->height);
     if (spm_bvh_build(g, err)) {
@@ -105,6 +110,16 @@ int spm_geometry_build(const spm_scene *scene, spm_geometry *g, spm_error *err)
     }
     list_emitters(scene, g); /* after the BVH reordered the triangles */
     return 0;
+}
+
+int spm_geometry_build(const spm_scene *scene, spm_geometry *g, spm_error *err)
+{
+    return build(NULL, scene, g, err);
+}
+
+int spm_geometry_build_consume(spm_scene *scene, spm_geometry *g, spm_error *err)
+{
+    return build(scene, scene, g, err);
 }
 
 void spm_geometry_free(spm_geometry *g)

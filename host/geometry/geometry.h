@@ -4,6 +4,16 @@
 #include "scene.h"
 #include "spm_shared.h"
 
+/* What the BVH build made (render --stats / --json "bvh"). sah_cost is
+ * sum over interior nodes of A(node)/A(root) plus sum over leaves of
+ * A(leaf)/A(root) * triangles, on the unpadded boxes: the expected number of
+ * box and triangle tests of a ray through the root box (both costed 1). */
+typedef struct {
+    int leaves;
+    double sah_cost;
+    int threads; /* threads the build ran on */
+} spm_bvh_stats;
+
 typedef struct {
     spm_tri *tris;          /* reordered by the BVH build */
     int ntris;
@@ -12,11 +22,16 @@ typedef struct {
     spm_u32 *emitters;      /* indices into tris of triangles with emission and area > 0 */
     int nemitters;
     spm_camera cam;
+    spm_bvh_stats bvh;
 } spm_geometry;
 
 /* Builds triangles (MiniLight's edges/normal/tangent/area), a binned-SAH BVH
  * and the emitter list. Zero-area triangles are an input error naming the line. */
 int spm_geometry_build(const spm_scene *scene, spm_geometry *g, spm_error *err);
+/* The same, freeing the scene's triangles (scene->tris NULL, ntris 0) once
+ * they are converted, before the BVH build: a render needs them no more, and
+ * a million of them are 44 MB. */
+int spm_geometry_build_consume(spm_scene *scene, spm_geometry *g, spm_error *err);
 void spm_geometry_free(spm_geometry *g);
 spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg, int w, int h);
 
@@ -38,6 +53,14 @@ int spm_brute_intersect(const spm_geometry *g, const float o[3], const float d[3
  * padded relative to its own magnitude and g->cam.eye's (bvh_build.c). Called
  * by spm_geometry_build. */
 int spm_bvh_build(spm_geometry *g, spm_error *err);
+/* The same on nthreads threads (1: the calling thread alone; small scenes
+ * always build on one). The tree does not depend on nthreads or on the
+ * threads' timing. spm_bvh_build uses spm_bvh_default_threads(): the online
+ * cores, at most 16. */
+int spm_bvh_build_threads(spm_geometry *g, int nthreads, spm_error *err);
+int spm_bvh_default_threads(void);
+/* The SAH cost (spm_bvh_stats) of nodes[0, nnodes) and their leaf count. */
+double spm_bvh_sah_cost(const spm_bvh_node *nodes, int nnodes, int *leaves);
 /* Nodes whose box spm_bvh_intersect tested, counted per thread: a cost
  * measure for tests and benchmarks that the traversal only adds to. */
 extern _Thread_local unsigned long long spm_bvh_nodes_tested;

@@ -16,7 +16,11 @@ int spm_clr_new_buffer(spm_cl_renderer *r, cl_mem *m, cl_mem_flags fl, size_t by
     /* zero-sized buffers are invalid in OpenCL: an empty table gets a few bytes */
     if (!bytes)
         host = NULL;
-    *m = clCreateBuffer(r->cl.ctx, fl | (host ? CL_MEM_COPY_HOST_PTR : 0), bytes ? bytes : 16,
+    if (!host)
+        fl &= ~(cl_mem_flags)CL_MEM_USE_HOST_PTR;
+    else if (!(fl & CL_MEM_USE_HOST_PTR))
+        fl |= CL_MEM_COPY_HOST_PTR;
+    *m = clCreateBuffer(r->cl.ctx, fl, bytes ? bytes : 16,
                         (void *)host, &rc);
     char buf[160];
     snprintf(buf, sizeof buf, "clCreateBuffer(%s)", what);
@@ -46,8 +50,16 @@ int spm_clr_upload(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *e
     const spm_tables *t = plan->tables;
     const uint8_t *lvlk = plan->lvlk;
     int rc = 0;
+    /* A CPU device reads the host's triangles and BVH where they are rather
+     * than a copy of them (the largest buffers: a million triangles are 100 MB);
+     * the plan's geometry outlives its backends. */
+    int cpu = spm_cl_device_kind(r->cl.dev.type) == SPM_CL_CPU;
+#define SHARED(host) \
+    (cpu && ((const void *)(host) == g->tris || (const void *)(host) == g->nodes) \
+         ? CL_MEM_USE_HOST_PTR : 0)
 #define UPLOAD(field, what, bytes, host) \
-    rc = rc || spm_clr_new_buffer(r, &r->field, CL_MEM_READ_ONLY, bytes, host, what, err);
+    rc = rc || spm_clr_new_buffer(r, &r->field, CL_MEM_READ_ONLY | SHARED(host), bytes, host, \
+                                  what, err);
     SPM_CL_SCENE_BUFFERS(UPLOAD)
     for (int s = 0; s < plan->nslots && !rc; s++)
         if (plan->used[s]) {

@@ -158,7 +158,7 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
         s->scene.height = c->height;
     double t1 = spm_now();
     s->times.load_s = t1 - t0;
-    rc = spm_geometry_build(&s->scene, &s->geom, err);
+    rc = spm_geometry_build_consume(&s->scene, &s->geom, err);
     double t2 = spm_now();
     s->times.bvh_s = t2 - t1;
     if (rc)

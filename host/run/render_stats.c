@@ -1,4 +1,15 @@
 #include "render_stats.h"
+#include <sys/resource.h>
+
+/* The process's peak resident set so far (Linux reports ru_maxrss in KiB);
+ * a mesh importer runs in a child process and is not counted. */
+static long long peak_rss_bytes(void)
+{
+    struct rusage ru;
+    if (getrusage(RUSAGE_SELF, &ru) != 0)
+        return 0;
+    return (long long)ru.ru_maxrss * 1024;
+}
 
 static double kernel_s(const spm_pass_stats *p) { return p->trace_s + p->shade_s + p->accum_s; }
 
@@ -73,6 +84,10 @@ void spm_render_stats_text(FILE *f, const spm_render_config *c, const spm_render
                "   render %.3f s   output %.3f s   total %.3f s\n",
             st->load_s, st->bvh_s, st->tables_s, st->kernels_s, st->render_s, st->output_s,
             stages_total(st));
+    const spm_geometry *g = &s->geom;
+    fprintf(f, "bvh          %d triangles   %d nodes   %d leaves   SAH cost %.3f   %d threads\n",
+            g->ntris, g->nnodes, g->bvh.leaves, g->bvh.sah_cost, g->bvh.threads);
+    fprintf(f, "memory       peak RSS %.1f MB\n", (double)peak_rss_bytes() / 1e6);
     fprintf(f, "render       %.3f s   %.3f Mpaths/s   process CPU %.3f s\n", r->wall_s,
             r->wall_s > 0 ? (double)t->paths / r->wall_s * 1e-6 : 0.0, r->cpu_s);
     fprintf(f, "kernels      trace %s   shade %s   accumulate %s%s\n",
@@ -122,6 +137,11 @@ void spm_render_stats_json(FILE *f, const spm_render_config *c, const spm_render
                "\"total_s\": %.6f}",
             st->load_s, st->bvh_s, st->tables_s, st->kernels_s, st->render_s, st->output_s,
             stages_total(st));
+    const spm_geometry *g = &s->geom;
+    fprintf(f, ", \"bvh\": {\"triangles\": %d, \"nodes\": %d, \"leaves\": %d, "
+               "\"sah_cost\": %.6f, \"threads\": %d}",
+            g->ntris, g->nnodes, g->bvh.leaves, g->bvh.sah_cost, g->bvh.threads);
+    fprintf(f, ", \"peak_rss_bytes\": %lld", peak_rss_bytes());
     fprintf(f, ", \"wall_s\": %.6f, \"cpu_s\": %.6f", r->wall_s, r->cpu_s);
     json_secs(f, "trace_s", t->trace_s, timed(t));
     json_secs(f, "shade_s", t->shade_s, timed(t));

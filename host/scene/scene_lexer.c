@@ -16,7 +16,7 @@ static void advance(spm_lexer *lx)
     } else {
         lx->col += lx->col < INT_MAX;
     }
-    lx->c = getc(lx->f);
+    lx->c = getc_unlocked(lx->f); /* one thread reads a lexer's file: no lock per byte */
 }
 
 static int error_at(const spm_lexer *lx, spm_error *err, int line, int col, const char *what)
@@ -51,7 +51,10 @@ void spm_lex_close(spm_lexer *lx)
 }
 
 static int is_space(int c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
-static int is_word_byte(int c) { return c > ' ' && c < 127 && !strchr("()#\"", c); }
+static int is_word_byte(int c)
+{
+    return c > ' ' && c < 127 && c != '(' && c != ')' && c != '#' && c != '"';
+}
 
 static int read_string(spm_lexer *lx, spm_error *err)
 {
@@ -198,39 +201,111 @@ static void describe_range(char *buf, size_t size, const char *what, double lo, 
         snprintf(buf, size, "%s (%g to %g)", what, lo, hi);
 }
 
-int spm_lex_number(spm_lexer *lx, const char *what, double lo, double hi, double *out,
-                   spm_error *err)
+/* Clinger's fast path: a decimal of at most 15 significant digits times a
+ * power of ten within 10^+-22 is two exact doubles, and one IEEE multiply or
+ * divide of them rounds correctly, so the result equals strtod's. Returns 0
+ * for anything else (more digits, larger exponents, hex, inf, nan, junk),
+ * which strtod then reads. */
+static int fast_decimal(const char *s, double *out)
+{
+    static const double pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+    int neg = 0, digits = 0, any = 0, exp10 = 0;
+    unsigned long long m = 0;
+    if (*s == '+' || *s == '-')
+        neg = *s++ == '-';
+    for (; *s >= '0' && *s <= '9'; s++, any = 1)
+        if (m || *s != '0') {
+            if (++digits > 15)
+                return 0;
+            m = m * 10 + (unsigned)(*s - '0');
+        }
+    if (*s == '.')
+        for (s++; *s >= '0' && *s <= '9'; s++, any = 1) {
+            if (m || *s != '0') {
+                if (++digits > 15)
+                    return 0;
+                m = m * 10 + (unsigned)(*s - '0');
+            }
+            exp10--;
+        }
+    if (!any)
+        return 0;
+    if (*s == 'e' || *s == 'E') {
+        s++;
+        int eneg = 0, e = 0, edig = 0;
+        if (*s == '+' || *s == '-')
+            eneg = *s++ == '-';
+        for (; *s >= '0' && *s <= '9'; s++, edig++)
+            if (e < 1000)
+                e = e * 10 + (*s - '0');
+        if (!edig)
+            return 0;
+        exp10 += eneg ? -e : e;
+    }
+    if (*s)
+        return 0;
+    double v = (double)m; /* exact: m < 10^15 < 2^53 */
+    if (m != 0) {
+        if (exp10 < -22 || exp10 > 22)
+            return 0;
+        v = exp10 < 0 ? v / pow10[-exp10] : v * pow10[exp10];
+    }
+    *out = neg ? -v : v;
+    return 1;
+}
+
+/* The token as a whole number of strtod's syntax; 0 when it is not one. */
+static int parse_double(const char *text, double *out)
+{
+    if (fast_decimal(text, out))
+        return 1;
+    char *end;
+    *out = strtod(text, &end);
+    return end != text && !*end;
+}
+
+/* The message for a number that does not fit, formatted only then. */
+static int number_error(spm_lexer *lx, const char *what, double lo, double hi, int finite,
+                        spm_error *err)
 {
     char desc[256];
     describe_range(desc, sizeof desc, what, lo, hi);
-    if (lx->type != SPM_TOK_WORD)
+    if (finite)
         return spm_lex_expected(lx, err, desc);
-    char *end;
-    double v = strtod(lx->text, &end);
-    if (end == lx->text || *end)
-        return spm_lex_expected(lx, err, desc);
-    if (!isfinite(v)) {
-        char msg[300];
-        snprintf(msg, sizeof msg, "%s, a finite number", desc);
-        return spm_lex_expected(lx, err, msg);
-    }
+    char msg[300];
+    snprintf(msg, sizeof msg, "%s, a finite number", desc);
+    return spm_lex_expected(lx, err, msg);
+}
+
+int spm_lex_number(spm_lexer *lx, const char *what, double lo, double hi, double *out,
+                   spm_error *err)
+{
+    double v;
+    if (lx->type != SPM_TOK_WORD || !parse_double(lx->text, &v))
+        return number_error(lx, what, lo, hi, 1, err);
+    if (!isfinite(v))
+        return number_error(lx, what, lo, hi, 0, err);
     if (v < lo || v > hi)
-        return spm_lex_expected(lx, err, desc);
+        return number_error(lx, what, lo, hi, 1, err);
     *out = v;
     return spm_lex_next(lx, err);
 }
 
 int spm_lex_int(spm_lexer *lx, const char *what, long lo, long hi, long *out, spm_error *err)
 {
-    char desc[256];
-    snprintf(desc, sizeof desc, "%s (an integer from %ld to %ld)", what, lo, hi);
-    if (lx->type != SPM_TOK_WORD)
-        return spm_lex_expected(lx, err, desc);
     char *end;
     errno = 0;
-    long v = strtol(lx->text, &end, 10);
-    if (end == lx->text || *end || errno == ERANGE || v < lo || v > hi)
+    long v = 0;
+    if (lx->type == SPM_TOK_WORD)
+        v = strtol(lx->text, &end, 10);
+    if (lx->type != SPM_TOK_WORD || end == lx->text || *end || errno == ERANGE || v < lo ||
+        v > hi) {
+        char desc[256];
+        snprintf(desc, sizeof desc, "%s (an integer from %ld to %ld)", what, lo, hi);
         return spm_lex_expected(lx, err, desc);
+    }
     *out = v;
     return spm_lex_next(lx, err);
 }
@@ -248,12 +323,15 @@ static int is_name(const char *s)
 
 int spm_lex_name(spm_lexer *lx, const char *what, char *out, size_t size, spm_error *err)
 {
-    char desc[256];
-    snprintf(desc, sizeof desc, "%s (a name of letters, digits, '_', '-', '.', at most %zu long)",
-             what, size - 1);
-    if (lx->type != SPM_TOK_WORD || !is_name(lx->text) || strlen(lx->text) >= size)
+    size_t n = lx->type == SPM_TOK_WORD ? strlen(lx->text) : 0;
+    if (lx->type != SPM_TOK_WORD || !is_name(lx->text) || n >= size) {
+        char desc[256];
+        snprintf(desc, sizeof desc,
+                 "%s (a name of letters, digits, '_', '-', '.', at most %zu long)", what,
+                 size - 1);
         return spm_lex_expected(lx, err, desc);
-    snprintf(out, size, "%s", lx->text);
+    }
+    memcpy(out, lx->text, n + 1);
     return spm_lex_next(lx, err);
 }
 

@@ -394,19 +394,20 @@ static int stmt_material(parser *p)
 /* tri (3 vertices) or quad (4 vertices, two triangles a b c and a c d). */
 static int stmt_polygon(parser *p, int nverts)
 {
+    /* Positions are kept as numbers and formatted only for an error: a scene
+     * of a million triangles is a million of these statements. */
     char where[600], name[SPM_NAME_MAX];
-    int line = p->lx.tline;
-    where_now(p, where, sizeof where);
+    int line = p->lx.tline, col = p->lx.tcol;
     if (spm_lex_next(&p->lx, p->err))
         return 1;
-    char mwhere[600];
-    where_now(p, mwhere, sizeof mwhere);
+    int mline = p->lx.tline, mcol = p->lx.tcol;
     if (spm_lex_name(&p->lx, "a material name", name, sizeof name, p->err))
         return 1;
     int m = spm_names_get(&p->materials, name);
     if (m < 0) {
-        spm_errorf(p->err, "%s: unknown material '%s' (define it with 'material %s ...' first)",
-                   mwhere, name, name);
+        spm_errorf(p->err,
+                   "%s:%d:%d: unknown material '%s' (define it with 'material %s ...' first)",
+                   p->lx.path, mline, mcol, name, name);
         return 1;
     }
     double v[4][3];
@@ -420,8 +421,13 @@ static int stmt_polygon(parser *p, int nverts)
         memcpy(t[0], v[0], sizeof t[0]);
         memcpy(t[1], v[tri + 1], sizeof t[1]);
         memcpy(t[2], v[tri + 2], sizeof t[2]);
-        if (spm_sb_tri(&p->b, t, m, line, where, p->err))
+        /* an empty position, then the message gets the statement's in front */
+        if (spm_sb_tri(&p->b, t, m, line, "", p->err)) {
+            spm_error inner = *p->err;
+            snprintf(where, sizeof where, "%s:%d:%d", p->lx.path, line, col);
+            spm_errorf(p->err, "%s%s", where, inner.msg);
             return 1;
+        }
     }
     return 0;
 }

@@ -61,7 +61,7 @@ static double lane_mean(const lane_profile *p, int k, double wl, const double *v
 static void fill_row(const spm_spectrum *smooth, const double lanes[SPM_MAX_SPIKES], int c,
                      spm_tables *t)
 {
-    double bins[SPM_L0_BINS];
+    double bins[SPM_TRUTH_BINS];
     for (int l = 0; l < SPM_NUM_LEVELS; l++) {
         float *row = &t->mlc_lvl[l][(size_t)c * SPM_MLC_STRIDE(l)];
         spm_spectrum_level(smooth, l, bins);

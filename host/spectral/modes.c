@@ -19,39 +19,26 @@ static void copy_rows(float *dst, int dst_stride, const float *src, int src_stri
         memcpy(&dst[(size_t)r * dst_stride], &src[(size_t)r * src_stride], (size_t)n * sizeof *dst);
 }
 
-/* ---- truth: 400 bins of 1 nm ---------------------------------------------- */
-static void truth_layout(const spm_tables *t, int level, spm_shade_table *o)
-{
-    (void)t, (void)level;
-    o->lanes = SPM_TRUTH_BINS, o->width = 16, o->stride = SPM_TRUTH_BINS;
-}
-
-static void truth_fill(const spm_tables *t, int level, spm_shade_table *o)
-{
-    (void)level;
-    copy_rows(o->rows, o->stride, t->truth, SPM_TRUTH_BINS, t->ncolours, SPM_TRUTH_BINS);
-    copy_rows(o->w, o->stride, &t->cmf_truth[0][0], SPM_TRUTH_BINS, 3, SPM_TRUTH_BINS);
-}
-
-/* ---- ref, ml: the bins of a level, five vectors of 16 >> level ------------- */
+/* ---- truth, ref, ml: the bins of a level (spm_shared.h: level 0 the 1 nm
+ * bins as 25 x float16, then five vectors of 16, 8, 4, 2 floats) ---------- */
 static void level_layout(const spm_tables *t, int l, spm_shade_table *o)
 {
     (void)t;
-    o->lanes = SPM_LEVEL_BINS(l), o->width = 16 >> l, o->stride = SPM_LEVEL_BINS(l);
+    o->lanes = SPM_LEVEL_BINS(l), o->width = SPM_LEVEL_WIDTH(l), o->stride = SPM_LEVEL_BINS(l);
 }
 
 static void level_fill(const spm_tables *t, int l, spm_shade_table *o)
 {
     int bins = SPM_LEVEL_BINS(l);
     copy_rows(o->rows, o->stride, t->lvl[l], bins, t->ncolours, bins);
-    copy_rows(o->w, o->stride, &t->cmf_lvl[l][0][0], SPM_L0_BINS, 3, bins);
+    copy_rows(o->w, o->stride, &t->cmf_lvl[l][0][0], SPM_TRUTH_BINS, 3, bins);
 }
 
 /* ---- mlc: a level's smooth bins, then the scene's spike lanes weighted by
  * the CMFs at the spike wavelengths, padded to whole vectors --------------- */
 static void mlc_layout(const spm_tables *t, int l, spm_shade_table *o)
 {
-    o->lanes = SPM_LEVEL_BINS(l) + t->nspikes, o->width = 16 >> l;
+    o->lanes = SPM_LEVEL_BINS(l) + t->nspikes, o->width = SPM_LEVEL_WIDTH(l);
     o->stride = round_up(o->lanes, o->width);
 }
 
@@ -124,28 +111,27 @@ static void map_row(spm_spec_map *o, int b)
         o->idx[b] = (uint32_t)o->nnz;
 }
 
-/* truth: a 1 nm bin is a lane; a 5 nm bin the mean of its five lanes. */
-static void truth_spec(const spm_tables *t, int level, int nm, spm_spec_map *o)
+/* Output bin b of nm nm from a level-l row: the mean of the level's bins it
+ * holds (level 0's nm lanes), or the mean of the level's bin that holds it
+ * (area-preserving). */
+static void put_level_bin(spm_spec_map *o, int l, int nm, int b)
 {
-    (void)t, (void)level;
-    o->nnz = 0;
-    for (int b = 0; b < o->nbins; b++) {
-        map_row(o, b);
-        for (int j = 0; j < nm; j++)
-            map_put(o, b * nm + j, 1.0f / (float)nm);
-    }
-    map_row(o, o->nbins);
+    int lnm = (SPM_LAMBDA_MAX - SPM_LAMBDA_MIN) / SPM_LEVEL_BINS(l);
+    if (lnm < nm)
+        for (int j = 0; j < nm / lnm; j++)
+            map_put(o, b * (nm / lnm) + j, (float)lnm / (float)nm);
+    else
+        map_put(o, b * nm / lnm, 1.0f);
 }
 
-/* ref, ml: a level-l bin covers 2^l 5 nm bins, each of which gets its mean
- * (area-preserving). */
+/* truth, ref, ml: the level's bins. */
 static void level_spec(const spm_tables *t, int l, int nm, spm_spec_map *o)
 {
-    (void)t, (void)nm;
+    (void)t;
     o->nnz = 0;
     for (int b = 0; b < o->nbins; b++) {
         map_row(o, b);
-        map_put(o, b >> l, 1.0f);
+        put_level_bin(o, l, nm, b);
     }
     map_row(o, o->nbins);
 }
@@ -157,7 +143,7 @@ static void mlc_spec(const spm_tables *t, int l, int nm, spm_spec_map *o)
     o->nnz = 0;
     for (int b = 0; b < o->nbins; b++) {
         map_row(o, b);
-        map_put(o, b >> l, 1.0f);
+        put_level_bin(o, l, nm, b);
         for (int k = 0; k < t->nspikes; k++) {
             int sb = (int)((t->spike_wl[k] - (float)SPM_LAMBDA_MIN) / (float)nm);
             sb = sb < 0 ? 0 : sb >= o->nbins ? o->nbins - 1 : sb;
@@ -170,11 +156,11 @@ static void mlc_spec(const spm_tables *t, int l, int nm, spm_spec_map *o)
 
 const spm_mode_desc spm_modes[SPM_MODE_COUNT] = {
     [SPM_MODE_TRUTH] = {SPM_MODE_TRUTH, "truth", "1 nm bins (ground truth)", 0, 0, 0, 0,
-                        "spm_shade_truth", "SPM_SHADE_TRUTH_NV=%d", truth_layout, truth_fill,
-                        {5, 1}, truth_spec},
-    [SPM_MODE_REF] = {SPM_MODE_REF, "ref", "5 nm bins", 0, 0, 0, 0, "spm_shade_l0",
-                      "SPM_SHADE_L0_NV=%d", level_layout, level_fill, {5, 0}, level_spec},
-    [SPM_MODE_ML] = {SPM_MODE_ML, "ml", "Spectral Mipmapping: 5-40 nm bins, a level per path", 1,
+                        "spm_shade_l0", "SPM_SHADE_L0_NV=%d", level_layout, level_fill,
+                        {5, 1}, level_spec},
+    [SPM_MODE_REF] = {SPM_MODE_REF, "ref", "5 nm bins", 0, SPM_REF_LEVEL, 0, 0, "spm_shade_l1",
+                      "SPM_SHADE_L1_NV=%d", level_layout, level_fill, {5, 0}, level_spec},
+    [SPM_MODE_ML] = {SPM_MODE_ML, "ml", "Spectral Mipmapping: 1-40 nm bins, a level per path", 1,
                      0, 0, 0, "spm_shade_l%d", "SPM_SHADE_L%d_NV=%d", level_layout, level_fill,
                      {5, 0}, level_spec},
     [SPM_MODE_MLC] = {SPM_MODE_MLC, "mlc", "ml + Composite Model spike lanes", 1, 0, 1, 0,

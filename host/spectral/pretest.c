@@ -1,7 +1,7 @@
 /* Pretests (docs/METHODS.md "Choosing levels"): a spectrum's own sampling error at
- * each level, measured in products where every other factor stays at level 0,
- * both products scaled by the factor that takes the level-0 one to Y = 50,
- * against a D65 white of Y = 100. */
+ * each level against level 0, the 1 nm truth, measured in products where every
+ * other factor stays at 1 nm, both products scaled by the factor that takes the
+ * 1 nm one to Y = 50, against a D65 white of Y = 100. */
 #include "pretest.h"
 #include "colour.h"
 #include "interrupt.h"
@@ -13,7 +13,7 @@
 #define WHITE_Y 100.0
 #define SEQ_MAX_OTHERS 4 /* context C: 1..4 other reflectances per sequence */
 
-typedef double bins_t[SPM_L0_BINS];
+typedef double bins_t[SPM_TRUTH_BINS];
 
 void spm_pretest_defaults(spm_pretest_opts *o)
 {
@@ -21,7 +21,7 @@ void spm_pretest_defaults(spm_pretest_opts *o)
     o->threshold = 2.0;
     o->seed = 1;
     o->nsequences = 64;
-    o->coarsest_level = 2;
+    o->coarsest_level = SPM_DEFAULT_COARSEST;
 }
 
 /* splitmix64: small, deterministic, independent of the platform's rand(). */
@@ -35,16 +35,17 @@ static uint64_t next_u64(uint64_t *state)
 
 static int pick(uint64_t *state, int n) { return (int)(next_u64(state) % (uint64_t)n); }
 
-/* The spectrum at `level`, held at level-0 resolution (each bin repeated). */
+/* The spectrum at `level`, held at 1 nm (each bin repeated over its nm). */
 static void at_level(const spm_spectrum *s, int level, bins_t out)
 {
-    double bins[SPM_L0_BINS];
+    double bins[SPM_TRUTH_BINS];
+    int w = SPM_TRUTH_BINS / SPM_LEVEL_BINS(level);
     spm_spectrum_level(s, level, bins);
-    for (int b = 0; b < SPM_L0_BINS; b++)
-        out[b] = bins[b >> level];
+    for (int b = 0; b < SPM_TRUTH_BINS; b++)
+        out[b] = bins[b / w];
 }
 
-/* at_level plus a part held at level 0 whatever the level (spike lanes). */
+/* at_level plus a part held at 1 nm whatever the level (spike lanes). */
 static void at_level_sharp(const spm_spectrum *s, const spm_spectrum *sharp, int level, bins_t out)
 {
     at_level(s, level, out);
@@ -52,22 +53,33 @@ static void at_level_sharp(const spm_spectrum *s, const spm_spectrum *sharp, int
         return;
     bins_t extra;
     at_level(sharp, 0, extra);
-    for (int b = 0; b < SPM_L0_BINS; b++)
+    for (int b = 0; b < SPM_TRUTH_BINS; b++)
         out[b] += extra[b];
 }
 
 /* Colour difference of two products, both scaled by one factor: the one that
- * takes the level-0 product to Y = 50. So a darkening chain cannot hide a hue
+ * takes the 1 nm (level-0) product to Y = 50. So a darkening chain cannot hide a hue
  * error, and a level's luminance error counts too: scaling each product to its
  * own Y hid it, yet it shows in the pixel (a long chain's R^k at a coarse
  * level is darker or brighter than at level 0, and so is its share of the
  * pixel's sum over path lengths). A product without luminance at level 0
  * cannot be seen: no error. */
+static void xyz_1nm(const bins_t p, double xyz[3])
+{
+    const double (*w)[SPM_TRUTH_BINS] = spm_cmf_truth();
+    for (int k = 0; k < 3; k++) {
+        double sum = 0.0;
+        for (int b = 0; b < SPM_TRUTH_BINS; b++)
+            sum += p[b] * w[k][b];
+        xyz[k] = sum;
+    }
+}
+
 static double product_error(const bins_t ref, const bins_t test, spm_metric metric)
 {
     double xr[3], xt[3], white[3], lr[3], lt[3];
-    spm_xyz_bins(ref, 0, xr);
-    spm_xyz_bins(test, 0, xt);
+    xyz_1nm(ref, xr);
+    xyz_1nm(test, xt);
     if (!(xr[1] > 0.0))
         return 0.0;
     if (!(xt[1] > 0.0))
@@ -84,12 +96,12 @@ static double product_error(const bins_t ref, const bins_t test, spm_metric metr
     return metric == SPM_METRIC_DEAB ? spm_delta_e_ab(lr, lt) : spm_delta_e_2000(lr, lt);
 }
 
-/* Error of s^k * factor with s at level l against s at level 0. */
+/* Error of s^k * factor with s at level l against s at level 0 (1 nm). */
 static double context_error(const bins_t s0, const bins_t sl, int k, const bins_t factor,
                             spm_metric metric)
 {
     bins_t p0, pl;
-    for (int b = 0; b < SPM_L0_BINS; b++) {
+    for (int b = 0; b < SPM_TRUTH_BINS; b++) {
         p0[b] = pl[b] = factor[b];
         for (int j = 0; j < k; j++) {
             p0[b] *= s0[b];
@@ -101,7 +113,7 @@ static double context_error(const bins_t s0, const bins_t sl, int k, const bins_
 
 static double maxd(double a, double b) { return a > b ? a : b; }
 
-/* The set split by kind, at level 0. */
+/* The set split by kind, at level 0 (1 nm). */
 typedef struct {
     bins_t *lights, *refl;
     int *refl_index;
@@ -124,7 +136,7 @@ static void split_set(const spm_spectrum *const *sp, const spm_spectrum *const *
         }
     }
     if (set->nlights == 0) { /* an equal-energy light stands in */
-        for (int b = 0; b < SPM_L0_BINS; b++)
+        for (int b = 0; b < SPM_TRUTH_BINS; b++)
             set->lights[0][b] = 1.0;
         set->nlights = 1;
     }
@@ -143,7 +155,7 @@ static double sequence_error(const set_t *set, int self, int is_light, const bin
     for (int q = 0; q < o->nsequences; q++) {
         bins_t f;
         if (is_light)
-            for (int b = 0; b < SPM_L0_BINS; b++)
+            for (int b = 0; b < SPM_TRUTH_BINS; b++)
                 f[b] = 1.0;
         else
             memcpy(f, set->lights[pick(&state, set->nlights)], sizeof f);
@@ -152,7 +164,7 @@ static double sequence_error(const set_t *set, int self, int is_light, const bin
             int r = pick(&state, set->nrefl);
             if (!is_light && set->refl_index[r] == self)
                 r = (r + 1) % set->nrefl; /* another spectrum: s itself is not "other" */
-            for (int b = 0; b < SPM_L0_BINS; b++)
+            for (int b = 0; b < SPM_TRUTH_BINS; b++)
                 f[b] *= set->refl[r][b];
         }
         worst = maxd(worst, context_error(s0, sl, 1, f, o->metric));
@@ -166,7 +178,7 @@ static void run_one(const spm_spectrum *s, const spm_spectrum *sharp, int self, 
     int is_light = s->kind == SPM_KIND_EMISSION;
     double err_ac[SPM_NUM_LEVELS] = {0};
     bins_t s0, sl, one;
-    for (int b = 0; b < SPM_L0_BINS; b++)
+    for (int b = 0; b < SPM_TRUTH_BINS; b++)
         one[b] = 1.0;
     at_level_sharp(s, sharp, 0, s0);
     memset(res, 0, sizeof *res);
@@ -185,7 +197,7 @@ static void run_one(const spm_spectrum *s, const spm_spectrum *sharp, int self, 
                 memcpy(p0, set->lights[li], sizeof p0);
                 memcpy(pl, set->lights[li], sizeof pl);
                 for (int k = 1; k <= SPM_PRETEST_KMAX; k++) {
-                    for (int b = 0; b < SPM_L0_BINS; b++) {
+                    for (int b = 0; b < SPM_TRUTH_BINS; b++) {
                         p0[b] *= s0[b];
                         pl[b] *= sl[b];
                     }

@@ -11,7 +11,8 @@ typedef struct {
     double threshold;      /* default 2.0 */
     unsigned seed;         /* context C sequences; default 1 */
     int nsequences;        /* context C: random sequences per spectrum; default 64 */
-    int coarsest_level;    /* coarsest level allowed (2 by default, 3 enables the 10-bin level) */
+    int coarsest_level;    /* coarsest level allowed (SPM_DEFAULT_COARSEST, 20 bins, by default;
+                            * 4 enables the 10-bin level) */
 } spm_pretest_opts;
 
 typedef struct {
@@ -32,8 +33,8 @@ void spm_pretest_defaults(spm_pretest_opts *o);
 int spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
                     spm_pretest_result *results);
 /* The same where spectra[i] is only the part to be sampled at each level and
- * sharp[i] (NULL, or sharp itself NULL: nothing) a part kept at level-0
- * resolution at every level: the Composite Model's spikes, which ride in their
+ * sharp[i] (NULL, or sharp itself NULL: nothing) a part kept at level 0
+ * (1 nm) at every level: the Composite Model's spikes, which ride in their
  * own lanes, so only the smooth remainder answers for the level. */
 int spm_pretest_run_sharp(const spm_spectrum *const *spectra, const spm_spectrum *const *sharp,
                           int n, const spm_pretest_opts *o, spm_pretest_result *results);

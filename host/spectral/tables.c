@@ -11,7 +11,7 @@
 
 static void fill_levels(const spm_spectrum *s, int c, spm_tables *t)
 {
-    double bins[SPM_L0_BINS];
+    double bins[SPM_TRUTH_BINS];
     for (int l = 0; l < SPM_NUM_LEVELS; l++) {
         int nb = SPM_LEVEL_BINS(l);
         spm_spectrum_level(s, l, bins);
@@ -63,10 +63,10 @@ static void fill_cmf(spm_tables *t)
         for (int i = 0; i < SPM_TRUTH_BINS; i++)
             t->cmf_truth[c][i] = (float)w[c][i];
     for (int l = 0; l < SPM_NUM_LEVELS; l++) {
-        double lw[3][SPM_L0_BINS];
+        double lw[3][SPM_TRUTH_BINS];
         spm_cmf_level(l, lw);
         for (int c = 0; c < 3; c++)
-            for (int b = 0; b < SPM_L0_BINS; b++)
+            for (int b = 0; b < SPM_TRUTH_BINS; b++)
                 t->cmf_lvl[l][c][b] = b < SPM_LEVEL_BINS(l) ? (float)lw[c][b] : 0.0f;
     }
 }

@@ -9,10 +9,10 @@
 
 typedef struct {
     int ncolours;
-    float *lvl[SPM_NUM_LEVELS];    /* ncolours x SPM_LEVEL_BINS(l), bin means */
+    float *lvl[SPM_NUM_LEVELS];    /* ncolours x SPM_LEVEL_BINS(l), bin means (lvl[0]: truth's) */
     float *truth;                  /* ncolours x SPM_TRUTH_BINS */
     float *rgb;                    /* ncolours x 4: linear sRGB (reflectance D65-referred, white = 1) */
-    float cmf_lvl[SPM_NUM_LEVELS][3][SPM_L0_BINS];  /* XYZ weights per level (bins(l) used) */
+    float cmf_lvl[SPM_NUM_LEVELS][3][SPM_TRUTH_BINS];  /* XYZ weights per level (bins(l) used) */
     float cmf_truth[3][SPM_TRUTH_BINS];
     /* ml: level for a colour met k times on a path: lvlk[c * SPM_PRETEST_KMAX + (k-1)] */
     uint8_t *lvlk;

@@ -1,0 +1,622 @@
+/* `specmip bench --rays` (bench_rays.h): record, save, load and replay rays. */
+#include "bench_rays.h"
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "clhost.h"
+#include "geometry_vec3.h"
+#include "interrupt.h"
+#include "refcpu.h"
+#include "render_setup.h"
+#include "spm_kernel_args.h"
+
+/* Work-group size: the renderer's (cl_renderer.h LOCAL_SIZE) unless --rays-group sets one. */
+static size_t group = 64;
+
+typedef struct {
+    spm_ray *r;
+    size_t n, cap;
+} ray_list;
+
+static void push(ray_list *l, const spm_ray *r)
+{
+    if (l->n == l->cap) {
+        l->cap = l->cap ? 2 * l->cap : 4096;
+        l->r = spm_xrealloc(l->r, l->cap * sizeof *l->r);
+    }
+    l->r[l->n++] = *r;
+}
+
+static void sink(void *ctx, const spm_ray *r)
+{
+    ray_list *l = ctx;
+    push(&l[r->emitter == SPM_RAY_CLOSEST ? 0 : 1], r);
+}
+
+void spm_rayset_free(spm_rayset *rs)
+{
+    free(rs->rays);
+    memset(rs, 0, sizeof *rs);
+}
+
+static void join(ray_list l[2], spm_rayset *rs)
+{
+    rs->n = l[0].n + l[1].n;
+    rs->nclosest = l[0].n;
+    rs->rays = spm_xmalloc((rs->n ? rs->n : 1) * sizeof *rs->rays);
+    if (l[0].n)
+        memcpy(rs->rays, l[0].r, l[0].n * sizeof *rs->rays);
+    if (l[1].n)
+        memcpy(rs->rays + l[0].n, l[1].r, l[1].n * sizeof *rs->rays);
+    free(l[0].r);
+    free(l[1].r);
+}
+
+int spm_rays_record(const spm_render_plan *plan, int spp, spm_rayset *rs, spm_error *err)
+{
+    memset(rs, 0, sizeof *rs);
+    ray_list l[2];
+    memset(l, 0, sizeof l);
+    spm_trace_params p = spm_plan_pass_params(plan, 0, (spm_u32)spp);
+    size_t npaths = plan->npix * (size_t)spp, chunk = 1024;
+    spm_path *paths = spm_xmalloc(chunk * sizeof *paths);
+    uint8_t levels[1024];
+    spm_ref_rays = (spm_ref_ray_sink){sink, l};
+    int rc = 0;
+    for (size_t b = 0; b < npaths && !rc; b += chunk) {
+        if (spm_stop_requested()) {
+            spm_errorf(err, "interrupted while recording rays");
+            rc = SPM_EXIT_INTERRUPTED;
+            break;
+        }
+        size_t e = b + chunk < npaths ? b + chunk : npaths;
+        spm_ref_trace_range(plan->geom, plan->tables->materials, plan->lvlk,
+                            (int)plan->start_level, &p, b, e, paths, levels);
+    }
+    spm_ref_rays = (spm_ref_ray_sink){NULL, NULL};
+    free(paths);
+    join(l, rs);
+    return rc;
+}
+
+static spm_u32 fnv(spm_u32 h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ p[i]) * 16777619u;
+    return h;
+}
+
+spm_u32 spm_rays_geometry_hash(const spm_geometry *g)
+{
+    spm_u32 h = 2166136261u;
+    h = fnv(h, g->tris, (size_t)g->ntris * sizeof *g->tris);
+    return fnv(h, g->nodes, (size_t)g->nnodes * sizeof *g->nodes);
+}
+
+/* The file: "SPMRAYS1", u32 triangles, u32 geometry hash, u64 closest-hit
+ * rays, u64 shadow rays, then the spm_ray records (closest first), all in
+ * the host's byte order. */
+static const char MAGIC[8] = {'S', 'P', 'M', 'R', 'A', 'Y', 'S', '1'};
+typedef struct {
+    char magic[8];
+    spm_u32 ntris, hash;
+    uint64_t nclosest, nshadow;
+} file_head;
+
+int spm_rays_save(const char *path, const spm_geometry *g, const spm_rayset *rs, spm_error *err)
+{
+    char part[4200];
+    snprintf(part, sizeof part, "%s.part", path);
+    FILE *f = fopen(part, "wb");
+    if (!f) {
+        spm_errorf(err, "%s: %s", part, strerror(errno));
+        return 1;
+    }
+    file_head h;
+    memcpy(h.magic, MAGIC, sizeof MAGIC);
+    h.ntris = (spm_u32)g->ntris;
+    h.hash = spm_rays_geometry_hash(g);
+    h.nclosest = rs->nclosest;
+    h.nshadow = rs->n - rs->nclosest;
+    int bad = fwrite(&h, sizeof h, 1, f) != 1 ||
+              (rs->n && fwrite(rs->rays, sizeof *rs->rays, rs->n, f) != rs->n);
+    if (fclose(f) || bad || rename(part, path)) {
+        spm_errorf(err, "%s: %s", path, strerror(errno));
+        remove(part);
+        return 1;
+    }
+    return 0;
+}
+
+static int ray_ok(const spm_ray *r, spm_u32 ntris)
+{
+    for (int k = 0; k < 3; k++)
+        if (!isfinite(r->o[k]) || !isfinite(r->d[k]))
+            return 0;
+    return (r->skip == 0xFFFFFFFFu || r->skip < ntris) &&
+           (r->emitter == SPM_RAY_CLOSEST || r->emitter < ntris);
+}
+
+int spm_rays_load(const char *path, const spm_geometry *g, spm_rayset *rs, spm_error *err)
+{
+    memset(rs, 0, sizeof *rs);
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        spm_errorf(err, "%s: %s", path, strerror(errno));
+        return 1;
+    }
+    file_head h;
+    int rc = 1;
+    if (fread(&h, sizeof h, 1, f) != 1 || memcmp(h.magic, MAGIC, sizeof MAGIC)) {
+        spm_errorf(err, "%s: not a ray file (no SPMRAYS1 header)", path);
+    } else if (h.ntris != (spm_u32)g->ntris || h.hash != spm_rays_geometry_hash(g)) {
+        spm_errorf(err, "%s: recorded on other geometry (%u triangles, hash %08x; this scene: %d, "
+                   "%08x): record it again with --rays-save", path, h.ntris, h.hash, g->ntris,
+                   spm_rays_geometry_hash(g));
+    } else if (h.nclosest > ((uint64_t)1 << 32) || h.nshadow > ((uint64_t)1 << 32)) {
+        spm_errorf(err, "%s: header claims %llu + %llu rays", path,
+                   (unsigned long long)h.nclosest, (unsigned long long)h.nshadow);
+    } else {
+        rs->nclosest = (size_t)h.nclosest;
+        rs->n = (size_t)(h.nclosest + h.nshadow);
+        rs->rays = spm_xmalloc((rs->n ? rs->n : 1) * sizeof *rs->rays);
+        size_t got = fread(rs->rays, sizeof *rs->rays, rs->n, f);
+        char extra;
+        if (got != rs->n) {
+            spm_errorf(err, "%s: truncated: ray %zu of %zu missing (byte %zu)", path, got, rs->n,
+                       sizeof h + got * sizeof *rs->rays);
+        } else if (fread(&extra, 1, 1, f) == 1) {
+            spm_errorf(err, "%s: data after the last of its %zu rays", path, rs->n);
+        } else {
+            rc = 0;
+            for (size_t i = 0; i < rs->n && !rc; i++)
+                if (!ray_ok(&rs->rays[i], h.ntris) ||
+                    (i < rs->nclosest) != (rs->rays[i].emitter == SPM_RAY_CLOSEST)) {
+                    spm_errorf(err, "%s: ray %zu (byte %zu) is malformed (non-finite, a triangle "
+                               "out of range, or a kind out of order)", path, i,
+                               sizeof h + i * sizeof *rs->rays);
+                    rc = 1;
+                }
+        }
+    }
+    fclose(f);
+    if (rc)
+        spm_rayset_free(rs);
+    return rc;
+}
+
+/* ---- replay on OpenCL ---------------------------------------------------- */
+#define ARG_FIELD(dev, host, name) host name;
+typedef struct { SPM_RAYS_ARGS(ARG_FIELD, ) } rays_args;
+#define SET_ARG(dev, host, name) \
+    rc = rc || spm_cl_check(clSetKernelArg(k, i++, sizeof a->name, &a->name), "clSetKernelArg(spm_rays)", err);
+
+static int set_args(cl_kernel k, const rays_args *a, spm_error *err)
+{
+    int rc = 0;
+    cl_uint i = 0;
+    SPM_RAYS_ARGS(SET_ARG, )
+    return rc;
+}
+
+/* One launch over rays [first, first + n); its kernel time in *s (-1: no times). */
+static int launch(spm_cl_ctx *c, cl_kernel k, rays_args *a, size_t first, size_t n, double *s,
+                  spm_error *err)
+{
+    *s = 0;
+    if (!n)
+        return 0;
+    a->first = (spm_u32)first;
+    a->nrays = (spm_u32)n;
+    size_t global = (n + group - 1) / group * group, local = group;
+    cl_event ev;
+    if (set_args(k, a, err) ||
+        spm_cl_check(clEnqueueNDRangeKernel(c->queue, k, 1, NULL, &global, &local, 0, NULL, &ev),
+                     "clEnqueueNDRangeKernel(spm_rays)", err))
+        return 1;
+    cl_int rc = clWaitForEvents(1, &ev);
+    *s = spm_cl_event_seconds(ev);
+    clReleaseEvent(ev);
+    return spm_cl_check(rc, "clWaitForEvents(spm_rays)", err);
+}
+
+static cl_mem buffer(spm_cl_ctx *c, cl_mem_flags fl, size_t size, void *host, spm_error *err,
+                     int *bad)
+{
+    if (*bad)
+        return NULL;
+    cl_int e;
+    cl_mem m = clCreateBuffer(c->ctx, fl | (host ? CL_MEM_COPY_HOST_PTR : 0), size ? size : 4,
+                              host, &e);
+    *bad = spm_cl_check(e, "clCreateBuffer(rays)", err);
+    return m;
+}
+
+static int read_counters(spm_cl_ctx *c, cl_mem m, cl_uint *v, spm_error *err)
+{
+    return spm_cl_check(clEnqueueReadBuffer(c->queue, m, CL_TRUE, 0,
+                                            SPM_RAYS_NCOUNTERS * sizeof *v, v, 0, NULL, NULL),
+                        "clEnqueueReadBuffer(counters)", err);
+}
+
+static int zero_counters(spm_cl_ctx *c, cl_mem m, spm_error *err)
+{
+    cl_uint z[SPM_RAYS_NCOUNTERS] = {0};
+    return spm_cl_check(clEnqueueWriteBuffer(c->queue, m, CL_TRUE, 0, sizeof z, z, 0, NULL, NULL),
+                        "clEnqueueWriteBuffer(counters)", err);
+}
+
+/* The counting build over both kinds: per-ray nodes and triangle tests. */
+static int count_costs(spm_cl_ctx *c, cl_program prog, rays_args *a, const spm_rayset *rs,
+                       spm_rays_timing *tm, spm_error *err)
+{
+    cl_int e;
+    cl_kernel k = clCreateKernel(prog, "spm_rays", &e);
+    if (spm_cl_check(e, "clCreateKernel(spm_rays, statistics)", err))
+        return 1;
+    size_t ns = rs->n - rs->nclosest;
+    cl_uint v[SPM_RAYS_NCOUNTERS];
+    double s;
+    int rc = zero_counters(c, a->counters, err) ||
+             launch(c, k, a, 0, rs->nclosest, &s, err) || read_counters(c, a->counters, v, err);
+    if (!rc) {
+        tm->nodes_closest = rs->nclosest ? (double)v[SPM_COUNTER_NODES] / rs->nclosest : 0;
+        tm->tris_closest = rs->nclosest ? (double)v[SPM_COUNTER_TRIS] / rs->nclosest : 0;
+        rc = zero_counters(c, a->counters, err) || launch(c, k, a, rs->nclosest, ns, &s, err) ||
+             read_counters(c, a->counters, v, err);
+    }
+    if (!rc) {
+        tm->nodes_shadow = ns ? (double)v[SPM_COUNTER_NODES] / ns : 0;
+        tm->tris_shadow = ns ? (double)v[SPM_COUNTER_TRIS] / ns : 0;
+    }
+    clReleaseKernel(k);
+    return rc;
+}
+
+int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, int repeat,
+                       int stats, int *hits, spm_rays_timing *tm, char *devname, size_t devlen,
+                       void (*each)(void *ctx, int run), void *ctx, spm_error *err)
+{
+    memset(tm, 0, sizeof *tm);
+    tm->nodes_closest = tm->nodes_shadow = tm->tris_closest = tm->tris_shadow = -1;
+    spm_cl_ctx c;
+    if (spm_cl_ctx_create(device, &c, err))
+        return 1;
+    snprintf(devname, devlen, "%s", c.dev.name);
+    const char *files[] = {"kernels/rays.cl"};
+    cl_program prog = NULL, sprog = NULL;
+    cl_kernel k = NULL;
+    rays_args a;
+    memset(&a, 0, sizeof a);
+    int bad = spm_cl_build(&c, files, 1, "", &prog, err) ||
+              (stats && spm_cl_build(&c, files, 1, "-DSPM_RAYS_STATS", &sprog, err));
+    a.tris = buffer(&c, CL_MEM_READ_ONLY, (size_t)g->ntris * sizeof *g->tris, g->tris, err, &bad);
+    a.nodes = buffer(&c, CL_MEM_READ_ONLY, (size_t)g->nnodes * sizeof *g->nodes, g->nodes, err,
+                     &bad);
+    a.rays = buffer(&c, CL_MEM_READ_ONLY, rs->n * sizeof *rs->rays, rs->rays, err, &bad);
+    a.hits = buffer(&c, CL_MEM_READ_WRITE, rs->n * sizeof *hits, NULL, err, &bad);
+    a.counters = buffer(&c, CL_MEM_READ_WRITE, SPM_RAYS_NCOUNTERS * sizeof(cl_uint), NULL, err,
+                        &bad);
+    if (!bad) {
+        cl_int e;
+        k = clCreateKernel(prog, "spm_rays", &e);
+        bad = spm_cl_check(e, "clCreateKernel(spm_rays)", err) || zero_counters(&c, a.counters, err);
+    }
+    size_t ns = rs->n - rs->nclosest;
+    tm->closest_s = tm->shadow_s = INFINITY;
+    /* run 0 warms up (PoCL compiles a kernel again at its first launch) */
+    for (int r = 0; r <= repeat && !bad; r++) {
+        double sc, ss;
+        bad = launch(&c, k, &a, 0, rs->nclosest, &sc, err) ||
+              launch(&c, k, &a, rs->nclosest, ns, &ss, err);
+        if (!bad && (sc < 0 || ss < 0)) {
+            spm_errorf(err, "device '%s' gives no kernel times (profiling)", c.dev.name);
+            bad = 1;
+        }
+        if (!bad && r > 0) {
+            tm->closest_s = sc < tm->closest_s ? sc : tm->closest_s;
+            tm->shadow_s = ss < tm->shadow_s ? ss : tm->shadow_s;
+        }
+        if (!bad && each)
+            each(ctx, r);
+        if (!bad && spm_stop_requested()) {
+            spm_errorf(err, "interrupted while replaying rays");
+            bad = 1;
+        }
+    }
+    cl_uint v[SPM_RAYS_NCOUNTERS];
+    if (!bad && rs->n)
+        bad = spm_cl_check(clEnqueueReadBuffer(c.queue, a.hits, CL_TRUE, 0, rs->n * sizeof *hits,
+                                               hits, 0, NULL, NULL),
+                           "clEnqueueReadBuffer(hits)", err);
+    if (!bad && !(bad = read_counters(&c, a.counters, v, err)))
+        tm->stack_overflows = v[SPM_COUNTER_STACK];
+    if (!bad && stats)
+        bad = count_costs(&c, sprog, &a, rs, tm, err);
+    if (k)
+        clReleaseKernel(k);
+    cl_mem mems[] = {a.tris, a.nodes, a.rays, a.hits, a.counters};
+    for (size_t i = 0; i < sizeof mems / sizeof *mems; i++)
+        if (mems[i])
+            clReleaseMemObject(mems[i]);
+    if (prog)
+        clReleaseProgram(prog);
+    if (sprog)
+        clReleaseProgram(sprog);
+    spm_cl_ctx_release(&c);
+    return bad;
+}
+
+/* ---- the reference's traversal -------------------------------------------- */
+void spm_rays_replay_ref(const spm_geometry *g, const spm_rayset *rs, int *hits,
+                         spm_rays_timing *tm)
+{
+    memset(tm, 0, sizeof *tm);
+    tm->tris_closest = tm->tris_shadow = -1;
+    for (int kind = 0; kind < 2; kind++) {
+        size_t b = kind ? rs->nclosest : 0, e = kind ? rs->n : rs->nclosest;
+        unsigned long long n0 = spm_bvh_nodes_tested;
+        double t0 = spm_now();
+        for (size_t i = b; i < e; i++) {
+            if (!(i & 4095) && spm_stop_requested())
+                return; /* the caller sees the flag */
+            float t;
+            hits[i] = spm_bvh_intersect(g, rs->rays[i].o, rs->rays[i].d, rs->rays[i].skip, &t);
+        }
+        double s = spm_now() - t0, per = e > b ? (double)(spm_bvh_nodes_tested - n0) / (e - b) : 0;
+        *(kind ? &tm->shadow_s : &tm->closest_s) = s;
+        *(kind ? &tm->nodes_shadow : &tm->nodes_closest) = per;
+    }
+}
+
+static int occluded(int h, spm_u32 emitter)
+{
+    return h >= 0 && (spm_u32)h != emitter;
+}
+
+void spm_rays_compare(const spm_rayset *rs, const int *a, const int *b, size_t *closest_bad,
+                      size_t *shadow_bad)
+{
+    *closest_bad = *shadow_bad = 0;
+    for (size_t i = 0; i < rs->nclosest; i++)
+        *closest_bad += a[i] != b[i];
+    for (size_t i = rs->nclosest; i < rs->n; i++)
+        *shadow_bad += occluded(a[i], rs->rays[i].emitter) != occluded(b[i], rs->rays[i].emitter);
+}
+
+size_t spm_rays_differ_edge_on(const spm_geometry *g, const spm_rayset *rs, const int *a,
+                               const int *b)
+{
+    size_t n = 0;
+    for (size_t i = 0; i < rs->n; i++) {
+        const spm_ray *r = &rs->rays[i];
+        int differ = i < rs->nclosest ? a[i] != b[i]
+                                      : occluded(a[i], r->emitter) != occluded(b[i], r->emitter);
+        if (!differ || b[i] < 0 || b[i] >= g->ntris)
+            continue;
+        const spm_tri *t = &g->tris[b[i]];
+        float p[3];
+        v3_cross(p, r->d, t->e2);
+        float det = v3_dot(t->e1, p);
+        n += det > -SPM_RAY_EPSILON && det < SPM_RAY_EPSILON;
+    }
+    return n;
+}
+
+/* ---- the benchmark -------------------------------------------------------- */
+static double mrays(size_t n, double s)
+{
+    return s > 0 ? n / s / 1e6 : 0;
+}
+
+static void json_num(FILE *f, const char *key, double v, const char *sep)
+{
+    if (v < 0 || !isfinite(v))
+        fprintf(f, "\"%s\": null%s", key, sep);
+    else
+        fprintf(f, "\"%s\": %.6g%s", key, v, sep);
+}
+
+static void json_str(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (const char *p = s; *p; p++)
+        if (*p == '"' || *p == '\\')
+            fprintf(f, "\\%c", *p);
+        else if ((unsigned char)*p < 0x20)
+            fprintf(f, "\\u%04x", (unsigned char)*p);
+        else
+            fputc(*p, f);
+    fputc('"', f);
+}
+
+static void json_impl(FILE *f, const char *name, const char *what, const spm_rayset *rs,
+                      const spm_rays_timing *t, size_t cbad, size_t sbad, const char *sep)
+{
+    fprintf(f, "  \"%s\": {\"what\": ", name);
+    json_str(f, what);
+    fprintf(f, ", ");
+    size_t ns = rs->n - rs->nclosest;
+    json_num(f, "closest_s", t->closest_s, ", ");
+    json_num(f, "shadow_s", t->shadow_s, ", ");
+    json_num(f, "closest_mrays_s", mrays(rs->nclosest, t->closest_s), ", ");
+    json_num(f, "shadow_mrays_s", mrays(ns, t->shadow_s), ", ");
+    json_num(f, "nodes_closest", t->nodes_closest, ", ");
+    json_num(f, "nodes_shadow", t->nodes_shadow, ", ");
+    json_num(f, "tris_closest", t->tris_closest, ", ");
+    json_num(f, "tris_shadow", t->tris_shadow, ", ");
+    fprintf(f, "\"closest_differ\": %zu, \"shadow_differ\": %zu}%s\n", cbad, sbad, sep);
+}
+
+static void text_row(FILE *f, const char *what, const spm_rayset *rs, const spm_rays_timing *t)
+{
+    size_t ns = rs->n - rs->nclosest;
+    fprintf(f, "  %-12s %9.3f %9.3f", what, mrays(rs->nclosest, t->closest_s),
+            mrays(ns, t->shadow_s));
+    if (t->nodes_closest >= 0)
+        fprintf(f, " %8.1f %8.1f", t->nodes_closest, t->nodes_shadow);
+    else
+        fprintf(f, " %8s %8s", "-", "-");
+    if (t->tris_closest >= 0)
+        fprintf(f, " %8.1f %8.1f", t->tris_closest, t->tris_shadow);
+    else
+        fprintf(f, " %8s %8s", "-", "-");
+    fprintf(f, "\n");
+}
+
+/* Embree's runs between the kernel's (spm_rays_replay_cl's `each`) */
+typedef struct {
+    spm_rays_embree *e;
+    spm_rays_timing *tm;
+    int rc;
+    spm_error err;
+} interleave;
+
+static void embree_run(void *ctx, int run)
+{
+    interleave *il = ctx;
+    double sc, ss;
+    if (il->rc)
+        return;
+    il->rc = spm_rays_embree_run(il->e, &sc, &ss, &il->err);
+    if (!il->rc && run > 0) { /* run 0 is the warm-up, as the kernel's */
+        il->tm->closest_s = sc < il->tm->closest_s ? sc : il->tm->closest_s;
+        il->tm->shadow_s = ss < il->tm->shadow_s ? ss : il->tm->shadow_s;
+    }
+}
+
+int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
+{
+    if (o->group)
+        group = (size_t)o->group;
+    spm_render_config cfg;
+    spm_render_config_defaults(&cfg);
+    cfg.scene_path = o->scene;
+    cfg.width = o->width;
+    cfg.height = o->height;
+    cfg.seed = o->seed;
+    cfg.use_cpu = 1; /* the plan and the reference; the replay opens its own device */
+    spm_render_setup s;
+    int rc = spm_render_setup_open(&cfg, &s, err);
+    if (rc) {
+        spm_render_setup_close(&s);
+        return rc;
+    }
+    const spm_geometry *g = &s.geom;
+    spm_rayset rs;
+    memset(&rs, 0, sizeof rs);
+    double t0 = spm_now();
+    if (o->load)
+        rc = spm_rays_load(o->load, g, &rs, err) ? SPM_EXIT_INPUT : 0;
+    else
+        rc = spm_rays_record(&s.plan, o->spp, &rs, err);
+    double record_s = spm_now() - t0;
+    if (!rc && o->save && spm_rays_save(o->save, g, &rs, err))
+        rc = SPM_EXIT_INPUT;
+    int *hcl = spm_xmalloc((rs.n + 1) * sizeof *hcl), *href = spm_xmalloc((rs.n + 1) * sizeof *href);
+    int *hem = spm_xmalloc((rs.n + 1) * sizeof *hem);
+    spm_rays_timing tcl, tref, tem;
+    char dev[256] = "", einfo[512] = "";
+    size_t rcb = 0, rsb = 0, ecb = 0, esb = 0, eedge = 0;
+    /* Embree's scene is built first, then its runs alternate with the kernel's */
+    interleave il = {NULL, &tem, 0, {{0}}};
+    memset(&tem, 0, sizeof tem);
+    tem.nodes_closest = tem.nodes_shadow = tem.tris_closest = tem.tris_shadow = -1;
+    tem.closest_s = tem.shadow_s = INFINITY;
+    if (!rc && o->embree) {
+        il.e = spm_rays_embree_open(g, &rs, o->threads, o->embree_quality, hem, einfo,
+                                    sizeof einfo, err);
+        if (!il.e)
+            rc = spm_stop_requested() ? SPM_EXIT_INTERRUPTED : SPM_EXIT_RUNTIME;
+    }
+    if (!rc && spm_rays_replay_cl(o->device, g, &rs, o->repeat, o->stats, hcl, &tcl, dev,
+                                  sizeof dev, il.e ? embree_run : NULL, &il, err))
+        rc = spm_stop_requested() ? SPM_EXIT_INTERRUPTED : SPM_EXIT_RUNTIME;
+    if (!rc && il.rc) {
+        *err = il.err;
+        rc = spm_stop_requested() ? SPM_EXIT_INTERRUPTED : SPM_EXIT_RUNTIME;
+    }
+    spm_error cerr;
+    if (spm_rays_embree_close(il.e, &cerr) && !rc) {
+        *err = cerr;
+        rc = SPM_EXIT_RUNTIME;
+    }
+    int have_embree = !rc && il.e;
+    if (!rc) {
+        spm_rays_replay_ref(g, &rs, href, &tref);
+        spm_rays_compare(&rs, hcl, href, &rcb, &rsb);
+        if (spm_stop_requested()) {
+            spm_errorf(err, "interrupted while replaying rays");
+            rc = SPM_EXIT_INTERRUPTED;
+        }
+    }
+    if (have_embree) {
+        spm_rays_compare(&rs, hcl, hem, &ecb, &esb);
+        eedge = spm_rays_differ_edge_on(g, &rs, hcl, hem);
+    }
+    if (!rc) {
+        size_t ns = rs.n - rs.nclosest;
+        char what[512];
+        snprintf(what, sizeof what, "specmip kernels/rays.cl on %s, work-groups of %zu", dev,
+                 group);
+        if (o->json) {
+            printf("{\n  \"scene\": ");
+            json_str(stdout, o->scene ? o->scene : "default");
+            printf(", \"triangles\": %d, \"nodes\": %d, \"width\": %d, "
+                   "\"height\": %d, \"spp\": %d, \"rays_closest\": %zu, \"rays_shadow\": %zu,\n"
+                   "  \"load_s\": %.6g, \"bvh_s\": %.6g, \"record_s\": %.6g, "
+                   "\"stack_overflows\": %u,\n",
+                   g->ntris, g->nnodes, s.scene.width,
+                   s.scene.height, o->spp, rs.nclosest, ns, s.times.load_s, s.times.bvh_s,
+                   record_s, tcl.stack_overflows);
+            json_impl(stdout, "specmip", what, &rs, &tcl, 0, 0, ",");
+            json_impl(stdout, "reference", "CPU reference traversal, 1 thread", &rs, &tref, rcb,
+                      rsb, ",");
+            if (have_embree) {
+                json_impl(stdout, "embree", einfo, &rs, &tem, ecb, esb, ",");
+                printf("  \"embree_differ_edge_on\": %zu\n", eedge);
+            }
+            else
+                printf("  \"embree\": null\n");
+            printf("}\n");
+        } else {
+            printf("%s: %d triangles, %d BVH nodes; %zu closest-hit and %zu shadow rays (%dx%d, "
+                   "%d spp)\n", o->scene ? o->scene : "built-in scene", g->ntris, g->nnodes,
+                   rs.nclosest, ns, s.scene.width, s.scene.height, o->spp);
+            printf("  %-12s %9s %9s %17s %17s\n", "", "closest", "shadow", "nodes/ray",
+                   "tri tests/ray");
+            printf("  %-12s %9s %9s %8s %8s %8s %8s\n", "traversal", "Mrays/s", "Mrays/s",
+                   "closest", "shadow", "closest", "shadow");
+            text_row(stdout, "specmip", &rs, &tcl);
+            text_row(stdout, "reference", &rs, &tref);
+            if (have_embree)
+                text_row(stdout, "Embree", &rs, &tem);
+            printf("  specmip: %s, fastest of %d%s\n"
+                   "  reference: the CPU reference's traversal, 1 thread (nodes: box tests)\n",
+                   what, o->repeat, have_embree ? ", each run beside one of Embree's" : "");
+            if (have_embree) {
+                printf("  Embree: %s, fastest of %d\n", einfo, o->repeat);
+                printf("  specmip / Embree rays/s: closest %.3f, shadow %.3f\n",
+                       tem.closest_s / tcl.closest_s, tem.shadow_s / tcl.shadow_s);
+            }
+            printf("  differ from the reference: %zu of %zu closest, %zu of %zu shadow\n", rcb,
+                   rs.nclosest, rsb, ns);
+            if (have_embree)
+                printf("  differ from Embree: %zu of %zu closest, %zu of %zu shadow (%zu of them "
+                       "where Embree's triangle is edge-on to MiniLight's test)\n", ecb,
+                       rs.nclosest, esb, ns, eedge);
+            if (tcl.stack_overflows)
+                printf("  BVH stack overflows: %u\n", tcl.stack_overflows);
+        }
+    }
+    free(hcl);
+    free(href);
+    free(hem);
+    spm_rayset_free(&rs);
+    spm_render_setup_close(&s);
+    return rc;
+}
