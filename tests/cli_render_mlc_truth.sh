@@ -50,7 +50,7 @@ done
 # 40 bins at most it is again as close to truth as ml at T = 2.
 for scene in cornell_spiky metameric; do
     render $scene truth "$T/truth.exr" && render $scene ml "$T/ml.exr" --threshold 2 &&
-        render $scene mlc "$T/mlc.exr" --threshold 2 --coarsest-level 1 ||
+        render $scene mlc "$T/mlc.exr" --threshold 2 --coarsest-level 2 ||
         { bad "$scene renders"; continue; }
     for f in mean p99; do
         at_most "$scene T=2 coarsest level 1 mlc $f against ml's" \
