@@ -36,7 +36,7 @@ EXACT=1e-5
 #   keeps the bins' means, which lose the covariance of spectrum and CMF
 #   inside a bin (measured 4e-4 on this scene).
 TRUTH5=1e-3
-# MLC: a spike's film weight is the CMF at its wavelength; in the file its
+# MLC: a spike's film weight is the CMF's mean over its 1 nm profile; in the file its
 #   energy is spread over its 5 nm bin, weighted by the bin's mean CMF: up to
 #   several percent of a line (the CMFs change that much over 5 nm), less
 #   for the image (measured 0.7%).

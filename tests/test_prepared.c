@@ -84,6 +84,7 @@ static void round_trip(const char *rel)
     CHECK(same(t.lvlk, t2.lvlk, nc * SPM_PRETEST_KMAX), "%s: lvlk", rel);
     CHECK(same(t.mlc_lvlk, t2.mlc_lvlk, nc * SPM_PRETEST_KMAX), "%s: mlc_lvlk", rel);
     CHECK(same(t.pretest, t2.pretest, nc * sizeof *t.pretest), "%s: pretest", rel);
+    CHECK(same(t.mlc_pretest, t2.mlc_pretest, nc * sizeof *t.mlc_pretest), "%s: mlc pretest", rel);
     CHECK(same(t.materials, t2.materials, (size_t)t.nmaterials * sizeof *t.materials),
           "%s: materials", rel);
     CHECK(!memcmp(t.cmf_lvl, t2.cmf_lvl, sizeof t.cmf_lvl) &&

@@ -59,7 +59,7 @@ static void usage(FILE *f)
         "                         too, the text goes to stderr)\n"
         "  --progress             progress line on stderr even when it is not a terminal\n"
         "  --quiet                no progress line\n"
-        "  --verbose              print the pretest's level table\n"
+        "  --verbose              print the pretest's level table (mlc: its own)\n"
         "Under mpirun every rank renders passes on its own --device/--backend; rank 0 reads\n"
         "the scene, sends it to the others and alone writes outputs (README: several machines).\n"
         "Ctrl-C (or SIGTERM) stops within a batch of paths, writes the image of the passes done\n"

@@ -116,7 +116,7 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
         ts.lvl[l] = ts.mlc_lvl[l] = NULL;
     ts.truth = ts.rgb = NULL;
     ts.lvlk = ts.mlc_lvlk = NULL;
-    ts.pretest = NULL;
+    ts.pretest = ts.mlc_pretest = NULL;
     ts.materials = NULL;
     put(&w, &ts, sizeof ts);
     for (int l = 0; l < SPM_NUM_LEVELS; l++) {
@@ -128,6 +128,7 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
     put_array(&w, t->lvlk, lvlk_bytes(t));
     put_array(&w, t->mlc_lvlk, lvlk_bytes(t));
     put_array(&w, t->pretest, (size_t)t->ncolours * sizeof *t->pretest);
+    put_array(&w, t->mlc_pretest, (size_t)t->ncolours * sizeof *t->mlc_pretest);
     put_array(&w, t->materials, (size_t)t->nmaterials * sizeof *t->materials);
     *n = w.n;
     return w.p;
@@ -168,6 +169,7 @@ int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *
         t->lvlk = get_array(&r, lvlk_bytes(t));
         t->mlc_lvlk = get_array(&r, lvlk_bytes(t));
         t->pretest = get_array(&r, (size_t)t->ncolours * sizeof *t->pretest);
+        t->mlc_pretest = get_array(&r, (size_t)t->ncolours * sizeof *t->mlc_pretest);
         t->materials = get_array(&r, (size_t)t->nmaterials * sizeof *t->materials);
     }
     if (r.bad || r.at != n) {

@@ -173,7 +173,10 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
         const char **names = spm_xcalloc((size_t)s->scene.ncolours + 1, sizeof *names);
         for (int i = 0; i < s->scene.ncolours; i++)
             names[i] = s->scene.colours[i].name;
-        spm_pretest_print(stderr, names, s->tables.pretest, s->scene.ncolours, &c->pretest);
+        /* mlc's levels come from its own pretest (the composite representation) */
+        int composite = spm_modes[c->mode].composite;
+        spm_pretest_print(stderr, names, composite ? s->tables.mlc_pretest : s->tables.pretest,
+                          s->scene.ncolours, &c->pretest);
         free((void *)names);
     }
     return spm_render_setup_backends(c, s, err);

@@ -321,12 +321,17 @@ int spm_spike_pattern_merge(spm_spike_light *lights, int nlights, double merge_n
         lane_wl[k] = order[k]->wl;
     }
 
-    for (int l = 0; l < nlights; l++)
+    for (int l = 0; l < nlights; l++) {
         memset(lights[l].lane_area, 0, sizeof lights[l].lane_area);
+        for (int k = 0; k < SPM_MAX_SPIKES; k++)
+            lights[l].spike_lane[k] = -1;
+        lights[l].norm = light_norm(&lights[l]);
+    }
     for (int j = 0; j < n; j++) {
         spm_spike_light *L = &lights[e[j].light];
         const spm_spike *s = &L->spikes[e[j].spike];
         int lane = c[e[j].cluster].lane;
+        L->spike_lane[e[j].spike] = lane;
         if (lane >= 0) {
             L->lane_area[lane] += s->area;
         } else {

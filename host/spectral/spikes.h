@@ -53,6 +53,8 @@ typedef struct {
     int nspikes;
     double luminance;           /* Y of `in`: a spike's rank is its area / luminance */
     double lane_area[SPM_MAX_SPIKES];  /* out: this light's energy in each lane */
+    int spike_lane[SPM_MAX_SPIKES];    /* out: each spike's lane, -1: folded back */
+    double norm;                       /* out: what its areas are divided by to rank them */
 } spm_spike_light;
 
 /* Build the scene-wide pattern table: spikes of all lights whose centroids lie

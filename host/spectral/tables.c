@@ -194,6 +194,7 @@ void spm_tables_free(spm_tables *t)
     free(t->rgb);
     free(t->lvlk);
     free(t->mlc_lvlk);
+    free(t->mlc_pretest);
     free(t->pretest);
     free(t->materials);
     memset(t, 0, sizeof *t);

@@ -24,7 +24,8 @@ typedef struct {
     float spike_wl[SPM_MAX_SPIKES];
     float *mlc_lvl[SPM_NUM_LEVELS];  /* ncolours x (SPM_LEVEL_BINS(l) + SPM_MAX_SPIKES): smooth bins then spike lanes */
     float spike_cmf[3][SPM_MAX_SPIKES];
-    uint8_t *mlc_lvlk;             /* as lvlk, for the smooth parts */
+    uint8_t *mlc_lvlk;             /* as lvlk, from the composite representation's error */
+    spm_pretest_result *mlc_pretest;  /* per colour (mlc_pretest.h) */
 
     /* hero: the wavelength density's constants (spm_shared.h SPM_HERO_*) */
     float hero_t0, hero_dt, hero_pdfk;

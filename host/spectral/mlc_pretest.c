@@ -1,0 +1,269 @@
+/* The Composite Model's pretest (mlc_pretest.h). A product is held as a vector
+ * of 1 nm values followed by the lanes, so truth and every composite level
+ * share one arithmetic: multiply lane by lane, then XYZ = the sum of value x
+ * weight (truth's 1 nm weights, then the lanes' CMFs). A level's smooth bins
+ * are held as their 1 nm repetitions: a level weight is the sum of the 1 nm
+ * weights it covers, so this is the sum the shade kernel computes. Truth has
+ * its whole spectrum in the 1 nm part and nothing in the lanes. */
+#include "mlc_pretest.h"
+#include "colour.h"
+#include "interrupt.h"
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The general pretest's normalisation and context C (pretest.c): both
+ * products scaled by the factor taking the reference to Y = 50 against a D65
+ * white of Y = 100, so a level's luminance error counts; 1..4 other
+ * reflectances per sequence. */
+#define NORM_Y 50.0
+#define WHITE_Y 100.0
+#define SEQ_MAX_OTHERS 4
+#define V (SPM_TRUTH_BINS + SPM_MAX_SPIKES)
+
+typedef double vec_t[V];
+
+typedef struct {
+    int n, nlanes;
+    vec_t w[3];       /* XYZ weights */
+    vec_t *truth;     /* per colour */
+    vec_t *comp0;     /* per colour, composite at level 0 */
+    int *lights, nlights, *refl, nrefl;
+    vec_t one;        /* the equal-energy light standing in when there is none */
+} ctx_t;
+
+static uint64_t next_u64(uint64_t *state)
+{
+    uint64_t z = (*state += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+}
+
+static int pick(uint64_t *state, int n) { return (int)(next_u64(state) % (uint64_t)n); }
+
+static double maxd(double a, double b) { return a > b ? a : b; }
+
+static void composite(const spm_mlc_colour *c, int nlanes, int level, vec_t out)
+{
+    double bins[SPM_TRUTH_BINS];
+    spm_spectrum_level(c->smooth, level, bins);
+    int width = SPM_TRUTH_BINS / SPM_LEVEL_BINS(level);
+    for (int i = 0; i < SPM_TRUTH_BINS; i++)
+        out[i] = bins[i / width];
+    for (int k = 0; k < SPM_MAX_SPIKES; k++)
+        out[SPM_TRUTH_BINS + k] = k < nlanes ? c->lane[k] : 0.0;
+}
+
+static void truth_of(const spm_mlc_colour *c, vec_t out)
+{
+    memcpy(out, c->full->nm1, sizeof c->full->nm1);
+    for (int k = 0; k < SPM_MAX_SPIKES; k++)
+        out[SPM_TRUTH_BINS + k] = 0.0;
+}
+
+static void mul(vec_t a, const vec_t b)
+{
+    for (int i = 0; i < V; i++)
+        a[i] *= b[i];
+}
+
+static void xyz_of(const ctx_t *cx, const vec_t p, double xyz[3])
+{
+    for (int ch = 0; ch < 3; ch++) {
+        double s = 0.0;
+        for (int i = 0; i < V; i++)
+            s += p[i] * cx->w[ch][i];
+        xyz[ch] = s;
+    }
+}
+
+/* As the general pretest's product error: a reference without luminance cannot
+ * be seen (no error); a test without it is as far as black from white. */
+static double product_error(const ctx_t *cx, const vec_t ref, const vec_t test, spm_metric metric)
+{
+    double xr[3], xt[3], white[3], lr[3], lt[3];
+    xyz_of(cx, ref, xr);
+    xyz_of(cx, test, xt);
+    if (!(xr[1] > 0.0))
+        return 0.0;
+    if (!(xt[1] > 0.0))
+        return WHITE_Y;
+    spm_white_d65(white);
+    double f = NORM_Y / xr[1];
+    for (int k = 0; k < 3; k++) {
+        xr[k] *= f;
+        xt[k] *= f;
+        white[k] *= WHITE_Y;
+    }
+    spm_xyz_to_lab(xr, white, lr);
+    spm_xyz_to_lab(xt, white, lt);
+    return metric == SPM_METRIC_DEAB ? spm_delta_e_ab(lr, lt) : spm_delta_e_2000(lr, lt);
+}
+
+/* A level's error in one product (e: against truth; own: against level 0 in
+ * composite form) and whether it passes: under the threshold against truth,
+ * or, where level 0 itself is not (the lanes' own error: a lane holds one mean
+ * per colour, so a product of means stands for the mean of a product, and no
+ * level of the smooth part removes that), its own sampling error under the
+ * threshold: a finer level would cost without reaching truth. */
+static void judge(const double e[SPM_NUM_LEVELS], const double own[SPM_NUM_LEVELS],
+                  const spm_pretest_opts *o, double worst[SPM_NUM_LEVELS],
+                  unsigned char fail[SPM_NUM_LEVELS])
+{
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        worst[l] = maxd(worst[l], e[l]);
+        if (l > 0 && e[l] > o->threshold && (e[0] <= o->threshold || own[l] > o->threshold))
+            fail[l] = 1;
+    }
+}
+
+/* Product errors at every level: pr the truth product, pt[l] the test ones. */
+static void errors(const ctx_t *cx, const vec_t pr, vec_t *pt, spm_metric metric,
+                   double e[SPM_NUM_LEVELS], double own[SPM_NUM_LEVELS])
+{
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        e[l] = product_error(cx, pr, pt[l], metric);
+        own[l] = l ? product_error(cx, pt[0], pt[l], metric) : 0.0;
+    }
+}
+
+/* Context C: s times 1..SEQ_MAX_OTHERS other reflectances (and a random light
+ * when s is a reflectance), s at each level, the others at level 0. */
+static void sequences(const ctx_t *cx, int self, int is_light, const vec_t s_truth,
+                      vec_t *s_test, const spm_pretest_opts *o, double worst[SPM_NUM_LEVELS],
+                      unsigned char fail[SPM_NUM_LEVELS])
+{
+    int others = cx->nrefl - (is_light ? 0 : 1);
+    if (others <= 0)
+        return;
+    uint64_t state = (uint64_t)o->seed * 0x100000001B3ULL + (uint64_t)self;
+    for (int q = 0; q < o->nsequences; q++) {
+        vec_t pr, f, pt[SPM_NUM_LEVELS];
+        memcpy(pr, s_truth, sizeof pr);
+        memcpy(f, cx->one, sizeof f);
+        for (int i = SPM_TRUTH_BINS; i < V; i++)
+            f[i] = 1.0;
+        if (!is_light) {
+            int li = pick(&state, cx->nlights ? cx->nlights : 1);
+            mul(pr, cx->nlights ? cx->truth[cx->lights[li]] : cx->one);
+            mul(f, cx->nlights ? cx->comp0[cx->lights[li]] : cx->one);
+        }
+        int m = 1 + pick(&state, SEQ_MAX_OTHERS);
+        for (int j = 0; j < m; j++) {
+            int r = pick(&state, cx->nrefl);
+            if (!is_light && cx->refl[r] == self)
+                r = (r + 1) % cx->nrefl;
+            mul(pr, cx->truth[cx->refl[r]]);
+            mul(f, cx->comp0[cx->refl[r]]);
+        }
+        double e[SPM_NUM_LEVELS], own[SPM_NUM_LEVELS];
+        for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+            memcpy(pt[l], f, sizeof f);
+            mul(pt[l], s_test[l]);
+        }
+        errors(cx, pr, pt, o->metric, e, own);
+        judge(e, own, o, worst, fail);
+    }
+}
+
+static void run_one(const ctx_t *cx, const spm_mlc_colour *c, int self, const spm_pretest_opts *o,
+                    spm_pretest_result *res)
+{
+    int is_light = c->full->kind == SPM_KIND_EMISSION;
+    memset(res, 0, sizeof *res);
+    const double *s_truth = cx->truth[self];
+    vec_t s_test[SPM_NUM_LEVELS];
+    for (int l = 0; l < SPM_NUM_LEVELS; l++)
+        composite(c, cx->nlanes, l, s_test[l]);
+    /* A and C together (fail_ac), B per k (fail_k): the general pretest's contexts */
+    double worst_ac[SPM_NUM_LEVELS] = {0};
+    unsigned char fail_ac[SPM_NUM_LEVELS] = {0}, fail_k[SPM_PRETEST_KMAX][SPM_NUM_LEVELS];
+    memset(fail_k, 0, sizeof fail_k);
+    if (is_light) { /* an emission ends the product: every k is s on its own */
+        double e[SPM_NUM_LEVELS], own[SPM_NUM_LEVELS];
+        errors(cx, s_truth, s_test, o->metric, e, own);
+        for (int k = 0; k < SPM_PRETEST_KMAX; k++)
+            judge(e, own, o, res->err_k[k], fail_k[k]);
+    } else {
+        int nl = cx->nlights ? cx->nlights : 1;
+        for (int li = 0; li < nl; li++) {
+            vec_t pr, pt[SPM_NUM_LEVELS];
+            memcpy(pr, cx->nlights ? cx->truth[cx->lights[li]] : cx->one, sizeof pr);
+            for (int l = 0; l < SPM_NUM_LEVELS; l++)
+                memcpy(pt[l], cx->nlights ? cx->comp0[cx->lights[li]] : cx->one, sizeof pr);
+            for (int k = 0; k < SPM_PRETEST_KMAX; k++) {
+                mul(pr, s_truth);
+                for (int l = 0; l < SPM_NUM_LEVELS; l++)
+                    mul(pt[l], s_test[l]);
+                double e[SPM_NUM_LEVELS], own[SPM_NUM_LEVELS];
+                errors(cx, pr, pt, o->metric, e, own);
+                judge(e, own, o, res->err_k[k], fail_k[k]);
+            }
+        }
+    }
+    memcpy(worst_ac, res->err_k[0], sizeof worst_ac);
+    memcpy(fail_ac, fail_k[0], sizeof fail_ac);
+    sequences(cx, self, is_light, s_truth, s_test, o, worst_ac, fail_ac);
+    /* level_k: the coarsest level passing A, C and B for every j <= k; level 0
+     * when none does. */
+    unsigned char upto[SPM_NUM_LEVELS];
+    memcpy(upto, fail_ac, sizeof upto);
+    for (int k = 0; k < SPM_PRETEST_KMAX; k++) {
+        int best = 0;
+        for (int l = 1; l < SPM_NUM_LEVELS; l++) {
+            upto[l] |= fail_k[k][l];
+            if (l <= o->coarsest_level && !upto[l])
+                best = l;
+        }
+        res->level_k[k] = best;
+    }
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        res->err[l] = worst_ac[l];
+        for (int k = 0; k < SPM_PRETEST_KMAX; k++)
+            res->err[l] = maxd(res->err[l], res->err_k[k][l]);
+    }
+    res->level = res->level_k[SPM_PRETEST_KMAX - 1];
+}
+
+int spm_mlc_pretest_run(const spm_mlc_colour *cols, int n, int nlanes,
+                        const double lane_cmf[3][SPM_MAX_SPIKES], const spm_pretest_opts *o,
+                        spm_pretest_result *results)
+{
+    ctx_t *cx = spm_xcalloc(1, sizeof *cx);
+    cx->n = n;
+    cx->nlanes = nlanes;
+    const double (*wt)[SPM_TRUTH_BINS] = spm_cmf_truth();
+    for (int ch = 0; ch < 3; ch++) {
+        memcpy(cx->w[ch], wt[ch], sizeof wt[ch]);
+        for (int k = 0; k < SPM_MAX_SPIKES; k++)
+            cx->w[ch][SPM_TRUTH_BINS + k] = k < nlanes ? lane_cmf[ch][k] : 0.0;
+    }
+    for (int i = 0; i < V; i++)
+        cx->one[i] = i < SPM_TRUTH_BINS ? 1.0 : 0.0;
+    cx->truth = spm_xcalloc((size_t)n + 1, sizeof *cx->truth);
+    cx->comp0 = spm_xcalloc((size_t)n + 1, sizeof *cx->comp0);
+    cx->lights = spm_xcalloc((size_t)n + 1, sizeof *cx->lights);
+    cx->refl = spm_xcalloc((size_t)n + 1, sizeof *cx->refl);
+    for (int i = 0; i < n; i++) {
+        truth_of(&cols[i], cx->truth[i]);
+        composite(&cols[i], nlanes, 0, cx->comp0[i]);
+        if (cols[i].full->kind == SPM_KIND_EMISSION)
+            cx->lights[cx->nlights++] = i;
+        else
+            cx->refl[cx->nrefl++] = i;
+    }
+    int i = 0;
+    for (; i < n; i++) {
+        spm_test_pause("pretest");
+        if (spm_stop_requested())
+            break;
+        run_one(cx, &cols[i], i, o, &results[i]);
+    }
+    free(cx->truth);
+    free(cx->comp0);
+    free(cx->lights);
+    free(cx->refl);
+    free(cx);
+    return i;
+}
