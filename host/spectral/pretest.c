@@ -45,18 +45,6 @@ static void at_level(const spm_spectrum *s, int level, bins_t out)
         out[b] = bins[b / w];
 }
 
-/* at_level plus a part held at 1 nm whatever the level (spike lanes). */
-static void at_level_sharp(const spm_spectrum *s, const spm_spectrum *sharp, int level, bins_t out)
-{
-    at_level(s, level, out);
-    if (!sharp)
-        return;
-    bins_t extra;
-    at_level(sharp, 0, extra);
-    for (int b = 0; b < SPM_TRUTH_BINS; b++)
-        out[b] += extra[b];
-}
-
 /* Colour difference of two products, both scaled by one factor: the one that
  * takes the 1 nm (level-0) product to Y = 50. So a darkening chain cannot hide a hue
  * error, and a level's luminance error counts too: scaling each product to its
@@ -120,8 +108,7 @@ typedef struct {
     int nlights, nrefl;
 } set_t;
 
-static void split_set(const spm_spectrum *const *sp, const spm_spectrum *const *sharp, int n,
-                      set_t *set)
+static void split_set(const spm_spectrum *const *sp, int n, set_t *set)
 {
     set->lights = spm_xcalloc((size_t)n + 1, sizeof *set->lights);
     set->refl = spm_xcalloc((size_t)n + 1, sizeof *set->refl);
@@ -129,7 +116,7 @@ static void split_set(const spm_spectrum *const *sp, const spm_spectrum *const *
     set->nlights = set->nrefl = 0;
     for (int i = 0; i < n; i++) {
         if (sp[i]->kind == SPM_KIND_EMISSION) {
-            at_level_sharp(sp[i], sharp ? sharp[i] : NULL, 0, set->lights[set->nlights++]);
+            at_level(sp[i], 0, set->lights[set->nlights++]);
         } else {
             set->refl_index[set->nrefl] = i;
             at_level(sp[i], 0, set->refl[set->nrefl++]);
@@ -172,7 +159,7 @@ static double sequence_error(const set_t *set, int self, int is_light, const bin
     return worst;
 }
 
-static void run_one(const spm_spectrum *s, const spm_spectrum *sharp, int self, const set_t *set, const spm_pretest_opts *o,
+static void run_one(const spm_spectrum *s, int self, const set_t *set, const spm_pretest_opts *o,
                     spm_pretest_result *res)
 {
     int is_light = s->kind == SPM_KIND_EMISSION;
@@ -180,10 +167,10 @@ static void run_one(const spm_spectrum *s, const spm_spectrum *sharp, int self, 
     bins_t s0, sl, one;
     for (int b = 0; b < SPM_TRUTH_BINS; b++)
         one[b] = 1.0;
-    at_level_sharp(s, sharp, 0, s0);
+    at_level(s, 0, s0);
     memset(res, 0, sizeof *res);
     for (int l = 1; l < SPM_NUM_LEVELS; l++) {
-        at_level_sharp(s, sharp, l, sl);
+        at_level(s, l, sl);
         /* A and B: s^k under each light, the powers built up one k at a time;
          * an emission ends the product, so for it every k is context A (s on
          * its own). */
@@ -231,20 +218,14 @@ static void run_one(const spm_spectrum *s, const spm_spectrum *sharp, int self, 
 int spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
                     spm_pretest_result *results)
 {
-    return spm_pretest_run_sharp(spectra, NULL, n, o, results);
-}
-
-int spm_pretest_run_sharp(const spm_spectrum *const *spectra, const spm_spectrum *const *sharp,
-                          int n, const spm_pretest_opts *o, spm_pretest_result *results)
-{
     set_t set;
-    split_set(spectra, sharp, n, &set);
+    split_set(spectra, n, &set);
     int i = 0;
     for (; i < n; i++) {
         spm_test_pause("pretest");
         if (spm_stop_requested())
             break;
-        run_one(spectra[i], sharp ? sharp[i] : NULL, i, &set, o, &results[i]);
+        run_one(spectra[i], i, &set, o, &results[i]);
     }
     free(set.lights);
     free(set.refl);

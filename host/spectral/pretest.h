@@ -32,12 +32,6 @@ void spm_pretest_defaults(spm_pretest_opts *o);
  * the run early, the results not reached left as they were. */
 int spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
                     spm_pretest_result *results);
-/* The same where spectra[i] is only the part to be sampled at each level and
- * sharp[i] (NULL, or sharp itself NULL: nothing) a part kept at level 0
- * (1 nm) at every level: the Composite Model's spikes, which ride in their
- * own lanes, so only the smooth remainder answers for the level. */
-int spm_pretest_run_sharp(const spm_spectrum *const *spectra, const spm_spectrum *const *sharp,
-                          int n, const spm_pretest_opts *o, spm_pretest_result *results);
 /* Print the decision table (one row per spectrum and level) to f. */
 #include <stdio.h>
 void spm_pretest_print(FILE *f, const char *const *names, const spm_pretest_result *r, int n,
