@@ -185,9 +185,13 @@ static void splits(const spm_film *ref)
     }
     spm_film_free(&film);
 
-    /* device 1 fails on its second pass: device 0 renders it */
-    make(&b[0], &f[0], 200, -1);
-    make(&b[1], &f[1], 200, 1);
+    /* device 1 fails on its second pass: device 0 renders it (their first
+     * passes meet and device 0 is the slower, so that it cannot take every
+     * pass before device 1's thread runs again on a loaded machine) */
+    make(&b[0], &f[0], 3000, -1);
+    make(&b[1], &f[1], 1000, 1);
+    met = 0;
+    f[0].meet = f[1].meet = 2;
     rc = run(b, 2, NULL, 0, &film, &r, &err);
     CHECK(rc == 0, "one device failing: %s", err.msg);
     CHECK(same_film(ref, &film), "one device failing: film differs from one device's");
@@ -248,9 +252,11 @@ static void stopped_in_pass(void)
         spm_error err;
         volatile sig_atomic_t stop = 0;
         for (int i = 0; i < nb; i++) {
-            make(&b[i], &f[i], 1000, -1);
+            make(&b[i], &f[i], i ? 3000 : 1000, -1);
             f[i].batches = 4;
+            f[i].meet = nb; /* device 0 must get its passes: the others are slower */
         }
+        met = 0;
         f[0].stop_after = &stop;
         int rc = run(b, nb, &stop, 0, &film, &r, &err);
         CHECK(rc == 0 && r.interrupted, "%d devices, stop in a pass: rc %d interrupted %d (%s)", nb,
@@ -284,7 +290,9 @@ static void stopped(void)
     spm_error err;
     volatile sig_atomic_t stop = 0;
     make(&b[0], &f[0], 1000, -1);
-    make(&b[1], &f[1], 1000, -1);
+    make(&b[1], &f[1], 3000, -1);
+    met = 0;
+    f[0].meet = f[1].meet = 2; /* device 0 must get its passes: device 1 is slower */
     f[0].stop_after = &stop;
     int rc = run(b, 2, &stop, 0, &film, &r, &err);
     CHECK(rc == 0 && r.interrupted, "stop: rc %d interrupted %d", rc, r.interrupted);
