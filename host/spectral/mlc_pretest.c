@@ -12,13 +12,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The general pretest's normalisation and context C (pretest.c): both
- * products scaled by the factor taking the reference to Y = 50 against a D65
- * white of Y = 100, so a level's luminance error counts; 1..4 other
- * reflectances per sequence. */
-#define NORM_Y 50.0
-#define WHITE_Y 100.0
-#define SEQ_MAX_OTHERS 4
 #define V (SPM_TRUTH_BINS + SPM_MAX_SPIKES)
 
 typedef double vec_t[V];
@@ -31,16 +24,6 @@ typedef struct {
     int *lights, nlights, *refl, nrefl;
     vec_t one;        /* the equal-energy light standing in when there is none */
 } ctx_t;
-
-static uint64_t next_u64(uint64_t *state)
-{
-    uint64_t z = (*state += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-}
-
-static int pick(uint64_t *state, int n) { return (int)(next_u64(state) % (uint64_t)n); }
 
 static double maxd(double a, double b) { return a > b ? a : b; }
 
@@ -78,27 +61,12 @@ static void xyz_of(const ctx_t *cx, const vec_t p, double xyz[3])
     }
 }
 
-/* As the general pretest's product error: a reference without luminance cannot
- * be seen (no error); a test without it is as far as black from white. */
 static double product_error(const ctx_t *cx, const vec_t ref, const vec_t test, spm_metric metric)
 {
-    double xr[3], xt[3], white[3], lr[3], lt[3];
+    double xr[3], xt[3];
     xyz_of(cx, ref, xr);
     xyz_of(cx, test, xt);
-    if (!(xr[1] > 0.0))
-        return 0.0;
-    if (!(xt[1] > 0.0))
-        return WHITE_Y;
-    spm_white_d65(white);
-    double f = NORM_Y / xr[1];
-    for (int k = 0; k < 3; k++) {
-        xr[k] *= f;
-        xt[k] *= f;
-        white[k] *= WHITE_Y;
-    }
-    spm_xyz_to_lab(xr, white, lr);
-    spm_xyz_to_lab(xt, white, lt);
-    return metric == SPM_METRIC_DEAB ? spm_delta_e_ab(lr, lt) : spm_delta_e_2000(lr, lt);
+    return spm_pretest_xyz_error(xr, xt, metric);
 }
 
 /* A level's error in one product (e: against truth; own: against level 0 in
@@ -128,7 +96,7 @@ static void errors(const ctx_t *cx, const vec_t pr, vec_t *pt, spm_metric metric
     }
 }
 
-/* Context C: s times 1..SEQ_MAX_OTHERS other reflectances (and a random light
+/* Context C: s times 1..SPM_PRETEST_SEQ_OTHERS other reflectances (and a random light
  * when s is a reflectance), s at each level, the others at level 0. */
 static void sequences(const ctx_t *cx, int self, int is_light, const vec_t s_truth,
                       vec_t *s_test, const spm_pretest_opts *o, double worst[SPM_NUM_LEVELS],
@@ -137,7 +105,7 @@ static void sequences(const ctx_t *cx, int self, int is_light, const vec_t s_tru
     int others = cx->nrefl - (is_light ? 0 : 1);
     if (others <= 0)
         return;
-    uint64_t state = (uint64_t)o->seed * 0x100000001B3ULL + (uint64_t)self;
+    uint64_t state = spm_pretest_seq_state(o, self);
     for (int q = 0; q < o->nsequences; q++) {
         vec_t pr, f, pt[SPM_NUM_LEVELS];
         memcpy(pr, s_truth, sizeof pr);
@@ -145,13 +113,13 @@ static void sequences(const ctx_t *cx, int self, int is_light, const vec_t s_tru
         for (int i = SPM_TRUTH_BINS; i < V; i++)
             f[i] = 1.0;
         if (!is_light) {
-            int li = pick(&state, cx->nlights ? cx->nlights : 1);
+            int li = spm_pretest_pick(&state, cx->nlights ? cx->nlights : 1);
             mul(pr, cx->nlights ? cx->truth[cx->lights[li]] : cx->one);
             mul(f, cx->nlights ? cx->comp0[cx->lights[li]] : cx->one);
         }
-        int m = 1 + pick(&state, SEQ_MAX_OTHERS);
+        int m = 1 + spm_pretest_pick(&state, SPM_PRETEST_SEQ_OTHERS);
         for (int j = 0; j < m; j++) {
-            int r = pick(&state, cx->nrefl);
+            int r = spm_pretest_pick(&state, cx->nrefl);
             if (!is_light && cx->refl[r] == self)
                 r = (r + 1) % cx->nrefl;
             mul(pr, cx->truth[cx->refl[r]]);

@@ -11,7 +11,6 @@
 
 #define NORM_Y 50.0
 #define WHITE_Y 100.0
-#define SEQ_MAX_OTHERS 4 /* context C: 1..4 other reflectances per sequence */
 
 typedef double bins_t[SPM_TRUTH_BINS];
 
@@ -33,7 +32,12 @@ static uint64_t next_u64(uint64_t *state)
     return z ^ (z >> 31);
 }
 
-static int pick(uint64_t *state, int n) { return (int)(next_u64(state) % (uint64_t)n); }
+int spm_pretest_pick(uint64_t *state, int n) { return (int)(next_u64(state) % (uint64_t)n); }
+
+uint64_t spm_pretest_seq_state(const spm_pretest_opts *o, int self)
+{
+    return (uint64_t)o->seed * 0x100000001B3ULL + (uint64_t)self;
+}
 
 /* The spectrum at `level`, held at 1 nm (each bin repeated over its nm). */
 static void at_level(const spm_spectrum *s, int level, bins_t out)
@@ -63,25 +67,31 @@ static void xyz_1nm(const bins_t p, double xyz[3])
     }
 }
 
-static double product_error(const bins_t ref, const bins_t test, spm_metric metric)
+double spm_pretest_xyz_error(const double ref[3], const double test[3], spm_metric metric)
 {
     double xr[3], xt[3], white[3], lr[3], lt[3];
-    xyz_1nm(ref, xr);
-    xyz_1nm(test, xt);
-    if (!(xr[1] > 0.0))
+    if (!(ref[1] > 0.0))
         return 0.0;
-    if (!(xt[1] > 0.0))
+    if (!(test[1] > 0.0))
         return WHITE_Y; /* the level lost all luminance: as far from it as black from white */
     spm_white_d65(white);
-    double f = NORM_Y / xr[1];
+    double f = NORM_Y / ref[1];
     for (int k = 0; k < 3; k++) {
-        xr[k] *= f;
-        xt[k] *= f;
+        xr[k] = ref[k] * f;
+        xt[k] = test[k] * f;
         white[k] *= WHITE_Y;
     }
     spm_xyz_to_lab(xr, white, lr);
     spm_xyz_to_lab(xt, white, lt);
     return metric == SPM_METRIC_DEAB ? spm_delta_e_ab(lr, lt) : spm_delta_e_2000(lr, lt);
+}
+
+static double product_error(const bins_t ref, const bins_t test, spm_metric metric)
+{
+    double xr[3], xt[3];
+    xyz_1nm(ref, xr);
+    xyz_1nm(test, xt);
+    return spm_pretest_xyz_error(xr, xt, metric);
 }
 
 /* Error of s^k * factor with s at level l against s at level 0 (1 nm). */
@@ -129,7 +139,7 @@ static void split_set(const spm_spectrum *const *sp, int n, set_t *set)
     }
 }
 
-/* Context C: products of 1..SEQ_MAX_OTHERS other reflectances of the set,
+/* Context C: products of 1..SPM_PRETEST_SEQ_OTHERS other reflectances of the set,
  * times a random light (for a reflectance) or alone (the emission is s). */
 static double sequence_error(const set_t *set, int self, int is_light, const bins_t s0,
                              const bins_t sl, const spm_pretest_opts *o)
@@ -137,7 +147,7 @@ static double sequence_error(const set_t *set, int self, int is_light, const bin
     int others = set->nrefl - (is_light ? 0 : 1);
     if (others <= 0)
         return 0.0;
-    uint64_t state = (uint64_t)o->seed * 0x100000001B3ULL + (uint64_t)self;
+    uint64_t state = spm_pretest_seq_state(o, self);
     double worst = 0.0;
     for (int q = 0; q < o->nsequences; q++) {
         bins_t f;
@@ -145,10 +155,10 @@ static double sequence_error(const set_t *set, int self, int is_light, const bin
             for (int b = 0; b < SPM_TRUTH_BINS; b++)
                 f[b] = 1.0;
         else
-            memcpy(f, set->lights[pick(&state, set->nlights)], sizeof f);
-        int m = 1 + pick(&state, SEQ_MAX_OTHERS);
+            memcpy(f, set->lights[spm_pretest_pick(&state, set->nlights)], sizeof f);
+        int m = 1 + spm_pretest_pick(&state, SPM_PRETEST_SEQ_OTHERS);
         for (int j = 0; j < m; j++) {
-            int r = pick(&state, set->nrefl);
+            int r = spm_pretest_pick(&state, set->nrefl);
             if (!is_light && set->refl_index[r] == self)
                 r = (r + 1) % set->nrefl; /* another spectrum: s itself is not "other" */
             for (int b = 0; b < SPM_TRUTH_BINS; b++)

@@ -3,6 +3,7 @@
 #ifndef SPM_PRETEST_H
 #define SPM_PRETEST_H
 #include "spectrum.h"
+#include <stdint.h>
 
 typedef enum { SPM_METRIC_DE00 = 0, SPM_METRIC_DEAB = 1 } spm_metric;
 
@@ -25,6 +26,20 @@ typedef struct {
 } spm_pretest_result;
 
 void spm_pretest_defaults(spm_pretest_opts *o);
+
+/* What the general pretest and the Composite Model's (mlc_pretest.h) share.
+ * Context C's sequences: a colour's generator state from the seed, then 1 to
+ * SPM_PRETEST_SEQ_OTHERS other reflectances drawn with spm_pretest_pick
+ * (an index below n). */
+#define SPM_PRETEST_SEQ_OTHERS 4
+uint64_t spm_pretest_seq_state(const spm_pretest_opts *o, int self);
+int spm_pretest_pick(uint64_t *state, int n);
+/* The colour difference of a test product from its reference, given their
+ * XYZ: both scaled by the factor taking the reference to Y = 50, against a D65
+ * white of Y = 100, so a luminance error counts. A reference without
+ * luminance cannot be seen (0); a test without it is as far as black from
+ * white (100). */
+double spm_pretest_xyz_error(const double ref[3], const double test[3], spm_metric metric);
 /* spectra[0..n-1]: the set (reflectances and emissions); lights are the set's
  * emissions (if it has none, an equal-energy light stands in). Deterministic
  * for a given seed. results[i] belongs to spectra[i]. Returns the number of
