@@ -37,6 +37,7 @@ for run in "${RUNS[@]}"; do
         ok
     fi
     "$BIN" render "$@" --mode "$mode" "${R[@]}" -o "$T/p.exr"
+    check "$name: PoCL render exit 0" test $? -eq 0
     close_images "$name: Oclgrind vs PoCL" "$T/p.exr" "$T/o.exr"
 done
 
@@ -51,6 +52,7 @@ first=$(OCL_ICD_VENDORS=$V clinfo -l | sed -n 's/^Platform #0: //p')
 check "registered: the loader lists Oclgrind first (got '$first'; else this proves nothing)" \
     test "$first" = Oclgrind
 OCL_ICD_VENDORS=$V "$BIN" devices > "$T/devices.txt"
+check "registered: devices exits 0" test $? -eq 0
 check "registered: PoCL is platform 0" grep -q '^platform 0: Portable Computing Language' "$T/devices.txt"
 check "registered: the simulator is device 1" grep -q '^  device 1: Oclgrind Simulator' "$T/devices.txt"
 check "registered: devices says the simulator is not in all" \

@@ -61,6 +61,7 @@ check "no temporary file" no_temps "$T"
 # A dangling link: its target is created.
 ln -s ../elsewhere/new.png "$T/w/dangling.png"
 "$BIN" "${R[@]}" -o "$T/w/dangling.png"
+check "dangling link: exit 0" test $? -eq 0
 check "dangling link: target created" is_png "$T/elsewhere/new.png"
 check "dangling link: kept" test -L "$T/w/dangling.png"
 # A link into a directory that does not exist: refused before rendering.

@@ -126,7 +126,7 @@ if [ -n "$rusticl" ]; then
   na_check "Rusticl" RUSTICL_ENABLE=llvmpipe
   R=("${R[@]:0:${#R[@]}-2}")
 else
-  echo "note: no Rusticl device (mesa-opencl-icd); checked with SPECMIP_CL_NO_TIMES only"
+  bad "no Rusticl device (tools/setup.sh installs mesa-opencl-icd): its missing kernel times unchecked"
 fi
 
 # 8. help agrees with what is accepted

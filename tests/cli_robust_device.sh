@@ -8,21 +8,10 @@
 # with the kernels' real build options; the bundled scenes give none; SIGTERM
 # writes the image so far. Skipped in the sanitizer build (no OpenCL there).
 # usage: bash tests/cli_robust_device.sh /path/to/specmip
-set -u
-BIN=${1:?usage: cli_robust_device.sh SPECMIP}
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(dirname "$HERE")
-export SPECMIP_DATA=${SPECMIP_DATA:-$ROOT}
+source "$(dirname "$0")/lib_cli.sh"
 if grep -qa __asan_init "$BIN"; then
-  echo "skipped: sanitizer build (PoCL and the ICD loader are not instrumented)"
-  echo "0 passed, 0 failed"
-  exit 0
+  skip "sanitizer build (PoCL and the ICD loader are not instrumented)"
 fi
-pass=0 fail=0
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
 small=(--spp 4 --width 8 --height 8 --quiet)
 
 # 1. Unknown device: exit 2, the message lists device 0 by its name.
@@ -106,11 +95,10 @@ done
 
 # 6. SIGTERM on the OpenCL backend: the image so far is written, exit 130.
 echo "old" > "$T/term.png"
-"$BIN" render --spp 1000000 --width 32 --height 32 -o "$T/term.png" --quiet 2>/dev/null & pid=$!
-sleep 4
+"$BIN" render --spp 1000000 --width 32 --height 32 -o "$T/term.png" --progress 2>"$T/term.err" & pid=$!
+rendering $pid "$T/term.err" && ok || bad "SIGTERM: the render never finished a pass"
 kill -TERM $pid; wait $pid; rc=$?
 [ $rc -eq 130 ] && ok || bad "SIGTERM exit code $rc"
 head -c 4 "$T/term.png" | grep -q PNG && ok || bad "SIGTERM: no PNG written"
 
-echo "$pass passed, $fail failed"
-[ $fail -eq 0 ]
+finish

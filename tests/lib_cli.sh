@@ -16,6 +16,49 @@ check() {  # check WHAT COMMAND...: counts COMMAND's success
     local what=$1; shift
     if "$@"; then ok; else bad "$what"; fi
 }
+# is_num X: X is one decimal number (not empty, not null, not a word): the
+# figures a test compares must be there before any comparison can pass.
+is_num() { [[ $1 =~ ^[-+]?([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][-+]?[0-9]+)?$ ]]; }
+# num A OP B: the numeric comparison A OP B (OP: < <= > >= == !=), false
+# unless both sides are numbers (awk alone would compare "" or "null" as text).
+num() {
+    is_num "$1" && is_num "$3" || { echo "  not a number: '$1' $2 '$3'" >&2; return 1; }
+    awk -v a="$1" -v b="$3" "BEGIN { exit !(a $2 b) }"
+}
+# near A B TOL: |A - B| <= TOL, all three numbers.
+near() {
+    is_num "$1" && is_num "$2" && is_num "$3" || { echo "  not a number: '$1' '$2' '$3'" >&2; return 1; }
+    awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; exit !(d <= t && -d <= t) }'
+}
+# jnum FILE FILTER: prints the value of jq FILTER in FILE if it is a number
+# (jq's type == "number"); otherwise prints "not-a-number" (which num and
+# near refuse), says why on stderr and fails.
+jnum() {
+    local v
+    if v=$(jq -e "($2) | if type == \"number\" then . else error(\"\\(type), not a number\") end" \
+            "$1" 2>&1); then
+        echo "$v"
+    else
+        echo "  $1: $2: ${v:-no value}" >&2
+        echo not-a-number
+        return 1
+    fi
+}
+# same_pixels A B: both images read and every pixel value equal (idiff with
+# no tolerance; oiiotool --diff would let differences of 1e-6 pass).
+same_pixels() { idiff -fail 0 -warn 0 "$1" "$2" > /dev/null 2>&1; }
+# other_pixels A B: both images read and some pixel differs (idiff's exit 2;
+# a missing or unreadable file is 4, a size mismatch 3: neither counts).
+other_pixels() {
+    idiff -fail 0 -warn 0 "$1" "$2" > /dev/null 2>&1
+    [ $? -eq 2 ]
+}
+# skip REASON: the whole test cannot run here; ctest shows it as skipped
+# (SKIP_RETURN_CODE 77 in tests/CMakeLists.txt).
+skip() {
+    echo "SKIP: $*"
+    exit 77
+}
 # rendering PID ERR: true once the render PID has finished a pass (its
 # --progress line in ERR), false if it ends first or 60 s go by.
 rendering() {
@@ -27,7 +70,9 @@ rendering() {
     done
     return 1
 }
+# finish: the closing line; a test that checked nothing has not passed.
 finish() {
     echo "$pass passed, $fail failed"
-    [ "$fail" -eq 0 ]
+    [ "$pass" -gt 0 ] || echo "FAIL: no check ran" >&2
+    [ "$fail" -eq 0 ] && [ "$pass" -gt 0 ]
 }

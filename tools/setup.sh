@@ -18,10 +18,11 @@ fi
 # (mesa-opencl-icd) and Oclgrind, the second and third OpenCL implementations
 # the suite checks the kernels on. OpenMPI (libopenmpi-dev, openmpi-bin) for a
 # render across processes and machines (mpirun; the build works without it),
-# procps (pgrep) for its tests.
+# procps (pgrep) for its tests. python3-venv for the test suite's Python
+# environment (below).
 packages=(build-essential cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
-          libopenimageio-dev openimageio-tools libassimp-dev python3 jq time gnuplot-nox clinfo
-          mesa-opencl-icd oclgrind libopenmpi-dev openmpi-bin procps "${bench[@]}")
+          libopenimageio-dev openimageio-tools libassimp-dev python3 python3-venv jq time gnuplot-nox
+          clinfo mesa-opencl-icd oclgrind libopenmpi-dev openmpi-bin procps "${bench[@]}")
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
@@ -35,3 +36,16 @@ fi
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
 cmake --build build -j"$(nproc)"
+
+# The suite's Python environment, beside the build: colour-science reads the
+# spectral EXR files back (tests/cli_render_spectral_colour.sh) through
+# OpenImageIO's Python module. Both from PyPI (Debian 12 packages neither
+# colour-science nor a numpy it supports), pinned, in a venv of Debian's
+# Python so that the system stays as it is.
+venv=build/pyenv
+if ! "$venv/bin/python" -c "import colour, OpenImageIO" 2>/dev/null; then
+  echo "setup: installing colour-science and OpenImageIO (PyPI) into $venv" >&2
+  rm -rf "$venv"
+  /usr/bin/python3 -m venv "$venv"
+  "$venv/bin/pip" install -q --disable-pip-version-check colour-science==0.4.7 OpenImageIO==3.0.10.1
+fi

@@ -30,8 +30,10 @@ typedef struct {
     int alive;                      /* backends that have not failed */
     double started[SPM_MAX_BACKENDS]; /* when each one's pass in flight began; 0: idle */
     uint64_t live_paths[SPM_MAX_BACKENDS]; /* paths done so far of each one's pass in flight */
+    int met;                        /* backends that have taken their first pass (test hook) */
     /* fixed */
     int npasses, window, nb;
+    int meet;                       /* SPECMIP_TEST_MEET (render_run.h); 0: off */
     spm_backend **b;
     size_t npix;
     const spm_run_opts *o;
@@ -179,12 +181,25 @@ static void device_failed(run_state *s, int idx, int pass, const spm_error *err)
     s->r->failed[idx] = 1;
 }
 
+/* Caller holds mu. The test hook's meeting: a backend that has just taken its
+ * first pass waits (at most 30 s) until s->meet backends have taken theirs. */
+static void meet_at_first_pass(run_state *s)
+{
+    s->met++;
+    pthread_cond_broadcast(&s->changed);
+    struct timespec until;
+    clock_gettime(CLOCK_REALTIME, &until);
+    until.tv_sec += 30;
+    while (s->met < s->meet && pthread_cond_timedwait(&s->changed, &s->mu, &until) == 0)
+        ;
+}
+
 static void *worker(void *argp)
 {
     worker_arg *a = argp;
     run_state *s = a->s;
     spm_backend *b = s->b[a->idx];
-    for (;;) {
+    for (int first = 1;; first = 0) {
         pthread_mutex_lock(&s->mu);
         int pass;
         while ((pass = take_pass(s, a->idx)) == TAKE_WAIT)
@@ -192,6 +207,8 @@ static void *worker(void *argp)
         if (pass >= 0) {
             s->in_flight++;
             s->started[a->idx] = spm_now();
+            if (first && s->meet)
+                meet_at_first_pass(s);
         }
         pthread_mutex_unlock(&s->mu);
         if (pass < 0)
@@ -289,6 +306,8 @@ int spm_render_run_window(spm_backend **b, int nb, size_t npix, const spm_run_op
     s.done = spm_xcalloc((size_t)s.npasses, sizeof *s.done);
     s.alive = nb;
     s.nb = nb;
+    const char *meet = getenv("SPECMIP_TEST_MEET");
+    s.meet = meet && nb > 1 ? atoi(meet) : 0;
     s.b = b;
     s.npix = npix;
     s.o = o;

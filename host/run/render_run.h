@@ -4,7 +4,13 @@
  *
  * A chunk of work is one pass: samples [p*spp_per_pass, (p+1)*spp_per_pass)
  * of every pixel. A device that fails is dropped for the rest of the render
- * and its pass goes back to the queue for the others. */
+ * and its pass goes back to the queue for the others.
+ *
+ * A test hook, active only when the environment sets it: SPECMIP_TEST_MEET=N
+ * makes each backend, once it has taken its first pass, wait (at most 30 s)
+ * until N backends have taken theirs, so that a test of several devices sees
+ * every device render a pass however loaded the machine is (without it a
+ * device that comes up first may take every pass of a small render). */
 #ifndef SPM_RENDER_RUN_H
 #define SPM_RENDER_RUN_H
 #include <signal.h>
