@@ -6,6 +6,8 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include "image_io.h"
 #include "testutil.h"
@@ -129,22 +131,43 @@ static void failed_write_keeps_old_file(void)
     spm_image_free(&img);
     CHECK(temporaries_left() == 0, "a failed write left its temporary file");
 
-    /* A read-only directory stops the write before anything is written
-     * (root ignores permissions, so only checked for other users). */
-    if (geteuid() != 0) {
-        chmod(dir, 0555);
-        CHECK(spm_image_write(path, 1, 1, old, SPM_PIXEL_FLOAT, &err) != 0,
-              "write into a read-only directory succeeded");
-        chmod(dir, 0755);
-        CHECK(spm_image_read(path, &img, &err) == 0 && img.width == 2, "old file lost");
-        spm_image_free(&img);
-    } else {
-        printf("read-only directory case skipped: running as root\n");
+    /* A read-only directory stops the write before anything is written. Root
+     * ignores permissions, so the write is tried by this program run again
+     * (a fresh process: OpenImageIO's threads do not survive a fork) as
+     * nobody (65534) when run as root: the refusal any user gets. */
+    chmod(dir, 0555);
+    pid_t pid = fork();
+    if (pid == 0) {
+        execl("/proc/self/exe", "test_image_io", "--write-as-nobody", path, (char *)NULL);
+        _exit(4);
     }
+    int status = -1;
+    CHECK(pid > 0 && waitpid(pid, &status, 0) == pid, "fork for the read-only write");
+    chmod(dir, 0755);
+    CHECK(WIFEXITED(status) && WEXITSTATUS(status) < 3, "could not run as nobody (status %d)", status);
+    CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0,
+          "write into a read-only directory succeeded (status %d)", status);
+    CHECK(spm_image_read(path, &img, &err) == 0 && img.width == 2 &&
+              !memcmp(img.rgb, old, sizeof old), "old file lost or changed");
+    spm_image_free(&img);
+    CHECK(temporaries_left() == 0, "the refused write left a temporary file");
 }
 
-int main(void)
+/* The child of the read-only case: exit 0 if the write into PATH is refused,
+ * 1 if it succeeds, 3 if it cannot become nobody. */
+static int write_as_nobody(const char *path)
 {
+    if (geteuid() == 0 && (setgid(65534) != 0 || setuid(65534) != 0))
+        return 3;
+    float px[3] = {1, 2, 3};
+    spm_error err = {{0}};
+    return spm_image_write(path, 1, 1, px, SPM_PIXEL_FLOAT, &err) != 0 ? 0 : 1;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc == 3 && !strcmp(argv[1], "--write-as-nobody"))
+        return write_as_nobody(argv[2]);
     snprintf(dir, sizeof dir, "/tmp/spm_test_image_io.XXXXXX");
     if (!mkdtemp(dir)) {
         perror("mkdtemp");
