@@ -85,20 +85,13 @@ check "killed rank: rank 0 names it" grep -q "rank 1 stopped without a signal.*n
     grep -v "^$" "$T/kill.err" | tail -5 >&2
 check "killed rank: mpirun names it" grep -q "process rank 1 .*signal 9" "$T/kill.err"
 
-# SIGTERM to mpirun (30 s of grace before SIGKILL instead of OpenMPI's default
-# second, which a loaded machine may need to finish the pass): rank 0 writes
-# the image of the passes added so far and says so.
-"${MPI[@]}" --mca odls_base_sigkill_timeout 30 -np 2 "$BIN" "${LONG[@]}" -o "$T/sig.exr" 2> "$T/sig.err" &
-mp=$!
-check "signal: rendering" rendering $mp "$T/sig.err"
-kill -TERM $mp
-wait $mp
-check "signal: rank 0 wrote the image" \
-    grep -q "interrupted after [0-9]* of 1024 samples per pixel; image written" "$T/sig.err"
-spp=$(oiiotool --info -v "$T/sig.exr" 2>/dev/null | sed -n 's/^ *samplesPerPixel: //p')
-check "signal: the image records the passes done (spp $spp)" test "${spp:-0}" -ge 2 -a "${spp:-0}" -lt 1024
-# Every rank exits 130 (mpirun's own exit code is 1): a wrapper records each
-# rank's exit code; the wrapper ignores SIGTERM, the rank under it does not.
+# SIGTERM to every rank, as mpirun forwards it: rank 0 writes the image of the
+# passes added so far and says so, and every rank exits 130 (mpirun's own exit
+# code is 1). The signal goes to the ranks themselves: when mpirun gets it,
+# whether and when it passes it on depends on OpenMPI's launch state and its
+# grace before SIGKILL (seen here: forwarded at once with the default second
+# of grace, not at all with --mca odls_base_sigkill_timeout 30), which is
+# OpenMPI's behaviour, not specmip's. A wrapper records each rank's exit code.
 cat > "$T/rc_of.py" << 'PY'
 import os, signal, subprocess, sys
 p = subprocess.Popen(sys.argv[2:])
@@ -108,14 +101,20 @@ rc = rc if rc >= 0 else 128 - rc
 open("%s.%s" % (sys.argv[1], os.environ["OMPI_COMM_WORLD_RANK"]), "w").write("%d\n" % rc)
 sys.exit(rc)
 PY
-# (a 10 s grace: the checks are of the ranks' exit codes, not of how fast
-# rank 0 writes on a loaded machine)
-"${MPI[@]}" --mca odls_base_sigkill_timeout 10 -np 2 python3 "$T/rc_of.py" "$T/rc" "$BIN" "${LONG[@]}" -o "$T/sig2.exr" \
-    2> "$T/sig2.err" &
+"${MPI[@]}" -np 2 python3 "$T/rc_of.py" "$T/rc" "$BIN" "${LONG[@]}" -o "$T/sig.exr" 2> "$T/sig.err" &
 mp=$!
-check "signal, exit codes: rendering" rendering $mp "$T/sig2.err"
-kill -TERM $mp
+check "signal: rendering" rendering $mp "$T/sig.err"
+ranks=()
+for r in 0 1; do
+    w=$(rank_pid $mp $r) && ranks+=($(pgrep -P "$w"))
+done
+check "signal: both ranks found (${ranks[*]})" test ${#ranks[@]} -eq 2
+kill -TERM "${ranks[@]}"
 wait $mp
+check "signal: rank 0 wrote the image" \
+    grep -q "interrupted after [0-9]* of 1024 samples per pixel; image written" "$T/sig.err"
+spp=$(oiiotool --info -v "$T/sig.exr" 2>/dev/null | sed -n 's/^ *samplesPerPixel: //p')
+check "signal: the image records the passes done (spp $spp)" test "${spp:-0}" -ge 2 -a "${spp:-0}" -lt 1024
 check "signal: rank 0 exits 130" test "$(cat "$T/rc.0" 2>/dev/null)" = 130
 check "signal: rank 1 exits 130" test "$(cat "$T/rc.1" 2>/dev/null)" = 130
 finish
