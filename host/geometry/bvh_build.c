@@ -82,11 +82,11 @@ static float box_area(const box *b)
     return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
 }
 
-/* The box of the triangle as the intersector sees it: v0, v0 + e1, v0 + e2. */
+/* The box of the triangle's three vertices. */
 static void tri_prim(const spm_tri *t, prim *p)
 {
     for (int i = 0; i < 3; i++) {
-        float a = t->v0[i], b = t->v0[i] + t->e1[i], c = t->v0[i] + t->e2[i];
+        float a = t->v0[i], b = t->v1[i], c = t->v2[i];
         p->b.lo[i] = mn(a, mn(b, c));
         p->b.hi[i] = mx(a, mx(b, c));
         p->c[i] = 0.5f * (p->b.lo[i] + p->b.hi[i]);
