@@ -118,6 +118,8 @@ static inline void ts_tables(const spm_scene *s, spm_tables *t)
     spm_tables_fill_hero(t);
     t->lvlk = calloc((size_t)n * SPM_PRETEST_KMAX + 1, 1);
     t->mlc_lvlk = calloc((size_t)n * SPM_PRETEST_KMAX + 1, 1);
+    t->bg_up = s->bg_up >= 0 ? (spm_u32)s->bg_up : SPM_NONE;
+    t->bg_down = s->bg_down >= 0 ? (spm_u32)s->bg_down : SPM_NONE;
     t->nmaterials = s->nmaterials;
     t->materials = calloc((size_t)s->nmaterials + 1, sizeof *t->materials);
     for (int m = 0; m < s->nmaterials; m++) {

@@ -379,6 +379,10 @@ static void pad_boxes(spm_bvh_node *nodes, int nnodes, const float eye[3])
 {
     float eye_mag = box_magnitude(eye, eye);
     for (int k = 0; k < nnodes; k++) {
+        /* relative, so it scales with the scene; FLT_MIN only keeps a box of
+         * the coordinates 0 (and an eye at 0) from staying flat: it is below
+         * half an ulp of the first term whenever that term exceeds 2e-31, so
+         * it changes no box with a coordinate above 2e-26 */
         float pad = BOX_PAD_REL * fmaxf(box_magnitude(nodes[k].bmin, nodes[k].bmax), eye_mag) +
                     FLT_MIN;
         for (int i = 0; i < 3; i++)
