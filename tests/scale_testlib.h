@@ -33,28 +33,6 @@ static inline void sc_pt(float out[3], double scale, double x, double y, double 
     out[2] = (float)(z * scale);
 }
 
-/* The UV sphere: one vertex per (ring, segment), shared by every triangle
- * that has it, and a vertex at each pole. */
-static inline void sc_sphere(spm_scene *s, int m, double scale, const double c[3], double r)
-{
-    static float v[SC_RINGS + 1][SC_SEGS][3];
-    for (int i = 0; i <= SC_RINGS; i++)
-        for (int j = 0; j < SC_SEGS; j++) {
-            double th = M_PI * i / SC_RINGS, ph = 2.0 * M_PI * j / SC_SEGS;
-            sc_pt(v[i][j], scale, c[0] + r * sin(th) * cos(ph), c[1] + r * cos(th),
-                  c[2] + r * sin(th) * sin(ph));
-        }
-    for (int j = 0; j < SC_SEGS; j++) {
-        int k = (j + 1) % SC_SEGS;
-        ts_tri(s, m, v[0][0], v[1][k], v[1][j]); /* the pole: every v[0][*] is the same point */
-        for (int i = 1; i < SC_RINGS - 1; i++) {
-            ts_tri(s, m, v[i][j], v[i][k], v[i + 1][k]);
-            ts_tri(s, m, v[i][j], v[i + 1][k], v[i + 1][j]);
-        }
-        ts_tri(s, m, v[SC_RINGS - 1][j], v[SC_RINGS - 1][k], v[SC_RINGS][0]);
-    }
-}
-
 /* 0, or prints why and returns 1. */
 static inline int sc_world_build(sc_world *w, double scale)
 {
@@ -81,7 +59,8 @@ static inline int sc_world_build(sc_world *w, double scale)
     sc_pt(l[2], scale, 0.6, 0.99, 0.6);
     sc_pt(l[3], scale, 0.4, 0.99, 0.6);
     ts_quad(s, lamp, l[0], l[1], l[2], l[3]); /* facing down */
-    sc_sphere(s, ball, scale, (const double[]){0.5, 0.32, 0.55}, 0.3);
+    ts_sphere(s, ball, (const double[]){0.5 * scale, 0.32 * scale, 0.55 * scale}, 0.3 * scale,
+              SC_RINGS, SC_SEGS);
     spm_error err;
     if (spm_geometry_build(s, &w->g, &err)) {
         printf("scale %g: geometry: %s\n", scale, err.msg);
