@@ -154,8 +154,9 @@ SPM_INLINE spm_path_head spm_dev_head_unpack(const spm_dev_head *d)
  * normalise(v1 - v0), area. The watertight test reads the vertices only, and
  * needs them bit for bit: a neighbour's shared vertex must be the same floats
  * (v0 + (v1 - v0) is not v1). Each vertex starts a row of four floats (the
- * rows' fourth floats hold the area and the material), so the test reads the
- * first 48 bytes as three vectors. 72 bytes a triangle, as v0/e1/e2 were. */
+ * rows' fourth floats hold the area and the material), so what the test reads
+ * is the first 48 bytes, a vertex per 16-byte row. 72 bytes a triangle, as
+ * v0/e1/e2 with their shading data were. */
 typedef struct {
     float v0[3];
     float area;

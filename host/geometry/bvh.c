@@ -48,7 +48,9 @@ static void shear_vertex(const spm_ray_frame *f, const float v[3], float *x, flo
  * Nothing here compares with an absolute bound, so the decisions are the same
  * for a scene in any unit; only t > 0 keeps hits behind the origin out (the
  * origin's own triangle is skipped by the callers: that stops a ray
- * re-hitting the surface it leaves, at any scale). */
+ * re-hitting the surface it leaves, at any scale). kernels/traverse.clh does
+ * the same operations in the same order, contraction off on both sides
+ * (CMakeLists.txt), so the two answer every ray alike. */
 float spm_tri_intersect_frame(const spm_tri *t, const spm_ray_frame *f)
 {
     float ax, ay, az, bx, by, bz, cx, cy, cz;
