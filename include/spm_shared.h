@@ -69,7 +69,7 @@ typedef int32_t spm_i32;
  * high 16 bits the emission colour of the sampled emitter (SPM_NONE when the
  * emitter was occluded, back-facing or absent). c is the emitter term's scalar
  * weight, with every level-independent factor folded in:
- *   n_emitters * cos_e * area / max(d^2, 1e-6) * |cos_i| / pi
+ *   n_emitters * cos_e * area / max(d^2, SPM_D2_MIN_REL * area) * |cos_i| / pi
  *   * prod over earlier vertices of 1 / mean reflectance (Russian roulette). */
 typedef struct {
     spm_u32 ids;
@@ -149,17 +149,23 @@ SPM_INLINE spm_path_head spm_dev_head_unpack(const spm_dev_head *d)
 #define SPM_SETBY_REFLECTOR 2u  /* a reflectance set it */
 
 /* ---- geometry ------------------------------------------------------------ */
-/* Triangle as MiniLight keeps it: vertex 0, edges, unit normal, unit tangent
- * (= normalised edge 1), area. Normal = normalise(e1 x e2). */
+/* Triangle: its three vertices as the scene gave them, then MiniLight's
+ * shading data: unit normal normalise((v1 - v0) x (v2 - v0)), unit tangent
+ * normalise(v1 - v0), area. The watertight test reads the vertices only, and
+ * needs them bit for bit: a neighbour's shared vertex must be the same floats
+ * (v0 + (v1 - v0) is not v1). Each vertex starts a row of four floats (the
+ * rows' fourth floats hold the area and the material), so what the test reads
+ * is the first 48 bytes, a vertex per 16-byte row. 72 bytes a triangle, as
+ * v0/e1/e2 with their shading data were. */
 typedef struct {
     float v0[3];
-    float e1[3];   /* v1 - v0 */
-    float e2[3];   /* v2 - v0 */
+    float area;
+    float v1[3];
+    spm_u32 material;
+    float v2[3];
+    spm_u32 pad;
     float n[3];
     float t[3];
-    float area;
-    spm_u32 material;
-    spm_u32 pad;
 } spm_tri;
 
 /* The BVH is at most this many levels deep (the builder refuses deeper), so a
@@ -255,8 +261,12 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
 }
 #endif
 
-#define SPM_D2_MIN 1e-6f
-#define SPM_RAY_EPSILON (1.0f / 1048576.0f)  /* MiniLight's determinant epsilon */
+/* Next-event estimation divides the emitter's area by the squared distance
+ * to the sampled point; MiniLight clamps that distance^2 below at 1e-6 (m^2),
+ * an absolute bound. Relative to the emitter triangle's own area it is the
+ * same for a scene in any unit: the factor area / d^2 is at most 1e6, reached
+ * within a thousandth of the triangle's size of the point. */
+#define SPM_D2_MIN_REL 1e-6f
 #define SPM_PI_F 3.14159265358979323846f
 
 #endif

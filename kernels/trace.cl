@@ -98,7 +98,8 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             float sqr1 = sqrt(spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_EPOINT_A));
             float r2 = spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_EPOINT_B);
             float a = 1.0f - sqr1, b = (1.0f - r2) * sqr1;
-            float3 ep = ld3(et->v0) + ld3(et->e1) * a + ld3(et->e2) * b;
+            float3 ev0 = ld3(et->v0);
+            float3 ep = ev0 + (ld3(et->v1) - ev0) * a + (ld3(et->v2) - ev0) * b;
             float3 ev = ep - pos;
             float3 ed = unit3(ev);
             int sh = shadow_hit(nodes, tris, pos, ed, (uint)hit, ei, counters);
@@ -107,7 +108,8 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             /* unoccluded, front face, light and viewer on the same side */
             if ((sh < 0 || (uint)sh == ei) && cos_e > 0.0f && (cos_i < 0.0f) == (cos_o < 0.0f)) {
                 float d2 = dot3(ev, ev);
-                float wgt = ne * cos_e * et->area / fmax(d2, SPM_D2_MIN) * fabs(cos_i) / SPM_PI_F;
+                float wgt = ne * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
+                            fabs(cos_i) / SPM_PI_F;
                 if (wgt > 0.0f) {
                     eid = mats[et->material].emit;
                     c = wgt * rrw;

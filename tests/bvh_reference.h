@@ -50,11 +50,11 @@ static float ref_box_area(const ref_box *b)
     return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
 }
 
-/* The ref_box of the triangle as the intersector sees it: v0, v0 + e1, v0 + e2. */
+/* The ref_box of the triangle's three vertices. */
 static void ref_tri_prim(const spm_tri *t, ref_prim *p)
 {
     for (int i = 0; i < 3; i++) {
-        float a = t->v0[i], b = t->v0[i] + t->e1[i], c = t->v0[i] + t->e2[i];
+        float a = t->v0[i], b = t->v1[i], c = t->v2[i];
         p->b.lo[i] = fminf(a, fminf(b, c));
         p->b.hi[i] = fmaxf(a, fmaxf(b, c));
         p->c[i] = 0.5f * (p->b.lo[i] + p->b.hi[i]);

@@ -2,6 +2,7 @@
  * spectral tables whose Y is the mean of a spectrum, and a tiny RNG. */
 #ifndef GEOMTEST_SCENE_H
 #define GEOMTEST_SCENE_H
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "refcpu.h"
@@ -87,6 +88,36 @@ static inline void ts_box(spm_scene *s, int m, const float lo[3], const float hi
     ts_quad(s, m, v[4], v[6], v[7], v[5]); /* z = hi, normal -z */
 }
 
+/* A closed UV sphere of 2 segs (rings - 1) triangles: vertex (ring i,
+ * segment j) at centre + r (sin th cos ph, cos th, sin th sin ph), th = pi i /
+ * rings, ph = 2 pi j / segs, computed once and shared by every triangle that
+ * has it (so are the poles); a ring's quads are planar, the mesh convex. */
+static inline void ts_sphere(spm_scene *s, int m, const double c[3], double r, int rings, int segs)
+{
+    float(*v)[3] = malloc(sizeof *v * (size_t)(rings + 1) * (size_t)segs);
+#define TS_V(i, j) v[(size_t)(i) * (size_t)segs + (size_t)(j)]
+    for (int i = 0; i <= rings; i++)
+        for (int j = 0; j < segs; j++) {
+            double th = M_PI * i / rings, ph = 2.0 * M_PI * j / segs;
+            double p[3] = {c[0] + r * sin(th) * cos(ph), c[1] + r * cos(th),
+                           c[2] + r * sin(th) * sin(ph)};
+            for (int k = 0; k < 3; k++)
+                TS_V(i, j)[k] = (float)(i == 0 || i == rings ? c[k] + (k == 1 ? (i ? -r : r) : 0.0)
+                                                             : p[k]);
+        }
+    for (int j = 0; j < segs; j++) {
+        int k = (j + 1) % segs;
+        ts_tri(s, m, TS_V(0, 0), TS_V(1, k), TS_V(1, j));
+        for (int i = 1; i < rings - 1; i++) {
+            ts_tri(s, m, TS_V(i, j), TS_V(i, k), TS_V(i + 1, k));
+            ts_tri(s, m, TS_V(i, j), TS_V(i + 1, k), TS_V(i + 1, j));
+        }
+        ts_tri(s, m, TS_V(rings - 1, j), TS_V(rings - 1, k), TS_V(rings, 0));
+    }
+#undef TS_V
+    free(v);
+}
+
 /* Tables for flat spectra: every representation holds the colour's value,
  * Y weights are uniform (so Y = the spectrum's mean), X = Z = 0. lvlk = 0. */
 static inline void ts_tables(const spm_scene *s, spm_tables *t)
@@ -118,6 +149,8 @@ static inline void ts_tables(const spm_scene *s, spm_tables *t)
     spm_tables_fill_hero(t);
     t->lvlk = calloc((size_t)n * SPM_PRETEST_KMAX + 1, 1);
     t->mlc_lvlk = calloc((size_t)n * SPM_PRETEST_KMAX + 1, 1);
+    t->bg_up = s->bg_up >= 0 ? (spm_u32)s->bg_up : SPM_NONE;
+    t->bg_down = s->bg_down >= 0 ? (spm_u32)s->bg_down : SPM_NONE;
     t->nmaterials = s->nmaterials;
     t->materials = calloc((size_t)s->nmaterials + 1, sizeof *t->materials);
     for (int m = 0; m < s->nmaterials; m++) {

@@ -26,8 +26,8 @@ static void test_triangle_data(void)
     const spm_tri *t = &g.tris[0];
     /* exact in float: small integers */
     vec_check(t->v0, 1, 1, 1, 0, "v0");
-    vec_check(t->e1, 2, 0, 0, 0, "e1 = v1 - v0");
-    vec_check(t->e2, 0, 3, 0, 0, "e2 = v2 - v0");
+    vec_check(t->v1, 3, 1, 1, 0, "v1");
+    vec_check(t->v2, 1, 4, 1, 0, "v2");
     vec_check(t->n, 0, 0, 1, 0, "normal = normalise(e1 x e2)");
     vec_check(t->t, 1, 0, 0, 0, "tangent = normalise(e1)");
     CHECK(t->area == 3.0f, "area |e1 x e2| / 2 = 3: %g", t->area);
@@ -144,9 +144,7 @@ static void check_structure(const spm_geometry *g, const char *name)
                 const spm_tri *t = &g->tris[n->first + k];
                 seen[n->first + k]++;
                 for (int v = 0; v < 3; v++) {
-                    float p[3];
-                    for (int i = 0; i < 3; i++)
-                        p[i] = t->v0[i] + (v == 1 ? t->e1[i] : v == 2 ? t->e2[i] : 0.0f);
+                    const float *p = v == 0 ? t->v0 : v == 1 ? t->v1 : t->v2;
                     bad |= !box_inside(p, p, n->bmin, n->bmax);
                 }
             }
@@ -170,8 +168,9 @@ static void check_structure(const spm_geometry *g, const char *name)
 
 static void tri_vertex(const spm_tri *t, int v, float p[3])
 {
+    const float *q = v == 0 ? t->v0 : v == 1 ? t->v1 : t->v2;
     for (int i = 0; i < 3; i++)
-        p[i] = t->v0[i] + (v == 1 ? t->e1[i] : v == 2 ? t->e2[i] : 0.0f);
+        p[i] = q[i];
 }
 
 static void rand_dir(unsigned *st, float d[3])
@@ -247,8 +246,8 @@ static void ray_battery(const spm_geometry *g, int per_kind, unsigned seed, cons
         int ti = (int)(ts_rand(&st) * g->ntris) % g->ntris;
         float u1 = sqrtf(ts_rand(&st)), u2 = ts_rand(&st);
         for (int i = 0; i < 3; i++)
-            p[i] = g->tris[ti].v0[i] + g->tris[ti].e1[i] * (1 - u1) +
-                   g->tris[ti].e2[i] * ((1 - u2) * u1);
+            p[i] = g->tris[ti].v0[i] + (g->tris[ti].v1[i] - g->tris[ti].v0[i]) * (1 - u1) +
+                   (g->tris[ti].v2[i] - g->tris[ti].v0[i]) * ((1 - u2) * u1);
         rand_dir(&st, d);
         compare_ray(g, p, d, (spm_u32)ti, &t[4]);
     }

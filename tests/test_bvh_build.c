@@ -15,7 +15,7 @@ static double rnd(void)
     return (double)(rng_state >> 11) * (1.0 / 9007199254740992.0);
 }
 
-/* Triangles as the builder reads them (v0, e1, e2); pad holds the input index
+/* Triangles as the builder reads them (its vertices); pad holds the input index
  * so the reordering can be followed. */
 static spm_geometry make_geom(int n)
 {
@@ -33,8 +33,8 @@ static void set_tri(spm_geometry *g, int i, const double a[3], const double b[3]
     spm_tri *t = &g->tris[i];
     for (int k = 0; k < 3; k++) {
         t->v0[k] = (float)a[k];
-        t->e1[k] = (float)b[k] - (float)a[k];
-        t->e2[k] = (float)c[k] - (float)a[k];
+        t->v1[k] = (float)b[k];
+        t->v2[k] = (float)c[k];
     }
     t->material = 0;
     t->pad = (spm_u32)i;
@@ -149,7 +149,7 @@ static void check_tree(const spm_geometry *g, const char *name)
                 const spm_tri *t = &g->tris[i];
                 float lo[3], hi[3];
                 for (int a = 0; a < 3; a++) {
-                    float p0 = t->v0[a], p1 = t->v0[a] + t->e1[a], p2 = t->v0[a] + t->e2[a];
+                    float p0 = t->v0[a], p1 = t->v1[a], p2 = t->v2[a];
                     lo[a] = fminf(p0, fminf(p1, p2));
                     hi[a] = fmaxf(p0, fmaxf(p1, p2));
                 }

@@ -185,7 +185,7 @@ static void test_bvh_closest_hits(const loaded *far)
                 a = 1.0f - a, b = 1.0f - b;
             float q[3];
             for (int i = 0; i < 3; i++)
-                q[i] = t->v0[i] + t->e1[i] * a + t->e2[i] * b;
+                q[i] = t->v0[i] + (t->v1[i] - t->v0[i]) * a + (t->v2[i] - t->v0[i]) * b;
             for (int i = 0; i < 3; i++)
                 d[i] = q[i] - o[i];
         } else {

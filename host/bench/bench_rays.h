@@ -58,11 +58,14 @@ void spm_rays_replay_ref(const spm_geometry *g, const spm_rayset *rs, int *hits,
  * verdict (occluded: an answer other than -1 and the emitter). */
 void spm_rays_compare(const spm_rayset *rs, const int *a, const int *b, size_t *closest_bad,
                       size_t *shadow_bad);
-/* Of the rays whose answers differ, those where b's triangle is one that
- * MiniLight's test rejects as seen edge-on (|det| < SPM_RAY_EPSILON, an
- * absolute bound: tiny triangles are edge-on over a wider cone of angles). */
-size_t spm_rays_differ_edge_on(const spm_geometry *g, const spm_rayset *rs, const int *a,
-                               const int *b);
+/* Of the rays whose answers differ, those where the two answers are
+ * triangles that share a vertex (the ray passes by their common edge or
+ * vertex and each side took one of them), or where the one triangle hit
+ * shares a vertex with the ray's origin triangle (a hit beside the point the
+ * ray leaves, decided by rounding). A closest-hit ray's answer is its
+ * triangle, a shadow ray's its occluder. */
+size_t spm_rays_differ_adjacent(const spm_geometry *g, const spm_rayset *rs, const int *a,
+                                const int *b);
 
 /* Embree 3 (built with SPM_HAVE_EMBREE; otherwise open fails saying so): the
  * same geometry and rays, rtcIntersect1 / rtcOccluded1 on `threads` threads,

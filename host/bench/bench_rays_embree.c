@@ -198,13 +198,13 @@ spm_rays_embree *spm_rays_embree_open(const spm_geometry *g, const spm_rayset *r
     unsigned *idx = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                             3 * sizeof(unsigned), (size_t)g->ntris);
     if (v && idx) {
-        /* vertices as MiniLight's triangle keeps them: v0, v0 + e1, v0 + e2 */
+        /* the triangles' own vertices, in their order */
         for (int i = 0; i < g->ntris; i++) {
             const spm_tri *t = &g->tris[i];
             for (int k = 0; k < 3; k++) {
                 v[9 * i + k] = t->v0[k];
-                v[9 * i + 3 + k] = t->v0[k] + t->e1[k];
-                v[9 * i + 6 + k] = t->v0[k] + t->e2[k];
+                v[9 * i + 3 + k] = t->v1[k];
+                v[9 * i + 6 + k] = t->v2[k];
             }
             for (int k = 0; k < 3; k++)
                 idx[3 * i + k] = (unsigned)(3 * i + k);

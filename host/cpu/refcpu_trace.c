@@ -65,7 +65,7 @@ static void record_ray(const float o[3], const float d[3], spm_u32 skip, spm_u32
 /* Next-event estimation at hit point x on triangle `hit` (normal n) reached
  * along d: one emitter triangle chosen uniformly, a uniform point on it, a
  * shadow ray. Returns the emitter's emission colour and its weight
- *   nemitters * cos_e * area / max(d2, 1e-6) * |cos_i| / pi
+ *   nemitters * cos_e * area / max(d2, SPM_D2_MIN_REL * area) * |cos_i| / pi
  * or SPM_NONE (weight 0) when occluded, back-facing or on the other side. */
 static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, const rng_key *k,
                               spm_u32 dim, const float x[3], spm_u32 hit, const float n[3],
@@ -82,7 +82,7 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
     float a = 1.0f - sqr1, b = (1.0f - rnd(k, dim + SPM_DIM_EPOINT_B)) * sqr1;
     float q[3], ev[3], l[3], ts;
     for (int i = 0; i < 3; i++)
-        q[i] = em->v0[i] + em->e1[i] * a + em->e2[i] * b;
+        q[i] = em->v0[i] + (em->v1[i] - em->v0[i]) * a + (em->v2[i] - em->v0[i]) * b;
     v3_sub(ev, q, x);
     v3_normalise(l, ev);
     record_ray(x, l, hit, ei);
@@ -95,9 +95,8 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
     float cos_i = v3_dot(l, n), cos_o = -v3_dot(d, n);
     if ((cos_i < 0.0f) != (cos_o < 0.0f))
         return SPM_NONE; /* light and viewer on different sides: no transmission */
-    float d2 = v3_dot(ev, ev);
-    float w = (float)ne * cos_e * em->area / (d2 > SPM_D2_MIN ? d2 : SPM_D2_MIN) * fabsf(cos_i) /
-              SPM_PI_F;
+    float d2 = v3_dot(ev, ev), d2min = SPM_D2_MIN_REL * em->area;
+    float w = (float)ne * cos_e * em->area / (d2 > d2min ? d2 : d2min) * fabsf(cos_i) / SPM_PI_F;
     if (!(w > 0.0f))
         return SPM_NONE;
     *c = w;

@@ -1,38 +1,93 @@
-/* Closest-hit queries: MiniLight's ray-triangle test over the BVH or over
+/* Closest-hit queries: the watertight ray-triangle test over the BVH or over
  * every triangle. */
 #include "geometry.h"
 #include "geometry_vec3.h"
+#include <float.h>
 
-/* Moller-Trumbore exactly as MiniLight writes it, in float: a determinant
- * within SPM_RAY_EPSILON of zero (ray in the triangle's plane) misses. */
+/* The ray's frame (Woop, Benthin and Wald, "Watertight Ray/Triangle
+ * Intersection", JCGT 2013): kz is the axis of d's largest |component| (the
+ * first of equal ones), kx and ky the next two cyclically; the shear
+ *   x' = x + sx z, y' = y + sy z, z' = sz z,  sx = -d_kx / d_kz, sy = -d_ky / d_kz, sz = 1 / d_kz
+ * takes d to (0, 0, 1), so the ray is the z' axis through the origin. */
+void spm_ray_frame_make(const float o[3], const float d[3], spm_ray_frame *f)
+{
+    float ax = fabsf(d[0]), ay = fabsf(d[1]), az = fabsf(d[2]);
+    int kz = ax >= ay ? (ax >= az ? 0 : 2) : (ay >= az ? 1 : 2);
+    f->kz = kz;
+    f->kx = (kz + 1) % 3;
+    f->ky = (kz + 2) % 3;
+    f->sx = -d[f->kx] / d[kz];
+    f->sy = -d[f->ky] / d[kz];
+    f->sz = 1.0f / d[kz];
+    for (int i = 0; i < 3; i++)
+        f->o[i] = o[i];
+}
+
+/* One vertex relative to the origin, sheared: (x', y'), and z before its scaling. */
+static void shear_vertex(const spm_ray_frame *f, const float v[3], float *x, float *y, float *z)
+{
+    float a = v[f->kx] - f->o[f->kx], b = v[f->ky] - f->o[f->ky], c = v[f->kz] - f->o[f->kz];
+    *x = a + f->sx * c;
+    *y = b + f->sy * c;
+    *z = c;
+}
+
+/* In the sheared frame the ray passes through (0, 0), and the edge functions
+ *   U = cx by - cy bx,  V = ax cy - ay cx,  W = bx ay - by ax
+ * are twice the signed areas of the triangles (0, b, c), (0, c, a), (0, a, b).
+ * It hits when none is negative or none is positive (either face: no
+ * culling) and det = U + V + W is not 0 (not edge-on); then
+ *   t = (U az + V bz + W cz) / det  with z scaled by sz.
+ * A triangle's neighbour computes a shared edge's function from the same two
+ * sheared vertices with the opposite sign, exactly (a product does not depend
+ * on its operands' order, nor a difference's magnitude), and 0 counts as
+ * inside for both: a ray through a shared edge or vertex cannot pass between
+ * the triangles. A function that is 0 in float is computed again in double,
+ * where the products of floats are exact: its sign is then that of the exact
+ * value (a nonzero float difference of rounded products already has it).
+ * Nothing here compares with an absolute bound, so the decisions are the same
+ * for a scene in any unit; only t > 0 keeps hits behind the origin out (the
+ * origin's own triangle is skipped by the callers: that stops a ray
+ * re-hitting the surface it leaves, at any scale). kernels/traverse.clh does
+ * the same operations in the same order, contraction off on both sides
+ * (CMakeLists.txt), so the two answer every ray alike. */
+float spm_tri_intersect_frame(const spm_tri *t, const spm_ray_frame *f)
+{
+    float ax, ay, az, bx, by, bz, cx, cy, cz;
+    shear_vertex(f, t->v0, &ax, &ay, &az);
+    shear_vertex(f, t->v1, &bx, &by, &bz);
+    shear_vertex(f, t->v2, &cx, &cy, &cz);
+    float u = cx * by - cy * bx, v = ax * cy - ay * cx, w = bx * ay - by * ax;
+    if (u == 0.0f || v == 0.0f || w == 0.0f) {
+        u = (float)((double)cx * by - (double)cy * bx);
+        v = (float)((double)ax * cy - (double)ay * cx);
+        w = (float)((double)bx * ay - (double)by * ax);
+    }
+    if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f))
+        return -1.0f;
+    float det = u + v + w;
+    if (det == 0.0f)
+        return -1.0f;
+    float tn = u * (f->sz * az) + v * (f->sz * bz) + w * (f->sz * cz);
+    float dist = tn / det;
+    return dist > 0.0f && dist <= FLT_MAX ? dist : -1.0f;
+}
+
 float spm_tri_intersect(const spm_tri *t, const float o[3], const float d[3])
 {
-    float pvec[3], tvec[3], qvec[3];
-    v3_cross(pvec, d, t->e2);
-    float det = v3_dot(t->e1, pvec);
-    if (det > -SPM_RAY_EPSILON && det < SPM_RAY_EPSILON)
-        return -1.0f;
-    float inv_det = 1.0f / det;
-    v3_sub(tvec, o, t->v0);
-    float u = v3_dot(tvec, pvec) * inv_det;
-    if (!(u >= 0.0f && u <= 1.0f))
-        return -1.0f;
-    v3_cross(qvec, tvec, t->e1);
-    float v = v3_dot(d, qvec) * inv_det;
-    if (!(v >= 0.0f && u + v <= 1.0f))
-        return -1.0f;
-    float dist = v3_dot(t->e2, qvec) * inv_det;
-    return dist >= 0.0f ? dist : -1.0f;
+    spm_ray_frame f;
+    spm_ray_frame_make(o, d, &f);
+    return spm_tri_intersect_frame(t, &f);
 }
 
 /* Keeps the nearer hit; an exact tie goes to the lower index so the result
  * does not depend on the order triangles are visited in. */
-static void consider(const spm_geometry *g, int i, const float o[3], const float d[3],
-                     spm_u32 skip, int *best, float *best_t)
+static void consider(const spm_geometry *g, int i, const spm_ray_frame *f, spm_u32 skip,
+                     int *best, float *best_t)
 {
     if ((spm_u32)i == skip)
         return;
-    float t = spm_tri_intersect(&g->tris[i], o, d);
+    float t = spm_tri_intersect_frame(&g->tris[i], f);
     if (t >= 0.0f && (t < *best_t || (t == *best_t && i < *best)))
         *best = i, *best_t = t;
 }
@@ -42,8 +97,10 @@ int spm_brute_intersect(const spm_geometry *g, const float o[3], const float d[3
 {
     int best = -1;
     float best_t = INFINITY;
+    spm_ray_frame f;
+    spm_ray_frame_make(o, d, &f);
     for (int i = 0; i < g->ntris; i++)
-        consider(g, i, o, d, skip, &best, &best_t);
+        consider(g, i, &f, skip, &best, &best_t);
     *t_out = best_t;
     return best;
 }
@@ -78,9 +135,15 @@ int spm_bvh_intersect(const spm_geometry *g, const float o[3], const float d[3],
     *t_out = best_t;
     if (g->nnodes == 0)
         return -1;
+    /* A zero component gets the reciprocal 1e30 (per unit of distance, as d is
+     * a unit vector): its slab distances (bmin - o) * 1e30 are then beyond
+     * every hit unless o lies within float rounding of the slab's face (the
+     * boxes are padded by far more), at any scale, and never 0 * inf = NaN. */
     float inv[3];
     for (int i = 0; i < 3; i++)
         inv[i] = 1.0f / (d[i] != 0.0f ? d[i] : 1e-30f);
+    spm_ray_frame f;
+    spm_ray_frame_make(o, d, &f);
     if (!box_hit(&g->nodes[0], o, inv, best_t, &tn))
         return -1;
     spm_u32 stack[SPM_BVH_STACK];
@@ -90,7 +153,7 @@ int spm_bvh_intersect(const spm_geometry *g, const float o[3], const float d[3],
         const spm_bvh_node *n = &g->nodes[node];
         if (n->count > 0) {
             for (spm_u32 k = 0; k < n->count; k++)
-                consider(g, (int)(n->first + k), o, d, skip, &best, &best_t);
+                consider(g, (int)(n->first + k), &f, skip, &best, &best_t);
         } else {
             /* descend into the nearer child, keep the other for later */
             float ta, tb;

@@ -82,11 +82,11 @@ static float box_area(const box *b)
     return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
 }
 
-/* The box of the triangle as the intersector sees it: v0, v0 + e1, v0 + e2. */
+/* The box of the triangle's three vertices. */
 static void tri_prim(const spm_tri *t, prim *p)
 {
     for (int i = 0; i < 3; i++) {
-        float a = t->v0[i], b = t->v0[i] + t->e1[i], c = t->v0[i] + t->e2[i];
+        float a = t->v0[i], b = t->v1[i], c = t->v2[i];
         p->b.lo[i] = mn(a, mn(b, c));
         p->b.hi[i] = mx(a, mx(b, c));
         p->c[i] = 0.5f * (p->b.lo[i] + p->b.hi[i]);
@@ -379,6 +379,10 @@ static void pad_boxes(spm_bvh_node *nodes, int nnodes, const float eye[3])
 {
     float eye_mag = box_magnitude(eye, eye);
     for (int k = 0; k < nnodes; k++) {
+        /* relative, so it scales with the scene; FLT_MIN only keeps a box of
+         * the coordinates 0 (and an eye at 0) from staying flat: it is below
+         * half an ulp of the first term whenever that term exceeds 2e-31, so
+         * it changes no box with a coordinate above 2e-26 */
         float pad = BOX_PAD_REL * fmaxf(box_magnitude(nodes[k].bmin, nodes[k].bmax), eye_mag) +
                     FLT_MIN;
         for (int i = 0; i < 3; i++)

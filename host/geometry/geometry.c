@@ -26,8 +26,10 @@ static double dlen(const double a[3])
     return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
 }
 
-/* Triangle data in double, stored as float: e1, e2, unit normal of e1 x e2,
- * unit tangent along e1, half the cross product's length. */
+/* The scene's float vertices as they are; the shading data computed in
+ * double from them and stored as float: with e1 = v1 - v0, e2 = v2 - v0, the
+ * unit normal of e1 x e2, the unit tangent along e1, half the cross
+ * product's length. */
 static int make_tri(const spm_scene *sc, const spm_scene_tri *st, spm_tri *t, spm_error *err)
 {
     double e1[3], e2[3], cr[3];
@@ -53,8 +55,8 @@ static int make_tri(const spm_scene *sc, const spm_scene_tri *st, spm_tri *t, sp
     memset(t, 0, sizeof *t);
     for (int i = 0; i < 3; i++) {
         t->v0[i] = st->p[0][i];
-        t->e1[i] = (float)e1[i];
-        t->e2[i] = (float)e2[i];
+        t->v1[i] = st->p[1][i];
+        t->v2[i] = st->p[2][i];
         t->n[i] = (float)(cr[i] / len);
         t->t[i] = (float)(e1[i] / l1);
     }

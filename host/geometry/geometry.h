@@ -35,7 +35,7 @@ int spm_geometry_build_consume(spm_scene *scene, spm_geometry *g, spm_error *err
 void spm_geometry_free(spm_geometry *g);
 spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg, int w, int h);
 
-/* Closest hit along origin + t dir, t >= 0, ignoring triangle `skip` (or
+/* Closest hit along origin + t dir, t > 0, ignoring triangle `skip` (or
  * SPM_NONE-like 0xFFFFFFFF). Returns the triangle index or -1; *t_out set. */
 int spm_bvh_intersect(const spm_geometry *g, const float o[3], const float d[3], spm_u32 skip,
                       float *t_out);
@@ -43,7 +43,7 @@ int spm_bvh_intersect(const spm_geometry *g, const float o[3], const float d[3],
 int spm_brute_intersect(const spm_geometry *g, const float o[3], const float d[3], spm_u32 skip,
                         float *t_out);
 
-/* Both intersectors use MiniLight's Moller-Trumbore test in float and break an
+/* Both intersectors use the watertight test (spm_tri_intersect) and break an
  * exact tie in t by the lower triangle index, so the answer does not depend on
  * the traversal order. nnodes == 0 when there are no triangles. The BVH is at
  * most SPM_BVH_STACK levels deep (spm_shared.h); node boxes are padded so a
@@ -64,6 +64,15 @@ double spm_bvh_sah_cost(const spm_bvh_node *nodes, int nnodes, int *leaves);
 /* Nodes whose box spm_bvh_intersect tested, counted per thread: a cost
  * measure for tests and benchmarks that the traversal only adds to. */
 extern _Thread_local unsigned long long spm_bvh_nodes_tested;
-/* MiniLight's ray-triangle test: hit distance t >= 0 or -1 for a miss. */
+/* The watertight ray-triangle test (bvh.c) on a ray's frame, made once per
+ * ray: the axis of d's largest component and the shear that takes d onto it. */
+typedef struct {
+    float o[3];
+    int kx, ky, kz;
+    float sx, sy, sz;
+} spm_ray_frame;
+void spm_ray_frame_make(const float o[3], const float d[3], spm_ray_frame *f);
+/* Hit distance t > 0 along d, or -1 for a miss; either face. */
+float spm_tri_intersect_frame(const spm_tri *t, const spm_ray_frame *f);
 float spm_tri_intersect(const spm_tri *t, const float o[3], const float d[3]);
 #endif

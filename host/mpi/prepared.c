@@ -7,7 +7,7 @@
 
 /* Changes whenever the layout of what is packed changes: the magic and the
  * sizes of the packed structs make a block from another build an error. */
-#define PREP_MAGIC 0x53504d50u /* "SPMP" */
+#define PREP_MAGIC 0x53504d51u /* "SPMQ" */
 
 typedef struct {
     uint32_t magic;

@@ -184,9 +184,12 @@ int spm_sb_degenerate(const float p[3][3])
     double cross = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     double l1 = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
     double l2 = sqrt(e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]);
-    /* The sine of the angle between the edges below ~1e-6 (MiniLight's epsilon)
-     * leaves no usable normal in float arithmetic; nor does an area so small
-     * that the float cross product of its edges underflows. */
+    /* The sine of the angle between the edges below ~1e-6 leaves no usable
+     * normal in float arithmetic (a relative bound). The area bound is the one
+     * absolute one, float's range: below 1e-24 (edges of 1e-12) the products
+     * of the triangle test (edge functions ~ area, t's numerator ~ area x
+     * distance) fall towards float's smallest normal numbers (1.2e-38) and
+     * lose their precision; any triangle above it is hit as in any other unit. */
     return !(cross > 1e-6 * l1 * l2) || 0.5 * cross < 1e-24;
 }
 

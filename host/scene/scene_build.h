@@ -12,15 +12,18 @@
 #define SPM_SCENE_MAX_TRIS (1 << 24)    /* MiniLight's limit */
 #define SPM_SCENE_MAX_COLOURS 4096      /* ids are 16-bit on the device; pretests cost per colour */
 #define SPM_SCENE_MAX_MATERIALS 4096
-/* |coordinate| of vertices and the eye. MiniLight's ray-triangle test runs in
- * float (host/geometry/bvh.c, kernels/trace.cl). With every coordinate within C, edges
- * and o - v0 have components within 2C, d x e2 (d a unit vector) within 4C,
- * det and u's numerator (sums of three products) within 24 C^2, q = (o - v0)
- * x e1 within 8 C^2 and t's numerator e2 . q within 48 C^3: the one product
- * that is cubic in C. It overflows float (FLT_MAX = 3.4e38) beyond
- * C = (FLT_MAX / 48)^(1/3) = 1.9e12; squared distances (12 C^2) and areas
- * (6 C^2) overflow only beyond 5e18. 1e12 keeps that cubic product below
- * FLT_MAX / 7 and takes MiniLight's suns, 1.5e11 away. */
+/* |coordinate| of vertices and the eye: the one absolute bound on geometry,
+ * float's range. The watertight test (host/geometry/bvh.c, kernels/traverse.clh)
+ * runs in float. With every coordinate within C, vertices relative to a ray's
+ * origin are within 2C, sheared (|sx|, |sy| <= 1) within 4C, so each edge
+ * function is within 32 C^2; for a hit they share a sign and det = U + V + W
+ * is twice the sheared triangle's area, within 64 C^2 (its vertices lie in a
+ * square of side 8C); z scaled by |sz| <= sqrt(3) is within 3.5 C, so t's
+ * numerator is within 222 C^3: the one product cubic in C. It overflows float
+ * (FLT_MAX = 3.4e38) beyond C = 1.15e12; squared distances (12 C^2) and areas
+ * (6 C^2) only beyond 5e18. 1e12 keeps that numerator below 0.65 FLT_MAX and
+ * takes MiniLight's suns, 1.5e11 away. Nothing else depends on the unit: the
+ * smallest triangles (spm_sb_degenerate, area 1e-24) are float's other end. */
 #define SPM_SCENE_MAX_COORD 1e12
 #define SPM_FOV_MIN 10.0                /* MiniLight's clamp of the view angle */
 #define SPM_FOV_MAX 160.0
