@@ -30,6 +30,8 @@ typedef struct {
     double budget;         /* equal rows: the budget as a multiple of ref's time at the base spp */
     double budget_s;       /* equal rows: that budget in seconds (from the calibration) */
     double conv_floor_p99; /* p99 ΔE00 of the two converged truths */
+    int compiled;          /* 1: PoCL compiled during the timed run kept in wall_s (its time
+                              includes a compile), 0: it did not, -1: unknown (pocl_cache.h) */
 } spm_bench_row;
 
 typedef struct {

@@ -1,6 +1,7 @@
 /* The OpenCL backend's program (cl_renderer.h): the trace, accumulate and
  * shade kernels, the last compiled only for the slots the plan uses, each
  * with the define its mode's descriptor gives (modes.h). */
+#include <string.h>
 #include "cl_renderer.h"
 
 int spm_clr_build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *err)
@@ -41,20 +42,35 @@ int spm_clr_build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *er
     return 0;
 }
 
-/* PoCL compiles a kernel for the shape of its launches (local size, zero
- * offset, a grid under 2^32 items) at the first launch, not in clBuildProgram:
- * on a cold cache that is most of the build, and it would land in the first
- * pass. So every kernel is launched once here, in the shape every pass uses,
- * with nothing to do (no path, no pixel: each work-item returns at once). */
+/* PoCL compiles a kernel's work-group functions for the shape of a launch
+ * at its first launch of that shape, not in clBuildProgram, and keeps one
+ * version per shape: the local size, a zero global offset, and whether the
+ * global size is below the device's grid specialisation limit (USHRT_MAX on
+ * its CPU devices; its cache names them 64-1-1-goffs0-smallgrid and
+ * 64-1-1-goffs0). A pass launches every kernel with LOCAL_SIZE and offset 0,
+ * at a batch's size: a pass is about 2^16 paths (spm_spp_per_pass), so its
+ * launches fall on either side of the limit, and the last pass of a render
+ * may be smaller than the others. So every kernel is launched here once in
+ * each class, with nothing to do (no path, no pixel: each work-item returns
+ * at once), and no render or benchmark times a compile. Other platforms
+ * compile in clBuildProgram; they get the small launch only (under Oclgrind,
+ * which simulates every work-item, 2^16 of them per kernel take seconds). */
+#define POCL_GRID_LIMIT 65535u
 int spm_clr_warm_up(spm_cl_renderer *r, spm_error *err)
 {
-    batch b = {0, 1, 0, 0, 0, LOCAL_SIZE};
-    cl_event ev[NSLOTS + 2] = {NULL};
-    size_t off[NSLOTS + 1] = {0};
-    int rc = spm_clr_run_trace(r, &b, &ev[NSLOTS], err) ||
+    /* the smallest launch, and the smallest at or over the limit */
+    const size_t sizes[2] = {LOCAL_SIZE, (POCL_GRID_LIMIT + LOCAL_SIZE - 1) / LOCAL_SIZE * LOCAL_SIZE};
+    int nsizes = strstr(r->cl.dev.platform_name, "Portable Computing Language") ? 2 : 1;
+    int rc = 0;
+    for (int k = 0; k < nsizes && !rc; k++) {
+        batch b = {0, 1, 0, 0, 0, sizes[k]};
+        cl_event ev[NSLOTS + 2] = {NULL};
+        size_t off[NSLOTS + 1] = {0};
+        rc = spm_clr_run_trace(r, &b, &ev[NSLOTS], err) ||
              spm_clr_run_shade(r, &b, off, r->ident, 1, ev, err) ||
              spm_clr_run_accumulate(r, &b, &ev[NSLOTS + 1], err) ||
              spm_cl_check(clFinish(r->cl.queue), "clFinish(warm-up)", err);
-    spm_clr_release_events(ev, NSLOTS + 2, NULL);
+        spm_clr_release_events(ev, NSLOTS + 2, NULL);
+    }
     return rc;
 }
