@@ -1,6 +1,7 @@
 #include "bench_csv.h"
 #include <errno.h>
 #include <string.h>
+#include "interrupt.h"
 
 #define DE_COLS(p) p "_mean," p "_p99," p "_max"
 const char spm_bench_csv_header[] =
@@ -60,6 +61,7 @@ int spm_bench_csv_write(spm_bench_csv *c, const spm_bench_row *r, spm_error *err
         return 1;
     }
     c->rows++;
+    spm_test_pause("row");
     return 0;
 }
 
