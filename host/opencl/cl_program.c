@@ -4,28 +4,37 @@
 #include <string.h>
 #include "cl_renderer.h"
 
-int spm_clr_build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *err)
+const char *const spm_cl_program_files[SPM_CL_PROGRAM_NFILES] = {"kernels/trace.cl",
+                                                                 "kernels/shade.cl"};
+
+void spm_cl_program_defines(const spm_render_plan *plan, int device_index, char *defs, size_t size,
+                            char (*kname)[64])
 {
-    char defs[512];
-    int n = 0;
+    size_t n = 0;
     defs[0] = '\0';
     for (int s = 0; s < plan->nslots; s++)
         if (plan->used[s]) {
-            char define[96];
-            spm_mode_kernel(r->mode, plan->tables, s, r->kname[s], sizeof r->kname[s], define,
-                            sizeof define);
-            n += snprintf(defs + n, sizeof defs - (size_t)n, "-D%s ", define);
+            char define[96], name[64];
+            spm_mode_kernel(plan->mode, plan->tables, s, name, sizeof name, define, sizeof define);
+            if (kname)
+                snprintf(kname[s], sizeof kname[s], "%s", name);
+            n += (size_t)snprintf(defs + n, size - n, "-D%s ", define);
         }
     if (plan->nspec)
-        n += snprintf(defs + n, sizeof defs - (size_t)n, "-DSPM_SPEC_BINS=%d -DSPM_PATH_CH=%d ",
-                      plan->nspec, plan->pix_ch);
+        n += (size_t)snprintf(defs + n, size - n, "-DSPM_SPEC_BINS=%d -DSPM_PATH_CH=%d ",
+                              plan->nspec, plan->pix_ch);
     /* The device's index makes each device's program text distinct: PoCL
      * otherwise shares one compiled kernel between same-kind devices, and two
      * devices launching it at once can break its reference counts (an
      * assertion in pocl_release_dlhandle_cache). */
-    n += snprintf(defs + n, sizeof defs - (size_t)n, "-DSPM_DEVICE_INDEX=%d", r->cl.dev.index);
-    const char *files[] = {"kernels/trace.cl", "kernels/shade.cl"};
-    if (spm_cl_build(&r->cl, files, 2, defs, &r->prog, err))
+    snprintf(defs + n, size - n, "-DSPM_DEVICE_INDEX=%d", device_index);
+}
+
+int spm_clr_build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *err)
+{
+    char defs[512];
+    spm_cl_program_defines(plan, r->cl.dev.index, defs, sizeof defs, r->kname);
+    if (spm_cl_build(&r->cl, spm_cl_program_files, SPM_CL_PROGRAM_NFILES, defs, &r->prog, err))
         return 1;
     cl_int rc;
     r->k_trace = clCreateKernel(r->prog, "spm_trace", &rc);
