@@ -126,7 +126,7 @@ static int render_with(study *st, scene_run *r, spm_backend *b, int spp, int tim
         spm_pocl_cache c0 = spm_pocl_cache_now();
         rc = spm_render_run(&b, 1, r->npix, &ro, &film, &res, err) ? SPM_EXIT_RUNTIME : 0;
         spm_pocl_cache c1 = spm_pocl_cache_now();
-        int compiled = spm_pocl_cache_grew(&c0, &c1);
+        int compiled = st->p->use_cpu ? -1 : spm_pocl_cache_grew(&c0, &c1);
         if (!rc && compiled == 1)
             fprintf(stderr, "%sspecmip bench: WARNING: PoCL compiled kernels during the timed "
                             "render of %s, %s at %d spp: its time includes compile time (the "
@@ -414,6 +414,7 @@ static int equal_time(study *st, scene_run *r, const spm_image *conv, double con
                 row.no_bias = 1;
                 row.budget = p->budgets[b];
                 row.budget_s = budget_s;
+                row.s_per_spp = s_per_spp[i];
                 row.time_vs_ref = budget_s > 0 ? o.res.wall_s / budget_s : 0.0;
                 row.conv_floor = conv_floor;
                 row.conv_floor_p99 = st->floor_p99;
