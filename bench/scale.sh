@@ -5,7 +5,10 @@
 # and nodes (render --json), the render's paths/s and peak memory, and traversal
 # alone on the render's own rays (bench --rays: closest-hit and shadow rays/s,
 # with Embree's beside them when this build has it). Writes OUT/scale.csv and
-# OUT/scale.png (gnuplot) and prints the table.
+# OUT/scale.png (gnuplot) and prints the table. A render whose timed part
+# included a PoCL kernel compile (render --json's compiled_during_timing; the
+# build stage's warm-up launches are meant to leave none) is flagged: a WARNING
+# on stderr, "!" after its Mpaths/s and 1 in the CSV's compiled_during_timing.
 # A benchmark, not a test: run it on a quiet machine; the CSV names the CPU.
 #
 # usage: bench/scale.sh [OUT]            (default scale-out)
@@ -62,9 +65,9 @@ part=$csv.part
 echo "case,triangles,import_s,bvh_s,sah_cost,bvh_nodes,bvh_threads,render_mpaths_s,peak_rss_mb,\
 rays_closest,rays_shadow,specmip_closest_mrays_s,specmip_shadow_mrays_s,embree_closest_mrays_s,\
 embree_shadow_mrays_s,ratio_closest,ratio_shadow,nodes_per_closest_ray,tri_tests_per_closest_ray,\
-differ_reference,differ_embree" > "$part"
-printf '%-16s %9s %8s %8s %8s %9s %8s %8s %8s %8s %8s\n' case triangles import_s bvh_s sah \
-  Mpaths/s RSS_MB closest shadow x_embree x_embree
+differ_reference,differ_embree,compiled_during_timing" > "$part"
+printf '%-16s %9s %8s %8s %8s %9s%1s %8s %8s %8s %8s %8s\n' case triangles import_s bvh_s sah \
+  Mpaths/s "" RSS_MB closest shadow x_embree x_embree
 # one case: NAME SCENE
 run_case() {
   local name=$1 scene=$2 w h
@@ -75,10 +78,15 @@ run_case() {
   "$bin" bench --rays "$scene" --size "$ysize" --rays-spp "$yspp" --repeat "$repeat" --device "$device" \
     --rays-stats "${ebflag[@]}" --json > "$tmp/y.json" 2> "$tmp/err" ||
     { echo "scale.sh: $name: bench --rays failed:" >&2; cat "$tmp/err" >&2; return 1; }
+  # a render whose time includes a PoCL compile measured the compiler (render --json)
+  local compiled
+  compiled=$(jq -r '.compiled_during_timing' "$tmp/r.json")
+  [ "$compiled" = true ] &&
+    echo "scale.sh: WARNING: $name: PoCL compiled kernels during the timed render: its paths/s include compile time" >&2
   # peak RSS: the render's own figure when it gives one, else GNU time's
   local rss
   rss=$(jq -r --arg t "$(cat "$tmp/rss")" '.peak_rss_bytes // (($t | tonumber) * 1024) | . / 1048576' "$tmp/r.json")
-  jq -r -s --arg name "$name" --arg rss "$rss" '
+  jq -r -s --arg name "$name" --arg rss "$rss" --arg compiled "$compiled" '
     def v(x): if x == null then "-" else x end;
     def r(a; b): if a == null or b == null or b == 0 then "-" else a / b end;
     .[0] as $r | .[1] as $y |
@@ -88,10 +96,11 @@ run_case() {
      v($y.embree.shadow_mrays_s), r($y.specmip.closest_mrays_s; $y.embree.closest_mrays_s),
      r($y.specmip.shadow_mrays_s; $y.embree.shadow_mrays_s), v($y.specmip.nodes_closest),
      v($y.specmip.tris_closest), $y.reference.closest_differ + $y.reference.shadow_differ,
-     (if $y.embree == null then "-" else $y.embree.closest_differ + $y.embree.shadow_differ end)]
+     (if $y.embree == null then "-" else $y.embree.closest_differ + $y.embree.shadow_differ end),
+     (if $compiled == "true" then 1 elif $compiled == "false" then 0 else "-" end)]
     | map(tostring) | join(",")' "$tmp/r.json" "$tmp/y.json" >> "$part"
-  tail -1 "$part" | awk -F, '{ printf "%-16s %9d %8.3f %8.3f %8s %9.3f %8.0f %8.3f %8.3f %8s %8s\n",
-    $1, $2, $3, $4, $5 == "-" ? "-" : sprintf("%.2f", $5), $8, $9, $12, $13,
+  tail -1 "$part" | awk -F, '{ printf "%-16s %9d %8.3f %8.3f %8s %9.3f%1s %8.0f %8.3f %8.3f %8s %8s\n",
+    $1, $2, $3, $4, $5 == "-" ? "-" : sprintf("%.2f", $5), $8, $22 == 1 ? "!" : "", $9, $12, $13,
     $16 == "-" ? "-" : sprintf("%.3f", $16), $17 == "-" ? "-" : sprintf("%.3f", $17) }'
 }
 

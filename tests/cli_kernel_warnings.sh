@@ -1,28 +1,47 @@
 # The kernels compile without a single warning for an x86-64 CPU without
 # AVX-512: PoCL prints the compiler's "N warnings generated." on the terminal
 # of whoever builds them first. Compiled with the clang PoCL itself uses
-# (Debian's libpocl2 depends on clang-15), for x86-64-v3 (AVX2, no AVX-512),
-# with every shade kernel and the vector counts ml and mlc give them.
+# (Debian's libpocl2 depends on clang-15), for x86-64-v3 (AVX2, no AVX-512).
+# What is compiled is every program the host builds, as it builds it: the
+# list comes from the host's own lists (tests/kernel_variants.c: the render's
+# program in every mode with every slot, without and with each spectral
+# output, at the vector counts of every bundled scene; the ray replay's two
+# builds, kernels/rays.cl; the operator benchmark's), each program's files
+# joined into one source as clCreateProgramWithSource joins them.
 source "$(dirname "$0")/lib_cli.sh"
 CLANG=$(command -v clang-15 || command -v clang) || { echo "FAIL: no clang-15" >&2; exit 1; }
-compile() {  # compile FILE DEFINES...: 0 when clang accepts it with no diagnostic at all
-    local file=$1; shift
+VARIANTS=${KERNEL_VARIANTS:-$PWD/kernel_variants}
+[ -x "$VARIANTS" ] || { echo "FAIL: no kernel_variants at $VARIANTS (built with the tests)" >&2; exit 1; }
+compile() {  # compile "FILES" OPTIONS...: 0 when clang accepts the program with no diagnostic at all
+    local files=$1 f; shift
+    : > "$T/prog.cl"
+    for f in $files; do cat "$ROOT/$f" >> "$T/prog.cl" || return 1; done
+    # shellcheck disable=SC2068
     "$CLANG" -x cl -cl-std=CL1.2 -Xclang -finclude-default-header -target x86_64-unknown-linux-gnu \
         -march=x86-64-v3 -O2 -S -emit-llvm -o /dev/null -I "$ROOT/include" -I "$ROOT/kernels" \
-        -DSPM_BVH_STACK=64 -DSPM_DEVICE_INDEX=0 "$@" "$ROOT/kernels/$file" 2>"$T/log"
+        -DSPM_BVH_STACK=64 $@ "$T/prog.cl" 2>"$T/log"
     local rc=$?
     if [ $rc -ne 0 ] || [ -s "$T/log" ]; then
-        echo "--- $file $*:" >&2
+        echo "--- $files $*:" >&2
         head -20 "$T/log" >&2
         return 1
     fi
 }
-all_shade="-DSPM_SHADE_RGB -DSPM_SHADE_HERO"
-check "trace.cl" compile trace.cl
-# shellcheck disable=SC2086
-check "shade.cl, ml widths" compile shade.cl -DSPM_SHADE_L0_NV=25 -DSPM_SHADE_L1_NV=5 \
-    -DSPM_SHADE_L2_NV=5 -DSPM_SHADE_L3_NV=5 -DSPM_SHADE_L4_NV=5 $all_shade
-check "shade.cl, mlc widths" compile shade.cl -DSPM_SHADE_L0_NV=26 -DSPM_SHADE_L1_NV=6 \
-    -DSPM_SHADE_L2_NV=7 -DSPM_SHADE_L3_NV=9 -DSPM_SHADE_L4_NV=13
-check "opbench.cl" compile opbench.cl
+"$VARIANTS" "$DATA"/scenes/*.scene > "$T/variants" 2> "$T/variants.err"
+rc=$?
+check "kernel_variants lists the programs (exit $rc: $(head -1 "$T/variants.err"))" test $rc -eq 0
+sort -u "$T/variants" > "$T/programs"
+# what the list must hold, so that an empty or partial one cannot pass
+check "the list has the render's program" grep -q "^kernels/trace.cl kernels/shade.cl	" "$T/programs"
+check "the list has spectral output builds" grep -q "	.*-DSPM_SPEC_BINS=" "$T/programs"
+check "the list has the ray replay's builds" test "$(grep -c "^kernels/rays.cl	" "$T/programs")" -eq 2
+check "the list has a program for every mode's kernel" test "$(grep -c "^kernels/trace.cl" "$T/programs")" -ge \
+    "$("$BIN" modes | wc -l)"
+n=0
+while IFS=$'\t' read -r files opts; do
+    n=$((n + 1))
+    # shellcheck disable=SC2086
+    check "$files $opts" compile "$files" $opts
+done < "$T/programs"
+echo "compiled $n programs" >&2
 finish

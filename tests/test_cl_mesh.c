@@ -13,10 +13,15 @@
 #define MIN_TRIS 100000
 /* Kernel and reference differ as cl_test_path_differs (cl_testlib.h) allows:
  * a weight by far less than 1e-4 relative, a discrete decision only for a ray
- * within ulps of an edge. With 100k small triangles edges are much denser
- * than in the Cornell box, so the ceiling on diverging paths is 1 in 100 (the
- * count is printed); a real transport mismatch diverges on most paths. */
-#define MAX_DIVERGENT_FRACTION 1e-2
+ * within ulps of an edge. Here the mesh's 120k triangles put edges ~0.015
+ * apart, and a bounce direction a few ulps off moves a hit by ~1e-6: a path
+ * can flip only when its record already differs in some bit (measured: 13 of
+ * these 4096; 0.3% over 8 other seeds at 16 spp) and such a ray lands within
+ * 1e-6 of an edge, about 1e-4 of them. Measured: 0 diverged paths here and
+ * in 131072 paths of 8 other seeds, so the expected count at this size is
+ * below 0.1 and 2 paths (5e-4) is the ceiling; a real transport mismatch
+ * diverges on most paths. */
+#define MAX_DIVERGENT_PATHS 2
 
 static uint64_t records_hash(const spm_path *p, size_t n)
 {
@@ -86,7 +91,7 @@ int main(void)
     }
     printf("%zu paths: %zu identical, %zu diverged; %zu first hit the mesh\n", n, exact, diverged,
            hit_mesh);
-    CHECK(diverged <= MAX_DIVERGENT_FRACTION * n, "%zu of %zu paths diverge", diverged, n);
+    CHECK(diverged <= MAX_DIVERGENT_PATHS, "%zu of %zu paths diverge", diverged, n);
     CHECK(hit_mesh > n / 10, "the mesh is in view (%zu paths)", hit_mesh);
     free(gp);
     free(gp2);

@@ -1,12 +1,14 @@
 #include "bench_csv.h"
 #include <errno.h>
 #include <string.h>
+#include "interrupt.h"
 
 #define DE_COLS(p) p "_mean," p "_p99," p "_max"
 const char spm_bench_csv_header[] =
     "scene,kind,mode,threshold,spp,width,height,seed,wall_s,time_vs_ref,kernel_s,trace_s,"
     "shade_s,paths,paths_per_s,l0_paths,l1_paths,l2_paths,l3_paths,l4_paths,truncated," DE_COLS("bias_ref")
-    "," DE_COLS("bias_truth") "," DE_COLS("err") "," DE_COLS("noise") ",conv_floor_mean,truth_spp,budget,budget_s,conv_floor_p99";
+    "," DE_COLS("bias_truth") "," DE_COLS("err") "," DE_COLS("noise") ",conv_floor_mean,truth_spp,budget,budget_s,conv_floor_p99,"
+    "compiled_during_timing,s_per_spp";
 
 int spm_bench_csv_open(spm_bench_csv *c, const char *dir, spm_error *err)
 {
@@ -52,13 +54,14 @@ int spm_bench_csv_write(spm_bench_csv *c, const spm_bench_row *r, spm_error *err
         fprintf(f, ",,,");
     else
         de(f, &r->noise);
-    fprintf(f, ",%.5f,%d,%g,%.6f,%.5f\n", r->conv_floor, r->truth_spp, r->budget, r->budget_s,
-            r->conv_floor_p99);
+    fprintf(f, ",%.5f,%d,%g,%.9g,%.5f,%d,%.9g\n", r->conv_floor, r->truth_spp, r->budget,
+            r->budget_s, r->conv_floor_p99, r->compiled, r->s_per_spp);
     if (fflush(f) || ferror(f)) {
         spm_errorf(err, "%s: write failed: %s", c->part, strerror(errno));
         return 1;
     }
     c->rows++;
+    spm_test_pause("row");
     return 0;
 }
 

@@ -29,7 +29,12 @@ typedef struct {
     int truth_spp;         /* spp of the converged truth */
     double budget;         /* equal rows: the budget as a multiple of ref's time at the base spp */
     double budget_s;       /* equal rows: that budget in seconds (from the calibration) */
+    double s_per_spp;      /* equal rows: the mode's calibrated seconds per sample, from which
+                              spp = budget_s / s_per_spp, rounded (at least 1) */
     double conv_floor_p99; /* p99 ΔE00 of the two converged truths */
+    int compiled;          /* 1: PoCL compiled during the timed run kept in wall_s (its time
+                              includes a compile), 0: it did not, -1: not watched (the CPU
+                              backend, or no PoCL cache: pocl_cache.h) */
 } spm_bench_row;
 
 typedef struct {

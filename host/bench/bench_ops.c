@@ -110,12 +110,14 @@ static int write_csv(const char *dir, double ns[NLAYOUTS][NOPS], spm_error *err)
     return 0;
 }
 
+const char spm_ops_program_file[] = "kernels/opbench.cl";
+
 int spm_bench_ops(int device, int items, int iters, const char *dir, spm_error *err)
 {
     spm_cl_ctx c;
     if (spm_cl_ctx_create(device, &c, err))
         return SPM_EXIT_RUNTIME;
-    const char *files[] = {"kernels/opbench.cl"};
+    const char *files[] = {spm_ops_program_file};
     cl_program prog = NULL;
     cl_mem buf = NULL;
     int rc = spm_cl_build(&c, files, 1, "", &prog, err) ? SPM_EXIT_RUNTIME : 0;

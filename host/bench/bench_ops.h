@@ -7,5 +7,7 @@
 #include "util.h"
 
 /* 0, or an exit code with err filled. */
+/* Its program (built without options). */
+extern const char spm_ops_program_file[];
 int spm_bench_ops(int device, int items, int iters, const char *dir, spm_error *err);
 #endif

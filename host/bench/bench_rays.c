@@ -277,6 +277,9 @@ static int count_costs(spm_cl_ctx *c, cl_program prog, rays_args *a, const spm_r
     return rc;
 }
 
+const char spm_rays_program_file[] = "kernels/rays.cl";
+const char *const spm_rays_program_defines[2] = {"", "-DSPM_RAYS_STATS"};
+
 int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, int repeat,
                        int stats, int *hits, spm_rays_timing *tm, char *devname, size_t devlen,
                        void (*each)(void *ctx, int run), void *ctx, spm_error *err)
@@ -287,13 +290,13 @@ int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, 
     if (spm_cl_ctx_create(device, &c, err))
         return 1;
     snprintf(devname, devlen, "%s", c.dev.name);
-    const char *files[] = {"kernels/rays.cl"};
+    const char *files[] = {spm_rays_program_file};
     cl_program prog = NULL, sprog = NULL;
     cl_kernel k = NULL;
     rays_args a;
     memset(&a, 0, sizeof a);
-    int bad = spm_cl_build(&c, files, 1, "", &prog, err) ||
-              (stats && spm_cl_build(&c, files, 1, "-DSPM_RAYS_STATS", &sprog, err));
+    int bad = spm_cl_build(&c, files, 1, spm_rays_program_defines[0], &prog, err) ||
+              (stats && spm_cl_build(&c, files, 1, spm_rays_program_defines[1], &sprog, err));
     a.tris = buffer(&c, CL_MEM_READ_ONLY, (size_t)g->ntris * sizeof *g->tris, g->tris, err, &bad);
     a.nodes = buffer(&c, CL_MEM_READ_ONLY, (size_t)g->nnodes * sizeof *g->nodes, g->nodes, err,
                      &bad);

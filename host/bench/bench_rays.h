@@ -39,6 +39,10 @@ spm_u32 spm_rays_geometry_hash(const spm_geometry *g);
 int spm_rays_save(const char *path, const spm_geometry *g, const spm_rayset *rs, spm_error *err);
 int spm_rays_load(const char *path, const spm_geometry *g, spm_rayset *rs, spm_error *err);
 
+/* The replay's program: this file, built with each of these options (the
+ * timed build, and the counting one of --rays-stats). */
+extern const char spm_rays_program_file[];
+extern const char *const spm_rays_program_defines[2];
 /* Replays through kernels/rays.cl on OpenCL device `device`: the fastest of
  * `repeat` timed launches per ray kind, after a warm-up; with stats, one more
  * run of the counting build for nodes and triangle tests. hits[n] receives

@@ -9,6 +9,7 @@
 #include "film_spectral.h"
 #include "output.h"
 #include "render_meta.h"
+#include "pocl_cache.h"
 #include "render_setup.h"
 #include "render_stats.h"
 #include "scene_build.h"
@@ -313,9 +314,20 @@ int spm_cmd_render(int argc, char **argv)
     }
     spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), &spm_stop_flag, progress};
     spm_run_result res;
+    spm_pocl_cache cache0 = spm_pocl_cache_now();
     double t0 = spm_now();
     rc = spm_mpi_render_run(&mpi, &s, npix, &ro, &film, &res, &err);
     s.times.render_s = spm_now() - t0;
+    spm_pocl_cache cache1 = spm_pocl_cache_now();
+    /* the CPU reference compiles nothing: a cache that grew meanwhile is another process's */
+    s.times.compiled_in_render = cfg.use_cpu ? -1 : spm_pocl_cache_grew(&cache0, &cache1);
+    if (s.times.compiled_in_render == 1) {
+        char dir[4096];
+        fprintf(stderr, "specmip render: WARNING: PoCL's kernel cache %s gained %lld files "
+                        "during the render: kernels were compiled (by this render, unless another "
+                        "process shares the cache), and the render time may include that\n",
+                spm_pocl_cache_dir(dir, sizeof dir), cache1.files - (cache0.files > 0 ? cache0.files : 0));
+    }
     int torn_down = res.interrupted; /* mpirun is ending every rank */
     if (!rc && res.interrupted && spm_mpi_check_signalled(&mpi, &err)) {
         /* a rank died: what the others did is not what was asked for */

@@ -56,6 +56,17 @@ void spm_cl_set_batch_paths(spm_cl_renderer *r, size_t paths);
 /* Paths the per-batch device buffers have room for now (0 before a pass). */
 size_t spm_cl_batch_capacity(const spm_cl_renderer *r);
 
+/* The program a handle builds for a plan: these source files (relative to the
+ * data root) with spm_cl_program_defines' options: each used slot's shade
+ * kernel define (modes.h spm_mode_kernel), the spectral output's bins and
+ * record size, the device's index. kname (NULL: not wanted) receives the
+ * used slots' kernel names. tests/kernel_variants.c lists the programs from
+ * these for the warnings test. */
+#define SPM_CL_PROGRAM_NFILES 2
+extern const char *const spm_cl_program_files[SPM_CL_PROGRAM_NFILES];
+void spm_cl_program_defines(const spm_render_plan *plan, int device_index, char *defs, size_t size,
+                            char (*kname)[64]);
+
 /* Failure injection for multi-device tests: SPECMIP_CL_FAIL="DEV:PASS" makes
  * device DEV's pass number PASS (0-based, counted per handle) fail with an
  * error as an enqueue failure would. */

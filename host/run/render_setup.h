@@ -35,6 +35,8 @@ typedef struct {
     double kernels_s; /* opening the devices: buffers and kernel builds */
     double render_s;  /* the render loop */
     double output_s;  /* writing the images */
+    int compiled_in_render; /* PoCL compiled during the render loop (pocl_cache.h): 1, 0,
+                               -1 not watched (the CPU backend, or no PoCL cache) */
 } spm_stage_times;
 
 typedef struct {

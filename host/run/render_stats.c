@@ -84,6 +84,8 @@ void spm_render_stats_text(FILE *f, const spm_render_config *c, const spm_render
                "   render %.3f s   output %.3f s   total %.3f s\n",
             st->load_s, st->bvh_s, st->tables_s, st->kernels_s, st->render_s, st->output_s,
             stages_total(st));
+    fprintf(f, ", \"compiled_during_timing\": %s",
+            st->compiled_in_render < 0 ? "null" : st->compiled_in_render ? "true" : "false");
     const spm_geometry *g = &s->geom;
     fprintf(f, "bvh          %d triangles   %d nodes   %d leaves   SAH cost %.3f   %d threads\n",
             g->ntris, g->nnodes, g->bvh.leaves, g->bvh.sah_cost, g->bvh.threads);
@@ -137,6 +139,8 @@ void spm_render_stats_json(FILE *f, const spm_render_config *c, const spm_render
                "\"total_s\": %.6f}",
             st->load_s, st->bvh_s, st->tables_s, st->kernels_s, st->render_s, st->output_s,
             stages_total(st));
+    fprintf(f, ", \"compiled_during_timing\": %s",
+            st->compiled_in_render < 0 ? "null" : st->compiled_in_render ? "true" : "false");
     const spm_geometry *g = &s->geom;
     fprintf(f, ", \"bvh\": {\"triangles\": %d, \"nodes\": %d, \"leaves\": %d, "
                "\"sah_cost\": %.6f, \"threads\": %d}",
