@@ -37,15 +37,23 @@ fi
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
 cmake --build build -j"$(nproc)"
 
-# The suite's Python environment, beside the build: colour-science reads the
-# spectral EXR files back (tests/cli_render_spectral_colour.sh) through
-# OpenImageIO's Python module. Both from PyPI (Debian 12 packages neither
-# colour-science nor a numpy it supports), pinned, in a venv of Debian's
-# Python so that the system stays as it is.
+# The suite's Python environment, beside the build: colour-science and
+# OpenImageIO's Python module from PyPI (Debian 12 packages neither
+# colour-science nor a numpy it supports), each wheel pinned by its SHA-256
+# in tests/python-requirements.txt, in a venv of Debian's Python so that the
+# system stays as it is. Where PyPI's certificate cannot be verified (a
+# network that re-signs TLS with a CA this system lacks) pip is asked again
+# without the certificate check: the pinned hashes still admit only those
+# files.
 venv=build/pyenv
+req=tests/python-requirements.txt
 if ! "$venv/bin/python" -c "import colour, OpenImageIO" 2>/dev/null; then
   echo "setup: installing colour-science and OpenImageIO (PyPI) into $venv" >&2
   rm -rf "$venv"
   /usr/bin/python3 -m venv "$venv"
-  "$venv/bin/pip" install -q --disable-pip-version-check colour-science==0.4.7 OpenImageIO==3.0.10.1
+  pipi=("$venv/bin/pip" install -q --disable-pip-version-check --require-hashes --only-binary=:all: -r "$req")
+  if ! PIP_FIND_LINKS= "${pipi[@]}" --retries 1 2>/dev/null; then
+    echo "setup: PyPI's certificate not verified here; installing by the pinned SHA-256 alone" >&2
+    PIP_FIND_LINKS= "${pipi[@]}" --trusted-host pypi.org --trusted-host files.pythonhosted.org
+  fi
 fi
