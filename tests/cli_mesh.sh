@@ -11,6 +11,7 @@ avg() {  # avg IMAGE WxH+X+Y: mean of the region's first channel
     oiiotool "$1" --cut "$2" --printstats | awk '/Stats Avg/ { print $3 }'
 }
 above() { num "$1" '>' "$2"; }
+not_said() { ! grep -q "$1" "$T/err"; }
 
 # 1. The quad faces the camera (-z): the centre sees its emission and the floor
 #    in front of it is lit. Turned round, the camera sees its black back and the
@@ -79,6 +80,36 @@ refused axis "mesh cube.obj rotate 0 0 0 10" "the rotation axis must be a non-ze
 refused strips "mesh cube_strips.ply material floor" "triangle strips"
 refused twice "mesh cube.obj scale 2 scale 3" "expected 'material', 'bind'"
 SPECMIP_TEST_MESH_CHILD=crash refused crash "mesh cube.obj" "cube.obj: the importer crashed"
+
+# An OBJ whose MTL file is missing: a warning naming it, and its materials are
+# no materials (Assimp would make them its default grey): without a clause the
+# load fails as for a mesh without materials, with one it renders. An OBJ whose
+# MTL is there gets no such warning. Features ignored (here vertex normals, in
+# two meshes) are said once per run.
+sed 's/^mtllib cube.mtl/mtllib cube_missing.mtl/' "$T/cube.obj" > "$T/nomtl.obj"
+check "OBJ without its MTL made" grep -q '^mtllib cube_missing.mtl' "$T/nomtl.obj"
+refused nomtl "mesh nomtl.obj" "nomtl.obj has triangles without a material"
+check "missing MTL: named in a warning" \
+    grep -q "warning: .*nomtl.obj: MTL file 'cube_missing.mtl' not found beside it; without it these have no material: 'red', 'white'" "$T/err"
+cp "$T/quad.scene" "$T/nomtl.scene"
+echo "mesh nomtl.obj material floor translate 0 0 5" >> "$T/nomtl.scene"
+"$BIN" render "$T/nomtl.scene" "${R[@]}" --spp 1 -o "$T/nomtl.exr" 2> "$T/err"
+check "missing MTL, 'material': renders" test $? -eq 0
+check "missing MTL, 'material': still warned" grep -q "MTL file 'cube_missing.mtl' not found" "$T/err"
+cp "$T/quad.scene" "$T/mtl.scene"
+echo "mesh cube.obj translate 0 0 5" >> "$T/mtl.scene"
+"$BIN" render "$T/mtl.scene" "${R[@]}" --spp 1 -o "$T/mtl.exr" 2> "$T/err"
+check "MTL present: renders" test $? -eq 0
+check "MTL present: no MTL warning" not_said "MTL file"
+awk 'NR == 1 { print "vn 0 0 1" } /^f / { printf "f"; for (i = 2; i <= NF; i++) printf " %s//1", $i; print ""; next }
+     { print }' "$T/cube.obj" > "$T/normals.obj"
+check "OBJ with vertex normals made" grep -q '^vn ' "$T/normals.obj"
+cp "$T/quad.scene" "$T/normals.scene"
+printf 'mesh normals.obj translate 0 0 5\nmesh normals.obj translate 2 0 5\n' >> "$T/normals.scene"
+"$BIN" render "$T/normals.scene" "${R[@]}" --spp 1 -o "$T/normals.exr" 2> "$T/err"
+check "two meshes with normals: renders" test $? -eq 0
+check "vertex normals ignored: said once ($(grep -c 'vertex normals ignored' "$T/err") times)" \
+    test "$(grep -c 'vertex normals ignored' "$T/err")" -eq 1
 
 # 4. Ctrl-C while the importer runs (a child that never answers; the parent
 #    held at the "mesh" test pause): exit 130 within a few seconds, nothing

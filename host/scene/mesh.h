@@ -68,6 +68,12 @@ typedef struct {
  * said); a crash or a limit hit in the child is an error; a stop request
  * (Ctrl-C) kills the child and fails with "interrupted". */
 int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err);
+
+/* For an OBJ (by its extension): a warning naming each `mtllib` file that is
+ * not beside it, and every material that no MTL file found defines loses its
+ * name, so the rule for a mesh without materials applies to those triangles
+ * (mesh_obj_mtl.c). `where` is the statement's file:line. */
+void spm_mesh_obj_mtl_check(const char *obj, const char *where, spm_mesh_data *d);
 void spm_mesh_free(spm_mesh_data *d);
 
 /* The child's answer on the pipe, decoded and checked (the parent does not

@@ -186,10 +186,13 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
         spm_warnf("%s: %s: %llu degenerate triangle%s skipped (zero area: vertices that "
                   "coincide or lie on one line)", where, file, (unsigned long long)skipped,
                   skipped == 1 ? "" : "s");
+    /* once per run and feature: nearly every model has vertex normals */
+    static uint32_t said;
     for (int bit = 0; bit < SPM_MESH_IGN_COUNT; bit++)
-        if (d->ignored & (1u << bit))
-            spm_warnf("%s: %s: %s ignored (shading is flat and diffuse)", where, file,
-                      spm_mesh_ignored_name(bit));
+        if (d->ignored & ~said & (1u << bit))
+            spm_warnf("%s: %s: %s ignored (shading is flat and diffuse; said once per run)",
+                      where, file, spm_mesh_ignored_name(bit));
+    said |= d->ignored;
     if (!spm_quiet_warnings)
         fprintf(stderr, "specmip: %s: %s: %llu triangles, bounding box (%g %g %g) to (%g %g %g)\n",
                 where, file, (unsigned long long)kept, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);

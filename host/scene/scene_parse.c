@@ -559,8 +559,10 @@ static int stmt_mesh(parser *p)
             spm_error inner = *p->err;
             spm_errorf(p->err, "%s: mesh %.900s", where, inner.msg);
         }
-        if (!rc)
+        if (!rc) {
+            spm_mesh_obj_mtl_check(path, where, &d);
             rc = spm_mesh_add(&p->b, &p->meshes, &d, &o, path, where, p->err);
+        }
         spm_mesh_free(&d);
     }
     free(binds);

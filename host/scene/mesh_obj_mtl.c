@@ -1,0 +1,98 @@
+/* An OBJ whose MTL files are missing: Assimp 5.2 then makes each `usemtl`
+ * name a material of its own default grey and says nothing, so a missing
+ * file would render as a grey model. Here the `mtllib` lines are read, each
+ * file looked for beside the OBJ, and a material that no MTL found defines
+ * loses its name: the rule of a mesh without materials applies to it (a
+ * `material` clause or a `bind` gives it one, else the load fails). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include "mesh.h"
+#include "util.h"
+
+#define MAX_LIBS 16
+
+/* The `newmtl` names of an existing MTL file, appended to *names (one per
+ * line); 0 if the file cannot be opened. */
+static int mtl_names(const char *path, char **names, size_t *len, size_t *cap)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return 0;
+    char line[512];
+    while (fgets(line, sizeof line, f)) {
+        char name[SPM_NAME_MAX];
+        if (sscanf(line, " newmtl %63s", name) == 1) {
+            size_t n = strlen(name);
+            if (*len + n + 2 > *cap) {
+                *cap = (*cap + n + 2) * 2;
+                *names = spm_xrealloc(*names, *cap);
+            }
+            memcpy(*names + *len, name, n);
+            (*names)[*len + n] = '\n';
+            *len += n + 1;
+            (*names)[*len] = '\0';
+        }
+    }
+    fclose(f);
+    return 1;
+}
+
+static int listed(const char *names, const char *name)
+{
+    size_t n = strlen(name);
+    for (const char *p = names; p && *p;) {
+        const char *e = strchr(p, '\n');
+        if ((size_t)(e - p) == n && !memcmp(p, name, n))
+            return 1;
+        p = e + 1;
+    }
+    return 0;
+}
+
+void spm_mesh_obj_mtl_check(const char *obj, const char *where, spm_mesh_data *d)
+{
+    size_t olen = strlen(obj);
+    if (olen < 4 || strcasecmp(obj + olen - 4, ".obj"))
+        return;
+    FILE *f = fopen(obj, "r");
+    if (!f)
+        return;
+    const char *slash = strrchr(obj, '/');
+    int dirlen = slash ? (int)(slash - obj + 1) : 0;
+    char *names = NULL, missing[512] = "";
+    size_t len = 0, cap = 0, nmiss = 0;
+    int nlibs = 0;
+    char line[1024];
+    while (fgets(line, sizeof line, f) && nlibs < MAX_LIBS) {
+        if (strncmp(line, "mtllib", 6) || (line[6] != ' ' && line[6] != '\t'))
+            continue;
+        for (char *tok = strtok(line + 6, " \t\r\n"); tok && nlibs < MAX_LIBS;
+             tok = strtok(NULL, " \t\r\n"), nlibs++) {
+            char path[4096];
+            snprintf(path, sizeof path, "%.*s%s", dirlen, obj, tok);
+            if (!mtl_names(path, &names, &len, &cap) && nmiss < sizeof missing - 80) {
+                snprintf(missing + nmiss, sizeof missing - nmiss, "%s'%s'", nmiss ? ", " : "", tok);
+                nmiss = strlen(missing);
+            }
+        }
+    }
+    fclose(f);
+    if (missing[0]) {
+        char lost[400] = "";
+        size_t n = 0;
+        for (uint32_t i = 0; i < d->nmats; i++)
+            if (d->mats[i].name[0] && !listed(names, d->mats[i].name)) {
+                if (n < sizeof lost - 80) {
+                    snprintf(lost + n, sizeof lost - n, "%s'%s'", n ? ", " : "", d->mats[i].name);
+                    n = strlen(lost);
+                }
+                d->mats[i].name[0] = '\0';
+            }
+        spm_warnf("%s: %s: MTL file %s not found beside it; %s%s", where, obj, missing,
+                  n ? "without it these have no material: " : "no material depends on it",
+                  n ? lost : "");
+    }
+    free(names);
+}
