@@ -131,7 +131,7 @@ fi
 
 # 8. help agrees with what is accepted
 "$BIN" render --help > "$T/help"
-for ext in .exr .tif .png .ppm; do
+for ext in .exr .tif .hdr .png .ppm .jpg; do
   grep -q -- "$ext" "$T/help" && "$BIN" "${R[@]}" --spp 1 -o "$T/h$ext" && [ -s "$T/h$ext" ] && ok \
     || bad "output $ext: in help and written"
 done

@@ -19,7 +19,8 @@ static const struct {
     out_kind kind;
 } formats[] = {
     {".exr", OUT_FLOAT}, {".tif", OUT_FLOAT}, {".tiff", OUT_FLOAT},
-    {".png", OUT_DISPLAY}, {".ppm", OUT_DISPLAY},
+    {".hdr", OUT_FLOAT}, /* Radiance RGBE: no negative values */
+    {".png", OUT_DISPLAY}, {".ppm", OUT_DISPLAY}, {".jpg", OUT_DISPLAY}, {".jpeg", OUT_DISPLAY},
 };
 
 static out_kind kind_of(const char *path)
@@ -38,7 +39,12 @@ int spm_output_check(const char *path, spm_error *err)
     const char *slash = strrchr(path, '/');
     const char *base = slash ? slash + 1 : path;
     if (kind_of(path) == OUT_UNKNOWN) {
-        spm_errorf(err, "%s: unknown output format (use .exr, .tif, .png or .ppm)", path);
+        char list[128] = "";
+        size_t n = 0, nf = sizeof formats / sizeof formats[0];
+        for (size_t i = 0; i < nf; i++)
+            n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", i ? (i + 1 < nf ? ", " : " or ") : "",
+                                  formats[i].ext);
+        spm_errorf(err, "%s: unknown output format (use %s)", path, list);
         return 1;
     }
     if (strrchr(base, '.') == base) {
