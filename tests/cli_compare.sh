@@ -21,8 +21,9 @@ check "identical images: all pixels in bucket <1" test "$(jq '.buckets[0]' "$T/s
 
 # The greys' chromaticity (sRGB matrix white) and colour.h's D65 differ in the 4th
 # digit; that adds < 1e-4 to these differences, so 1e-3 is a safe tolerance.
-"$BIN" compare "$T/a.exr" "$T/b.exr" --json > "$T/shift.json"
+"$BIN" compare "$T/a.exr" "$T/b.exr" --json > "$T/shift.json" 2> "$T/shift.err"
 check "L* shift: exit 0" test $? -eq 0
+check "two linear images: no warning" test ! -s "$T/shift.err"
 check "L* shift: dEab_mean 10" near "$(jnum "$T/shift.json" .dEab_mean)" 10 1e-3
 check "L* shift: dEab_p99 10" near "$(jnum "$T/shift.json" .dEab_p99)" 10 1e-3
 check "L* shift: mean dE00 = 10/S_L" near "$(jnum "$T/shift.json" .mean)" "$de00" 1e-3
@@ -34,8 +35,10 @@ check "--white-y: exit 0" test $? -eq 0
 check "--white-y is used" near "$(jnum "$T/white.json" .white_y)" 2 1e-9
 
 # An 8-bit image holds sRGB codes: 255 decodes to linear 1, equal to a.exr.
-"$BIN" compare "$T/a.exr" "$T/c.png" --json > "$T/png.json"
+"$BIN" compare "$T/a.exr" "$T/c.png" --json > "$T/png.json" 2> "$T/png.err"
 check "8-bit PNG: exit 0" test $? -eq 0
+check "linear against 8-bit codes: warned as unlike encodings" \
+    grep -q "warning: .*a.exr is linear light and .*c.png display-encoded" "$T/png.err"
 check "8-bit white equals linear 1" near "$(jnum "$T/png.json" .max)" 0 1e-4
 
 "$BIN" compare "$T/a.exr" "$T/b.exr" > "$T/table.txt"

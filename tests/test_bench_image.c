@@ -42,14 +42,14 @@ int main(void)
     CHECK(st.mean == 0.0 && st.max == 0.0, "identical images: mean %g max %g", st.mean, st.max);
     CHECK(memcmp(keep, a.rgb, bytes) == 0, "the reference image was changed");
 
-    spm_image b = {W, H, malloc(bytes)};
+    spm_image b = {W, H, malloc(bytes), 0};
     for (int i = 0; i < 3 * W * H; i++)
         b.rgb[i] = 0.5f * a.rgb[i];
     CHECK(spm_bench_delta_e(&a, &b, 3, &st, &err) == 0, "%s", err.msg);
     CHECK(st.mean > 1.0, "half the light must be a visible difference, got %g", st.mean);
     CHECK(memcmp(keep, a.rgb, bytes) == 0, "the reference image was changed");
 
-    spm_image small = {W - 1, H, b.rgb};
+    spm_image small = {W - 1, H, b.rgb, 0};
     CHECK(spm_bench_delta_e(&a, &small, 3, &st, &err) != 0, "different sizes accepted");
 
     free(keep);

@@ -10,7 +10,7 @@
 
 static spm_image make(int w, int h)
 {
-    spm_image img = {w, h, calloc((size_t)w * h * 3, sizeof(float))};
+    spm_image img = {w, h, calloc((size_t)w * h * 3, sizeof(float)), 0};
     return img;
 }
 

@@ -23,7 +23,7 @@ void spm_bench_film_image(const spm_film *film, spm_image *out)
 static spm_image copy_image(const spm_image *a)
 {
     size_t bytes = 3 * (size_t)a->width * (size_t)a->height * sizeof *a->rgb;
-    spm_image c = {a->width, a->height, spm_xmalloc(bytes)};
+    spm_image c = {a->width, a->height, spm_xmalloc(bytes), a->encoded};
     memcpy(c.rgb, a->rgb, bytes);
     return c;
 }

@@ -147,7 +147,7 @@ int spm_cmd_compare(int argc, char **argv)
         fprintf(stderr, "specmip compare: %s\n", err.msg);
         return SPM_EXIT_INPUT;
     }
-    spm_image img[2] = {{0, 0, NULL}, {0, 0, NULL}};
+    spm_image img[2] = {{0, 0, NULL, 0}, {0, 0, NULL, 0}};
     spm_compare_result res = {0};
     int rc = SPM_EXIT_OK;
     for (int k = 0; k < 2 && rc == SPM_EXIT_OK; k++)
@@ -160,6 +160,13 @@ int spm_cmd_compare(int argc, char **argv)
     } else {
         if (res.nonfinite)
             spm_warnf("%lld NaN/Inf values in the images were replaced by 0", res.nonfinite);
+        if (img[0].encoded != img[1].encoded) {
+            int e = img[1].encoded;
+            spm_warnf("%s is linear light and %s display-encoded integer codes (decoded as sRGB): "
+                      "a render's linear image against a tone-mapped one differs by the tone "
+                      "mapping too; compare like with like (two .exr, or two .png)",
+                      files[e ? 0 : 1], files[e ? 1 : 0]);
+        }
         if (json)
             print_json(files[0], files[1], &opts, &res);
         else

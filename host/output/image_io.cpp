@@ -64,6 +64,7 @@ extern "C" int spm_image_read(const char *path, spm_image *img, spm_error *err)
     img->width = spec.width;
     img->height = spec.height;
     img->rgb = rgb;
+    img->encoded = encoded;
     return 0;
 }
 

@@ -11,6 +11,7 @@ extern "C" {
 typedef struct {
     int width, height;
     float *rgb;
+    int encoded;                /* read from display-encoded integer codes (decoded to linear) */
 } spm_image;
 
 typedef enum { SPM_PIXEL_FLOAT = 0, SPM_PIXEL_UINT8 = 1 } spm_pixel_type;
