@@ -19,6 +19,7 @@ compile() {  # compile FILE DEFINES...: 0 when clang accepts it with no diagnost
 }
 all_shade="-DSPM_SHADE_RGB -DSPM_SHADE_HERO"
 check "trace.cl" compile trace.cl
+check "trace.cl, every type" compile trace.cl -DSPM_WITH_LAMBERT -DSPM_WITH_AREA
 # shellcheck disable=SC2086
 check "shade.cl, ml widths" compile shade.cl -DSPM_SHADE_L0_NV=25 -DSPM_SHADE_L1_NV=5 \
     -DSPM_SHADE_L2_NV=5 -DSPM_SHADE_L3_NV=5 -DSPM_SHADE_L4_NV=5 $all_shade

@@ -1,6 +1,8 @@
 /* The OpenCL backend's program (cl_renderer.h): the trace, accumulate and
  * shade kernels, the last compiled only for the slots the plan uses, each
- * with the define its mode's descriptor gives (modes.h). */
+ * with the define its mode's descriptor gives (modes.h), and the code of the
+ * material and emitter types the scene uses (materials.h, the plan's
+ * type_defines). */
 #include "cl_renderer.h"
 
 int spm_clr_build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *err)
@@ -15,6 +17,7 @@ int spm_clr_build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *er
                             sizeof define);
             n += snprintf(defs + n, sizeof defs - (size_t)n, "-D%s ", define);
         }
+    n += snprintf(defs + n, sizeof defs - (size_t)n, "%s", plan->type_defines);
     if (plan->nspec)
         n += snprintf(defs + n, sizeof defs - (size_t)n, "-DSPM_SPEC_BINS=%d -DSPM_PATH_CH=%d ",
                       plan->nspec, plan->pix_ch);

@@ -7,6 +7,7 @@
 #include "colour.h"
 #include "csv.h"
 #include "interrupt.h"
+#include "materials.h"
 #include "mlc_tables.h"
 
 static void fill_levels(const spm_spectrum *s, int c, spm_tables *t)
@@ -114,15 +115,8 @@ void spm_tables_fill_hero(spm_tables *t)
 
 static void fill_materials(const spm_scene *sc, spm_tables *t)
 {
-    for (int m = 0; m < sc->nmaterials; m++) {
-        spm_material *d = &t->materials[m];
-        const spm_scene_material *s = &sc->materials[m];
-        d->refl = s->refl >= 0 ? (spm_u32)s->refl : SPM_NONE;
-        d->emit = s->emit >= 0 ? (spm_u32)s->emit : SPM_NONE;
-        double mean = s->refl >= 0 ? spm_spectrum_mean(&sc->colours[s->refl].s) : 0.0;
-        d->mean = (float)mean;
-        d->inv_mean = mean > 0.0 ? (float)(1.0 / mean) : 0.0f;
-    }
+    for (int m = 0; m < sc->nmaterials; m++)
+        spm_material_fill(sc, &sc->materials[m], &t->materials[m]); /* by its descriptors */
     t->bg_up = sc->bg_up >= 0 ? (spm_u32)sc->bg_up : SPM_NONE;
     t->bg_down = sc->bg_down >= 0 ? (spm_u32)sc->bg_down : SPM_NONE;
 }
