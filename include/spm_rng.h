@@ -5,7 +5,9 @@
 #define SPM_RNG_H
 #include "spm_shared.h"
 
-/* Dimensions: 0, 1 camera jitter; each vertex j uses SPM_DIM_VERTEX(j) + 0..5. */
+/* Dimensions: 0, 1 camera jitter; each vertex j uses SPM_DIM_VERTEX(j) + 0..5
+ * (MiniLight's transport: the same for every type); types draw from their own
+ * range (SPM_DIM_TYPE below). */
 #define SPM_DIM_CAM_X 0u
 #define SPM_DIM_CAM_Y 1u
 #define SPM_DIMS_PER_VERTEX 6u
@@ -17,6 +19,22 @@
 #define SPM_DIM_DIR_A 4u        /* cosine-weighted direction */
 #define SPM_DIM_DIR_B 5u
 #define SPM_DIM_HERO 0x7fffff00u  /* hero wavelength offset, shade stage only */
+
+/* Dimensions of material and emitter types (host/scene/materials.c), in their
+ * own range, so that a type's draws never shift the ones above: every
+ * Lambertian path keeps the numbers it has always drawn. Vertex j's type
+ * dimensions are SPM_DIM_TYPE(j, k) for k < SPM_TYPE_DIMS_PER_VERTEX. A type
+ * claims k = 0 .. n-1 by giving n as its descriptor's rng_dims (at most
+ * SPM_TYPE_DIMS_PER_VERTEX, checked when the descriptors are read) and naming
+ * its offsets SPM_DIM_<TYPE>_<WHAT> = 0, 1, ... beside its code. One
+ * material is met at a vertex, so types share the offsets; a type that needs
+ * more than the range raises SPM_TYPE_DIMS_PER_VERTEX, which moves no
+ * existing dimension. The range starts far above the vertices' and far below
+ * hero's: SPM_DIM_VERTEX(SPM_MAX_DEPTH) = 386 <= 2^30, and
+ * 2^30 + SPM_MAX_DEPTH * SPM_TYPE_DIMS_PER_VERTEX < SPM_DIM_HERO. */
+#define SPM_DIM_TYPE_BASE 0x40000000u
+#define SPM_TYPE_DIMS_PER_VERTEX 8u
+#define SPM_DIM_TYPE(j, k) (SPM_DIM_TYPE_BASE + SPM_TYPE_DIMS_PER_VERTEX * (spm_u32)(j) + (spm_u32)(k))
 
 /* "lowbias32" integer mixer (Wellons): full avalanche, cheap. Its steps on x
  * of any unsigned 32-bit integer type (the kernels also mix 16 keys at once). */

@@ -182,13 +182,30 @@ typedef struct {
     spm_u32 count;
 } spm_bvh_node;
 
-/* Material as the device sees it: colour ids into the spectral tables. */
+/* Material and emitter types: the tag of each, one descriptor per tag in
+ * host/scene/materials.c (scene keyword and clauses, colours, record fields,
+ * random-number dimensions, the kernel define that compiles its code in).
+ * Each backend dispatches on the tag once per stage (a switch: trace.cl's
+ * vertex_lobe / vertex_emission, refcpu_trace.c's likewise). */
+#define SPM_MAT_LAMBERT 0u      /* MiniLight's diffuse reflector */
+#define SPM_MAT_TYPES 8u        /* tags below this (materials.c checks) */
+#define SPM_EMIT_AREA 0u        /* a triangle emitting from its front face, uniformly */
+#define SPM_EMIT_TYPES 8u
+#define SPM_MAT_PARAMS 4        /* a type's own floats per material */
+
+/* Material as the device sees it: colour ids into the spectral tables, the
+ * type tags and each type's parameters (its descriptor's `fill` sets them). */
 typedef struct {
     spm_u32 refl;      /* reflectance colour id (SPM_NONE: black) */
     spm_u32 emit;      /* emission colour id (SPM_NONE: not an emitter) */
     float mean;        /* mean reflectance (the same at every level): Russian roulette survival */
     float inv_mean;    /* 1 / mean (0 when mean == 0) */
+    spm_u32 type;      /* material tag (low 16 bits) | emitter tag << 16 */
+    spm_u32 col2;      /* a type's second colour id (SPM_NONE: none) */
+    float p[SPM_MAT_PARAMS]; /* a type's parameters (0 when unused) */
 } spm_material;
+#define SPM_MAT_TAG(m) ((m).type & 0xFFFFu)
+#define SPM_EMIT_TAG(m) ((m).type >> 16)
 
 /* MiniLight's camera, resolved on the host. Pixel (x, y) with y = 0 at the
  * top maps to direction normalise(dir + tan_half * (right * cx + up * cy * h/w))

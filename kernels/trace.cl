@@ -24,6 +24,45 @@ inline void feel(__global const uchar *lvlk, uint c, uint k, uint by, uint *leve
     }
 }
 
+/* The material and emitter types (spm_shared.h SPM_MAT_*, SPM_EMIT_*), one
+ * switch each: a type's case is compiled in only when the scene uses it, by
+ * the define its descriptor gives (host/scene/materials.c). A tag this
+ * program was not built for is black and dark (the host never sends one). */
+
+/* The vertex's reflection: the colour it records, its Russian-roulette
+ * survival (mean) and weight (inv_mean). Its own random numbers, if any, are
+ * SPM_DIM_TYPE(j, k) (spm_rng.h). */
+inline uint vertex_lobe(spm_material m, uint seed, uint pixel, uint sample, uint j, float *mean,
+                        float *inv_mean)
+{
+    switch (SPM_MAT_TAG(m)) {
+#ifdef SPM_WITH_LAMBERT
+    case SPM_MAT_LAMBERT:
+        *mean = m.mean;
+        *inv_mean = m.inv_mean;
+        return m.refl;
+#endif
+    default:
+        *mean = 0.0f;
+        *inv_mean = 0.0f;
+        return SPM_NONE;
+    }
+}
+
+/* The emission colour of an emitter's material (next-event estimation and a
+ * first hit). */
+inline uint vertex_emission(spm_material m)
+{
+    switch (SPM_EMIT_TAG(m)) {
+#ifdef SPM_WITH_AREA
+    case SPM_EMIT_AREA:
+        return m.emit;
+#endif
+    default:
+        return SPM_NONE;
+    }
+}
+
 /* One batch of a pass; parameters: spm_kernel_args.h SPM_TRACE_ARGS. */
 __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 {
@@ -82,10 +121,11 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         float3 back = -d;
 
         /* local emission, first vertex only, front face */
-        if (j == 0 && m.emit != SPM_NONE && dot3(back, n) > 0.0f) {
-            hd.first_emit = m.emit;
+        uint memit = vertex_emission(m);
+        if (j == 0 && memit != SPM_NONE && dot3(back, n) > 0.0f) {
+            hd.first_emit = memit;
             hd.first_emit_c = 1.0f;
-            feel(lvlk, m.emit, 1u, SPM_SETBY_EMITTER, &level, &setby);
+            feel(lvlk, memit, 1u, SPM_SETBY_EMITTER, &level, &setby);
         }
 
         /* next-event estimation: one emitter triangle, one point on it */
@@ -111,14 +151,15 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                 float wgt = ne * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
                             fabs(cos_i) / SPM_PI_F;
                 if (wgt > 0.0f) {
-                    eid = mats[et->material].emit;
+                    eid = vertex_emission(mats[et->material]);
                     c = wgt * rrw;
                 }
             }
         }
 
         /* the vertex; its reflectance counted per occurrence */
-        uint refl = m.refl;
+        float mmean, minv;
+        uint refl = vertex_lobe(m, seed, pixel, sample, j, &mmean, &minv);
         if (refl != SPM_NONE) {
             uint k = 1;
             for (uint i = 0; i < j; i++)
@@ -133,12 +174,12 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         vx->c = c;
 
         /* Russian roulette on the mean reflectance (the same at every level) */
-        if (!(spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_RR) < m.mean)) {
+        if (!(spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_RR) < mmean)) {
             hd.end = SPM_END_ABSORBED;
             j++;
             break;
         }
-        rrw *= m.inv_mean;
+        rrw *= minv;
 
         /* cosine-weighted direction about the normal on the incoming side */
         float u = spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_DIR_A);

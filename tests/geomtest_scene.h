@@ -47,6 +47,7 @@ static inline int ts_material(spm_scene *s, int refl, int emit)
     snprintf(m->name, sizeof m->name, "m%d", s->nmaterials);
     m->refl = refl;
     m->emit = emit;
+    m->col2 = -1;
     return s->nmaterials++;
 }
 
@@ -158,7 +159,9 @@ static inline void ts_tables(const spm_scene *s, spm_tables *t)
         double mean = r >= 0 ? s->colours[r].s.nm1[0] : 0.0;
         t->materials[m] = (spm_material){r >= 0 ? (spm_u32)r : SPM_NONE,
                                          e >= 0 ? (spm_u32)e : SPM_NONE, (float)mean,
-                                         mean > 0 ? (float)(1.0 / mean) : 0.0f};
+                                         mean > 0 ? (float)(1.0 / mean) : 0.0f,
+                                         SPM_MAT_LAMBERT | SPM_EMIT_AREA << 16, SPM_NONE,
+                                         {0, 0, 0, 0}};
     }
 }
 

@@ -52,6 +52,40 @@ static float rnd(const rng_key *k, spm_u32 dim)
     return spm_rng(k->seed, k->pixel, k->sample, dim);
 }
 
+/* The material and emitter types (spm_shared.h SPM_MAT_*, SPM_EMIT_*): one
+ * switch each, the reference's arithmetic for every type (as trace.cl's
+ * vertex_lobe and vertex_emission). */
+
+/* The vertex's reflection: the colour it records, its Russian-roulette
+ * survival (*mean) and weight (*inv_mean); a type's own random numbers are
+ * SPM_DIM_TYPE(j, k). */
+static spm_u32 vertex_lobe(const spm_material *m, const rng_key *k, int j, float *mean,
+                           float *inv_mean)
+{
+    (void)k, (void)j;
+    switch (SPM_MAT_TAG(*m)) {
+    case SPM_MAT_LAMBERT:
+        *mean = m->mean;
+        *inv_mean = m->inv_mean;
+        return m->refl;
+    default:
+        *mean = 0.0f;
+        *inv_mean = 0.0f;
+        return SPM_NONE;
+    }
+}
+
+/* The emission colour of an emitter's material. */
+static spm_u32 vertex_emission(const spm_material *m)
+{
+    switch (SPM_EMIT_TAG(*m)) {
+    case SPM_EMIT_AREA:
+        return m->emit;
+    default:
+        return SPM_NONE;
+    }
+}
+
 _Thread_local spm_ref_ray_sink spm_ref_rays;
 
 static void record_ray(const float o[3], const float d[3], spm_u32 skip, spm_u32 emitter)
@@ -100,7 +134,7 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
     if (!(w > 0.0f))
         return SPM_NONE;
     *c = w;
-    return mats[em->material].emit;
+    return vertex_emission(&mats[em->material]);
 }
 
 /* Cosine-weighted direction about the normal turned to the incoming side
@@ -165,24 +199,27 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         const spm_material *m = &mats[tri->material];
         float x[3];
         v3_madd(x, o, d, t);
-        if (j == 0 && m->emit != SPM_NONE && -v3_dot(d, tri->n) > 0.0f) {
-            h->first_emit = m->emit; /* local emission: first hit, front face */
+        spm_u32 memit = vertex_emission(m);
+        if (j == 0 && memit != SPM_NONE && -v3_dot(d, tri->n) > 0.0f) {
+            h->first_emit = memit; /* local emission: first hit, front face */
             h->first_emit_c = 1.0f;
-            feel(&f, lvlk, m->emit, 1, SPM_SETBY_EMITTER);
+            feel(&f, lvlk, memit, 1, SPM_SETBY_EMITTER);
         }
         spm_u32 dim = SPM_DIM_VERTEX(j);
         float c;
         spm_u32 e = sample_emitter(g, mats, &k, dim, x, (spm_u32)hit, tri->n, d, &c);
+        float mmean, minv;
+        spm_u32 refl = vertex_lobe(m, &k, j, &mmean, &minv);
         spm_vertex *vx = &path->v[j];
-        vx->ids = (m->refl & 0xFFFFu) | (e << 16);
+        vx->ids = (refl & 0xFFFFu) | (e << 16);
         vx->c = c * weight;
         h->nvert = (spm_u32)j + 1;
-        if (m->refl != SPM_NONE)
-            feel(&f, lvlk, m->refl, occurrences(path, j, m->refl), SPM_SETBY_REFLECTOR);
+        if (refl != SPM_NONE)
+            feel(&f, lvlk, refl, occurrences(path, j, refl), SPM_SETBY_REFLECTOR);
         if (e != SPM_NONE)
             feel(&f, lvlk, e, 1, SPM_SETBY_EMITTER);
 
-        if (!(rnd(&k, dim + SPM_DIM_RR) < m->mean)) {
+        if (!(rnd(&k, dim + SPM_DIM_RR) < mmean)) {
             h->end = SPM_END_ABSORBED;
             break;
         }
@@ -190,7 +227,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
             h->end = SPM_END_TRUNCATED; /* it would go on, but the record is full */
             break;
         }
-        weight *= m->inv_mean;
+        weight *= minv;
         float nd[3];
         bounce(tri, &k, dim, d, nd);
         for (int i = 0; i < 3; i++)

@@ -82,16 +82,23 @@ static void *get_array(reader *r, size_t want)
     return a;
 }
 
-/* Byte sizes of the tables' arrays, from their counts. */
-static size_t lvl_bytes(const spm_tables *t, int l)
-{
-    return (size_t)t->ncolours * SPM_LEVEL_BINS(l) * sizeof(float);
-}
-static size_t mlc_bytes(const spm_tables *t, int l)
-{
-    return (size_t)t->ncolours * SPM_MLC_STRIDE(l) * sizeof(float);
-}
-static size_t lvlk_bytes(const spm_tables *t) { return (size_t)t->ncolours * SPM_PRETEST_KMAX; }
+/* The tables' arrays, from their one list (tables.h SPM_TABLES_ARRAYS):
+ * cleared in the copy of the struct that travels (and in what arrives), then
+ * each as its bytes. */
+#define CLEAR_A(name, type, count) clr->name = NULL;
+#define CLEAR_L(name, type, count)           \
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) \
+        clr->name[l] = NULL;
+#define PUT_A(name, type, count) put_array(&w, t->name, (count) * sizeof(type));
+#define PUT_L(name, type, count)             \
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) \
+        put_array(&w, t->name[l], (count) * sizeof(type));
+#define GET_A(name, type, count) \
+    if (!r.bad)                  \
+        t->name = get_array(&r, (count) * sizeof(type));
+#define GET_L(name, type, count)                          \
+    for (int l = 0; l < SPM_NUM_LEVELS && !r.bad; l++)    \
+        t->name[l] = get_array(&r, (count) * sizeof(type));
 
 void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_prepared_info *info,
                         size_t *n)
@@ -111,25 +118,10 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
     put_array(&w, g->tris, (size_t)g->ntris * sizeof *g->tris);
     put_array(&w, g->nodes, (size_t)g->nnodes * sizeof *g->nodes);
     put_array(&w, g->emitters, (size_t)g->nemitters * sizeof *g->emitters);
-    spm_tables ts = *t;
-    for (int l = 0; l < SPM_NUM_LEVELS; l++)
-        ts.lvl[l] = ts.mlc_lvl[l] = NULL;
-    ts.truth = ts.rgb = NULL;
-    ts.lvlk = ts.mlc_lvlk = NULL;
-    ts.pretest = ts.mlc_pretest = NULL;
-    ts.materials = NULL;
+    spm_tables ts = *t, *clr = &ts;
+    SPM_TABLES_ARRAYS(CLEAR_A, CLEAR_L)
     put(&w, &ts, sizeof ts);
-    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
-        put_array(&w, t->lvl[l], lvl_bytes(t, l));
-        put_array(&w, t->mlc_lvl[l], mlc_bytes(t, l));
-    }
-    put_array(&w, t->truth, (size_t)t->ncolours * SPM_TRUTH_BINS * sizeof(float));
-    put_array(&w, t->rgb, (size_t)t->ncolours * 4 * sizeof(float));
-    put_array(&w, t->lvlk, lvlk_bytes(t));
-    put_array(&w, t->mlc_lvlk, lvlk_bytes(t));
-    put_array(&w, t->pretest, (size_t)t->ncolours * sizeof *t->pretest);
-    put_array(&w, t->mlc_pretest, (size_t)t->ncolours * sizeof *t->mlc_pretest);
-    put_array(&w, t->materials, (size_t)t->nmaterials * sizeof *t->materials);
+    SPM_TABLES_ARRAYS(PUT_A, PUT_L)
     *n = w.n;
     return w.p;
 }
@@ -157,21 +149,11 @@ int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *
     g->nodes = get_array(&r, (size_t)nnodes * sizeof *g->nodes);
     g->emitters = get_array(&r, (size_t)nem * sizeof *g->emitters);
     get(&r, t, sizeof *t);
+    spm_tables *clr = t; /* no address from another process */
+    SPM_TABLES_ARRAYS(CLEAR_A, CLEAR_L)
     if (t->ncolours < 0 || t->nmaterials < 0)
         r.bad = 1;
-    for (int l = 0; l < SPM_NUM_LEVELS && !r.bad; l++) {
-        t->lvl[l] = get_array(&r, lvl_bytes(t, l));
-        t->mlc_lvl[l] = get_array(&r, mlc_bytes(t, l));
-    }
-    if (!r.bad) {
-        t->truth = get_array(&r, (size_t)t->ncolours * SPM_TRUTH_BINS * sizeof(float));
-        t->rgb = get_array(&r, (size_t)t->ncolours * 4 * sizeof(float));
-        t->lvlk = get_array(&r, lvlk_bytes(t));
-        t->mlc_lvlk = get_array(&r, lvlk_bytes(t));
-        t->pretest = get_array(&r, (size_t)t->ncolours * sizeof *t->pretest);
-        t->mlc_pretest = get_array(&r, (size_t)t->ncolours * sizeof *t->mlc_pretest);
-        t->materials = get_array(&r, (size_t)t->nmaterials * sizeof *t->materials);
-    }
+    SPM_TABLES_ARRAYS(GET_A, GET_L)
     if (r.bad || r.at != n) {
         spm_errorf(err, "the prepared scene is damaged (%zu bytes, read %zu)", n, r.at);
         spm_geometry_free(g);

@@ -1,6 +1,8 @@
 /* The OpenCL backend's program (cl_renderer.h): the trace, accumulate and
  * shade kernels, the last compiled only for the slots the plan uses, each
- * with the define its mode's descriptor gives (modes.h). */
+ * with the define its mode's descriptor gives (modes.h), and the code of the
+ * material and emitter types the scene uses (materials.h, the plan's
+ * type_defines). */
 #include <string.h>
 #include "cl_renderer.h"
 
@@ -20,6 +22,7 @@ void spm_cl_program_defines(const spm_render_plan *plan, int device_index, char 
                 snprintf(kname[s], sizeof kname[s], "%s", name);
             n += (size_t)snprintf(defs + n, size - n, "-D%s ", define);
         }
+    n += (size_t)snprintf(defs + n, size - n, "%s", plan->type_defines);
     if (plan->nspec)
         n += (size_t)snprintf(defs + n, size - n, "-DSPM_SPEC_BINS=%d -DSPM_PATH_CH=%d ",
                               plan->nspec, plan->pix_ch);

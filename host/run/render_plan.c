@@ -2,6 +2,7 @@
 #include "render_plan.h"
 #include <math.h>
 #include <string.h>
+#include "materials.h"
 
 static int colour_start(const uint8_t *lvlk, spm_u32 c, int start)
 {
@@ -21,6 +22,7 @@ int spm_plan_level_start(const spm_geometry *g, const spm_material *mats, const 
         const spm_material *m = &mats[g->tris[i].material];
         start = colour_start(lvlk, m->refl, start);
         start = colour_start(lvlk, m->emit, start);
+        start = colour_start(lvlk, m->col2, start); /* a type's second colour */
     }
     start = colour_start(lvlk, p->bg_up, start);
     return colour_start(lvlk, p->bg_down, start);
@@ -53,6 +55,7 @@ static void used_slots(spm_render_plan *p)
     for (int m = 0; m < t->nmaterials; m++) {
         use_colour(p, t->materials[m].refl);
         use_colour(p, t->materials[m].emit);
+        use_colour(p, t->materials[m].col2);
     }
 }
 
@@ -86,6 +89,8 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     p->start_level = (spm_u32)(start < SPM_NUM_LEVELS ? start : SPM_NUM_LEVELS - 1);
     p->nslots = spm_mode_nslots(p->mode);
     used_slots(p);
+    spm_material_defines(t->materials, t->nmaterials, p->type_defines, sizeof p->type_defines);
+    p->vertex_bytes = spm_material_vertex_bytes(t->materials, t->nmaterials);
     for (int s = 0; s < p->nslots; s++)
         spm_shade_table_build(p->mode, t, s, &p->shade[s]);
     p->pix_ch = 3;

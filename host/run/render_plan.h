@@ -29,6 +29,11 @@ typedef struct {
      * is then pix_ch = 3 + nspec floats, XYZ then the bins. */
     int spec_nm, nspec, pix_ch;
     spm_spec_map spec[SPM_NUM_LEVELS]; /* per slot: its lanes to the bins */
+    /* The material and emitter types the scene uses (materials.h): the kernel
+     * options that compile in their code and nothing else, and the bytes of a
+     * path vertex's record (spm_vertex plus the fields those types declare). */
+    char type_defines[256];
+    size_t vertex_bytes;
 } spm_render_plan;
 
 /* 0, or 1 with err filled (unknown mode, empty image or BVH, missing tables). */

@@ -151,9 +151,29 @@ int spm_sb_colour(spm_scene_builder *b, const char *name, const spm_spectrum *sp
 int spm_sb_material(spm_scene_builder *b, const char *name, int refl, int emit,
                     const char *where, spm_error *err)
 {
+    spm_scene_material m;
+    memset(&m, 0, sizeof m);
+    snprintf(m.name, sizeof m.name, "%s", name);
+    m.refl = refl;
+    m.emit = emit;
+    m.type = SPM_MAT_LAMBERT;
+    m.etype = SPM_EMIT_AREA;
+    m.col2 = -1;
+    return spm_sb_material_typed(b, &m, where, err);
+}
+
+int spm_sb_material_typed(spm_scene_builder *b, const spm_scene_material *proto,
+                          const char *where, spm_error *err)
+{
     spm_scene *s = b->s;
-    char key[32];
-    snprintf(key, sizeof key, "%d %d", refl, emit);
+    char key[256];
+    int n = snprintf(key, sizeof key, "%d %d", proto->refl, proto->emit);
+    if (proto->type != SPM_MAT_LAMBERT || proto->etype != SPM_EMIT_AREA || proto->col2 >= 0) {
+        n += snprintf(key + n, sizeof key - (size_t)n, " %d %d %d", proto->type, proto->etype,
+                      proto->col2);
+        for (int i = 0; i < SPM_MAT_PARAMS; i++)
+            n += snprintf(key + n, sizeof key - (size_t)n, " %a", proto->p[i]);
+    }
     int i = spm_names_get(&b->material_index, key);
     if (i >= 0)
         return i;
@@ -162,11 +182,7 @@ int spm_sb_material(spm_scene_builder *b, const char *name, int refl, int emit,
         return -1;
     }
     s->materials = reserve(s->materials, s->nmaterials, &b->cap_materials, sizeof *s->materials);
-    spm_scene_material *m = &s->materials[s->nmaterials];
-    memset(m, 0, sizeof *m);
-    snprintf(m->name, sizeof m->name, "%s", name);
-    m->refl = refl;
-    m->emit = emit;
+    s->materials[s->nmaterials] = *proto;
     spm_names_put(&b->material_index, key, s->nmaterials);
     return s->nmaterials++;
 }
@@ -303,10 +319,10 @@ static void prune(spm_scene *s)
     int nc = 0;
     spm_colour *kept = spm_xmalloc(((size_t)s->ncolours + 1) * sizeof *kept);
     int *refs[] = {&s->bg_up, &s->bg_down};
-    for (int i = 0; i < 2 * s->nmaterials + 2; i++) {
-        int *r = i < 2 * s->nmaterials ? (i & 1 ? &s->materials[i / 2].emit
-                                               : &s->materials[i / 2].refl)
-                                       : refs[i - 2 * s->nmaterials];
+    for (int i = 0; i < 3 * s->nmaterials + 2; i++) {
+        spm_scene_material *m = i < 3 * s->nmaterials ? &s->materials[i / 3] : NULL;
+        int *r = m ? (i % 3 == 0 ? &m->refl : i % 3 == 1 ? &m->emit : &m->col2)
+                   : refs[i - 3 * s->nmaterials];
         if (*r < 0)
             continue;
         if (cmap[*r] < 0) {

@@ -14,10 +14,16 @@ typedef struct {
     spm_spectrum s;
 } spm_colour;
 
+/* A material: its type (host/scene/materials.h: a material and an emitter
+ * descriptor) and what its clauses gave, by the descriptors' slots. */
 typedef struct {
     char name[SPM_NAME_MAX];
     int refl;  /* colour index, -1 = black */
     int emit;  /* colour index, -1 = not an emitter */
+    int type;  /* material tag (spm_shared.h SPM_MAT_*) */
+    int etype; /* emitter tag (SPM_EMIT_*) */
+    int col2;  /* a type's second colour, -1 = none */
+    double p[SPM_MAT_PARAMS]; /* a type's numbers */
 } spm_scene_material;
 
 typedef struct {

@@ -52,6 +52,9 @@ int spm_sb_rgb_colour(spm_scene_builder *b, spm_names *fits, const double rgb[3]
 /* A material, shared with one of the same colours. Index or -1. */
 int spm_sb_material(spm_scene_builder *b, const char *name, int refl, int emit,
                     const char *where, spm_error *err);
+/* A material of any type (materials.h), shared with an identical one. */
+int spm_sb_material_typed(spm_scene_builder *b, const spm_scene_material *proto,
+                          const char *where, spm_error *err);
 /* Appends a triangle; zero-area or degenerate (collinear) triangles, huge
  * coordinates and too many triangles are errors. */
 int spm_sb_tri(spm_scene_builder *b, const double p[3][3], int material, int line,

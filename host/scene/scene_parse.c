@@ -7,6 +7,7 @@
 #include "csv.h"
 #include "mesh.h"
 #include "interrupt.h"
+#include "materials.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -361,6 +362,27 @@ static int stmt_camera(parser *p)
     return spm_lex_end_of_statement(&p->lx, p->err);
 }
 
+/* One parameter of a material or emitter type, as its descriptor says. */
+static int material_param(parser *p, const spm_mparam *pa, spm_scene_material *m)
+{
+    if (pa->kind == SPM_MP_NUMBER) {
+        double v;
+        if (spm_lex_number(&p->lx, pa->what, pa->lo, pa->hi, &v, p->err))
+            return 1;
+        m->p[pa->slot] = v;
+        return 0;
+    }
+    int c = colour_ref(p, pa->kind == SPM_MP_EMISSION ? SPM_KIND_EMISSION : SPM_KIND_REFLECTANCE);
+    if (c < 0)
+        return 1;
+    *(pa->slot == SPM_MSLOT_REFL ? &m->refl : pa->slot == SPM_MSLOT_EMIT ? &m->emit : &m->col2) = c;
+    return 0;
+}
+
+/* material NAME [TYPE] POSITIONAL... [CLAUSE ...]...: the type's keyword
+ * (none: Lambertian), its positional parameters in order, then its clauses and
+ * those of the emitter types, each once, in any order. Everything comes from
+ * the descriptors (materials.h): a new type adds no code here. */
 static int stmt_material(parser *p)
 {
     char where[600], name[SPM_NAME_MAX];
@@ -371,23 +393,61 @@ static int stmt_material(parser *p)
         spm_errorf(p->err, "%s: material '%s' is already defined", where, name);
         return 1;
     }
-    int col[2] = {-1, -1}, have[2] = {0, 0};
-    const char *keys[2] = {"reflect", "emit"};
-    while (p->lx.type != SPM_TOK_NEWLINE && p->lx.type != SPM_TOK_EOF) {
-        int k = spm_lex_is(&p->lx, keys[0]) ? 0 : spm_lex_is(&p->lx, keys[1]) ? 1 : 2;
-        if (k == 2 || have[k])
-            return spm_lex_expected(&p->lx, p->err, "'reflect' or 'emit' (each once)");
-        have[k] = 1;
+    spm_scene_material m;
+    memset(&m, 0, sizeof m);
+    snprintf(m.name, sizeof m.name, "%s", name);
+    m.refl = m.emit = m.col2 = -1;
+    const spm_mtype_desc *mt = NULL;
+    for (int i = 0; i < spm_nmaterial_types && !mt; i++)
+        if (spm_material_types[i].keyword && spm_lex_is(&p->lx, spm_material_types[i].keyword))
+            mt = &spm_material_types[i];
+    if (mt) {
         if (spm_lex_next(&p->lx, p->err))
             return 1;
-        col[k] = colour_ref(p, k ? SPM_KIND_EMISSION : SPM_KIND_REFLECTANCE);
-        if (col[k] < 0)
+    } else {
+        mt = spm_material_type_default();
+    }
+    m.type = (int)mt->tag;
+    m.etype = SPM_EMIT_AREA;
+    for (int i = 0; i < mt->nparams; i++)
+        if (!mt->params[i].clause && material_param(p, &mt->params[i], &m))
+            return 1;
+    /* the clauses: the material type's, then every emitter type's */
+    const spm_mparam *cl[SPM_MTYPE_MAX_PARAMS * (1 + SPM_EMIT_TYPES)];
+    unsigned ctag[SPM_MTYPE_MAX_PARAMS * (1 + SPM_EMIT_TYPES)];
+    int ncl = 0, have[SPM_MTYPE_MAX_PARAMS * (1 + SPM_EMIT_TYPES)] = {0}, emitter = 0;
+    char expected[256];
+    int ne = 0;
+    for (int d = -1; d < spm_nemitter_types; d++) {
+        const spm_mtype_desc *t = d < 0 ? mt : &spm_emitter_types[d];
+        for (int i = 0; i < t->nparams; i++)
+            if (t->params[i].clause) {
+                ctag[ncl] = d < 0 ? SPM_EMIT_TYPES : t->tag; /* SPM_EMIT_TYPES: the material's */
+                cl[ncl++] = &t->params[i];
+            }
+    }
+    for (int k = 0; k < ncl; k++) /* "'a', 'b' or 'c' (each once)" */
+        ne += snprintf(expected + ne, sizeof expected - (size_t)ne, "%s'%s'",
+                       k == 0 ? "" : k == ncl - 1 ? " or " : ", ", cl[k]->clause);
+    snprintf(expected + ne, sizeof expected - (size_t)ne, " (each once)");
+    while (p->lx.type != SPM_TOK_NEWLINE && p->lx.type != SPM_TOK_EOF) {
+        int k = 0;
+        while (k < ncl && !spm_lex_is(&p->lx, cl[k]->clause))
+            k++;
+        if (k == ncl || have[k] || (ctag[k] != SPM_EMIT_TYPES && emitter))
+            return spm_lex_expected(&p->lx, p->err, expected);
+        have[k] = 1;
+        if (ctag[k] != SPM_EMIT_TYPES) {
+            m.etype = (int)ctag[k];
+            emitter = 1;
+        }
+        if (spm_lex_next(&p->lx, p->err) || material_param(p, cl[k], &m))
             return 1;
     }
-    int m = spm_sb_material(&p->b, name, col[0], col[1], where, p->err);
-    if (m < 0)
+    int idx = spm_sb_material_typed(&p->b, &m, where, p->err);
+    if (idx < 0)
         return 1;
-    spm_names_put(&p->materials, name, m);
+    spm_names_put(&p->materials, name, idx);
     return spm_lex_end_of_statement(&p->lx, p->err);
 }
 

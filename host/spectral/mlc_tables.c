@@ -114,8 +114,6 @@ int spm_mlc_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_ta
         for (int i = 0; i < 3; i++)
             t->spike_cmf[i][k] = k < t->nspikes ? (float)lane_mean(prof, k, lane_wl[k], w[i]) : 0.0f;
     }
-    for (int l = 0; l < SPM_NUM_LEVELS; l++)
-        t->mlc_lvl[l] = spm_xcalloc((size_t)n * SPM_MLC_STRIDE(l) + 1, sizeof(float));
     double *lanes = spm_xcalloc((size_t)n * SPM_MAX_SPIKES + 1, sizeof *lanes);
     spm_mlc_colour *cols = spm_xcalloc((size_t)n + 1, sizeof *cols);
     for (int c = 0; c < n; c++) {
@@ -133,9 +131,7 @@ int spm_mlc_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_ta
     for (int i = 0; i < 3; i++)
         for (int k = 0; k < SPM_MAX_SPIKES; k++)
             lane_cmf[i][k] = t->spike_cmf[i][k];
-    t->mlc_pretest = spm_xcalloc((size_t)n + 1, sizeof *t->mlc_pretest);
     spm_mlc_pretest_run(cols, n, t->nspikes, lane_cmf, po, t->mlc_pretest);
-    t->mlc_lvlk = spm_xcalloc((size_t)n * SPM_PRETEST_KMAX + 1, 1);
     for (int c = 0; c < n; c++)
         for (int k = 0; k < SPM_PRETEST_KMAX; k++)
             t->mlc_lvlk[(size_t)c * SPM_PRETEST_KMAX + k] = (uint8_t)t->mlc_pretest[c].level_k[k];

@@ -7,6 +7,7 @@
 #include "colour.h"
 #include "csv.h"
 #include "interrupt.h"
+#include "materials.h"
 #include "mlc_tables.h"
 
 static void fill_levels(const spm_spectrum *s, int c, spm_tables *t)
@@ -114,17 +115,8 @@ void spm_tables_fill_hero(spm_tables *t)
 
 static void fill_materials(const spm_scene *sc, spm_tables *t)
 {
-    t->nmaterials = sc->nmaterials;
-    t->materials = spm_xcalloc((size_t)sc->nmaterials, sizeof *t->materials);
-    for (int m = 0; m < sc->nmaterials; m++) {
-        spm_material *d = &t->materials[m];
-        const spm_scene_material *s = &sc->materials[m];
-        d->refl = s->refl >= 0 ? (spm_u32)s->refl : SPM_NONE;
-        d->emit = s->emit >= 0 ? (spm_u32)s->emit : SPM_NONE;
-        double mean = s->refl >= 0 ? spm_spectrum_mean(&sc->colours[s->refl].s) : 0.0;
-        d->mean = (float)mean;
-        d->inv_mean = mean > 0.0 ? (float)(1.0 / mean) : 0.0f;
-    }
+    for (int m = 0; m < sc->nmaterials; m++)
+        spm_material_fill(sc, &sc->materials[m], &t->materials[m]); /* by its descriptors */
     t->bg_up = sc->bg_up >= 0 ? (spm_u32)sc->bg_up : SPM_NONE;
     t->bg_down = sc->bg_down >= 0 ? (spm_u32)sc->bg_down : SPM_NONE;
 }
@@ -146,10 +138,8 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
         return 1;
     int n = sc->ncolours;
     t->ncolours = n;
-    for (int l = 0; l < SPM_NUM_LEVELS; l++)
-        t->lvl[l] = spm_xcalloc((size_t)n * SPM_LEVEL_BINS(l) + 1, sizeof(float));
-    t->truth = spm_xcalloc((size_t)n * SPM_TRUTH_BINS + 1, sizeof(float));
-    t->rgb = spm_xcalloc((size_t)n * 4 + 1, sizeof(float));
+    t->nmaterials = sc->nmaterials;
+    spm_tables_alloc(t);
     for (int c = 0; c < n; c++) {
         fill_levels(&sc->colours[c].s, c, t);
         fill_rgb(&sc->colours[c].s, &d65, white_rgb, &t->rgb[(size_t)c * 4]);
@@ -160,7 +150,6 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
 
     /* ml levels: the pretest over the scene's whole set of colours */
     t->coarsest_level = po->coarsest_level;
-    t->pretest = spm_xcalloc((size_t)n + 1, sizeof *t->pretest);
     const spm_spectrum **set = spm_xcalloc((size_t)n + 1, sizeof *set);
     for (int c = 0; c < n; c++)
         set[c] = &sc->colours[c].s;
@@ -170,7 +159,6 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
         spm_errorf(err, "interrupted during the pretests (%d of %d colours done)", done, n);
         return 1;
     }
-    t->lvlk = spm_xcalloc((size_t)n * SPM_PRETEST_KMAX + 1, 1);
     for (int c = 0; c < n; c++)
         for (int k = 0; k < SPM_PRETEST_KMAX; k++)
             t->lvlk[(size_t)c * SPM_PRETEST_KMAX + k] = (uint8_t)t->pretest[c].level_k[k];
@@ -184,18 +172,33 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
     return 0;
 }
 
+/* The list (tables.h SPM_TABLES_ARRAYS) expanded: make, free, count. */
+#define ALLOC_A(name, type, count) t->name = spm_xcalloc((count) + 1, sizeof(type));
+#define ALLOC_L(name, type, count)                 \
+    for (int l = 0; l < SPM_NUM_LEVELS; l++)       \
+        t->name[l] = spm_xcalloc((count) + 1, sizeof(type));
+void spm_tables_alloc(spm_tables *t)
+{
+    SPM_TABLES_ARRAYS(ALLOC_A, ALLOC_L)
+}
+
+#define BYTES_A(name, type, count) bytes += t->name ? (count) * sizeof(type) : 0;
+#define BYTES_L(name, type, count)           \
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) \
+        bytes += t->name[l] ? (count) * sizeof(type) : 0;
+size_t spm_tables_bytes(const spm_tables *t)
+{
+    size_t bytes = 0;
+    SPM_TABLES_ARRAYS(BYTES_A, BYTES_L)
+    return bytes;
+}
+
+#define FREE_A(name, type, count) free(t->name);
+#define FREE_L(name, type, count)            \
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) \
+        free(t->name[l]);
 void spm_tables_free(spm_tables *t)
 {
-    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
-        free(t->lvl[l]);
-        free(t->mlc_lvl[l]);
-    }
-    free(t->truth);
-    free(t->rgb);
-    free(t->lvlk);
-    free(t->mlc_lvlk);
-    free(t->mlc_pretest);
-    free(t->pretest);
-    free(t->materials);
+    SPM_TABLES_ARRAYS(FREE_A, FREE_L)
     memset(t, 0, sizeof *t);
 }

@@ -3,43 +3,86 @@
  * plus the Composite Model's spike lanes and the hero-wavelength density. */
 #ifndef SPM_TABLES_H
 #define SPM_TABLES_H
+#include <stddef.h>
 #include <stdint.h>
 #include "scene.h"
 #include "pretest.h"
 
+/* The tables' arrays, listed once. Every array of spm_tables is an entry
+ * here, and nowhere else by hand: the struct declares them from this list,
+ * spm_tables_build allocates them (zeroed, one spare element), spm_tables_free
+ * frees them, the MPI block (host/mpi/prepared.c) packs and unpacks them and
+ * spm_tables_bytes adds them up, all from the list. Each builder (a mode's,
+ * the pretest's, the materials') only fills its arrays.
+ *   A(name, element type, element count)          one array
+ *   L(name, element type, element count at l)     one array per level l
+ * Counts are expressions in t (the tables: ncolours, nmaterials are set
+ * before the arrays are made) and, for L, in l. A struct pointer added
+ * outside this list would travel to the other ranks as a raw address. */
+#define SPM_TABLES_ARRAYS(A, L)                                                   \
+    L(lvl, float, (size_t)(t)->ncolours * SPM_LEVEL_BINS(l))                     \
+    A(truth, float, (size_t)(t)->ncolours * SPM_TRUTH_BINS)                      \
+    A(rgb, float, (size_t)(t)->ncolours * 4)                                     \
+    A(lvlk, uint8_t, (size_t)(t)->ncolours * SPM_PRETEST_KMAX)                   \
+    A(pretest, spm_pretest_result, (size_t)(t)->ncolours)                        \
+    L(mlc_lvl, float, (size_t)(t)->ncolours * SPM_MLC_STRIDE(l))                 \
+    A(mlc_lvlk, uint8_t, (size_t)(t)->ncolours * SPM_PRETEST_KMAX)               \
+    A(mlc_pretest, spm_pretest_result, (size_t)(t)->ncolours)                    \
+    A(materials, spm_material, (size_t)(t)->nmaterials)                          \
+    SPM_TABLES_TEST_ARRAYS(A, L)
+
+/* A test build (tests/test_tables_list.c) appends an array to the list
+ * (last, so every other field keeps its offset) and sees it arrive. */
+#ifdef SPM_TABLES_TEST_ARRAY
+#define SPM_TABLES_TEST_ARRAYS(A, L) A(test_extra, double, (size_t)(t)->ncolours * 3 + 1)
+#else
+#define SPM_TABLES_TEST_ARRAYS(A, L)
+#endif
+
+#define SPM_TABLES_DECL_A(name, type, count) type *name;
+#define SPM_TABLES_DECL_L(name, type, count) type *name[SPM_NUM_LEVELS];
+
 typedef struct {
     int ncolours;
-    float *lvl[SPM_NUM_LEVELS];    /* ncolours x SPM_LEVEL_BINS(l), bin means (lvl[0]: truth's) */
-    float *truth;                  /* ncolours x SPM_TRUTH_BINS */
-    float *rgb;                    /* ncolours x 4: linear sRGB (reflectance D65-referred, white = 1) */
+    int nmaterials;
+    /* lvl[l]: ncolours x SPM_LEVEL_BINS(l), bin means (lvl[0]: truth's)
+     * truth: ncolours x SPM_TRUTH_BINS
+     * rgb: ncolours x 4: linear sRGB (reflectance D65-referred, white = 1)
+     * lvlk (ml): level for a colour met k times on a path: lvlk[c * SPM_PRETEST_KMAX + (k-1)]
+     * pretest: per colour
+     * mlc_lvl[l]: ncolours x (SPM_LEVEL_BINS(l) + SPM_MAX_SPIKES): smooth bins then spike lanes
+     * mlc_lvlk: as lvlk, from the composite representation's error
+     * mlc_pretest: per colour (mlc_pretest.h)
+     * materials: per scene material */
     float cmf_lvl[SPM_NUM_LEVELS][3][SPM_TRUTH_BINS];  /* XYZ weights per level (bins(l) used) */
     float cmf_truth[3][SPM_TRUTH_BINS];
-    /* ml: level for a colour met k times on a path: lvlk[c * SPM_PRETEST_KMAX + (k-1)] */
-    uint8_t *lvlk;
     int coarsest_level;            /* the coarsest level the pretest could pick */
-    spm_pretest_result *pretest;   /* per colour */
 
     /* mlc (Composite Model): nspikes lanes shared by the scene. */
     int nspikes;
     float spike_wl[SPM_MAX_SPIKES];
-    float *mlc_lvl[SPM_NUM_LEVELS];  /* ncolours x (SPM_LEVEL_BINS(l) + SPM_MAX_SPIKES): smooth bins then spike lanes */
     float spike_cmf[3][SPM_MAX_SPIKES];
-    uint8_t *mlc_lvlk;             /* as lvlk, from the composite representation's error */
-    spm_pretest_result *mlc_pretest;  /* per colour (mlc_pretest.h) */
 
     /* hero: the wavelength density's constants (spm_shared.h SPM_HERO_*) */
     float hero_t0, hero_dt, hero_pdfk;
     float hero_edge[SPM_TRUTH_BINS + 1];
     float hero_index[SPM_HERO_CELLS];
 
-    spm_material *materials;       /* per scene material */
-    int nmaterials;
     spm_u32 bg_up, bg_down;        /* background colour ids (SPM_NONE: none), for spm_trace_params */
+
+    /* the arrays (the list above), last */
+    SPM_TABLES_ARRAYS(SPM_TABLES_DECL_A, SPM_TABLES_DECL_L)
 } spm_tables;
 
 int spm_tables_build(const spm_scene *scene, const spm_pretest_opts *po, spm_tables *t,
                      spm_error *err);
 void spm_tables_free(spm_tables *t);
+/* Makes every listed array for t's ncolours and nmaterials, zeroed (with one
+ * spare element, so a count of 0 is a valid pointer); spm_tables_build calls
+ * it before the builders fill them. */
+void spm_tables_alloc(spm_tables *t);
+/* The bytes of every listed array (the tables' host footprint). */
+size_t spm_tables_bytes(const spm_tables *t);
 /* Fills the hero fields: needs nothing else of the tables. */
 void spm_tables_fill_hero(spm_tables *t);
 #endif

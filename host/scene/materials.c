@@ -1,0 +1,112 @@
+/* The material and emitter type descriptors (materials.h). */
+#include "materials.h"
+#include <stdio.h>
+#include <string.h>
+#include "spm_rng.h"
+
+static double colour_mean(const spm_scene *sc, int c)
+{
+    return c >= 0 ? spm_spectrum_mean(&sc->colours[c].s) : 0.0;
+}
+
+/* ---- material types -------------------------------------------------------- */
+
+/* Lambertian (MiniLight): reflects its colour, survives Russian roulette with
+ * its mean reflectance, bounces cosine-weighted (the vertex dimensions). */
+static void lambert_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d)
+{
+    double mean = colour_mean(sc, s->refl);
+    d->mean = (float)mean;
+    d->inv_mean = mean > 0.0 ? (float)(1.0 / mean) : 0.0f;
+}
+
+const spm_mtype_desc spm_material_types[] = {
+    [SPM_MAT_LAMBERT] = {NULL, SPM_MAT_LAMBERT, "diffuse: 'reflect SPECTRUM [SCALE]' (default black)",
+                         {{"reflect", SPM_MP_REFLECTANCE, SPM_MSLOT_REFL, 0, 0, "a reflectance"}},
+                         1, 0, 0, "SPM_WITH_LAMBERT", lambert_fill},
+};
+const int spm_nmaterial_types = (int)(sizeof spm_material_types / sizeof spm_material_types[0]);
+
+/* ---- emitter types --------------------------------------------------------- */
+
+/* An area light: the triangle emits its colour from its front face. */
+static void area_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d)
+{
+    (void)sc, (void)s, (void)d;
+}
+
+const spm_mtype_desc spm_emitter_types[] = {
+    [SPM_EMIT_AREA] = {"area", SPM_EMIT_AREA, "'emit SPECTRUM [SCALE]': a front-face area light",
+                       {{"emit", SPM_MP_EMISSION, SPM_MSLOT_EMIT, 0, 0, "an emission"}},
+                       1, 0, 0, "SPM_WITH_AREA", area_fill},
+};
+const int spm_nemitter_types = (int)(sizeof spm_emitter_types / sizeof spm_emitter_types[0]);
+
+_Static_assert(sizeof spm_material_types / sizeof spm_material_types[0] <= SPM_MAT_TYPES,
+               "more material types than SPM_MAT_TYPES");
+_Static_assert(sizeof spm_emitter_types / sizeof spm_emitter_types[0] <= SPM_EMIT_TYPES,
+               "more emitter types than SPM_EMIT_TYPES");
+
+const spm_mtype_desc *spm_material_type_find(const char *kw)
+{
+    for (int i = 0; i < spm_nmaterial_types; i++)
+        if (spm_material_types[i].keyword && !strcmp(spm_material_types[i].keyword, kw))
+            return &spm_material_types[i];
+    return NULL;
+}
+
+const spm_mtype_desc *spm_material_type_default(void)
+{
+    return &spm_material_types[SPM_MAT_LAMBERT];
+}
+
+void spm_material_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d)
+{
+    memset(d, 0, sizeof *d);
+    d->refl = s->refl >= 0 ? (spm_u32)s->refl : SPM_NONE;
+    d->emit = s->emit >= 0 ? (spm_u32)s->emit : SPM_NONE;
+    d->col2 = s->col2 >= 0 ? (spm_u32)s->col2 : SPM_NONE;
+    d->type = (spm_u32)s->type | (spm_u32)s->etype << 16;
+    spm_material_types[s->type].fill(sc, s, d);
+    spm_emitter_types[s->etype].fill(sc, s, d);
+}
+
+void spm_material_types_used(const spm_material *mats, int n, int used_m[SPM_MAT_TYPES],
+                             int used_e[SPM_EMIT_TYPES])
+{
+    memset(used_m, 0, SPM_MAT_TYPES * sizeof *used_m);
+    memset(used_e, 0, SPM_EMIT_TYPES * sizeof *used_e);
+    for (int i = 0; i < n; i++) {
+        spm_u32 mt = SPM_MAT_TAG(mats[i]), et = SPM_EMIT_TAG(mats[i]);
+        if (mt < SPM_MAT_TYPES)
+            used_m[mt] = 1;
+        if (et < SPM_EMIT_TYPES && mats[i].emit != SPM_NONE)
+            used_e[et] = 1;
+    }
+}
+
+int spm_material_defines(const spm_material *mats, int n, char *buf, size_t size)
+{
+    int um[SPM_MAT_TYPES], ue[SPM_EMIT_TYPES], len = 0;
+    spm_material_types_used(mats, n, um, ue);
+    buf[0] = '\0';
+    for (int i = 0; i < spm_nmaterial_types; i++)
+        if (um[i] && len < (int)size)
+            len += snprintf(buf + len, size - (size_t)len, "-D%s ", spm_material_types[i].define);
+    for (int i = 0; i < spm_nemitter_types; i++)
+        if (ue[i] && len < (int)size)
+            len += snprintf(buf + len, size - (size_t)len, "-D%s ", spm_emitter_types[i].define);
+    return len;
+}
+
+size_t spm_material_vertex_bytes(const spm_material *mats, int n)
+{
+    int um[SPM_MAT_TYPES], ue[SPM_EMIT_TYPES];
+    spm_material_types_used(mats, n, um, ue);
+    size_t words = 0;
+    for (int i = 0; i < spm_nmaterial_types; i++)
+        words += um[i] ? (size_t)spm_material_types[i].vertex_u32 : 0;
+    for (int i = 0; i < spm_nemitter_types; i++)
+        words += ue[i] ? (size_t)spm_emitter_types[i].vertex_u32 : 0;
+    return sizeof(spm_vertex) + 4 * words;
+}

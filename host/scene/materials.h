@@ -1,0 +1,69 @@
+/* Material and emitter types as descriptors, one per tag (spm_shared.h
+ * SPM_MAT_*, SPM_EMIT_*), the way host/spectral/modes.c describes modes: the
+ * scene parser reads a type's clauses from its descriptor, the tables fill the
+ * device material with its `fill`, the render plan compiles in the kernel code
+ * of the types a scene uses (`define`) and sizes the path record by their
+ * `vertex_u32`. docs/ADDING_A_MATERIAL.md says how to add one. */
+#ifndef SPM_MATERIALS_H
+#define SPM_MATERIALS_H
+#include <stddef.h>
+#include "scene.h"
+
+/* What a clause or positional parameter gives: a colour (a spectrum name and
+ * an optional scale) into a colour slot, or a number into p[slot]. */
+typedef enum {
+    SPM_MP_REFLECTANCE, /* a reflectance colour: slot 0 refl, 2 col2 */
+    SPM_MP_EMISSION,    /* an emission colour: slot 1 emit */
+    SPM_MP_NUMBER       /* a number in [lo, hi]: p[slot] */
+} spm_mparam_kind;
+
+#define SPM_MSLOT_REFL 0
+#define SPM_MSLOT_EMIT 1
+#define SPM_MSLOT_COL2 2
+
+typedef struct {
+    const char *clause;   /* keyword before it, or NULL: positional (in order, after the type keyword) */
+    spm_mparam_kind kind;
+    int slot;
+    double lo, hi;        /* SPM_MP_NUMBER: the range */
+    const char *what;     /* for messages: "a probability" */
+} spm_mparam;
+
+#define SPM_MTYPE_MAX_PARAMS 6
+
+typedef struct {
+    const char *keyword;  /* after the material name; NULL: the default type (no keyword) */
+    unsigned tag;         /* its index in the table */
+    const char *help;
+    spm_mparam params[SPM_MTYPE_MAX_PARAMS];
+    int nparams;
+    int vertex_u32;       /* path-record fields per vertex beyond spm_vertex (32-bit words) */
+    int rng_dims;         /* dimensions it draws per vertex: SPM_DIM_TYPE(j, 0 .. rng_dims-1) */
+    const char *define;   /* the kernel -D that compiles its code in */
+    /* The device material's type-specific part (mean, inv_mean, p[]) from the
+     * scene material; colour ids and tags are already set. */
+    void (*fill)(const spm_scene *sc, const spm_scene_material *s, spm_material *d);
+} spm_mtype_desc;
+
+extern const spm_mtype_desc spm_material_types[];
+extern const int spm_nmaterial_types;
+extern const spm_mtype_desc spm_emitter_types[];
+extern const int spm_nemitter_types;
+
+/* The material type named by keyword kw, or NULL. */
+const spm_mtype_desc *spm_material_type_find(const char *kw);
+/* The default (keyword-less) material type: Lambertian. */
+const spm_mtype_desc *spm_material_type_default(void);
+
+/* The device material of scene material s (every type). */
+void spm_material_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d);
+
+/* The types the device materials use: used_m[tag], used_e[tag] set to 1. */
+void spm_material_types_used(const spm_material *mats, int n, int used_m[SPM_MAT_TYPES],
+                             int used_e[SPM_EMIT_TYPES]);
+/* The kernel options that compile in exactly the types mats use ("-DX -DY "),
+ * into buf; returns its length. */
+int spm_material_defines(const spm_material *mats, int n, char *buf, size_t size);
+/* Bytes of one path vertex's record for the types mats use. */
+size_t spm_material_vertex_bytes(const spm_material *mats, int n);
+#endif
