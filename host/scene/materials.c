@@ -21,9 +21,18 @@ static void lambert_fill(const spm_scene *sc, const spm_scene_material *s, spm_m
 }
 
 const spm_mtype_desc spm_material_types[] = {
-    [SPM_MAT_LAMBERT] = {NULL, SPM_MAT_LAMBERT, "diffuse: 'reflect SPECTRUM [SCALE]' (default black)",
-                         {{"reflect", SPM_MP_REFLECTANCE, SPM_MSLOT_REFL, 0, 0, "a reflectance"}},
-                         1, 0, 0, "SPM_WITH_LAMBERT", lambert_fill},
+    [SPM_MAT_LAMBERT] = {
+        .keyword = NULL, /* the default type */
+        .tag = SPM_MAT_LAMBERT,
+        .help = "diffuse: 'reflect SPECTRUM [SCALE]' (default black)",
+        .params = {{.clause = "reflect", .kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_REFL,
+                    .what = "a reflectance"}},
+        .nparams = 1,
+        .vertex_u32 = 0,
+        .rng_dims = 0, /* the vertex's own cosine-lobe dimensions */
+        .define = "SPM_WITH_LAMBERT",
+        .fill = lambert_fill,
+    },
 };
 const int spm_nmaterial_types = (int)(sizeof spm_material_types / sizeof spm_material_types[0]);
 
@@ -36,9 +45,18 @@ static void area_fill(const spm_scene *sc, const spm_scene_material *s, spm_mate
 }
 
 const spm_mtype_desc spm_emitter_types[] = {
-    [SPM_EMIT_AREA] = {"area", SPM_EMIT_AREA, "'emit SPECTRUM [SCALE]': a front-face area light",
-                       {{"emit", SPM_MP_EMISSION, SPM_MSLOT_EMIT, 0, 0, "an emission"}},
-                       1, 0, 0, "SPM_WITH_AREA", area_fill},
+    [SPM_EMIT_AREA] = {
+        .keyword = "area",
+        .tag = SPM_EMIT_AREA,
+        .help = "'emit SPECTRUM [SCALE]': a front-face area light",
+        .params = {{.clause = "emit", .kind = SPM_MP_EMISSION, .slot = SPM_MSLOT_EMIT,
+                    .what = "an emission"}},
+        .nparams = 1,
+        .vertex_u32 = 0,
+        .rng_dims = 0,
+        .define = "SPM_WITH_AREA",
+        .fill = area_fill,
+    },
 };
 const int spm_nemitter_types = (int)(sizeof spm_emitter_types / sizeof spm_emitter_types[0]);
 
