@@ -22,19 +22,25 @@
 
 /* Dimensions of material and emitter types (host/scene/materials.c), in their
  * own range, so that a type's draws never shift the ones above: every
- * Lambertian path keeps the numbers it has always drawn. Vertex j's type
- * dimensions are SPM_DIM_TYPE(j, k) for k < SPM_TYPE_DIMS_PER_VERTEX. A type
- * claims k = 0 .. n-1 by giving n as its descriptor's rng_dims (at most
- * SPM_TYPE_DIMS_PER_VERTEX, checked when the descriptors are read) and naming
- * its offsets SPM_DIM_<TYPE>_<WHAT> = 0, 1, ... beside its code. One
- * material is met at a vertex, so types share the offsets; a type that needs
- * more than the range raises SPM_TYPE_DIMS_PER_VERTEX, which moves no
+ * Lambertian path keeps the numbers it has always drawn. Vertex j has
+ * SPM_TYPE_DIMS_PER_VERTEX of them, split in two: the material type met at
+ * the vertex draws SPM_DIM_TYPE(j, k), k < SPM_TYPE_MAT_DIMS, and the emitter
+ * type sampled for the vertex's light (usually another material's) draws
+ * SPM_DIM_EMIT_TYPE(j, k), k < SPM_TYPE_EMIT_DIMS, so the two never share a
+ * number. A type claims k = 0 .. n-1 by giving n as its descriptor's rng_dims
+ * (at most its half: test_material_types checks) and naming its offsets
+ * SPM_DIM_<TYPE>_<WHAT> = 0, 1, ... beside its code. One material is met at a
+ * vertex, so material types share their half (likewise emitter types); a
+ * type that needs more raises SPM_TYPE_DIMS_PER_VERTEX, which moves no
  * existing dimension. The range starts far above the vertices' and far below
  * hero's: SPM_DIM_VERTEX(SPM_MAX_DEPTH) = 386 <= 2^30, and
  * 2^30 + SPM_MAX_DEPTH * SPM_TYPE_DIMS_PER_VERTEX < SPM_DIM_HERO. */
 #define SPM_DIM_TYPE_BASE 0x40000000u
 #define SPM_TYPE_DIMS_PER_VERTEX 8u
+#define SPM_TYPE_MAT_DIMS 4u
+#define SPM_TYPE_EMIT_DIMS (SPM_TYPE_DIMS_PER_VERTEX - SPM_TYPE_MAT_DIMS)
 #define SPM_DIM_TYPE(j, k) (SPM_DIM_TYPE_BASE + SPM_TYPE_DIMS_PER_VERTEX * (spm_u32)(j) + (spm_u32)(k))
+#define SPM_DIM_EMIT_TYPE(j, k) SPM_DIM_TYPE(j, SPM_TYPE_MAT_DIMS + (spm_u32)(k))
 
 /* "lowbias32" integer mixer (Wellons): full avalanche, cheap. Its steps on x
  * of any unsigned 32-bit integer type (the kernels also mix 16 keys at once). */

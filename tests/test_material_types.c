@@ -21,9 +21,9 @@ static void descriptors(void)
         for (int i = 0; i < counts[k]; i++) {
             const spm_mtype_desc *d = &tables[k][i];
             CHECK(d->tag == (unsigned)i, "descriptor %d of table %d has tag %u", i, k, d->tag);
-            CHECK(d->rng_dims >= 0 && d->rng_dims <= (int)SPM_TYPE_DIMS_PER_VERTEX,
-                  "type %d draws %d dimensions (at most %u)", i, d->rng_dims,
-                  SPM_TYPE_DIMS_PER_VERTEX);
+            unsigned half = k == 0 ? SPM_TYPE_MAT_DIMS : SPM_TYPE_EMIT_DIMS;
+            CHECK(d->rng_dims >= 0 && d->rng_dims <= (int)half,
+                  "type %d of table %d draws %d dimensions (at most %u)", i, k, d->rng_dims, half);
             CHECK(d->define && !strncmp(d->define, "SPM_WITH_", 9), "type %d: define", i);
             CHECK(d->fill != NULL && d->nparams <= SPM_MTYPE_MAX_PARAMS, "type %d: fill", i);
         }

@@ -51,5 +51,9 @@ int main(void)
                 distinct &= spm_rng_u32(7, 123, 4, SPM_DIM_TYPE(j, k)) !=
                             spm_rng_u32(7, 123, 4, SPM_DIM_VERTEX(j) + d);
     CHECK(distinct, "a type dimension draws a vertex dimension's number");
+    /* a vertex's material type and the emitter type sampled for it never share one */
+    CHECK(SPM_DIM_TYPE(0, SPM_TYPE_MAT_DIMS - 1) < SPM_DIM_EMIT_TYPE(0, 0) &&
+              SPM_DIM_EMIT_TYPE(0, SPM_TYPE_EMIT_DIMS - 1) < SPM_DIM_TYPE(1, 0),
+          "the emitter types' half overlaps the material types' or the next vertex's");
     TEST_END();
 }

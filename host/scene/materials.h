@@ -38,7 +38,8 @@ typedef struct {
     spm_mparam params[SPM_MTYPE_MAX_PARAMS];
     int nparams;
     int vertex_u32;       /* path-record fields per vertex beyond spm_vertex (32-bit words) */
-    int rng_dims;         /* dimensions it draws per vertex: SPM_DIM_TYPE(j, 0 .. rng_dims-1) */
+    int rng_dims;         /* dimensions it draws per vertex: SPM_DIM_TYPE(j, 0 .. rng_dims-1) for a
+                             material type, SPM_DIM_EMIT_TYPE(j, ...) for an emitter type */
     const char *define;   /* the kernel -D that compiles its code in */
     /* The device material's type-specific part (mean, inv_mean, p[]) from the
      * scene material; colour ids and tags are already set. */
