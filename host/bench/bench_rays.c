@@ -10,7 +10,8 @@
 #include "geometry_vec3.h"
 #include "interrupt.h"
 #include "refcpu.h"
-#include "render_setup.h"
+#include "backend_cpu.h"
+#include "backends.h"
 #include "spm_kernel_args.h"
 
 /* Work-group size: the renderer's (cl_renderer.h LOCAL_SIZE) unless --rays-group sets one. */
@@ -522,7 +523,7 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
     cfg.width = o->width;
     cfg.height = o->height;
     cfg.seed = o->seed;
-    cfg.use_cpu = 1; /* the plan and the reference; the replay opens its own device */
+    cfg.backend = &spm_backend_kind_cpu; /* the plan and the reference; the replay opens a device */
     spm_render_setup s;
     int rc = spm_render_setup_open(&cfg, &s, err);
     if (rc) {

@@ -10,7 +10,7 @@
 #include "output.h"
 #include "render_meta.h"
 #include "pocl_cache.h"
-#include "render_setup.h"
+#include "backends.h"
 #include "render_stats.h"
 #include "scene_build.h"
 #include "spectral_exr.h"
@@ -170,11 +170,10 @@ int spm_cmd_render(int argc, char **argv)
             *(a[2] == 'w' ? &cfg.width : &cfg.height) = (int)n;
         } else if (!strcmp(a, "--backend")) {
             NEED_VALUE;
-            if (strcmp(v, "cpu") && strcmp(v, "opencl")) {
+            if (!(cfg.backend = spm_backend_kind_find(v))) {
                 fprintf(stderr, "specmip render: --backend is opencl or cpu, not '%s'\n", v);
                 return SPM_EXIT_INPUT;
             }
-            cfg.use_cpu = !strcmp(v, "cpu");
         } else if (!strcmp(a, "--device")) {
             NEED_VALUE;
             if (parse_devices(v, &cfg))
@@ -320,7 +319,8 @@ int spm_cmd_render(int argc, char **argv)
     s.times.render_s = spm_now() - t0;
     spm_pocl_cache cache1 = spm_pocl_cache_now();
     /* the CPU reference compiles nothing: a cache that grew meanwhile is another process's */
-    s.times.compiled_in_render = cfg.use_cpu ? -1 : spm_pocl_cache_grew(&cache0, &cache1);
+    s.times.compiled_in_render =
+        cfg.backend->compiles ? spm_pocl_cache_grew(&cache0, &cache1) : -1;
     if (s.times.compiled_in_render == 1) {
         char dir[4096];
         fprintf(stderr, "specmip render: WARNING: PoCL's kernel cache %s gained %lld files "

@@ -99,3 +99,11 @@ spm_backend *spm_backend_cpu_create(const spm_render_plan *plan, spm_error *err)
     snprintf(b->name, sizeof b->name, "cpu-reference");
     return b;
 }
+
+static spm_backend *create_kind(int device, const spm_render_plan *plan, spm_error *err)
+{
+    (void)device;
+    return spm_backend_cpu_create(plan, err);
+}
+
+const spm_backend_kind spm_backend_kind_cpu = {.name = "cpu", .create = create_kind};

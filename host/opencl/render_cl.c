@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cl_renderer.h"
+#include "cl_resources.h"
 
 int spm_cl_create_plan(int device, const spm_render_plan *plan, spm_cl_renderer **out,
                        spm_error *err)
@@ -275,3 +276,44 @@ spm_backend *spm_backend_cl_create(int device, const spm_render_plan *plan, spm_
     snprintf(b->name, sizeof b->name, "%d: %.200s", device, r->cl.dev.name);
     return b;
 }
+
+static int all_devices(int *list, int *n, int max, spm_error *err)
+{
+    spm_cl_device *devs;
+    int ndev;
+    if (spm_cl_devices(&devs, &ndev, err))
+        return 1;
+    int nall = 0;
+    *n = 0;
+    for (int i = 0; i < ndev; i++)
+        if (spm_cl_device_in_all(devs, ndev, i)) {
+            if (*n < max)
+                list[(*n)++] = i;
+            nall++;
+        }
+    free(devs);
+    if (nall > max)
+        spm_warnf("%d devices; the first %d render", nall, max);
+    return 0;
+}
+
+static int check_device(int device, const spm_render_plan *plan, int width, int height,
+                        size_t paths_per_pass, char *name, spm_error *err)
+{
+    spm_cl_footprint fp;
+    spm_cl_footprint_of_ch(plan->geom, plan->tables, (size_t)width * (size_t)height,
+                           paths_per_pass, plan->pix_ch, &fp);
+    spm_cl_device d;
+    if (spm_cl_device_get(device, &d, err) || /* unknown index: lists the available ones */
+        spm_cl_footprint_check(&d, &fp, width, height, paths_per_pass, err))
+        return 1;
+    snprintf(name, 256, "%s", d.name);
+    return 0;
+}
+
+const spm_backend_kind spm_backend_kind_opencl = {.name = "opencl",
+                                                  .per_device = 1,
+                                                  .compiles = 1,
+                                                  .all_devices = all_devices,
+                                                  .check = check_device,
+                                                  .create = spm_backend_cl_create};
