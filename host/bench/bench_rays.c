@@ -14,8 +14,8 @@
 #include "backends.h"
 #include "spm_kernel_args.h"
 
-/* Work-group size: the renderer's (cl_renderer.h LOCAL_SIZE) unless --rays-group sets one. */
-static size_t group = 64;
+/* Work-group size: the renderer's unless --rays-group sets one. */
+static size_t group = SPM_LOCAL_SIZE;
 
 typedef struct {
     spm_ray *r;
@@ -194,7 +194,7 @@ int spm_rays_load(const char *path, const spm_geometry *g, spm_rayset *rs, spm_e
 #define ARG_FIELD(dev, host, name) host name;
 typedef struct { SPM_RAYS_ARGS(ARG_FIELD, ) } rays_args;
 #define SET_ARG(dev, host, name) \
-    rc = rc || spm_cl_check(clSetKernelArg(k, i++, sizeof a->name, &a->name), "clSetKernelArg(spm_rays)", err);
+    rc = rc || spm_cl_arg(k, i++, sizeof a->name, &a->name, "spm_rays", err);
 
 static int set_args(cl_kernel k, const rays_args *a, spm_error *err)
 {
@@ -213,51 +213,36 @@ static int launch(spm_cl_ctx *c, cl_kernel k, rays_args *a, size_t first, size_t
         return 0;
     a->first = (spm_u32)first;
     a->nrays = (spm_u32)n;
-    size_t global = (n + group - 1) / group * group, local = group;
-    cl_event ev;
-    if (set_args(k, a, err) ||
-        spm_cl_check(clEnqueueNDRangeKernel(c->queue, k, 1, NULL, &global, &local, 0, NULL, &ev),
-                     "clEnqueueNDRangeKernel(spm_rays)", err))
-        return 1;
-    cl_int rc = clWaitForEvents(1, &ev);
-    *s = spm_cl_event_seconds(ev);
-    clReleaseEvent(ev);
-    return spm_cl_check(rc, "clWaitForEvents(spm_rays)", err);
+    size_t global = (n + group - 1) / group * group;
+    return set_args(k, a, err) || spm_cl_launch(c, k, global, group, s, "spm_rays", err);
 }
 
 static cl_mem buffer(spm_cl_ctx *c, cl_mem_flags fl, size_t size, void *host, spm_error *err,
                      int *bad)
 {
-    if (*bad)
-        return NULL;
-    cl_int e;
-    cl_mem m = clCreateBuffer(c->ctx, fl | (host ? CL_MEM_COPY_HOST_PTR : 0), size ? size : 4,
-                              host, &e);
-    *bad = spm_cl_check(e, "clCreateBuffer(rays)", err);
+    cl_mem m = NULL;
+    if (!*bad)
+        *bad = spm_cl_buffer(c, fl, size, host, "rays", &m, err);
     return m;
 }
 
 static int read_counters(spm_cl_ctx *c, cl_mem m, cl_uint *v, spm_error *err)
 {
-    return spm_cl_check(clEnqueueReadBuffer(c->queue, m, CL_TRUE, 0,
-                                            SPM_RAYS_NCOUNTERS * sizeof *v, v, 0, NULL, NULL),
-                        "clEnqueueReadBuffer(counters)", err);
+    return spm_cl_read(c, m, SPM_RAYS_NCOUNTERS * sizeof *v, v, "counters", err);
 }
 
 static int zero_counters(spm_cl_ctx *c, cl_mem m, spm_error *err)
 {
     cl_uint z[SPM_RAYS_NCOUNTERS] = {0};
-    return spm_cl_check(clEnqueueWriteBuffer(c->queue, m, CL_TRUE, 0, sizeof z, z, 0, NULL, NULL),
-                        "clEnqueueWriteBuffer(counters)", err);
+    return spm_cl_write(c, m, sizeof z, z, "counters", err);
 }
 
 /* The counting build over both kinds: per-ray nodes and triangle tests. */
 static int count_costs(spm_cl_ctx *c, cl_program prog, rays_args *a, const spm_rayset *rs,
                        spm_rays_timing *tm, spm_error *err)
 {
-    cl_int e;
-    cl_kernel k = clCreateKernel(prog, "spm_rays", &e);
-    if (spm_cl_check(e, "clCreateKernel(spm_rays, statistics)", err))
+    cl_kernel k;
+    if (spm_cl_kernel(prog, "spm_rays", &k, err))
         return 1;
     size_t ns = rs->n - rs->nclosest;
     cl_uint v[SPM_RAYS_NCOUNTERS];
@@ -274,7 +259,7 @@ static int count_costs(spm_cl_ctx *c, cl_program prog, rays_args *a, const spm_r
         tm->nodes_shadow = ns ? (double)v[SPM_COUNTER_NODES] / ns : 0;
         tm->tris_shadow = ns ? (double)v[SPM_COUNTER_TRIS] / ns : 0;
     }
-    clReleaseKernel(k);
+    spm_cl_release_kernel(k);
     return rc;
 }
 
@@ -306,9 +291,7 @@ int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, 
     a.counters = buffer(&c, CL_MEM_READ_WRITE, SPM_RAYS_NCOUNTERS * sizeof(cl_uint), NULL, err,
                         &bad);
     if (!bad) {
-        cl_int e;
-        k = clCreateKernel(prog, "spm_rays", &e);
-        bad = spm_cl_check(e, "clCreateKernel(spm_rays)", err) || zero_counters(&c, a.counters, err);
+        bad = spm_cl_kernel(prog, "spm_rays", &k, err) || zero_counters(&c, a.counters, err);
     }
     size_t ns = rs->n - rs->nclosest;
     tm->closest_s = tm->shadow_s = INFINITY;
@@ -334,23 +317,17 @@ int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, 
     }
     cl_uint v[SPM_RAYS_NCOUNTERS];
     if (!bad && rs->n)
-        bad = spm_cl_check(clEnqueueReadBuffer(c.queue, a.hits, CL_TRUE, 0, rs->n * sizeof *hits,
-                                               hits, 0, NULL, NULL),
-                           "clEnqueueReadBuffer(hits)", err);
+        bad = spm_cl_read(&c, a.hits, rs->n * sizeof *hits, hits, "hits", err);
     if (!bad && !(bad = read_counters(&c, a.counters, v, err)))
         tm->stack_overflows = v[SPM_COUNTER_STACK];
     if (!bad && stats)
         bad = count_costs(&c, sprog, &a, rs, tm, err);
-    if (k)
-        clReleaseKernel(k);
+    spm_cl_release_kernel(k);
     cl_mem mems[] = {a.tris, a.nodes, a.rays, a.hits, a.counters};
     for (size_t i = 0; i < sizeof mems / sizeof *mems; i++)
-        if (mems[i])
-            clReleaseMemObject(mems[i]);
-    if (prog)
-        clReleaseProgram(prog);
-    if (sprog)
-        clReleaseProgram(sprog);
+        spm_cl_release_mem(mems[i]);
+    spm_cl_release_program(prog);
+    spm_cl_release_program(sprog);
     spm_cl_ctx_release(&c);
     return bad;
 }
