@@ -32,8 +32,6 @@ void spm_cl_destroy(spm_cl_renderer *r);
 spm_backend *spm_backend_cl_create(int device, const spm_render_plan *plan, spm_error *err);
 /* As a kind of backend (backend.h): one per device, checked against its memory. */
 extern const spm_backend_kind spm_backend_kind_opencl;
-/* The device this handle renders on (name, memory, ...). */
-const spm_cl_device *spm_cl_renderer_device(const spm_cl_renderer *r);
 
 /* One pass: samples [first_sample, first_sample + spp) of every pixel.
  * pass_xyz (npix * 3) receives per pixel the SUM of its samples' XYZ.
