@@ -228,4 +228,11 @@ expect_exit2 "unknown option" "unknown option" --frobnicate
 expect_exit2 "missing scene" "nonexistent.scene" --scenes "$T/nonexistent.scene" --size 8x8 --spp 1 \
     --truth-spp 1 --thresholds none
 
+# --ops: every layout and operation timed on the device, a positive time each
+mkdir -p "$T/ops"
+"$BIN" bench --ops --ops-items 1024 --ops-iters 4 --out "$T/ops" > "$T/ops.txt" 2>&1
+check "bench --ops: exit 0" test $? -eq 0
+check "bench --ops: 24 rows of positive ns per op" \
+    test "$(awk -F, 'NR > 1 && $6 > 0' "$T/ops/ops.csv" 2>/dev/null | wc -l)" -eq 24
+
 finish

@@ -9,7 +9,7 @@
 #include <string.h>
 #include "colour.h"
 #include "compare.h"
-#include "render_setup.h"
+#include "backends.h"
 
 /* Called with the open set-up before it is closed (tables, pretest results). */
 typedef void (*rt_inspect_fn)(const spm_render_setup *s, void *ctx);

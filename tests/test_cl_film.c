@@ -1,6 +1,7 @@
 /* Pass images of the OpenCL backend: repeatable bit for bit with the same
  * seed, different with another, close to the CPU reference backend's, with
  * consistent statistics; device errors are reported, not fatal. */
+#include "backend_cpu.h"
 #include "cl_testlib.h"
 #include "testutil.h"
 

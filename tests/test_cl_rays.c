@@ -9,7 +9,8 @@
 #include <string.h>
 #include "bench_rays.h"
 #include "refcpu.h"
-#include "render_setup.h"
+#include "backend_cpu.h"
+#include "backends.h"
 #include "render_testlib.h"
 #include "testutil.h"
 
@@ -23,7 +24,7 @@ static void one_scene(const char *name)
         cfg.scene_path = path;
     }
     cfg.width = cfg.height = 32;
-    cfg.use_cpu = 1;
+    cfg.backend = &spm_backend_kind_cpu;
     const char *what = name ? name : "built-in scene";
     spm_render_setup s;
     spm_error err;

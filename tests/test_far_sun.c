@@ -8,7 +8,8 @@
  * scene: test_cl_trace. */
 #include "geomtest_scene.h"
 #include "refcpu.h"
-#include "render_setup.h"
+#include "backend_cpu.h"
+#include "backends.h"
 #include "scene_build.h"
 #include "testutil.h"
 #include <float.h>
@@ -30,7 +31,7 @@ static double render_mean_y(const char *name, int mode, int size, int spp)
     cfg.spp = spp;
     cfg.seed = 3;
     cfg.width = cfg.height = size;
-    cfg.use_cpu = 1;
+    cfg.backend = &spm_backend_kind_cpu;
     spm_render_setup s;
     spm_error err;
     err.msg[0] = 0;

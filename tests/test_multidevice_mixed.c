@@ -7,7 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "cl_testlib.h"
-#include "render_setup.h"
+#include "backends.h"
 #include "testutil.h"
 
 #define W 40

@@ -7,7 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "clhost.h"
-#include "render_setup.h"
+#include "render_cl.h"
+#include "backends.h"
 #include "testutil.h"
 
 #define W 40

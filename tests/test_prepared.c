@@ -4,7 +4,7 @@
  * an error, never a crash; and the no-scene-file test hook refuses a scene. */
 #include <stdlib.h>
 #include <string.h>
-#include "backend.h"
+#include "backend_cpu.h"
 #include "geometry.h"
 #include "prepared.h"
 #include "render_plan.h"

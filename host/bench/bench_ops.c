@@ -28,14 +28,8 @@ static int time_kernel(spm_cl_ctx *c, cl_kernel k, size_t items, double *best, s
 {
     *best = 1e30;
     for (int r = 0; r <= REPEATS; r++) {
-        cl_event ev;
-        if (spm_cl_check(clEnqueueNDRangeKernel(c->queue, k, 1, NULL, &items, NULL, 0, NULL, &ev),
-                         "clEnqueueNDRangeKernel(opbench)", err))
-            return 1;
-        cl_int rc = clWaitForEvents(1, &ev);
-        double s = spm_cl_event_seconds(ev);
-        clReleaseEvent(ev);
-        if (spm_cl_check(rc, "clWaitForEvents(opbench)", err))
+        double s;
+        if (spm_cl_launch(c, k, items, 0, &s, "opbench", err))
             return 1;
         if (s < 0) {
             spm_errorf(err, "device '%s' gives no kernel times (profiling)", c->dev.name);
@@ -56,17 +50,16 @@ static int run_all(spm_cl_ctx *c, cl_program prog, cl_mem buf, int items, int it
         for (int o = 0; o < NOPS; o++) {
             char name[64];
             snprintf(name, sizeof name, "op_%s_%s", ops[o], layouts[l].suffix);
-            cl_int e;
-            cl_kernel k = clCreateKernel(prog, name, &e);
-            if (spm_cl_check(e, "clCreateKernel(opbench)", err))
+            cl_kernel k;
+            if (spm_cl_kernel(prog, name, &k, err))
                 return 1;
             double s = 0;
-            int bad = spm_cl_check(clSetKernelArg(k, 0, sizeof buf, &buf), "clSetKernelArg", err) ||
-                      spm_cl_check(clSetKernelArg(k, 1, sizeof mask, &mask), "clSetKernelArg", err) ||
-                      spm_cl_check(clSetKernelArg(k, 2, sizeof it, &it), "clSetKernelArg", err) ||
-                      spm_cl_check(clSetKernelArg(k, 3, sizeof scale, &scale), "clSetKernelArg", err) ||
+            int bad = spm_cl_arg(k, 0, sizeof buf, &buf, name, err) ||
+                      spm_cl_arg(k, 1, sizeof mask, &mask, name, err) ||
+                      spm_cl_arg(k, 2, sizeof it, &it, name, err) ||
+                      spm_cl_arg(k, 3, sizeof scale, &scale, name, err) ||
                       time_kernel(c, k, (size_t)items, &s, err);
-            clReleaseKernel(k);
+            spm_cl_release_kernel(k);
             if (bad)
                 return 1;
             ns[l][o] = s * 1e9 / ((double)items * iters);
@@ -126,12 +119,10 @@ int spm_bench_ops(int device, int items, int iters, const char *dir, spm_error *
         float *init = spm_xmalloc(nfloat * sizeof *init);
         for (size_t i = 0; i < nfloat; i++)
             init[i] = 1.0f; /* products of ones stay one: no denormal slow paths */
-        cl_int e;
-        buf = clCreateBuffer(c.ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
-                             nfloat * sizeof *init, init, &e);
-        free(init);
-        if (spm_cl_check(e, "clCreateBuffer(opbench)", err))
+        if (spm_cl_buffer(&c, CL_MEM_READ_WRITE, nfloat * sizeof *init, init, "opbench", &buf,
+                          err))
             rc = SPM_EXIT_RUNTIME;
+        free(init);
     }
     double ns[NLAYOUTS][NOPS];
     if (!rc && run_all(&c, prog, buf, items, iters, ns, err))
@@ -145,10 +136,8 @@ int spm_bench_ops(int device, int items, int iters, const char *dir, spm_error *
                device, items, iters, dir);
         rc = write_csv(dir, ns, err) ? SPM_EXIT_RUNTIME : 0;
     }
-    if (buf)
-        clReleaseMemObject(buf);
-    if (prog)
-        clReleaseProgram(prog);
+    spm_cl_release_mem(buf);
+    spm_cl_release_program(prog);
     spm_cl_ctx_release(&c);
     return rc;
 }

@@ -10,11 +10,12 @@
 #include "geometry_vec3.h"
 #include "interrupt.h"
 #include "refcpu.h"
-#include "render_setup.h"
+#include "backend_cpu.h"
+#include "backends.h"
 #include "spm_kernel_args.h"
 
-/* Work-group size: the renderer's (cl_renderer.h LOCAL_SIZE) unless --rays-group sets one. */
-static size_t group = 64;
+/* Work-group size: the renderer's unless --rays-group sets one. */
+static size_t group = SPM_LOCAL_SIZE;
 
 typedef struct {
     spm_ray *r;
@@ -193,7 +194,7 @@ int spm_rays_load(const char *path, const spm_geometry *g, spm_rayset *rs, spm_e
 #define ARG_FIELD(dev, host, name) host name;
 typedef struct { SPM_RAYS_ARGS(ARG_FIELD, ) } rays_args;
 #define SET_ARG(dev, host, name) \
-    rc = rc || spm_cl_check(clSetKernelArg(k, i++, sizeof a->name, &a->name), "clSetKernelArg(spm_rays)", err);
+    rc = rc || spm_cl_arg(k, i++, sizeof a->name, &a->name, "spm_rays", err);
 
 static int set_args(cl_kernel k, const rays_args *a, spm_error *err)
 {
@@ -212,68 +213,53 @@ static int launch(spm_cl_ctx *c, cl_kernel k, rays_args *a, size_t first, size_t
         return 0;
     a->first = (spm_u32)first;
     a->nrays = (spm_u32)n;
-    size_t global = (n + group - 1) / group * group, local = group;
-    cl_event ev;
-    if (set_args(k, a, err) ||
-        spm_cl_check(clEnqueueNDRangeKernel(c->queue, k, 1, NULL, &global, &local, 0, NULL, &ev),
-                     "clEnqueueNDRangeKernel(spm_rays)", err))
-        return 1;
-    cl_int rc = clWaitForEvents(1, &ev);
-    *s = spm_cl_event_seconds(ev);
-    clReleaseEvent(ev);
-    return spm_cl_check(rc, "clWaitForEvents(spm_rays)", err);
+    size_t global = (n + group - 1) / group * group;
+    return set_args(k, a, err) || spm_cl_launch(c, k, global, group, s, "spm_rays", err);
 }
 
 static cl_mem buffer(spm_cl_ctx *c, cl_mem_flags fl, size_t size, void *host, spm_error *err,
                      int *bad)
 {
-    if (*bad)
-        return NULL;
-    cl_int e;
-    cl_mem m = clCreateBuffer(c->ctx, fl | (host ? CL_MEM_COPY_HOST_PTR : 0), size ? size : 4,
-                              host, &e);
-    *bad = spm_cl_check(e, "clCreateBuffer(rays)", err);
+    cl_mem m = NULL;
+    if (!*bad)
+        *bad = spm_cl_buffer(c, fl, size, host, "rays", &m, err);
     return m;
 }
 
 static int read_counters(spm_cl_ctx *c, cl_mem m, cl_uint *v, spm_error *err)
 {
-    return spm_cl_check(clEnqueueReadBuffer(c->queue, m, CL_TRUE, 0,
-                                            SPM_RAYS_NCOUNTERS * sizeof *v, v, 0, NULL, NULL),
-                        "clEnqueueReadBuffer(counters)", err);
+    return spm_cl_read(c, m, SPM_RAYS_NCOUNTERS * sizeof *v, v, "counters", err);
 }
 
 static int zero_counters(spm_cl_ctx *c, cl_mem m, spm_error *err)
 {
     cl_uint z[SPM_RAYS_NCOUNTERS] = {0};
-    return spm_cl_check(clEnqueueWriteBuffer(c->queue, m, CL_TRUE, 0, sizeof z, z, 0, NULL, NULL),
-                        "clEnqueueWriteBuffer(counters)", err);
+    return spm_cl_write(c, m, sizeof z, z, "counters", err);
 }
 
 /* The counting build over both kinds: per-ray nodes and triangle tests. */
 static int count_costs(spm_cl_ctx *c, cl_program prog, rays_args *a, const spm_rayset *rs,
                        spm_rays_timing *tm, spm_error *err)
 {
-    cl_int e;
-    cl_kernel k = clCreateKernel(prog, "spm_rays", &e);
-    if (spm_cl_check(e, "clCreateKernel(spm_rays, statistics)", err))
+    cl_kernel k;
+    if (spm_cl_kernel(prog, "spm_rays", &k, err))
         return 1;
     size_t ns = rs->n - rs->nclosest;
     cl_uint v[SPM_RAYS_NCOUNTERS];
     double s;
     int rc = zero_counters(c, a->counters, err) ||
-             launch(c, k, a, 0, rs->nclosest, &s, err) || read_counters(c, a->counters, v, err);
+         launch(c, k, a, 0, rs->nclosest, &s, err) || read_counters(c, a->counters, v, err);
     if (!rc) {
-        tm->nodes_closest = rs->nclosest ? (double)v[SPM_COUNTER_NODES] / rs->nclosest : 0;
-        tm->tris_closest = rs->nclosest ? (double)v[SPM_COUNTER_TRIS] / rs->nclosest : 0;
-        rc = zero_counters(c, a->counters, err) || launch(c, k, a, rs->nclosest, ns, &s, err) ||
-             read_counters(c, a->counters, v, err);
+    tm->nodes_closest = rs->nclosest ? (double)v[SPM_COUNTER_NODES] / rs->nclosest : 0;
+    tm->tris_closest = rs->nclosest ? (double)v[SPM_COUNTER_TRIS] / rs->nclosest : 0;
+    rc = zero_counters(c, a->counters, err) || launch(c, k, a, rs->nclosest, ns, &s, err) ||
+         read_counters(c, a->counters, v, err);
     }
     if (!rc) {
-        tm->nodes_shadow = ns ? (double)v[SPM_COUNTER_NODES] / ns : 0;
-        tm->tris_shadow = ns ? (double)v[SPM_COUNTER_TRIS] / ns : 0;
+    tm->nodes_shadow = ns ? (double)v[SPM_COUNTER_NODES] / ns : 0;
+    tm->tris_shadow = ns ? (double)v[SPM_COUNTER_TRIS] / ns : 0;
     }
-    clReleaseKernel(k);
+    spm_cl_release_kernel(k);
     return rc;
 }
 
@@ -281,14 +267,14 @@ const char spm_rays_program_file[] = "kernels/rays.cl";
 const char *const spm_rays_program_defines[2] = {"", "-DSPM_RAYS_STATS"};
 
 int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, int repeat,
-                       int stats, int *hits, spm_rays_timing *tm, char *devname, size_t devlen,
-                       void (*each)(void *ctx, int run), void *ctx, spm_error *err)
+                   int stats, int *hits, spm_rays_timing *tm, char *devname, size_t devlen,
+                   void (*each)(void *ctx, int run), void *ctx, spm_error *err)
 {
     memset(tm, 0, sizeof *tm);
     tm->nodes_closest = tm->nodes_shadow = tm->tris_closest = tm->tris_shadow = -1;
     spm_cl_ctx c;
     if (spm_cl_ctx_create(device, &c, err))
-        return 1;
+    return 1;
     snprintf(devname, devlen, "%s", c.dev.name);
     const char *files[] = {spm_rays_program_file};
     cl_program prog = NULL, sprog = NULL;
@@ -296,83 +282,75 @@ int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, 
     rays_args a;
     memset(&a, 0, sizeof a);
     int bad = spm_cl_build(&c, files, 1, spm_rays_program_defines[0], &prog, err) ||
-              (stats && spm_cl_build(&c, files, 1, spm_rays_program_defines[1], &sprog, err));
+          (stats && spm_cl_build(&c, files, 1, spm_rays_program_defines[1], &sprog, err));
     a.tris = buffer(&c, CL_MEM_READ_ONLY, (size_t)g->ntris * sizeof *g->tris, g->tris, err, &bad);
     a.nodes = buffer(&c, CL_MEM_READ_ONLY, (size_t)g->nnodes * sizeof *g->nodes, g->nodes, err,
-                     &bad);
+                 &bad);
     a.rays = buffer(&c, CL_MEM_READ_ONLY, rs->n * sizeof *rs->rays, rs->rays, err, &bad);
     a.hits = buffer(&c, CL_MEM_READ_WRITE, rs->n * sizeof *hits, NULL, err, &bad);
     a.counters = buffer(&c, CL_MEM_READ_WRITE, SPM_RAYS_NCOUNTERS * sizeof(cl_uint), NULL, err,
-                        &bad);
+                    &bad);
     if (!bad) {
-        cl_int e;
-        k = clCreateKernel(prog, "spm_rays", &e);
-        bad = spm_cl_check(e, "clCreateKernel(spm_rays)", err) || zero_counters(&c, a.counters, err);
+    bad = spm_cl_kernel(prog, "spm_rays", &k, err) || zero_counters(&c, a.counters, err);
     }
     size_t ns = rs->n - rs->nclosest;
     tm->closest_s = tm->shadow_s = INFINITY;
     /* run 0 warms up (PoCL compiles a kernel again at its first launch) */
     for (int r = 0; r <= repeat && !bad; r++) {
-        double sc, ss;
-        bad = launch(&c, k, &a, 0, rs->nclosest, &sc, err) ||
-              launch(&c, k, &a, rs->nclosest, ns, &ss, err);
-        if (!bad && (sc < 0 || ss < 0)) {
-            spm_errorf(err, "device '%s' gives no kernel times (profiling)", c.dev.name);
-            bad = 1;
-        }
-        if (!bad && r > 0) {
-            tm->closest_s = sc < tm->closest_s ? sc : tm->closest_s;
-            tm->shadow_s = ss < tm->shadow_s ? ss : tm->shadow_s;
-        }
-        if (!bad && each)
-            each(ctx, r);
-        if (!bad && spm_stop_requested()) {
-            spm_errorf(err, "interrupted while replaying rays");
-            bad = 1;
-        }
+    double sc, ss;
+    bad = launch(&c, k, &a, 0, rs->nclosest, &sc, err) ||
+          launch(&c, k, &a, rs->nclosest, ns, &ss, err);
+    if (!bad && (sc < 0 || ss < 0)) {
+        spm_errorf(err, "device '%s' gives no kernel times (profiling)", c.dev.name);
+        bad = 1;
+    }
+    if (!bad && r > 0) {
+        tm->closest_s = sc < tm->closest_s ? sc : tm->closest_s;
+        tm->shadow_s = ss < tm->shadow_s ? ss : tm->shadow_s;
+    }
+    if (!bad && each)
+        each(ctx, r);
+    if (!bad && spm_stop_requested()) {
+        spm_errorf(err, "interrupted while replaying rays");
+        bad = 1;
+    }
     }
     cl_uint v[SPM_RAYS_NCOUNTERS];
     if (!bad && rs->n)
-        bad = spm_cl_check(clEnqueueReadBuffer(c.queue, a.hits, CL_TRUE, 0, rs->n * sizeof *hits,
-                                               hits, 0, NULL, NULL),
-                           "clEnqueueReadBuffer(hits)", err);
+    bad = spm_cl_read(&c, a.hits, rs->n * sizeof *hits, hits, "hits", err);
     if (!bad && !(bad = read_counters(&c, a.counters, v, err)))
-        tm->stack_overflows = v[SPM_COUNTER_STACK];
+    tm->stack_overflows = v[SPM_COUNTER_STACK];
     if (!bad && stats)
-        bad = count_costs(&c, sprog, &a, rs, tm, err);
-    if (k)
-        clReleaseKernel(k);
+    bad = count_costs(&c, sprog, &a, rs, tm, err);
+    spm_cl_release_kernel(k);
     cl_mem mems[] = {a.tris, a.nodes, a.rays, a.hits, a.counters};
     for (size_t i = 0; i < sizeof mems / sizeof *mems; i++)
-        if (mems[i])
-            clReleaseMemObject(mems[i]);
-    if (prog)
-        clReleaseProgram(prog);
-    if (sprog)
-        clReleaseProgram(sprog);
+    spm_cl_release_mem(mems[i]);
+    spm_cl_release_program(prog);
+    spm_cl_release_program(sprog);
     spm_cl_ctx_release(&c);
     return bad;
 }
 
 /* ---- the reference's traversal -------------------------------------------- */
 void spm_rays_replay_ref(const spm_geometry *g, const spm_rayset *rs, int *hits,
-                         spm_rays_timing *tm)
+                     spm_rays_timing *tm)
 {
     memset(tm, 0, sizeof *tm);
     tm->tris_closest = tm->tris_shadow = -1;
     for (int kind = 0; kind < 2; kind++) {
-        size_t b = kind ? rs->nclosest : 0, e = kind ? rs->n : rs->nclosest;
-        unsigned long long n0 = spm_bvh_nodes_tested;
-        double t0 = spm_now();
-        for (size_t i = b; i < e; i++) {
-            if (!(i & 4095) && spm_stop_requested())
-                return; /* the caller sees the flag */
-            float t;
-            hits[i] = spm_bvh_intersect(g, rs->rays[i].o, rs->rays[i].d, rs->rays[i].skip, &t);
-        }
-        double s = spm_now() - t0, per = e > b ? (double)(spm_bvh_nodes_tested - n0) / (e - b) : 0;
-        *(kind ? &tm->shadow_s : &tm->closest_s) = s;
-        *(kind ? &tm->nodes_shadow : &tm->nodes_closest) = per;
+    size_t b = kind ? rs->nclosest : 0, e = kind ? rs->n : rs->nclosest;
+    unsigned long long n0 = spm_bvh_nodes_tested;
+    double t0 = spm_now();
+    for (size_t i = b; i < e; i++) {
+        if (!(i & 4095) && spm_stop_requested())
+            return; /* the caller sees the flag */
+        float t;
+        hits[i] = spm_bvh_intersect(g, rs->rays[i].o, rs->rays[i].d, rs->rays[i].skip, &t);
+    }
+    double s = spm_now() - t0, per = e > b ? (double)(spm_bvh_nodes_tested - n0) / (e - b) : 0;
+    *(kind ? &tm->shadow_s : &tm->closest_s) = s;
+    *(kind ? &tm->nodes_shadow : &tm->nodes_closest) = per;
     }
 }
 
@@ -382,22 +360,22 @@ static int occluded(int h, spm_u32 emitter)
 }
 
 void spm_rays_compare(const spm_rayset *rs, const int *a, const int *b, size_t *closest_bad,
-                      size_t *shadow_bad)
+                  size_t *shadow_bad)
 {
     *closest_bad = *shadow_bad = 0;
     for (size_t i = 0; i < rs->nclosest; i++)
-        *closest_bad += a[i] != b[i];
+    *closest_bad += a[i] != b[i];
     for (size_t i = rs->nclosest; i < rs->n; i++)
-        *shadow_bad += occluded(a[i], rs->rays[i].emitter) != occluded(b[i], rs->rays[i].emitter);
+    *shadow_bad += occluded(a[i], rs->rays[i].emitter) != occluded(b[i], rs->rays[i].emitter);
 }
 
 static int share_vertex(const spm_tri *a, const spm_tri *b)
 {
     const float *va[3] = {a->v0, a->v1, a->v2}, *vb[3] = {b->v0, b->v1, b->v2};
     for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            if (!memcmp(va[i], vb[j], 3 * sizeof(float)))
-                return 1;
+    for (int j = 0; j < 3; j++)
+        if (!memcmp(va[i], vb[j], 3 * sizeof(float)))
+            return 1;
     return 0;
 }
 
@@ -405,27 +383,27 @@ static int share_vertex(const spm_tri *a, const spm_tri *b)
 static int answer_tri(const spm_geometry *g, const spm_ray *r, int closest, int h)
 {
     if (h < 0 || h >= g->ntris || (!closest && (spm_u32)h == r->emitter))
-        return -1;
+    return -1;
     return h;
 }
 
 size_t spm_rays_differ_adjacent(const spm_geometry *g, const spm_rayset *rs, const int *a,
-                                const int *b)
+                            const int *b)
 {
     size_t n = 0;
     for (size_t i = 0; i < rs->n; i++) {
-        const spm_ray *r = &rs->rays[i];
-        int closest = i < rs->nclosest;
-        int differ = closest ? a[i] != b[i]
-                             : occluded(a[i], r->emitter) != occluded(b[i], r->emitter);
-        if (!differ)
-            continue;
-        int ta = answer_tri(g, r, closest, a[i]), tb = answer_tri(g, r, closest, b[i]);
-        int origin = r->skip < (spm_u32)g->ntris ? (int)r->skip : -1;
-        if (ta >= 0 && tb >= 0)
-            n += share_vertex(&g->tris[ta], &g->tris[tb]);
-        else if ((ta >= 0 || tb >= 0) && origin >= 0)
-            n += share_vertex(&g->tris[ta >= 0 ? ta : tb], &g->tris[origin]);
+    const spm_ray *r = &rs->rays[i];
+    int closest = i < rs->nclosest;
+    int differ = closest ? a[i] != b[i]
+                         : occluded(a[i], r->emitter) != occluded(b[i], r->emitter);
+    if (!differ)
+        continue;
+    int ta = answer_tri(g, r, closest, a[i]), tb = answer_tri(g, r, closest, b[i]);
+    int origin = r->skip < (spm_u32)g->ntris ? (int)r->skip : -1;
+    if (ta >= 0 && tb >= 0)
+        n += share_vertex(&g->tris[ta], &g->tris[tb]);
+    else if ((ta >= 0 || tb >= 0) && origin >= 0)
+        n += share_vertex(&g->tris[ta >= 0 ? ta : tb], &g->tris[origin]);
     }
     return n;
 }
@@ -439,26 +417,26 @@ static double mrays(size_t n, double s)
 static void json_num(FILE *f, const char *key, double v, const char *sep)
 {
     if (v < 0 || !isfinite(v))
-        fprintf(f, "\"%s\": null%s", key, sep);
+    fprintf(f, "\"%s\": null%s", key, sep);
     else
-        fprintf(f, "\"%s\": %.6g%s", key, v, sep);
+    fprintf(f, "\"%s\": %.6g%s", key, v, sep);
 }
 
 static void json_str(FILE *f, const char *s)
 {
     fputc('"', f);
     for (const char *p = s; *p; p++)
-        if (*p == '"' || *p == '\\')
-            fprintf(f, "\\%c", *p);
-        else if ((unsigned char)*p < 0x20)
-            fprintf(f, "\\u%04x", (unsigned char)*p);
-        else
-            fputc(*p, f);
+    if (*p == '"' || *p == '\\')
+        fprintf(f, "\\%c", *p);
+    else if ((unsigned char)*p < 0x20)
+        fprintf(f, "\\u%04x", (unsigned char)*p);
+    else
+        fputc(*p, f);
     fputc('"', f);
 }
 
 static void json_impl(FILE *f, const char *name, const char *what, const spm_rayset *rs,
-                      const spm_rays_timing *t, size_t cbad, size_t sbad, const char *sep)
+                  const spm_rays_timing *t, size_t cbad, size_t sbad, const char *sep)
 {
     fprintf(f, "  \"%s\": {\"what\": ", name);
     json_str(f, what);
@@ -479,15 +457,15 @@ static void text_row(FILE *f, const char *what, const spm_rayset *rs, const spm_
 {
     size_t ns = rs->n - rs->nclosest;
     fprintf(f, "  %-12s %9.3f %9.3f", what, mrays(rs->nclosest, t->closest_s),
-            mrays(ns, t->shadow_s));
+        mrays(ns, t->shadow_s));
     if (t->nodes_closest >= 0)
-        fprintf(f, " %8.1f %8.1f", t->nodes_closest, t->nodes_shadow);
+    fprintf(f, " %8.1f %8.1f", t->nodes_closest, t->nodes_shadow);
     else
-        fprintf(f, " %8s %8s", "-", "-");
+    fprintf(f, " %8s %8s", "-", "-");
     if (t->tris_closest >= 0)
-        fprintf(f, " %8.1f %8.1f", t->tris_closest, t->tris_shadow);
+    fprintf(f, " %8.1f %8.1f", t->tris_closest, t->tris_shadow);
     else
-        fprintf(f, " %8s %8s", "-", "-");
+    fprintf(f, " %8s %8s", "-", "-");
     fprintf(f, "\n");
 }
 
@@ -504,12 +482,54 @@ static void embree_run(void *ctx, int run)
     interleave *il = ctx;
     double sc, ss;
     if (il->rc)
-        return;
+    return;
     il->rc = spm_rays_embree_run(il->e, &sc, &ss, &il->err);
     if (!il->rc && run > 0) { /* run 0 is the warm-up, as the kernel's */
-        il->tm->closest_s = sc < il->tm->closest_s ? sc : il->tm->closest_s;
-        il->tm->shadow_s = ss < il->tm->shadow_s ? ss : il->tm->shadow_s;
+    il->tm->closest_s = sc < il->tm->closest_s ? sc : il->tm->closest_s;
+    il->tm->shadow_s = ss < il->tm->shadow_s ? ss : il->tm->shadow_s;
     }
+}
+
+/* What the report shows of the three traversals. */
+typedef struct {
+    spm_rays_timing tcl, tref, tem; /* the kernel's, the reference's, Embree's */
+    int have_embree;
+    char dev[256], einfo[512], what[512];
+    size_t rcb, rsb, ecb, esb, eedge; /* rays that differ: closest, shadow; at an edge */
+} rays_report;
+
+static void print_text(const spm_rays_opts *o, const spm_render_setup *s, const spm_rayset *rs,
+                       const rays_report *r)
+{
+    const spm_geometry *g = &s->geom;
+    size_t ns = rs->n - rs->nclosest;
+    printf("%s: %d triangles, %d BVH nodes; %zu closest-hit and %zu shadow rays (%dx%d, "
+           "%d spp)\n", o->scene ? o->scene : "built-in scene", g->ntris, g->nnodes,
+           rs->nclosest, ns, s->scene.width, s->scene.height, o->spp);
+    printf("  %-12s %9s %9s %17s %17s\n", "", "closest", "shadow", "nodes/ray",
+           "tri tests/ray");
+    printf("  %-12s %9s %9s %8s %8s %8s %8s\n", "traversal", "Mrays/s", "Mrays/s",
+           "closest", "shadow", "closest", "shadow");
+    text_row(stdout, "specmip", rs, &r->tcl);
+    text_row(stdout, "reference", rs, &r->tref);
+    if (r->have_embree)
+        text_row(stdout, "Embree", rs, &r->tem);
+    printf("  specmip: %s, fastest of %d%s\n"
+           "  reference: the CPU reference's traversal, 1 thread (nodes: box tests)\n",
+           r->what, o->repeat, r->have_embree ? ", each run beside one of Embree's" : "");
+    if (r->have_embree) {
+        printf("  Embree: %s, fastest of %d\n", r->einfo, o->repeat);
+        printf("  specmip / Embree rays/s: closest %.3f, shadow %.3f\n",
+               r->tem.closest_s / r->tcl.closest_s, r->tem.shadow_s / r->tcl.shadow_s);
+    }
+    printf("  differ from the reference: %zu of %zu closest, %zu of %zu shadow\n", r->rcb,
+           rs->nclosest, r->rsb, ns);
+    if (r->have_embree)
+        printf("  differ from Embree: %zu of %zu closest, %zu of %zu shadow (%zu of them "
+               "at a shared edge or vertex)\n", r->ecb,
+               rs->nclosest, r->esb, ns, r->eedge);
+    if (r->tcl.stack_overflows)
+        printf("  BVH stack overflows: %u\n", r->tcl.stack_overflows);
 }
 
 int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
@@ -522,7 +542,7 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
     cfg.width = o->width;
     cfg.height = o->height;
     cfg.seed = o->seed;
-    cfg.use_cpu = 1; /* the plan and the reference; the replay opens its own device */
+    cfg.backend = &spm_backend_kind_cpu; /* the plan and the reference; the replay opens a device */
     spm_render_setup s;
     int rc = spm_render_setup_open(&cfg, &s, err);
     if (rc) {
@@ -542,22 +562,20 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
         rc = SPM_EXIT_INPUT;
     int *hcl = spm_xmalloc((rs.n + 1) * sizeof *hcl), *href = spm_xmalloc((rs.n + 1) * sizeof *href);
     int *hem = spm_xmalloc((rs.n + 1) * sizeof *hem);
-    spm_rays_timing tcl, tref, tem;
-    char dev[256] = "", einfo[512] = "";
-    size_t rcb = 0, rsb = 0, ecb = 0, esb = 0, eedge = 0;
+    rays_report r;
+    memset(&r, 0, sizeof r);
     /* Embree's scene is built first, then its runs alternate with the kernel's */
-    interleave il = {NULL, &tem, 0, {{0}}};
-    memset(&tem, 0, sizeof tem);
-    tem.nodes_closest = tem.nodes_shadow = tem.tris_closest = tem.tris_shadow = -1;
-    tem.closest_s = tem.shadow_s = INFINITY;
+    interleave il = {NULL, &r.tem, 0, {{0}}};
+    r.tem.nodes_closest = r.tem.nodes_shadow = r.tem.tris_closest = r.tem.tris_shadow = -1;
+    r.tem.closest_s = r.tem.shadow_s = INFINITY;
     if (!rc && o->embree) {
-        il.e = spm_rays_embree_open(g, &rs, o->threads, o->embree_quality, hem, einfo,
-                                    sizeof einfo, err);
+        il.e = spm_rays_embree_open(g, &rs, o->threads, o->embree_quality, hem, r.einfo,
+                                    sizeof r.einfo, err);
         if (!il.e)
             rc = spm_stop_requested() ? SPM_EXIT_INTERRUPTED : SPM_EXIT_RUNTIME;
     }
-    if (!rc && spm_rays_replay_cl(o->device, g, &rs, o->repeat, o->stats, hcl, &tcl, dev,
-                                  sizeof dev, il.e ? embree_run : NULL, &il, err))
+    if (!rc && spm_rays_replay_cl(o->device, g, &rs, o->repeat, o->stats, hcl, &r.tcl, r.dev,
+                                  sizeof r.dev, il.e ? embree_run : NULL, &il, err))
         rc = spm_stop_requested() ? SPM_EXIT_INTERRUPTED : SPM_EXIT_RUNTIME;
     if (!rc && il.rc) {
         *err = il.err;
@@ -568,23 +586,22 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
         *err = cerr;
         rc = SPM_EXIT_RUNTIME;
     }
-    int have_embree = !rc && il.e;
+    r.have_embree = !rc && il.e;
     if (!rc) {
-        spm_rays_replay_ref(g, &rs, href, &tref);
-        spm_rays_compare(&rs, hcl, href, &rcb, &rsb);
+        spm_rays_replay_ref(g, &rs, href, &r.tref);
+        spm_rays_compare(&rs, hcl, href, &r.rcb, &r.rsb);
         if (spm_stop_requested()) {
             spm_errorf(err, "interrupted while replaying rays");
             rc = SPM_EXIT_INTERRUPTED;
         }
     }
-    if (have_embree) {
-        spm_rays_compare(&rs, hcl, hem, &ecb, &esb);
-        eedge = spm_rays_differ_adjacent(g, &rs, hcl, hem);
+    if (r.have_embree) {
+        spm_rays_compare(&rs, hcl, hem, &r.ecb, &r.esb);
+        r.eedge = spm_rays_differ_adjacent(g, &rs, hcl, hem);
     }
     if (!rc) {
         size_t ns = rs.n - rs.nclosest;
-        char what[512];
-        snprintf(what, sizeof what, "specmip kernels/rays.cl on %s, work-groups of %zu", dev,
+        snprintf(r.what, sizeof r.what, "specmip kernels/rays.cl on %s, work-groups of %zu", r.dev,
                  group);
         if (o->json) {
             printf("{\n  \"scene\": ");
@@ -595,45 +612,19 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
                    "\"stack_overflows\": %u,\n",
                    g->ntris, g->nnodes, s.scene.width,
                    s.scene.height, o->spp, rs.nclosest, ns, s.times.load_s, s.times.bvh_s,
-                   record_s, tcl.stack_overflows);
-            json_impl(stdout, "specmip", what, &rs, &tcl, 0, 0, ",");
-            json_impl(stdout, "reference", "CPU reference traversal, 1 thread", &rs, &tref, rcb,
-                      rsb, ",");
-            if (have_embree) {
-                json_impl(stdout, "embree", einfo, &rs, &tem, ecb, esb, ",");
-                printf("  \"embree_differ_adjacent\": %zu\n", eedge);
+                   record_s, r.tcl.stack_overflows);
+            json_impl(stdout, "specmip", r.what, &rs, &r.tcl, 0, 0, ",");
+            json_impl(stdout, "reference", "CPU reference traversal, 1 thread", &rs, &r.tref, r.rcb,
+                      r.rsb, ",");
+            if (r.have_embree) {
+                json_impl(stdout, "embree", r.einfo, &rs, &r.tem, r.ecb, r.esb, ",");
+                printf("  \"embree_differ_adjacent\": %zu\n", r.eedge);
             }
             else
                 printf("  \"embree\": null\n");
             printf("}\n");
         } else {
-            printf("%s: %d triangles, %d BVH nodes; %zu closest-hit and %zu shadow rays (%dx%d, "
-                   "%d spp)\n", o->scene ? o->scene : "built-in scene", g->ntris, g->nnodes,
-                   rs.nclosest, ns, s.scene.width, s.scene.height, o->spp);
-            printf("  %-12s %9s %9s %17s %17s\n", "", "closest", "shadow", "nodes/ray",
-                   "tri tests/ray");
-            printf("  %-12s %9s %9s %8s %8s %8s %8s\n", "traversal", "Mrays/s", "Mrays/s",
-                   "closest", "shadow", "closest", "shadow");
-            text_row(stdout, "specmip", &rs, &tcl);
-            text_row(stdout, "reference", &rs, &tref);
-            if (have_embree)
-                text_row(stdout, "Embree", &rs, &tem);
-            printf("  specmip: %s, fastest of %d%s\n"
-                   "  reference: the CPU reference's traversal, 1 thread (nodes: box tests)\n",
-                   what, o->repeat, have_embree ? ", each run beside one of Embree's" : "");
-            if (have_embree) {
-                printf("  Embree: %s, fastest of %d\n", einfo, o->repeat);
-                printf("  specmip / Embree rays/s: closest %.3f, shadow %.3f\n",
-                       tem.closest_s / tcl.closest_s, tem.shadow_s / tcl.shadow_s);
-            }
-            printf("  differ from the reference: %zu of %zu closest, %zu of %zu shadow\n", rcb,
-                   rs.nclosest, rsb, ns);
-            if (have_embree)
-                printf("  differ from Embree: %zu of %zu closest, %zu of %zu shadow (%zu of them "
-                       "at a shared edge or vertex)\n", ecb,
-                       rs.nclosest, esb, ns, eedge);
-            if (tcl.stack_overflows)
-                printf("  BVH stack overflows: %u\n", tcl.stack_overflows);
+            print_text(o, &s, &rs, &r);
         }
     }
     free(hcl);

@@ -85,17 +85,13 @@ spm_rays_embree *spm_rays_embree_open(const spm_geometry *g, const spm_rayset *r
                                       spm_error *err);
 int spm_rays_embree_run(spm_rays_embree *e, double *closest_s, double *shadow_s, spm_error *err);
 int spm_rays_embree_close(spm_rays_embree *e, spm_error *err);
-/* All of it with `repeat` timed runs after a warm-up, the fastest counting. */
-int spm_rays_replay_embree(const spm_geometry *g, const spm_rayset *rs, int repeat, int threads,
-                           int quality, int *hits, spm_rays_timing *tm, char *info, size_t infolen,
-                           spm_error *err);
 
 typedef struct {
     const char *scene;     /* NULL: the built-in scene */
     int width, height, spp;
     spm_u32 seed;
     int device, repeat, threads;
-    int group;             /* the replay's work-group size; 0: the renderer's (64) */
+    int group;             /* the replay's work-group size; 0: the renderer's (SPM_LOCAL_SIZE) */
     int stats, embree, embree_quality, json;
     const char *save, *load;
 } spm_rays_opts;

@@ -266,25 +266,3 @@ int spm_rays_embree_close(spm_rays_embree *e, spm_error *err)
     return rc;
 }
 #endif
-
-int spm_rays_replay_embree(const spm_geometry *g, const spm_rayset *rs, int repeat, int threads,
-                           int quality, int *hits, spm_rays_timing *tm, char *info, size_t infolen,
-                           spm_error *err)
-{
-    memset(tm, 0, sizeof *tm);
-    tm->nodes_closest = tm->nodes_shadow = tm->tris_closest = tm->tris_shadow = -1;
-    tm->closest_s = tm->shadow_s = INFINITY;
-    spm_rays_embree *e = spm_rays_embree_open(g, rs, threads, quality, hits, info, infolen, err);
-    if (!e)
-        return 1;
-    int rc = 0;
-    for (int r = 0; r <= repeat && !rc; r++) {
-        double sc, ss;
-        rc = spm_rays_embree_run(e, &sc, &ss, err);
-        if (!rc && r > 0) { /* run 0 warms the caches up, as on the OpenCL side */
-            tm->closest_s = sc < tm->closest_s ? sc : tm->closest_s;
-            tm->shadow_s = ss < tm->shadow_s ? ss : tm->shadow_s;
-        }
-    }
-    return spm_rays_embree_close(e, err) || rc;
-}

@@ -4,7 +4,9 @@
 #include <string.h>
 #include "bench_image.h"
 #include "pocl_cache.h"
-#include "render_setup.h"
+#include "backend_cpu.h"
+#include "backends.h"
+#include "render_cl.h"
 #include "scene_build.h"
 
 #define MAX_BACKENDS_PER_SCENE (SPM_MODE_COUNT + 4)
@@ -188,7 +190,7 @@ static int open_scene(const spm_bench_plan *p, const char *path, int mode, doubl
     cfg.seed = p->seed;
     cfg.width = p->width;
     cfg.height = p->height;
-    cfg.use_cpu = p->use_cpu;
+    cfg.backend = p->use_cpu ? &spm_backend_kind_cpu : &spm_backend_kind_opencl;
     cfg.devices[0] = p->device;
     cfg.ndevices = 1;
     cfg.pretest = p->pretest;

@@ -157,6 +157,116 @@ static int parse_modes(const char *s, spm_bench_plan *p)
     return 0;
 }
 
+#define NOT_MINE (-2) /* an option helper's: the option is another's */
+
+/* The --rays study's options: 0, NOT_MINE, or an exit code. */
+static int rays_option(const char *a, const char *v, options *o)
+{
+    long n;
+    if (!strcmp(a, "--rays")) {
+        o->rays_on = 1;
+        o->rays.scene = strcmp(v, "default") ? v : NULL;
+    } else if (!strcmp(a, "--rays-spp")) {
+        if (spm_arg_long("bench", a, v, 1, 1 << 16, &n))
+            return SPM_EXIT_INPUT;
+        o->rays.spp = (int)n;
+    } else if (!strcmp(a, "--rays-group")) {
+        if (spm_arg_long("bench", a, v, 1, 1024, &n))
+            return SPM_EXIT_INPUT;
+        o->rays.group = (int)n;
+    } else if (!strcmp(a, "--rays-save")) {
+        o->rays.save = v;
+    } else if (!strcmp(a, "--rays-load")) {
+        o->rays.load = v;
+    } else if (!strcmp(a, "--rays-stats")) {
+        o->rays.stats = 1;
+    } else if (!strcmp(a, "--embree")) {
+        o->rays.embree = 1;
+    } else if (!strcmp(a, "--embree-quality")) {
+        static const char *const q[] = {"low", "medium", "high"};
+        o->rays.embree_quality = -1;
+        for (int k = 0; k < 3; k++)
+            if (!strcmp(v, q[k]))
+                o->rays.embree_quality = k;
+        if (o->rays.embree_quality < 0)
+            return fail("--embree-quality is low, medium or high, not '%s'%s", v, "");
+    } else if (!strcmp(a, "--json")) {
+        o->rays.json = 1;
+    } else if (!strcmp(a, "--threads")) {
+        if (spm_arg_long("bench", a, v, 1, 64, &n))
+            return SPM_EXIT_INPUT;
+        o->rays.threads = (int)n;
+    } else {
+        return NOT_MINE;
+    }
+    return 0;
+}
+
+/* The study's sample counts, budgets and thresholds: 0, NOT_MINE, or an exit
+ * code. */
+static int list_option(const char *a, const char *v, options *o)
+{
+    spm_bench_plan *p = &o->plan;
+    double list[SPM_BENCH_MAX_THRESHOLDS];
+    int nl;
+    long n;
+    if (!strcmp(a, "--spp")) {
+        if (parse_list(a, v, 1, SPM_SCENE_MAX_SPP, SPM_BENCH_MAX_SPP, list, &nl))
+            return SPM_EXIT_INPUT;
+        for (int k = 0; k < nl; k++) {
+            if (list[k] != (int)list[k] || (k && list[k] <= list[k - 1]))
+                return fail("--spp takes ascending whole numbers, not '%s'%s", v, "");
+            p->spps[k] = (int)list[k];
+        }
+        p->nspp = nl;
+        o->have_spp = 1;
+    } else if (!strcmp(a, "--truth-spp") || !strcmp(a, "--sweep-spp")) {
+        if (spm_arg_long("bench", a, v, 1, 1 << 20, &n))
+            return SPM_EXIT_INPUT;
+        if (!strcmp(a, "--truth-spp")) {
+            p->truth_spp = (int)n;
+            o->have_truth_spp = 1;
+        } else {
+            p->sweep_spp = (int)n;
+            o->have_sweep_spp = 1;
+        }
+    } else if (!strcmp(a, "--equal-spp") || !strcmp(a, "--calib-spp")) {
+        if (spm_arg_long("bench", a, v, 1, SPM_SCENE_MAX_SPP, &n))
+            return SPM_EXIT_INPUT;
+        if (!strcmp(a, "--equal-spp")) {
+            p->equal_spp = (int)n;
+            o->have_equal_spp = 1;
+        } else {
+            p->calib_spp = (int)n;
+            o->have_calib_spp = 1;
+        }
+    } else if (!strcmp(a, "--budgets")) {
+        if (!strcmp(v, "none")) {
+            p->nbudgets = 0;
+        } else {
+            if (parse_list(a, v, 0.01, 1000, SPM_BENCH_MAX_BUDGETS, list, &nl))
+                return SPM_EXIT_INPUT;
+            for (int k = 1; k < nl; k++)
+                if (list[k] <= list[k - 1])
+                    return fail("--budgets takes ascending numbers, not '%s'%s", v, "");
+            memcpy(p->budgets, list, (size_t)nl * sizeof *list);
+            p->nbudgets = nl;
+        }
+    } else if (!strcmp(a, "--thresholds")) {
+        if (!strcmp(v, "none")) {
+            p->nthresholds = 0;
+        } else {
+            if (parse_list(a, v, 0.01, 100, SPM_BENCH_MAX_THRESHOLDS, list, &nl))
+                return SPM_EXIT_INPUT;
+            memcpy(p->thresholds, list, (size_t)nl * sizeof *list);
+            p->nthresholds = nl;
+        }
+    } else {
+        return NOT_MINE;
+    }
+    return 0;
+}
+
 static int parse_args(int argc, char **argv, options *o)
 {
     spm_bench_plan *p = &o->plan;
@@ -178,6 +288,14 @@ static int parse_args(int argc, char **argv, options *o)
                 return fail("%s needs a value%s", a, "");
             i++;
         }
+        int rc = rays_option(a, v, o);
+        if (rc == NOT_MINE)
+            rc = list_option(a, v, o);
+        if (rc != NOT_MINE) {
+            if (rc)
+                return rc;
+            continue;
+        }
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage(stdout);
             return -1;
@@ -187,39 +305,6 @@ static int parse_args(int argc, char **argv, options *o)
             o->charts = 0;
         } else if (!strcmp(a, "--ops")) {
             o->ops = 1;
-        } else if (!strcmp(a, "--rays")) {
-            o->rays_on = 1;
-            o->rays.scene = strcmp(v, "default") ? v : NULL;
-        } else if (!strcmp(a, "--rays-spp")) {
-            if (spm_arg_long("bench", a, v, 1, 1 << 16, &n))
-                return SPM_EXIT_INPUT;
-            o->rays.spp = (int)n;
-        } else if (!strcmp(a, "--rays-group")) {
-            if (spm_arg_long("bench", a, v, 1, 1024, &n))
-                return SPM_EXIT_INPUT;
-            o->rays.group = (int)n;
-        } else if (!strcmp(a, "--rays-save")) {
-            o->rays.save = v;
-        } else if (!strcmp(a, "--rays-load")) {
-            o->rays.load = v;
-        } else if (!strcmp(a, "--rays-stats")) {
-            o->rays.stats = 1;
-        } else if (!strcmp(a, "--embree")) {
-            o->rays.embree = 1;
-        } else if (!strcmp(a, "--embree-quality")) {
-            static const char *const q[] = {"low", "medium", "high"};
-            o->rays.embree_quality = -1;
-            for (int k = 0; k < 3; k++)
-                if (!strcmp(v, q[k]))
-                    o->rays.embree_quality = k;
-            if (o->rays.embree_quality < 0)
-                return fail("--embree-quality is low, medium or high, not '%s'%s", v, "");
-        } else if (!strcmp(a, "--json")) {
-            o->rays.json = 1;
-        } else if (!strcmp(a, "--threads")) {
-            if (spm_arg_long("bench", a, v, 1, 64, &n))
-                return SPM_EXIT_INPUT;
-            o->rays.threads = (int)n;
         } else if (!strcmp(a, "--progress")) {
             p->progress = 2;
         } else if (!strcmp(a, "--quiet")) {
@@ -234,48 +319,6 @@ static int parse_args(int argc, char **argv, options *o)
         } else if (!strcmp(a, "--modes")) {
             if (parse_modes(v, p))
                 return SPM_EXIT_INPUT;
-        } else if (!strcmp(a, "--spp")) {
-            if (parse_list(a, v, 1, SPM_SCENE_MAX_SPP, SPM_BENCH_MAX_SPP, list, &nl))
-                return SPM_EXIT_INPUT;
-            for (int k = 0; k < nl; k++) {
-                if (list[k] != (int)list[k] || (k && list[k] <= list[k - 1]))
-                    return fail("--spp takes ascending whole numbers, not '%s'%s", v, "");
-                p->spps[k] = (int)list[k];
-            }
-            p->nspp = nl;
-            o->have_spp = 1;
-        } else if (!strcmp(a, "--truth-spp") || !strcmp(a, "--sweep-spp")) {
-            if (spm_arg_long("bench", a, v, 1, 1 << 20, &n))
-                return SPM_EXIT_INPUT;
-            if (!strcmp(a, "--truth-spp")) {
-                p->truth_spp = (int)n;
-                o->have_truth_spp = 1;
-            } else {
-                p->sweep_spp = (int)n;
-                o->have_sweep_spp = 1;
-            }
-        } else if (!strcmp(a, "--equal-spp") || !strcmp(a, "--calib-spp")) {
-            if (spm_arg_long("bench", a, v, 1, SPM_SCENE_MAX_SPP, &n))
-                return SPM_EXIT_INPUT;
-            if (!strcmp(a, "--equal-spp")) {
-                p->equal_spp = (int)n;
-                o->have_equal_spp = 1;
-            } else {
-                p->calib_spp = (int)n;
-                o->have_calib_spp = 1;
-            }
-        } else if (!strcmp(a, "--budgets")) {
-            if (!strcmp(v, "none")) {
-                p->nbudgets = 0;
-            } else {
-                if (parse_list(a, v, 0.01, 1000, SPM_BENCH_MAX_BUDGETS, list, &nl))
-                    return SPM_EXIT_INPUT;
-                for (int k = 1; k < nl; k++)
-                    if (list[k] <= list[k - 1])
-                        return fail("--budgets takes ascending numbers, not '%s'%s", v, "");
-                memcpy(p->budgets, list, (size_t)nl * sizeof *list);
-                p->nbudgets = nl;
-            }
         } else if (!strcmp(a, "--size")) {
             int w, h;
             char end;
@@ -284,15 +327,6 @@ static int parse_args(int argc, char **argv, options *o)
             p->width = w;
             p->height = h;
             o->have_size = 1;
-        } else if (!strcmp(a, "--thresholds")) {
-            if (!strcmp(v, "none")) {
-                p->nthresholds = 0;
-            } else {
-                if (parse_list(a, v, 0.01, 100, SPM_BENCH_MAX_THRESHOLDS, list, &nl))
-                    return SPM_EXIT_INPUT;
-                memcpy(p->thresholds, list, (size_t)nl * sizeof *list);
-                p->nthresholds = nl;
-            }
         } else if (!strcmp(a, "--threshold")) {
             if (parse_list(a, v, 0.01, 100, 1, list, &nl))
                 return SPM_EXIT_INPUT;

@@ -10,7 +10,7 @@
 #include "output.h"
 #include "render_meta.h"
 #include "pocl_cache.h"
-#include "render_setup.h"
+#include "backends.h"
 #include "render_stats.h"
 #include "scene_build.h"
 #include "spectral_exr.h"
@@ -108,14 +108,24 @@ static void refuse_scene_files(const spm_mpi *m)
     spm_input_files_refused = who;
 }
 
-int spm_cmd_render(int argc, char **argv)
-{
+/* What the command line asks for, beside the render's configuration. */
+typedef struct {
     spm_render_config cfg;
-    spm_render_config_defaults(&cfg);
     const char *outputs[MAX_OUTPUTS];
-    int nout = 0, stats = 0, json = 0, progress = isatty(2), spec_nm = 0;
+    int nout, nspectral; /* outputs, and how many of them are .spectral.exr */
+    int stats, json, progress, spec_nm;
     spm_tonemap tm;
-    spm_tonemap_default(&tm);
+} render_opts;
+
+#define HELP_SHOWN (-1) /* parse_args: --help printed, nothing to render */
+
+/* 0, HELP_SHOWN, or SPM_EXIT_INPUT with the error on stderr. */
+static int parse_args(int argc, char **argv, render_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    spm_render_config_defaults(&o->cfg);
+    o->progress = isatty(2);
+    spm_tonemap_default(&o->tm);
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -131,17 +141,17 @@ int spm_cmd_render(int argc, char **argv)
     } while (0)
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage(stdout);
-            return SPM_EXIT_OK;
+            return HELP_SHOWN;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
             NEED_VALUE;
-            if (nout >= MAX_OUTPUTS) {
+            if (o->nout >= MAX_OUTPUTS) {
                 fprintf(stderr, "specmip render: at most %d outputs\n", MAX_OUTPUTS);
                 return SPM_EXIT_INPUT;
             }
-            outputs[nout++] = v;
+            o->outputs[o->nout++] = v;
         } else if (!strcmp(a, "--mode")) {
             NEED_VALUE;
-            if ((cfg.mode = spm_mode_parse(v)) < 0) {
+            if ((o->cfg.mode = spm_mode_parse(v)) < 0) {
                 char names[256];
                 fprintf(stderr, "specmip render: unknown mode '%s' (%s)\n", v,
                         spm_mode_list(", ", names, sizeof names));
@@ -153,44 +163,43 @@ int spm_cmd_render(int argc, char **argv)
                 fprintf(stderr, "specmip render: --spectral-nm is 1 or 5, not '%s'\n", v);
                 return SPM_EXIT_INPUT;
             }
-            spec_nm = v[0] - '0';
+            o->spec_nm = v[0] - '0';
         } else if (!strcmp(a, "--spp")) {
             NEED_VALUE;
             if (spm_arg_long("render", a, v, 1, SPM_SCENE_MAX_SPP, &n))
                 return SPM_EXIT_INPUT;
-            cfg.spp = (int)n;
+            o->cfg.spp = (int)n;
         } else if (!strcmp(a, "--seed")) {
             NEED_VALUE;
             if (spm_arg_long("render", a, v, 0, 0xffffffffL, &n))
                 return SPM_EXIT_INPUT;
-            cfg.seed = (spm_u32)n;
+            o->cfg.seed = (spm_u32)n;
         } else if (!strcmp(a, "--width") || !strcmp(a, "--height")) {
             NEED_VALUE;
             if (spm_arg_long("render", a, v, 1, SPM_SCENE_MAX_SIDE, &n))
                 return SPM_EXIT_INPUT;
-            *(a[2] == 'w' ? &cfg.width : &cfg.height) = (int)n;
+            *(a[2] == 'w' ? &o->cfg.width : &o->cfg.height) = (int)n;
         } else if (!strcmp(a, "--backend")) {
             NEED_VALUE;
-            if (strcmp(v, "cpu") && strcmp(v, "opencl")) {
+            if (!(o->cfg.backend = spm_backend_kind_find(v))) {
                 fprintf(stderr, "specmip render: --backend is opencl or cpu, not '%s'\n", v);
                 return SPM_EXIT_INPUT;
             }
-            cfg.use_cpu = !strcmp(v, "cpu");
         } else if (!strcmp(a, "--device")) {
             NEED_VALUE;
-            if (parse_devices(v, &cfg))
+            if (parse_devices(v, &o->cfg))
                 return SPM_EXIT_INPUT;
         } else if (!strcmp(a, "--threshold")) {
             NEED_VALUE;
             if (spm_arg_double("render", a, v, 0.0, 1000.0, &d))
                 return SPM_EXIT_INPUT;
-            cfg.pretest.threshold = d;
+            o->cfg.pretest.threshold = d;
         } else if (!strcmp(a, "--metric")) {
             NEED_VALUE;
             if (!strcmp(v, "de00"))
-                cfg.pretest.metric = SPM_METRIC_DE00;
+                o->cfg.pretest.metric = SPM_METRIC_DE00;
             else if (!strcmp(v, "deab"))
-                cfg.pretest.metric = SPM_METRIC_DEAB;
+                o->cfg.pretest.metric = SPM_METRIC_DEAB;
             else {
                 fprintf(stderr, "specmip render: --metric is de00 or deab, not '%s'\n", v);
                 return SPM_EXIT_INPUT;
@@ -199,59 +208,157 @@ int spm_cmd_render(int argc, char **argv)
             NEED_VALUE;
             if (spm_arg_long("render", a, v, 0, SPM_NUM_LEVELS - 1, &n))
                 return SPM_EXIT_INPUT;
-            cfg.pretest.coarsest_level = (int)n;
+            o->cfg.pretest.coarsest_level = (int)n;
         } else if (!strcmp(a, "--tonemap") || !strcmp(a, "--exposure")) {
             NEED_VALUE;
             spm_error e;
-            if (a[2] == 't' ? spm_tonemap_select(&tm, v, &e) : spm_tonemap_set_exposure(&tm, v, &e)) {
+            if (a[2] == 't' ? spm_tonemap_select(&o->tm, v, &e) : spm_tonemap_set_exposure(&o->tm, v, &e)) {
                 fprintf(stderr, "specmip render: %s: %s\n", a, e.msg);
                 return SPM_EXIT_INPUT;
             }
         } else if (!strcmp(a, "--stats")) {
-            stats = 1;
+            o->stats = 1;
         } else if (!strcmp(a, "--json")) {
-            json = 1;
+            o->json = 1;
         } else if (!strcmp(a, "--progress")) {
-            progress = 1;
+            o->progress = 1;
         } else if (!strcmp(a, "--quiet")) {
-            progress = 0;
+            o->progress = 0;
         } else if (!strcmp(a, "--verbose")) {
-            cfg.verbose = 1;
+            o->cfg.verbose = 1;
         } else if (a[0] == '-' && a[1]) {
             fprintf(stderr, "specmip render: unknown option '%s' (see specmip render --help)\n", a);
             return SPM_EXIT_INPUT;
-        } else if (!cfg.scene_path) {
-            cfg.scene_path = a;
+        } else if (!o->cfg.scene_path) {
+            o->cfg.scene_path = a;
         } else {
-            fprintf(stderr, "specmip render: one scene only ('%s' and '%s')\n", cfg.scene_path, a);
+            fprintf(stderr, "specmip render: one scene only ('%s' and '%s')\n", o->cfg.scene_path, a);
             return SPM_EXIT_INPUT;
         }
 #undef NEED_VALUE
     }
-    if (!nout) {
-        outputs[nout++] = "specmip.png";
-        outputs[nout++] = "specmip.exr";
+    return 0;
+}
+
+/* The outputs, by default an image and an EXR; spectral ones need a spectral
+ * mode, at one of its bin widths. */
+static int check_outputs(render_opts *o)
+{
+    if (!o->nout) {
+        o->outputs[o->nout++] = "specmip.png";
+        o->outputs[o->nout++] = "specmip.exr";
     }
-    int nspectral = 0;
-    for (int i = 0; i < nout; i++)
-        nspectral += spm_spectral_path(outputs[i]);
-    if (nspectral) {
-        const spm_mode_desc *m = spm_mode(cfg.mode);
-        cfg.spec_nm = spec_nm ? spec_nm : m->spec_nm[0];
-        if (!m->spec_nm[0]) {
-            fprintf(stderr, "specmip render: %s mode has no spectrum to write: a .spectral.exr "
-                            "output needs a spectral mode\n", m->name);
-            return SPM_EXIT_INPUT;
-        }
-        if (!spm_mode_spec_ok(m, cfg.spec_nm)) {
-            fprintf(stderr, "specmip render: --spectral-nm %d: %s mode writes %d nm bins%s\n",
-                    cfg.spec_nm, m->name, m->spec_nm[0], m->spec_nm[1] ? " or 1 nm" : " only");
-            return SPM_EXIT_INPUT;
-        }
-    } else if (spec_nm) {
+    for (int i = 0; i < o->nout; i++)
+        o->nspectral += spm_spectral_path(o->outputs[i]);
+    if (!o->nspectral) {
+        if (!o->spec_nm)
+            return 0;
         fprintf(stderr, "specmip render: --spectral-nm needs a .spectral.exr output\n");
         return SPM_EXIT_INPUT;
     }
+    const spm_mode_desc *m = spm_mode(o->cfg.mode);
+    o->cfg.spec_nm = o->spec_nm ? o->spec_nm : m->spec_nm[0];
+    if (!m->spec_nm[0]) {
+        fprintf(stderr, "specmip render: %s mode has no spectrum to write: a .spectral.exr "
+                        "output needs a spectral mode\n", m->name);
+        return SPM_EXIT_INPUT;
+    }
+    if (!spm_mode_spec_ok(m, o->cfg.spec_nm)) {
+        fprintf(stderr, "specmip render: --spectral-nm %d: %s mode writes %d nm bins%s\n",
+                o->cfg.spec_nm, m->name, m->spec_nm[0], m->spec_nm[1] ? " or 1 nm" : " only");
+        return SPM_EXIT_INPUT;
+    }
+    return 0;
+}
+
+/* PoCL's kernel cache before and after the render loop: a render that
+ * compiled is timed with its compiles (the CPU reference compiles nothing: a
+ * cache that grew meanwhile is another process's). */
+static void watch_compiles(const render_opts *o, spm_render_setup *s, const spm_pocl_cache *c0,
+                           const spm_pocl_cache *c1)
+{
+    s->times.compiled_in_render = o->cfg.backend->compiles ? spm_pocl_cache_grew(c0, c1) : -1;
+    if (s->times.compiled_in_render == 1) {
+        char dir[4096];
+        fprintf(stderr, "specmip render: WARNING: PoCL's kernel cache %s gained %lld files "
+                        "during the render: kernels were compiled (by this render, unless another "
+                        "process shares the cache), and the render time may include that\n",
+                spm_pocl_cache_dir(dir, sizeof dir), c1->files - (c0->files > 0 ? c0->files : 0));
+    }
+}
+
+/* The images of a render loop that ended without error; the exit code. */
+static int write_outputs(const render_opts *o, spm_render_setup *s, const spm_run_result *res,
+                         spm_film *film, spm_error *err)
+{
+    int rc = 0, spp = spm_render_spp(&o->cfg, &s->scene);
+    spm_render_warn_dropped(res, film);
+    /* the image so far after an interruption; a signal now is acted on
+     * after the writes (an image write cannot be interrupted) */
+    spm_render_meta meta;
+    spm_render_meta_make(&o->cfg, s, res, s->times.render_s, &meta);
+    double t0 = spm_now();
+    for (int i = 0; i < o->nout; i++)
+        if (spm_spectral_path(o->outputs[i])
+                ? spm_spectral_exr_write(o->outputs[i], film, meta.a, meta.n, err)
+                : spm_output_write_film_attrs(o->outputs[i], film, &o->tm, meta.a, meta.n, err)) {
+            fprintf(stderr, "specmip render: %s\n", err->msg);
+            rc = SPM_EXIT_RUNTIME;
+        }
+    s->times.output_s = spm_now() - t0;
+    if (!rc && res->interrupted) {
+        fprintf(stderr, "specmip render: interrupted after %d of %d samples per pixel; "
+                        "image written\n", res->spp_done, spp);
+        rc = SPM_EXIT_INTERRUPTED;
+    } else if (!rc && spm_stop_requested()) {
+        fprintf(stderr, "specmip render: interrupted once the render was done; the "
+                        "complete image was written\n");
+        rc = SPM_EXIT_INTERRUPTED;
+    }
+    return rc;
+}
+
+/* Rank 0's render loop over the film, then the images; the exit code.
+ * *torn_down: mpirun is ending every rank (an interrupted render). */
+static int render_film(const render_opts *o, spm_mpi *mpi, spm_render_setup *s, spm_film *film,
+                       spm_run_result *res, int *torn_down, spm_error *err)
+{
+    int spp = spm_render_spp(&o->cfg, &s->scene);
+    size_t npix = (size_t)s->scene.width * (size_t)s->scene.height;
+    spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), &spm_stop_flag, o->progress};
+    spm_pocl_cache cache0 = spm_pocl_cache_now();
+    double t0 = spm_now();
+    int rc = spm_mpi_render_run(mpi, s, npix, &ro, film, res, err);
+    s->times.render_s = spm_now() - t0;
+    spm_pocl_cache cache1 = spm_pocl_cache_now();
+    watch_compiles(o, s, &cache0, &cache1);
+    *torn_down = res->interrupted;
+    if (!rc && res->interrupted && spm_mpi_check_signalled(mpi, err)) {
+        /* a rank died: what the others did is not what was asked for */
+        fprintf(stderr, "specmip render: %s; no image written\n", err->msg);
+        return SPM_EXIT_RUNTIME;
+    }
+    if (rc) {
+        /* the render is not what was asked for: existing outputs stay */
+        fprintf(stderr, "specmip render: %s; no image written\n", err->msg);
+        return SPM_EXIT_RUNTIME;
+    }
+    if (res->interrupted && res->spp_done == 0) {
+        fprintf(stderr, "specmip render: interrupted in the first pass (of %d samples per pixel); "
+                        "nothing rendered, no image written\n", (int)ro.spp_per_pass);
+        return SPM_EXIT_INTERRUPTED;
+    }
+    return write_outputs(o, s, res, film, err);
+}
+
+int spm_cmd_render(int argc, char **argv)
+{
+    render_opts o;
+    int rc = parse_args(argc, argv, &o);
+    if (rc)
+        return rc == HELP_SHOWN ? SPM_EXIT_OK : rc;
+    if ((rc = check_outputs(&o)))
+        return rc;
     spm_error err;
     err.msg[0] = 0;
     spm_mpi mpi;
@@ -259,7 +366,7 @@ int spm_cmd_render(int argc, char **argv)
         fprintf(stderr, "specmip render: %s\n", err.msg);
         return SPM_EXIT_RUNTIME;
     }
-    if (mpi.size > 1 && nspectral) {
+    if (mpi.size > 1 && o.nspectral) {
         /* the ranks' pass images carry XYZ only */
         if (mpi.rank == 0)
             fprintf(stderr, "specmip render: a .spectral.exr output is not supported under "
@@ -270,109 +377,49 @@ int spm_cmd_render(int argc, char **argv)
     refuse_scene_files(&mpi);
     /* from here on a signal is acted on (interrupt.h), until the outputs are written */
     spm_catch_interrupts();
-    if (mpi.rank > 0) { /* renders what rank 0 sends; rank 0 alone reports and writes */
-        int wrc = spm_mpi_worker(&mpi, &cfg);
-        spm_release_interrupts();
-        return wrc;
-    }
-    /* an output we cannot write is reported before any work, not after */
-    int rc = spm_output_check_all(outputs, nout, &err) ? SPM_EXIT_INPUT : 0;
-    if (rc) {
-        fprintf(stderr, "specmip render: %s\n", err.msg);
-        spm_mpi_share(&mpi, rc, &cfg, NULL, &err);
-        spm_mpi_end(&mpi, 0);
+    if (mpi.rank > 0) { /* renders what rank 0 sends (and ends MPI); rank 0 alone reports and writes */
+        rc = spm_mpi_worker(&mpi, &o.cfg);
         spm_release_interrupts();
         return rc;
     }
-
+    /* from here on one way out: every step's failure ends at `out` */
     spm_render_setup s;
-    rc = spm_render_setup_open(&cfg, &s, &err);
-    rc = spm_mpi_share(&mpi, rc, &cfg, &s, &err);
-    if (rc) {
+    spm_film film;
+    spm_run_result res;
+    memset(&s, 0, sizeof s);
+    memset(&film, 0, sizeof film);
+    int torn_down = 0, rendered = 0;
+    /* an output we cannot write is reported before any work, not after */
+    if (spm_output_check_all(o.outputs, o.nout, &err)) {
+        fprintf(stderr, "specmip render: %s\n", err.msg);
+        rc = SPM_EXIT_INPUT;
+        spm_mpi_share(&mpi, rc, &o.cfg, NULL, &err);
+        goto out;
+    }
+    rc = spm_render_setup_open(&o.cfg, &s, &err);
+    if ((rc = spm_mpi_share(&mpi, rc, &o.cfg, &s, &err))) {
         fprintf(stderr, "specmip render: %s%s\n", err.msg,
                 rc == SPM_EXIT_INTERRUPTED ? "; nothing rendered, no image written" : "");
-        spm_render_setup_close(&s);
-        spm_mpi_end(&mpi, 0);
-        spm_release_interrupts();
-        return rc;
+        goto out;
     }
-    int spp = spm_render_spp(&cfg, &s.scene);
-    size_t npix = (size_t)s.scene.width * (size_t)s.scene.height;
-    spm_film film;
-    if (spm_film_init(&film, s.scene.width, s.scene.height, &err)) {
+    /* the other ranks wait for passes after a failure here: mpirun ends them */
+    if (spm_film_init(&film, s.scene.width, s.scene.height, &err) ||
+        (s.plan.nspec && spm_film_spectral_init(&film, s.plan.nspec, &err))) {
         fprintf(stderr, "specmip render: %s\n", err.msg);
-        spm_render_setup_close(&s);
-        spm_mpi_end(&mpi, 0); /* the other ranks wait for passes: mpirun ends them */
-        spm_release_interrupts();
-        return SPM_EXIT_INPUT;
+        rc = SPM_EXIT_INPUT;
+        goto out;
     }
-    if (s.plan.nspec && spm_film_spectral_init(&film, s.plan.nspec, &err)) {
-        fprintf(stderr, "specmip render: %s\n", err.msg);
-        spm_film_free(&film);
-        spm_render_setup_close(&s);
-        spm_release_interrupts();
-        return SPM_EXIT_INPUT;
-    }
-    spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), &spm_stop_flag, progress};
-    spm_run_result res;
-    spm_pocl_cache cache0 = spm_pocl_cache_now();
-    double t0 = spm_now();
-    rc = spm_mpi_render_run(&mpi, &s, npix, &ro, &film, &res, &err);
-    s.times.render_s = spm_now() - t0;
-    spm_pocl_cache cache1 = spm_pocl_cache_now();
-    /* the CPU reference compiles nothing: a cache that grew meanwhile is another process's */
-    s.times.compiled_in_render = cfg.use_cpu ? -1 : spm_pocl_cache_grew(&cache0, &cache1);
-    if (s.times.compiled_in_render == 1) {
-        char dir[4096];
-        fprintf(stderr, "specmip render: WARNING: PoCL's kernel cache %s gained %lld files "
-                        "during the render: kernels were compiled (by this render, unless another "
-                        "process shares the cache), and the render time may include that\n",
-                spm_pocl_cache_dir(dir, sizeof dir), cache1.files - (cache0.files > 0 ? cache0.files : 0));
-    }
-    int torn_down = res.interrupted; /* mpirun is ending every rank */
-    if (!rc && res.interrupted && spm_mpi_check_signalled(&mpi, &err)) {
-        /* a rank died: what the others did is not what was asked for */
-        fprintf(stderr, "specmip render: %s; no image written\n", err.msg);
-        rc = SPM_EXIT_RUNTIME;
-    } else if (rc) {
-        /* the render is not what was asked for: existing outputs stay */
-        fprintf(stderr, "specmip render: %s; no image written\n", err.msg);
-        rc = SPM_EXIT_RUNTIME;
-    } else if (res.interrupted && res.spp_done == 0) {
-        fprintf(stderr, "specmip render: interrupted in the first pass (of %d samples per pixel); "
-                        "nothing rendered, no image written\n", (int)ro.spp_per_pass);
-        rc = SPM_EXIT_INTERRUPTED;
-    } else {
-        spm_render_warn_dropped(&res, &film);
-        /* the image so far after an interruption; a signal now is acted on
-         * after the writes (an image write cannot be interrupted) */
-        spm_render_meta meta;
-        spm_render_meta_make(&cfg, &s, &res, s.times.render_s, &meta);
-        t0 = spm_now();
-        for (int i = 0; i < nout; i++)
-            if (spm_spectral_path(outputs[i])
-                    ? spm_spectral_exr_write(outputs[i], &film, meta.a, meta.n, &err)
-                    : spm_output_write_film_attrs(outputs[i], &film, &tm, meta.a, meta.n, &err)) {
-                fprintf(stderr, "specmip render: %s\n", err.msg);
-                rc = SPM_EXIT_RUNTIME;
-            }
-        s.times.output_s = spm_now() - t0;
-        if (!rc && res.interrupted) {
-            fprintf(stderr, "specmip render: interrupted after %d of %d samples per pixel; "
-                            "image written\n", res.spp_done, spp);
-            rc = SPM_EXIT_INTERRUPTED;
-        } else if (!rc && spm_stop_requested()) {
-            fprintf(stderr, "specmip render: interrupted once the render was done; the "
-                            "complete image was written\n");
-            rc = SPM_EXIT_INTERRUPTED;
-        }
-    }
+    rc = render_film(&o, &mpi, &s, &film, &res, &torn_down, &err);
+    rendered = 1;
+out:
     spm_release_interrupts();
-    /* both: the JSON keeps stdout to itself, the text goes to stderr */
-    if (json)
-        spm_render_stats_json(stdout, &cfg, &s, &res);
-    if (stats)
-        spm_render_stats_text(json ? stderr : stdout, &cfg, &s, &res);
+    if (rendered) {
+        /* both: the JSON keeps stdout to itself, the text goes to stderr */
+        if (o.json)
+            spm_render_stats_json(stdout, &o.cfg, &s, &res);
+        if (o.stats)
+            spm_render_stats_text(o.json ? stderr : stdout, &o.cfg, &s, &res);
+    }
     spm_film_free(&film);
     spm_render_setup_close(&s);
     spm_mpi_end(&mpi, torn_down);

@@ -172,21 +172,33 @@ double spm_delta_e_2000(const double lab1[3], const double lab2[3])
     return sqrt(tL * tL + tC * tC + tH * tH + RT * tC * tH);
 }
 
+const spm_spectrum *spm_d65(spm_error *err)
+{
+    static int ready;
+    static spm_spectrum d65;
+    if (!ready) {
+        char path[4096];
+        spm_data_path("spectra/illuminant_D65_1nm.csv", path, sizeof path);
+        if (spm_spectrum_load(path, NULL, SPM_KIND_EMISSION, &d65, err))
+            return NULL;
+        ready = 1;
+    }
+    return &d65;
+}
+
 void spm_white_d65(double xyz[3])
 {
     static int ready;
     static double white[3];
     if (!ready) {
-        char path[4096];
         spm_error err;
-        spm_spectrum d65;
-        spm_data_path("spectra/illuminant_D65_1nm.csv", path, sizeof path);
-        if (spm_spectrum_load(path, NULL, SPM_KIND_EMISSION, &d65, &err)) {
+        const spm_spectrum *d65 = spm_d65(&err);
+        if (!d65) {
             /* bundled data: missing means a broken installation */
             fprintf(stderr, "specmip: %s\n", err.msg);
             exit(SPM_EXIT_RUNTIME);
         }
-        spm_xyz_emission(&d65, white);
+        spm_xyz_emission(d65, white);
         double y = white[1];
         for (int k = 0; k < 3; k++)
             white[k] /= y;

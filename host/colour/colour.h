@@ -25,6 +25,9 @@ double spm_srgb_decode(double encoded);
 double spm_delta_e_ab(const double lab1[3], const double lab2[3]);
 double spm_delta_e_2000(const double lab1[3], const double lab2[3]);
 
+/* CIE D65 (relative spectral power, spectra/illuminant_D65_1nm.csv), loaded
+ * once; NULL with err filled if missing. */
+const spm_spectrum *spm_d65(spm_error *err);
 /* D65 white point XYZ with Y = 1 (from the 1 nm observer and spectra/illuminant_D65_1nm.csv). */
 void spm_white_d65(double xyz[3]);
 #ifdef __cplusplus

@@ -176,13 +176,6 @@ static double *cmf_tab;      /* the 1 nm table, rows of (nm, x, y, z) */
 static size_t cmf_rows;
 static double cmf_norm;      /* 1 / integral of y-bar over 380-780 nm */
 
-const char *spm_data_path(const char *rel, char *buf, size_t bufsize)
-{
-    const char *root = getenv("SPECMIP_DATA");
-    snprintf(buf, bufsize, "%s/%s", root && *root ? root : SPM_SOURCE_DIR, rel);
-    return buf;
-}
-
 int spm_cmf_init(spm_error *err)
 {
     if (cmf_ready)

@@ -54,8 +54,6 @@ void spm_cmf_point(double lambda_nm, double out[3]);
  * the CMFs divided by it, so a spectrum of 1 per nm has Y = 1. */
 double spm_cmf_y_integral(void);
 
-/* Path of a bundled data file: $SPECMIP_DATA/<rel> if set, else the source tree's. */
-const char *spm_data_path(const char *rel, char *buf, size_t bufsize);
 #ifdef __cplusplus
 }
 #endif

@@ -40,7 +40,7 @@ static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pa
     if (spp == 0)
         return 0;
     size_t batch = c->batch_paths;
-    size_t bpix = spm_batch_pixels(npix, spp, batch);
+    size_t bpix = spm_batch_pixels(npix, spp, batch); /* pixels a batch */
     reserve(c, spm_batch_room(npix, spp, batch));
     spm_trace_params p = spm_plan_pass_params(pl, first_sample, spp);
     for (size_t p0 = 0; p0 < npix; p0 += bpix) {
@@ -99,3 +99,11 @@ spm_backend *spm_backend_cpu_create(const spm_render_plan *plan, spm_error *err)
     snprintf(b->name, sizeof b->name, "cpu-reference");
     return b;
 }
+
+static spm_backend *create_kind(int device, const spm_render_plan *plan, spm_error *err)
+{
+    (void)device;
+    return spm_backend_cpu_create(plan, err);
+}
+
+const spm_backend_kind spm_backend_kind_cpu = {.name = "cpu", .create = create_kind};

@@ -1,4 +1,4 @@
-/* The CPU reference backend's batching (backend.h creates it). A pass is
+/* The CPU reference backend and its batching. A pass is
  * traced and shaded in batches of whole pixels, like the OpenCL backend
  * (render_plan.h), so its memory stays bounded whatever the image size. */
 #ifndef SPM_BACKEND_CPU_H
@@ -10,6 +10,11 @@
  * as a pass at the default image size; the CPU has no launch cost to
  * amortise, so larger batches would only cost memory. */
 #define SPM_CPU_BATCH_PATHS ((size_t)1 << 16)
+
+/* The reference on the plan (render_plan.h), which must outlive it. */
+spm_backend *spm_backend_cpu_create(const spm_render_plan *plan, spm_error *err);
+/* As a kind of backend (backend.h): one, no devices. */
+extern const spm_backend_kind spm_backend_kind_cpu;
 
 /* Test hooks on a backend from spm_backend_cpu_create: batches of at most
  * `paths` paths from the next pass on (0: the default); the paths the

@@ -50,6 +50,9 @@ struct spm_cl_renderer {
     spm_u32 *h_idx; /* bucket indices, the source of idx's non-blocking upload */
     size_t lhist[256]; /* levelled modes: the pass's level bytes counted by value (bucket()) */
     spm_u32 zero[SPM_NCOUNTERS];
+    /* spm_clr_render_pass, or with SPECMIP_CL_FAIL the test hook around it */
+    int (*run_pass)(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
+                    spm_pass_stats *st, spm_error *err);
     long npasses;
     long fail_pass; /* SPECMIP_CL_FAIL: this pass fails (-1: never) */
     const spm_pass_ctl *ctl; /* the backend's, during its passes (NULL: none) */
@@ -95,9 +98,13 @@ int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOT
 int spm_clr_run_accumulate(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_error *err);
 
 /* render_cl.c: the pipeline's steps the test hooks reuse. */
-int spm_clr_plan_pass(spm_cl_renderer *r, spm_u32 spp, size_t *bpix, spm_error *err);
-batch spm_clr_batch_at(const spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t p0,
-                       size_t bpix);
+/* Samples [first_sample, first_sample + spp) of every pixel, batch by batch
+ * (render_plan.h's cut into whole pixels), each batch given to fn: 0, or
+ * fn's first non-zero return (1 with err filled, or SPM_PASS_STOPPED). The
+ * device counters are zeroed first when zero_counters is set. */
+typedef int (*spm_clr_batch_fn)(spm_cl_renderer *r, const batch *b, void *ctx, spm_error *err);
+int spm_clr_each_batch(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, int zero_counters,
+                       spm_clr_batch_fn fn, void *ctx, spm_error *err);
 int spm_clr_zero_counters(spm_cl_renderer *r, spm_error *err);
 int spm_clr_bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t off[NSLOTS + 1],
                    cl_mem *ids, spm_error *err);
@@ -105,8 +112,10 @@ int spm_clr_bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t o
  * (if not NULL). */
 double spm_clr_release_events(cl_event *ev, int n, uint64_t *untimed);
 
-/* cl_test_hooks.c: SPECMIP_CL_FAIL (render_cl.h) for device `device`; and
- * whether this pass is the one to fail (err filled). */
+/* cl_test_hooks.c: SPECMIP_CL_FAIL (render_cl.h) for device `device`: the
+ * handle's passes then go through a pass that fails at the named one. */
 void spm_clr_fail_init(spm_cl_renderer *r, int device);
-int spm_clr_fail_now(spm_cl_renderer *r, spm_error *err);
+/* The pass itself (render_cl.c), which spm_cl_pass runs unless a failure is injected. */
+int spm_clr_render_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
+                        spm_pass_stats *st, spm_error *err);
 #endif

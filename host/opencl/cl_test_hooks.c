@@ -5,22 +5,28 @@
 #include <string.h>
 #include "cl_renderer.h"
 
+/* The handle's pass with SPECMIP_CL_FAIL naming its device: pass fail_pass
+ * fails as an enqueue would, the others render. */
+static int failing_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
+                        spm_pass_stats *st, spm_error *err)
+{
+    if (r->npasses++ == r->fail_pass) {
+        spm_errorf(err, "clEnqueueNDRangeKernel(spm_trace): injected failure (SPECMIP_CL_FAIL)");
+        return 1;
+    }
+    return spm_clr_render_pass(r, first_sample, spp, pass_xyz, st, err);
+}
+
 void spm_clr_fail_init(spm_cl_renderer *r, int device)
 {
     r->fail_pass = -1;
     const char *s = getenv("SPECMIP_CL_FAIL");
     int dev;
     long pass;
-    if (s && sscanf(s, "%d:%ld", &dev, &pass) == 2 && dev == device)
+    if (s && sscanf(s, "%d:%ld", &dev, &pass) == 2 && dev == device) {
         r->fail_pass = pass;
-}
-
-int spm_clr_fail_now(spm_cl_renderer *r, spm_error *err)
-{
-    if (r->npasses++ != r->fail_pass)
-        return 0;
-    spm_errorf(err, "clEnqueueNDRangeKernel(spm_trace): injected failure (SPECMIP_CL_FAIL)");
-    return 1;
+        r->run_pass = failing_pass;
+    }
 }
 
 void spm_cl_set_batch_paths(spm_cl_renderer *r, size_t paths)
@@ -80,21 +86,27 @@ static int trace_batch(spm_cl_renderer *r, const batch *b, spm_dev_head *h, spm_
     return rc;
 }
 
+typedef struct {
+    spm_dev_head *h; /* scratch: a batch's headers */
+    spm_path *paths;
+    uint8_t *levels;
+} trace_ctx;
+
+static int trace_one(spm_cl_renderer *r, const batch *b, void *ctx, spm_error *err)
+{
+    trace_ctx *c = ctx;
+    size_t i0 = (size_t)b->first_pixel * b->spp;
+    if (!c->h)
+        c->h = spm_xcalloc(r->cap, sizeof *c->h);
+    return trace_batch(r, b, c->h, &c->paths[i0], &c->levels[i0], err);
+}
+
 int spm_cl_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, spm_path *paths,
                  uint8_t *levels, spm_error *err)
 {
-    size_t bpix;
-    if (spp == 0)
-        return 0;
-    if (spm_clr_plan_pass(r, spp, &bpix, err) || spm_clr_zero_counters(r, err))
-        return 1;
-    spm_dev_head *h = spm_xcalloc(r->cap, sizeof *h);
-    int rc = 0;
-    for (size_t p0 = 0; !rc && p0 < r->npix; p0 += bpix) {
-        batch b = spm_clr_batch_at(r, first_sample, spp, p0, bpix);
-        rc = trace_batch(r, &b, h, &paths[p0 * spp], &levels[p0 * spp], err);
-    }
-    free(h);
+    trace_ctx c = {NULL, paths, levels}; /* h: sized at the first batch, as the buffers */
+    int rc = spm_clr_each_batch(r, first_sample, spp, 1, trace_one, &c, err);
+    free(c.h);
     return rc;
 }
 
@@ -131,20 +143,22 @@ static int shade_batch(spm_cl_renderer *r, const batch *b, const spm_path *paths
     return rc;
 }
 
+typedef struct {
+    const spm_path *paths;
+    const uint8_t *levels;
+    float *xyz;
+} shade_ctx;
+
+static int shade_one(spm_cl_renderer *r, const batch *b, void *ctx, spm_error *err)
+{
+    shade_ctx *c = ctx;
+    size_t i0 = (size_t)b->first_pixel * b->spp;
+    return shade_batch(r, b, &c->paths[i0], &c->levels[i0], &c->xyz[(size_t)r->pix_ch * i0], err);
+}
+
 int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const spm_path *paths,
                  const uint8_t *levels, float *xyz, spm_error *err)
 {
-    size_t bpix;
-    if (spp == 0)
-        return 0;
-    if (spm_clr_plan_pass(r, spp, &bpix, err))
-        return 1;
-    int rc = 0;
-    for (size_t p0 = 0; !rc && p0 < r->npix; p0 += bpix) {
-        batch b = spm_clr_batch_at(r, first_sample, spp, p0, bpix);
-        size_t i0 = p0 * spp;
-        rc = shade_batch(r, &b, &paths[i0], &levels[i0], &xyz[(size_t)r->pix_ch * i0], err);
-    }
-    return rc;
+    shade_ctx c = {paths, levels, xyz};
+    return spm_clr_each_batch(r, first_sample, spp, 0, shade_one, &c, err);
 }
-

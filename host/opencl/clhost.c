@@ -367,3 +367,81 @@ double spm_cl_event_seconds(cl_event e)
         return -1.0;
     return b > a ? (double)(b - a) * 1e-9 : 0.0;
 }
+
+/* spm_cl_check with "<call>(<what>)" as the call site */
+static int check_at(cl_int code, const char *call, const char *what, spm_error *err)
+{
+    char site[192];
+    snprintf(site, sizeof site, "%s(%.150s)", call, what);
+    return spm_cl_check(code, site, err);
+}
+
+int spm_cl_kernel(cl_program p, const char *name, cl_kernel *out, spm_error *err)
+{
+    cl_int e;
+    *out = clCreateKernel(p, name, &e);
+    return check_at(e, "clCreateKernel", name, err);
+}
+
+int spm_cl_arg(cl_kernel k, cl_uint i, size_t size, const void *val, const char *what,
+               spm_error *err)
+{
+    return check_at(clSetKernelArg(k, i, size, val), "clSetKernelArg", what, err);
+}
+
+int spm_cl_buffer(const spm_cl_ctx *c, cl_mem_flags flags, size_t size, const void *host,
+                  const char *what, cl_mem *out, spm_error *err)
+{
+    cl_int e;
+    *out = clCreateBuffer(c->ctx, flags | (host ? CL_MEM_COPY_HOST_PTR : 0), size ? size : 4,
+                          (void *)host, &e);
+    if (e != CL_SUCCESS)
+        *out = NULL;
+    return check_at(e, "clCreateBuffer", what, err);
+}
+
+int spm_cl_read(const spm_cl_ctx *c, cl_mem m, size_t size, void *dst, const char *what,
+                spm_error *err)
+{
+    return check_at(clEnqueueReadBuffer(c->queue, m, CL_TRUE, 0, size, dst, 0, NULL, NULL),
+                    "clEnqueueReadBuffer", what, err);
+}
+
+int spm_cl_write(const spm_cl_ctx *c, cl_mem m, size_t size, const void *src, const char *what,
+                 spm_error *err)
+{
+    return check_at(clEnqueueWriteBuffer(c->queue, m, CL_TRUE, 0, size, src, 0, NULL, NULL),
+                    "clEnqueueWriteBuffer", what, err);
+}
+
+int spm_cl_launch(const spm_cl_ctx *c, cl_kernel k, size_t global, size_t local, double *s,
+                  const char *what, spm_error *err)
+{
+    cl_event ev;
+    if (check_at(clEnqueueNDRangeKernel(c->queue, k, 1, NULL, &global, local ? &local : NULL, 0,
+                                        NULL, &ev),
+                 "clEnqueueNDRangeKernel", what, err))
+        return 1;
+    cl_int rc = clWaitForEvents(1, &ev);
+    *s = spm_cl_event_seconds(ev);
+    clReleaseEvent(ev);
+    return check_at(rc, "clWaitForEvents", what, err);
+}
+
+void spm_cl_release_kernel(cl_kernel k)
+{
+    if (k)
+        clReleaseKernel(k);
+}
+
+void spm_cl_release_mem(cl_mem m)
+{
+    if (m)
+        clReleaseMemObject(m);
+}
+
+void spm_cl_release_program(cl_program p)
+{
+    if (p)
+        clReleaseProgram(p);
+}

@@ -81,4 +81,28 @@ int spm_cl_build(spm_cl_ctx *c, const char *const *files, int nfiles, const char
 /* Seconds between an event's START and END (profiling); -1 when the device
  * gives no times (Rusticl gives none; also with SPECMIP_CL_NO_TIMES set). */
 double spm_cl_event_seconds(cl_event e);
+
+/* Kernels, buffers and launches for the programs outside the renderer (the
+ * bench's ray replay and operation timings), so that no OpenCL call lives
+ * outside opencl/. `what` names the kernel or buffer in the error. */
+int spm_cl_kernel(cl_program p, const char *name, cl_kernel *out, spm_error *err);
+int spm_cl_arg(cl_kernel k, cl_uint i, size_t size, const void *val, const char *what,
+               spm_error *err);
+/* size bytes (an empty buffer has 4: OpenCL refuses size 0), copied from host
+ * unless it is NULL. */
+int spm_cl_buffer(const spm_cl_ctx *c, cl_mem_flags flags, size_t size, const void *host,
+                  const char *what, cl_mem *out, spm_error *err);
+/* Blocking reads and writes of a buffer's first size bytes. */
+int spm_cl_read(const spm_cl_ctx *c, cl_mem m, size_t size, void *dst, const char *what,
+                spm_error *err);
+int spm_cl_write(const spm_cl_ctx *c, cl_mem m, size_t size, const void *src, const char *what,
+                 spm_error *err);
+/* One launch of global work-items in groups of local (0: the implementation
+ * picks), waited for; its kernel seconds in *s (spm_cl_event_seconds). */
+int spm_cl_launch(const spm_cl_ctx *c, cl_kernel k, size_t global, size_t local, double *s,
+                  const char *what, spm_error *err);
+/* These take NULL (nothing made yet). */
+void spm_cl_release_kernel(cl_kernel k);
+void spm_cl_release_mem(cl_mem m);
+void spm_cl_release_program(cl_program p);
 #endif

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cl_renderer.h"
+#include "cl_resources.h"
 
 int spm_cl_create_plan(int device, const spm_render_plan *plan, spm_cl_renderer **out,
                        spm_error *err)
@@ -14,6 +15,7 @@ int spm_cl_create_plan(int device, const spm_render_plan *plan, spm_cl_renderer 
     r->npix = plan->npix;
     r->pix_ch = plan->pix_ch;
     r->batch_paths = spm_plan_batch_paths(SPM_CL_BATCH_PATHS, r->pix_ch);
+    r->run_pass = spm_clr_render_pass;
     spm_clr_fail_init(r, device);
     r->params = plan->params;
     r->init_level = plan->start_level;
@@ -61,25 +63,22 @@ void spm_cl_destroy(spm_cl_renderer *r)
     free(r);
 }
 
-const spm_cl_device *spm_cl_renderer_device(const spm_cl_renderer *r)
+int spm_clr_each_batch(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, int zero_counters,
+                       spm_clr_batch_fn fn, void *ctx, spm_error *err)
 {
-    return &r->cl.dev;
-}
-
-/* A pass's batch size in pixels (render_plan.h), with the buffers for it. */
-int spm_clr_plan_pass(spm_cl_renderer *r, spm_u32 spp, size_t *bpix, spm_error *err)
-{
-    *bpix = spm_batch_pixels(r->npix, spp, r->batch_paths);
-    return spm_clr_reserve(r, spm_batch_room(r->npix, spp, r->batch_paths), err);
-}
-
-/* The batch of a pass cut into batches of bpix pixels that starts at pixel p0. */
-batch spm_clr_batch_at(const spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t p0,
-                       size_t bpix)
-{
-    size_t np = r->npix - p0 < bpix ? r->npix - p0 : bpix;
-    batch b = {first_sample, spp, (spm_u32)p0, (spm_u32)np, np * spp, bpix * spp};
-    return b;
+    if (spp == 0)
+        return 0;
+    size_t bpix = spm_batch_pixels(r->npix, spp, r->batch_paths); /* pixels a batch */
+    if (spm_clr_reserve(r, spm_batch_room(r->npix, spp, r->batch_paths), err) ||
+        (zero_counters && spm_clr_zero_counters(r, err)))
+        return 1;
+    int rc = 0;
+    for (size_t p0 = 0; !rc && p0 < r->npix; p0 += bpix) {
+        size_t np = r->npix - p0 < bpix ? r->npix - p0 : bpix;
+        batch b = {first_sample, spp, (spm_u32)p0, (spm_u32)np, np * spp, bpix * spp};
+        rc = fn(r, &b, ctx, err);
+    }
+    return rc;
 }
 
 int spm_clr_zero_counters(spm_cl_renderer *r, spm_error *err)
@@ -210,24 +209,38 @@ static int pass_batch(spm_cl_renderer *r, const batch *b, float *batch_xyz, spm_
 /* The pass image is the concatenation of its batches' pixel sums: a pixel's
  * samples are summed in sample order within one batch, so the image is the
  * same however the pass is cut. */
+typedef struct {
+    float *pass_xyz;
+    spm_pass_stats *st;
+} pass_ctx;
+
+static int pass_one(spm_cl_renderer *r, const batch *b, void *ctx, spm_error *err)
+{
+    pass_ctx *c = ctx;
+    size_t end = (size_t)b->first_pixel + b->npix;
+    if (pass_batch(r, b, &c->pass_xyz[(size_t)r->pix_ch * b->first_pixel], c->st, err))
+        return 1;
+    /* pass_batch has waited for the batch: nothing is left in the queue */
+    if (end < r->npix && spm_pass_batch_end(r->ctl, end * b->spp))
+        return SPM_PASS_STOPPED;
+    return 0;
+}
+
 int spm_cl_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                 spm_pass_stats *st, spm_error *err)
 {
-    if (spm_clr_fail_now(r, err))
-        return 1;
-    size_t bpix;
+    return r->run_pass(r, first_sample, spp, pass_xyz, st, err);
+}
+
+int spm_clr_render_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
+                        spm_pass_stats *st, spm_error *err)
+{
     if (spp == 0)
         return 0;
-    if (spm_clr_plan_pass(r, spp, &bpix, err) || spm_clr_zero_counters(r, err))
-        return 1;
-    int rc = 0;
-    for (size_t p0 = 0; !rc && p0 < r->npix; p0 += bpix) {
-        batch b = spm_clr_batch_at(r, first_sample, spp, p0, bpix);
-        rc = pass_batch(r, &b, &pass_xyz[(size_t)r->pix_ch * p0], st, err);
-        /* pass_batch has waited for the batch: nothing is left in the queue */
-        if (!rc && p0 + b.npix < r->npix && spm_pass_batch_end(r->ctl, (p0 + b.npix) * spp))
-            return SPM_PASS_STOPPED;
-    }
+    pass_ctx c = {pass_xyz, st};
+    int rc = spm_clr_each_batch(r, first_sample, spp, 1, pass_one, &c, err);
+    if (rc == SPM_PASS_STOPPED)
+        return rc;
     spm_u32 counters[SPM_NCOUNTERS];
     rc = rc || spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->counters, CL_TRUE, 0,
                                                 sizeof counters, counters, 0, NULL, NULL),
@@ -275,3 +288,44 @@ spm_backend *spm_backend_cl_create(int device, const spm_render_plan *plan, spm_
     snprintf(b->name, sizeof b->name, "%d: %.200s", device, r->cl.dev.name);
     return b;
 }
+
+static int all_devices(int *list, int *n, int max, spm_error *err)
+{
+    spm_cl_device *devs;
+    int ndev;
+    if (spm_cl_devices(&devs, &ndev, err))
+        return 1;
+    int nall = 0;
+    *n = 0;
+    for (int i = 0; i < ndev; i++)
+        if (spm_cl_device_in_all(devs, ndev, i)) {
+            if (*n < max)
+                list[(*n)++] = i;
+            nall++;
+        }
+    free(devs);
+    if (nall > max)
+        spm_warnf("%d devices; the first %d render", nall, max);
+    return 0;
+}
+
+static int check_device(int device, const spm_render_plan *plan, int width, int height,
+                        size_t paths_per_pass, char *name, spm_error *err)
+{
+    spm_cl_footprint fp;
+    spm_cl_footprint_of_ch(plan->geom, plan->tables, (size_t)width * (size_t)height,
+                           paths_per_pass, plan->pix_ch, &fp);
+    spm_cl_device d;
+    if (spm_cl_device_get(device, &d, err) || /* unknown index: lists the available ones */
+        spm_cl_footprint_check(&d, &fp, width, height, paths_per_pass, err))
+        return 1;
+    snprintf(name, 256, "%s", d.name);
+    return 0;
+}
+
+const spm_backend_kind spm_backend_kind_opencl = {.name = "opencl",
+                                                  .per_device = 1,
+                                                  .compiles = 1,
+                                                  .all_devices = all_devices,
+                                                  .check = check_device,
+                                                  .create = spm_backend_cl_create};

@@ -28,8 +28,10 @@ int spm_cl_create_plan(int device, const spm_render_plan *plan, spm_cl_renderer 
 int spm_cl_create(int device, const spm_geometry *g, const spm_tables *t, int mode, spm_u32 seed,
                   spm_cl_renderer **out, spm_error *err);
 void spm_cl_destroy(spm_cl_renderer *r);
-/* The device this handle renders on (name, memory, ...). */
-const spm_cl_device *spm_cl_renderer_device(const spm_cl_renderer *r);
+/* Device `device` (index as `specmip devices` lists them) as a render backend. */
+spm_backend *spm_backend_cl_create(int device, const spm_render_plan *plan, spm_error *err);
+/* As a kind of backend (backend.h): one per device, checked against its memory. */
+extern const spm_backend_kind spm_backend_kind_opencl;
 
 /* One pass: samples [first_sample, first_sample + spp) of every pixel.
  * pass_xyz (npix * 3) receives per pixel the SUM of its samples' XYZ.

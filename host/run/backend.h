@@ -30,11 +30,24 @@ struct spm_backend {
     spm_pass_ctl ctl; /* set by the render loop for its passes */
 };
 
-/* Every backend is built from a render plan (render_plan.h), which must
- * outlive it. NULL on failure, with err filled. */
-spm_backend *spm_backend_cpu_create(const spm_render_plan *plan, spm_error *err);
-/* OpenCL device `device` (index as `specmip devices` lists them). */
-spm_backend *spm_backend_cl_create(int device, const spm_render_plan *plan, spm_error *err);
+/* A kind of backend (OpenCL, the CPU reference): how the set-up checks and
+ * opens it. The kinds are listed above run/ (backends/backends.h), so that
+ * run/ reaches a backend only through this interface. */
+typedef struct {
+    const char *name; /* --backend's value */
+    int per_device;   /* one backend per device index (--device); else one, index ignored */
+    int compiles;     /* builds kernels: PoCL's cache is watched during a timed render */
+    /* --device all: the indices it selects (at most max; more are warned of). */
+    int (*all_devices)(int *list, int *n, int max, spm_error *err);
+    /* Before anything is built: the device exists (its name into name[256]) and
+     * a render of width x height, paths_per_pass paths a pass, fits its memory. */
+    int (*check)(int device, const spm_render_plan *plan, int width, int height,
+                 size_t paths_per_pass, char *name, spm_error *err);
+    /* Built from a render plan (render_plan.h), which must outlive the backend.
+     * NULL on failure, with err filled. */
+    spm_backend *(*create)(int device, const spm_render_plan *plan, spm_error *err);
+} spm_backend_kind;
+
 /* For backends: after each batch of a pass but the last. Reports progress,
  * honours the test pause "pass" (interrupt.h) and returns 1 when the pass is
  * to stop (c may be NULL). */

@@ -17,7 +17,8 @@ typedef struct {
     const spm_mode_desc *mode;
     const spm_geometry *geom;   /* not owned: must outlive the plan */
     const spm_tables *tables;   /* likewise */
-    const uint8_t *lvlk;        /* the level feeler's table (spm_mode_lvlk) */
+    const uint8_t *lvlk;        /* the level feeler's table, level by colour and k, the times a
+                                   path meets the colour (tables.h; spm_mode_lvlk) */
     spm_u32 start_level;        /* spm_plan_level_start */
     spm_trace_params params;    /* the scene's; spm_plan_pass_params adds a pass's samples */
     size_t npix;

@@ -3,18 +3,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "cl_resources.h"
-#include "clhost.h"
 #include "film_spectral.h"
 #include "interrupt.h"
-
-void spm_render_config_defaults(spm_render_config *c)
-{
-    memset(c, 0, sizeof *c);
-    c->mode = SPM_MODE_ML;
-    c->seed = 1;
-    spm_pretest_defaults(&c->pretest);
-}
 
 typedef struct {
     int device;
@@ -29,7 +19,7 @@ static void *open_one(void *arg)
 {
     device_open *d = arg;
     spm_test_pause("build");
-    d->b = (d->c->open_device ? d->c->open_device : spm_backend_cl_create)(d->device, d->plan,
+    d->b = (d->c->open_device ? d->c->open_device : d->c->backend->create)(d->device, d->plan,
                                                                           &d->err);
     return NULL;
 }
@@ -41,32 +31,19 @@ int spm_render_spp(const spm_render_config *c, const spm_scene *sc)
 
 /* The device indices to open, checked: unknown or repeated ones are input
  * errors, and so is a render too large for a device's memory (said before any
- * buffer or program exists). */
+ * buffer or program exists). A backend kind without devices opens index 0. */
 static int device_list(const spm_render_config *c, const spm_render_setup *s, device_open *opens,
                        int *n, spm_error *err)
 {
+    const spm_backend_kind *k = c->backend;
     size_t npix = (size_t)s->scene.width * (size_t)s->scene.height;
-    size_t ppp = npix * spm_spp_per_pass(npix, spm_render_spp(c, &s->scene));
-    spm_cl_footprint fp;
-    spm_cl_footprint_of_ch(&s->geom, &s->tables, npix, ppp, s->plan.pix_ch, &fp);
+    size_t paths_per_pass = npix * spm_spp_per_pass(npix, spm_render_spp(c, &s->scene));
     int list[SPM_MAX_BACKENDS];
     *n = 0;
-    if (c->all_devices) {
-        spm_cl_device *devs;
-        int ndev;
-        if (spm_cl_devices(&devs, &ndev, err))
+    if (k->per_device && c->all_devices) {
+        if (k->all_devices(list, n, SPM_MAX_BACKENDS, err))
             return SPM_EXIT_RUNTIME;
-        int nall = 0;
-        for (int i = 0; i < ndev; i++)
-            if (spm_cl_device_in_all(devs, ndev, i)) {
-                if (*n < SPM_MAX_BACKENDS)
-                    list[(*n)++] = i;
-                nall++;
-            }
-        free(devs);
-        if (nall > SPM_MAX_BACKENDS)
-            spm_warnf("%d devices; the first %d render", nall, SPM_MAX_BACKENDS);
-    } else if (c->ndevices) {
+    } else if (k->per_device && c->ndevices) {
         for (int i = 0; i < c->ndevices && i < SPM_MAX_BACKENDS; i++)
             list[(*n)++] = c->devices[i];
     } else {
@@ -78,14 +55,11 @@ static int device_list(const spm_render_config *c, const spm_render_setup *s, de
                 spm_errorf(err, "device %d is listed twice", list[i]);
                 return SPM_EXIT_INPUT;
             }
-        spm_cl_device d;
-        if (spm_cl_device_get(list[i], &d, err)) /* unknown index: lists the available ones */
-            return SPM_EXIT_INPUT;
-        if (spm_cl_footprint_check(&d, &fp, s->scene.width, s->scene.height, ppp, err))
-            return SPM_EXIT_INPUT;
         memset(&opens[i], 0, sizeof opens[i]);
         opens[i].device = list[i];
-        snprintf(opens[i].name, sizeof opens[i].name, "%s", d.name);
+        if (k->check && k->check(list[i], &s->plan, s->scene.width, s->scene.height,
+                                 paths_per_pass, opens[i].name, err))
+            return SPM_EXIT_INPUT;
     }
     return 0;
 }
@@ -188,19 +162,16 @@ int spm_render_setup_backends(const spm_render_config *c, spm_render_setup *s, s
     if (spm_render_plan_init(&s->plan, &s->geom, &s->tables, c->mode, c->seed, err))
         return SPM_EXIT_INPUT;
     if (c->spec_nm) {
-        int nb = c->use_cpu ? 1 : c->all_devices ? SPM_MAX_BACKENDS : c->ndevices ? c->ndevices : 1;
+        int nb = !c->backend->per_device ? 1
+                 : c->all_devices        ? SPM_MAX_BACKENDS
+                 : c->ndevices           ? c->ndevices
+                                         : 1;
         if (spm_render_plan_spectral(&s->plan, c->spec_nm, err) ||
             spm_film_spectral_check(s->scene.width, s->scene.height, s->plan.nspec, nb, err))
             return SPM_EXIT_INPUT;
     }
     double t3 = spm_now();
-    if (c->use_cpu) {
-        s->b[0] = spm_backend_cpu_create(&s->plan, err);
-        s->nb = s->b[0] != NULL;
-        rc = s->nb ? 0 : SPM_EXIT_RUNTIME;
-    } else {
-        rc = open_devices(c, &s->plan, s, err);
-    }
+    rc = open_devices(c, &s->plan, s, err);
     s->times.kernels_s = spm_now() - t3;
     if (!rc && interrupted_after("building the OpenCL programs (a build cannot be interrupted)",
                                  err))

@@ -12,11 +12,11 @@ typedef struct {
     int spp;                  /* 0: the scene's, else 16 */
     spm_u32 seed;
     int width, height;        /* 0: the scene's */
-    int use_cpu;              /* --backend cpu */
+    const spm_backend_kind *backend; /* --backend (backends.h's list; the default OpenCL) */
     int devices[SPM_MAX_BACKENDS];
     int ndevices;             /* 0: device 0 */
     int all_devices;          /* --device all */
-    /* Opens one OpenCL device as a backend; NULL: spm_backend_cl_create (tests
+    /* Opens one device as a backend; NULL: backend->create (tests
      * put one here that fails for a chosen device, as a kernel build would). */
     spm_backend *(*open_device)(int device, const spm_render_plan *plan, spm_error *err);
     spm_pretest_opts pretest;
@@ -49,7 +49,6 @@ typedef struct {
     spm_stage_times times;
 } spm_render_setup;
 
-void spm_render_config_defaults(spm_render_config *c);
 /* Samples per pixel: --spp, else the scene's, else 16. */
 int spm_render_spp(const spm_render_config *c, const spm_scene *sc);
 /* Returns 0, or an exit code (2 input error, 1 runtime, 130 interrupted:

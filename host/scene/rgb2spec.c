@@ -26,20 +26,6 @@
 #define FIT_ITERS 60         /* LM iterations per step */
 #define FIT_TOL2 1e-12       /* stop when |Lab residual|^2 is below this */
 
-const spm_spectrum *spm_d65(spm_error *err)
-{
-    static int ready;
-    static spm_spectrum d65;
-    if (!ready) {
-        char path[4096];
-        spm_data_path("spectra/illuminant_D65_1nm.csv", path, sizeof path);
-        if (spm_spectrum_load(path, NULL, SPM_KIND_EMISSION, &d65, err))
-            return NULL;
-        ready = 1;
-    }
-    return &d65;
-}
-
 /* The fit cannot report errors; D65 is bundled data, so its absence is a broken
  * installation (spm_rgb_to_* check it first and report it properly). */
 static const spm_spectrum *d65_required(void)

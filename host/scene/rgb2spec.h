@@ -3,6 +3,7 @@
  * RGB emissions as such a shape times D65 (so an RGB white light stays D65). */
 #ifndef SPM_RGB2SPEC_H
 #define SPM_RGB2SPEC_H
+#include "colour.h" /* spm_d65 */
 #include "spectrum.h"
 
 /* The model: s(lambda) = S(c0 x^2 + c1 x + c2), x = (lambda - 380 nm) / 400 nm,
@@ -26,6 +27,4 @@ int spm_rgb_to_emission(const double rgb[3], spm_spectrum *out, double *de00, sp
 
 /* CIEDE2000 between reflectance r under D65 and linear sRGB rgb (D65 white). */
 double spm_rgb2spec_delta_e(const spm_spectrum *r, const double rgb[3]);
-/* CIE D65 (relative spectral power, 1 nm table); NULL with err filled if missing. */
-const spm_spectrum *spm_d65(spm_error *err);
 #endif

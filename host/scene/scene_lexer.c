@@ -178,16 +178,6 @@ int spm_lex_is_number(const spm_lexer *lx)
     return strchr("0123456789+-.", lx->text[0]) || (end != lx->text && !*end);
 }
 
-int spm_lex_keyword(spm_lexer *lx, const char *w, spm_error *err)
-{
-    if (!spm_lex_is(lx, w)) {
-        char what[80];
-        snprintf(what, sizeof what, "'%s'", w);
-        return spm_lex_expected(lx, err, what);
-    }
-    return spm_lex_next(lx, err);
-}
-
 /* "WHAT (lo to hi)" for messages; open ends are left out. */
 static void describe_range(char *buf, size_t size, const char *what, double lo, double hi)
 {

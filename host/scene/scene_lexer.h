@@ -49,7 +49,6 @@ int spm_lex_is_number(const spm_lexer *lx);
 
 /* Each of these checks the current token and, when it fits, advances past it.
  * Numbers must be finite and within [lo, hi]; NaN and Inf are refused. */
-int spm_lex_keyword(spm_lexer *lx, const char *w, spm_error *err);
 int spm_lex_number(spm_lexer *lx, const char *what, double lo, double hi, double *out,
                    spm_error *err);
 int spm_lex_int(spm_lexer *lx, const char *what, long lo, long hi, long *out, spm_error *err);

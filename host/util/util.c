@@ -61,3 +61,10 @@ FILE *spm_fopen_input(const char *path, const char *mode)
     }
     return fopen(path, mode);
 }
+
+const char *spm_data_path(const char *rel, char *buf, size_t bufsize)
+{
+    const char *root = getenv("SPECMIP_DATA");
+    snprintf(buf, bufsize, "%s/%s", root && *root ? root : SPM_SOURCE_DIR, rel);
+    return buf;
+}

@@ -40,6 +40,8 @@ extern const char *spm_input_files_refused;
 
 /* Monotonic wall clock in seconds. */
 double spm_now(void);
+/* Path of a bundled data file: $SPECMIP_DATA/<rel> if set, else the source tree's. */
+const char *spm_data_path(const char *rel, char *buf, size_t bufsize);
 #ifdef __cplusplus
 }
 #endif
