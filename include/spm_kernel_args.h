@@ -16,7 +16,7 @@
  * counters[0]: truncated paths; counters[1]: BVH stack overflows. */
 #define SPM_TRACE_ARGS(X, S)                                            \
     X(__global const spm_tri *, cl_mem, tris) S                         \
-    X(__global const spm_bvh_node *, cl_mem, nodes) S                   \
+    X(__global const spm_bvh4_node *, cl_mem, nodes) S                  \
     X(__global const uint *, cl_mem, emitters) S                        \
     X(__global const spm_material *, cl_mem, mats) S                    \
     X(__global const uchar *, cl_mem, lvlk) S                           \
@@ -83,7 +83,7 @@
  * [SPM_COUNTER_TRIS] add up the nodes visited and triangles tested. */
 #define SPM_RAYS_ARGS(X, S)                                             \
     X(__global const spm_tri *, cl_mem, tris) S                         \
-    X(__global const spm_bvh_node *, cl_mem, nodes) S                   \
+    X(__global const spm_bvh4_node *, cl_mem, nodes) S                  \
     X(__global const spm_ray *, cl_mem, rays) S                         \
     X(uint, spm_u32, first) S                                           \
     X(uint, spm_u32, nrays) S                                           \

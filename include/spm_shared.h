@@ -182,6 +182,27 @@ typedef struct {
     spm_u32 count;
 } spm_bvh_node;
 
+/* The kernels' BVH: 4-wide nodes collapsed from the BVH2 above
+ * (host/geometry/bvh_wide.c), the children's boxes as slabs of four floats
+ * (structure of arrays) so one work-item tests all four with float4
+ * arithmetic. child[i] is an interior node's index (< 2^31), or a leaf,
+ * SPM_WIDE_LEAF | first << 2 | (count - 1): triangles [first, first + count)
+ * of the reordered triangle array, count <= 4, or SPM_WIDE_EMPTY for an
+ * unused slot (its box is never read). Node 0 is the root. 112 bytes. */
+#define SPM_WIDE 4
+#define SPM_WIDE_LEAF 0x80000000u
+#define SPM_WIDE_EMPTY 0xFFFFFFFFu
+#define SPM_WIDE_MAX_TRIS 0x1FFFFFFF /* a leaf's first triangle fits in 29 bits */
+/* The traversal stack: a node pushes at most SPM_WIDE - 1 entries more than it
+ * pops, and the wide tree is no deeper than the BVH2 (SPM_BVH_STACK). */
+#define SPM_WIDE_STACK ((SPM_WIDE - 1) * SPM_BVH_STACK + 1)
+typedef struct {
+    float bmin_x[SPM_WIDE], bmax_x[SPM_WIDE];
+    float bmin_y[SPM_WIDE], bmax_y[SPM_WIDE];
+    float bmin_z[SPM_WIDE], bmax_z[SPM_WIDE];
+    spm_u32 child[SPM_WIDE];
+} spm_bvh4_node;
+
 /* Material and emitter types: the tag of each, one descriptor per tag in
  * host/scene/materials.c (scene keyword and clauses, colours, record fields,
  * random-number dimensions, the kernel define that compiles its code in).

@@ -484,7 +484,7 @@ int spm_bvh_build_threads(spm_geometry *g, int nthreads, spm_error *err)
     pad_boxes(nodes, nnodes, g->cam.eye);
     g->nodes = nodes;
     g->nnodes = nnodes;
-    return 0;
+    return spm_bvh_wide_build(g, err);
 }
 
 int spm_bvh_build(spm_geometry *g, spm_error *err)

@@ -128,6 +128,7 @@ void spm_geometry_free(spm_geometry *g)
 {
     free(g->tris);
     free(g->nodes);
+    free(g->wide);
     free(g->emitters);
     memset(g, 0, sizeof *g);
 }

@@ -19,6 +19,8 @@ typedef struct {
     int ntris;
     spm_bvh_node *nodes;
     int nnodes;
+    spm_bvh4_node *wide;    /* the kernels' tree, collapsed from nodes (bvh_wide.c) */
+    int nwide;
     spm_u32 *emitters;      /* indices into tris of triangles with emission and area > 0 */
     int nemitters;
     spm_camera cam;
@@ -59,6 +61,9 @@ int spm_bvh_build(spm_geometry *g, spm_error *err);
  * cores, at most 16. */
 int spm_bvh_build_threads(spm_geometry *g, int nthreads, spm_error *err);
 int spm_bvh_default_threads(void);
+/* Builds g->wide from g->nodes (4-wide, the same leaves and boxes; called by
+ * spm_bvh_build_threads). nwide == 0 when nnodes == 0. */
+int spm_bvh_wide_build(spm_geometry *g, spm_error *err);
 /* The SAH cost (spm_bvh_stats) of nodes[0, nnodes) and their leaf count. */
 double spm_bvh_sah_cost(const spm_bvh_node *nodes, int nnodes, int *leaves);
 /* Nodes whose box spm_bvh_intersect tested, counted per thread: a cost

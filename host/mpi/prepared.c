@@ -113,6 +113,7 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
     spm_geometry gs = *g;
     gs.tris = NULL;
     gs.nodes = NULL;
+    gs.wide = NULL; /* collapsed again from the nodes on unpacking */
     gs.emitters = NULL;
     put(&w, &gs, sizeof gs);
     put_array(&w, g->tris, (size_t)g->ntris * sizeof *g->tris);
@@ -147,6 +148,7 @@ int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *
         r.bad = 1;
     g->tris = get_array(&r, (size_t)ntris * sizeof *g->tris);
     g->nodes = get_array(&r, (size_t)nnodes * sizeof *g->nodes);
+    g->wide = NULL;
     g->emitters = get_array(&r, (size_t)nem * sizeof *g->emitters);
     get(&r, t, sizeof *t);
     spm_tables *clr = t; /* no address from another process */
@@ -156,6 +158,11 @@ int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *
     SPM_TABLES_ARRAYS(GET_A, GET_L)
     if (r.bad || r.at != n) {
         spm_errorf(err, "the prepared scene is damaged (%zu bytes, read %zu)", n, r.at);
+        spm_geometry_free(g);
+        spm_tables_free(t);
+        return 1;
+    }
+    if (spm_bvh_wide_build(g, err)) {
         spm_geometry_free(g);
         spm_tables_free(t);
         return 1;

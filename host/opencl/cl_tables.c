@@ -55,7 +55,7 @@ int spm_clr_upload(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *e
      * the plan's geometry outlives its backends. */
     int cpu = spm_cl_device_kind(r->cl.dev.type) == SPM_CL_CPU;
 #define SHARED(host) \
-    (cpu && ((const void *)(host) == g->tris || (const void *)(host) == g->nodes) \
+    (cpu && ((const void *)(host) == g->tris || (const void *)(host) == g->wide) \
          ? CL_MEM_USE_HOST_PTR : 0)
 #define UPLOAD(field, what, bytes, host) \
     rc = rc || spm_clr_new_buffer(r, &r->field, CL_MEM_READ_ONLY | SHARED(host), bytes, host, \
