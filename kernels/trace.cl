@@ -132,8 +132,16 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         uint eid = SPM_NONE;
         float c = 0.0f;
         if (p.nemitters > 0) {
-            uint k = (uint)(spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_EMITTER) * ne);
-            uint ei = emitters[min(k, p.nemitters - 1u)];
+            /* by power through the table, or uniformly when the powers are equal (spm_emitter) */
+            uint k;
+            if (p.emit_power)
+                k = spm_emitter_search(emitters, p.nemitters,
+                                       spm_rng_u32(seed, pixel, sample,
+                                                   SPM_DIM_VERTEX(j) + SPM_DIM_EMITTER) >> 8);
+            else
+                k = min((uint)(spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_EMITTER) * ne),
+                        p.nemitters - 1u);
+            uint ei = emitters[k].tri;
             __global const spm_tri *et = &tris[ei];
             float sqr1 = sqrt(spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_EPOINT_A));
             float r2 = spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_EPOINT_B);
@@ -148,7 +156,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             /* unoccluded, front face, light and viewer on the same side */
             if ((sh < 0 || (uint)sh == ei) && cos_e > 0.0f && (cos_i < 0.0f) == (cos_o < 0.0f)) {
                 float d2 = dot3(ev, ev);
-                float wgt = ne * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
+                float wgt = emitters[k].inv_pdf * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
                             fabs(cos_i) / SPM_PI_F;
                 if (wgt > 0.0f) {
                     eid = vertex_emission(mats[et->material]);
