@@ -211,7 +211,9 @@ typedef struct {
     float p[SPM_MAT_PARAMS]; /* a type's parameters (0 when unused) */
 } spm_material;
 #define SPM_MAT_TAG(m) ((m).type & 0xFFFFu)
-#define SPM_EMIT_TAG(m) ((m).type >> 16)
+#define SPM_EMIT_TAG(m) (((m).type >> 16) & 0x7FFFu)
+/* in type: the emitter emits from both faces ('twosided', host/scene/materials.c) */
+#define SPM_EMIT_TWOSIDED 0x80000000u
 
 /* MiniLight's camera, resolved on the host. Pixel (x, y) with y = 0 at the
  * top maps to direction normalise(dir + tan_half * (right * cx + up * cy * h/w))

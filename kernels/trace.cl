@@ -122,7 +122,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 
         /* local emission, first vertex only, front face */
         uint memit = vertex_emission(m);
-        if (j == 0 && memit != SPM_NONE && dot3(back, n) > 0.0f) {
+        if (j == 0 && memit != SPM_NONE && (dot3(back, n) > 0.0f || (m.type & SPM_EMIT_TWOSIDED))) {
             hd.first_emit = memit;
             hd.first_emit_c = 1.0f;
             feel(lvlk, memit, 1u, SPM_SETBY_EMITTER, &level, &setby);
@@ -152,14 +152,17 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             float3 ed = unit3(ev);
             int sh = shadow_hit(nodes, tris, pos, ed, (uint)hit, ei, counters);
             float cos_e = -dot3(ed, ld3(et->n));
+            spm_material em = mats[et->material];
+            if (em.type & SPM_EMIT_TWOSIDED)
+                cos_e = fabs(cos_e); /* the back face emits too */
             float cos_i = dot3(ed, n), cos_o = dot3(back, n);
-            /* unoccluded, front face, light and viewer on the same side */
+            /* unoccluded, a face that emits, light and viewer on the same side */
             if ((sh < 0 || (uint)sh == ei) && cos_e > 0.0f && (cos_i < 0.0f) == (cos_o < 0.0f)) {
                 float d2 = dot3(ev, ev);
                 float wgt = emitters[k].inv_pdf * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
                             fabs(cos_i) / SPM_PI_F;
                 if (wgt > 0.0f) {
-                    eid = vertex_emission(mats[et->material]);
+                    eid = vertex_emission(em);
                     c = wgt * rrw;
                 }
             }

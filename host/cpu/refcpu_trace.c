@@ -136,8 +136,10 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
     if (blocker >= 0 && (spm_u32)blocker != ei)
         return SPM_NONE;
     float cos_e = -v3_dot(l, em->n);
+    if (mats[em->material].type & SPM_EMIT_TWOSIDED)
+        cos_e = fabsf(cos_e); /* 'twosided': the back face emits too */
     if (!(cos_e > 0.0f))
-        return SPM_NONE; /* emitters emit from their front face only */
+        return SPM_NONE; /* emitters emit from their front face only (unless twosided) */
     float cos_i = v3_dot(l, n), cos_o = -v3_dot(d, n);
     if ((cos_i < 0.0f) != (cos_o < 0.0f))
         return SPM_NONE; /* light and viewer on different sides: no transmission */
@@ -212,8 +214,9 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         float x[3];
         v3_madd(x, o, d, t);
         spm_u32 memit = vertex_emission(m);
-        if (j == 0 && memit != SPM_NONE && -v3_dot(d, tri->n) > 0.0f) {
-            h->first_emit = memit; /* local emission: first hit, front face */
+        if (j == 0 && memit != SPM_NONE &&
+            (-v3_dot(d, tri->n) > 0.0f || (m->type & SPM_EMIT_TWOSIDED))) {
+            h->first_emit = memit; /* local emission: first hit, an emitting face */
             h->first_emit_c = 1.0f;
             feel(&f, lvlk, memit, 1, SPM_SETBY_EMITTER);
         }

@@ -1,6 +1,7 @@
 /* Scene triangles in MiniLight's form, the emitter list and the camera. */
 #include "geometry.h"
 #include "colour.h"
+#include "materials.h"
 #include "util.h"
 #include <math.h>
 #include <stdlib.h>
@@ -119,12 +120,13 @@ int spm_emitter_table_build(spm_emitter *em, const double *w, int n)
 }
 
 /* An emitter's power for the pick: area * Y of its emission (CIE 1931 Y over
- * the truth bins, the scale included). */
+ * the truth bins, the scale included), twice that when both faces emit. */
 static double emitter_power(const spm_scene *sc, const spm_tri *t)
 {
     double xyz[3];
     spm_xyz_emission(&sc->colours[sc->materials[t->material].emit].s, xyz);
-    return (double)t->area * (xyz[1] > 0.0 ? xyz[1] : 0.0);
+    double faces = spm_material_faces(&sc->materials[t->material]);
+    return faces * (double)t->area * (xyz[1] > 0.0 ? xyz[1] : 0.0);
 }
 
 static void list_emitters(const spm_scene *sc, spm_geometry *g)
