@@ -14,8 +14,9 @@ typedef uint32_t spm_u32;
 typedef int32_t spm_i32;
 #define SPM_INLINE static inline
 #endif
-/* the address space of the emitter table a shared helper reads */
-#ifdef __OPENCL_VERSION__
+/* the address space of the emitter table a shared helper reads (any OpenCL C
+ * compiler defines __OPENCL_C_VERSION__; __OPENCL_VERSION__ is the device's) */
+#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
 #define SPM_EMIT_TABLE_SPACE __global
 #else
 #define SPM_EMIT_TABLE_SPACE
