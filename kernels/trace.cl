@@ -120,7 +120,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         float3 n = ld3(tr->n);
         float3 back = -d;
 
-        /* local emission, first vertex only, front face */
+        /* local emission, first vertex only, front face (either face when twosided) */
         uint memit = vertex_emission(m);
         if (j == 0 && memit != SPM_NONE && (dot3(back, n) > 0.0f || (m.type & SPM_EMIT_TWOSIDED))) {
             hd.first_emit = memit;
