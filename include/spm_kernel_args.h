@@ -17,7 +17,7 @@
 #define SPM_TRACE_ARGS(X, S)                                            \
     X(__global const spm_tri *, cl_mem, tris) S                         \
     X(__global const spm_bvh4_node *, cl_mem, nodes) S                  \
-    X(__global const uint *, cl_mem, emitters) S                        \
+    X(__global const spm_emitter *, cl_mem, emitters) S                 \
     X(__global const spm_material *, cl_mem, mats) S                    \
     X(__global const uchar *, cl_mem, lvlk) S                           \
     X(const spm_trace_params, spm_trace_params, p) S                    \

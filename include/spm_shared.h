@@ -14,6 +14,13 @@ typedef uint32_t spm_u32;
 typedef int32_t spm_i32;
 #define SPM_INLINE static inline
 #endif
+/* the address space of the emitter table a shared helper reads (any OpenCL C
+ * compiler defines __OPENCL_C_VERSION__; __OPENCL_VERSION__ is the device's) */
+#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
+#define SPM_EMIT_TABLE_SPACE __global
+#else
+#define SPM_EMIT_TABLE_SPACE
+#endif
 
 /* ---- spectral domain ---------------------------------------------------- */
 #define SPM_LAMBDA_MIN 380
@@ -69,7 +76,7 @@ typedef int32_t spm_i32;
  * high 16 bits the emission colour of the sampled emitter (SPM_NONE when the
  * emitter was occluded, back-facing or absent). c is the emitter term's scalar
  * weight, with every level-independent factor folded in:
- *   n_emitters * cos_e * area / max(d^2, SPM_D2_MIN_REL * area) * |cos_i| / pi
+ *   (1 / pdf of the emitter triangle, spm_emitter) * cos_e * area / max(d^2, SPM_D2_MIN_REL * area) * |cos_i| / pi
  *   * prod over earlier vertices of 1 / mean reflectance (Russian roulette). */
 typedef struct {
     spm_u32 ids;
@@ -226,7 +233,9 @@ typedef struct {
     float p[SPM_MAT_PARAMS]; /* a type's parameters (0 when unused) */
 } spm_material;
 #define SPM_MAT_TAG(m) ((m).type & 0xFFFFu)
-#define SPM_EMIT_TAG(m) ((m).type >> 16)
+#define SPM_EMIT_TAG(m) (((m).type >> 16) & 0x7FFFu)
+/* in type: the emitter emits from both faces ('twosided', host/scene/materials.c) */
+#define SPM_EMIT_TWOSIDED 0x80000000u
 
 /* MiniLight's camera, resolved on the host. Pixel (x, y) with y = 0 at the
  * top maps to direction normalise(dir + tan_half * (right * cx + up * cy * h/w))
@@ -252,8 +261,49 @@ typedef struct {
     spm_u32 seed;
     spm_u32 spp_per_pass;  /* samples per pixel in one pass */
     spm_u32 first_sample;  /* sample index of this pass's first sample */
-    spm_u32 pad;
+    spm_u32 emit_power;    /* 1: emitters picked by power (spm_emitter cdf); 0: uniformly */
 } spm_trace_params;
+
+/* Light selection (next-event estimation). Emitter triangle i of the emitter
+ * list is picked in proportion to its power, area * Y of its emission (the
+ * CIE 1931 Y of the emission spectrum, scale included, over the truth bins),
+ * through a cumulative table in whole counts of 2^-24: emitter i owns the
+ * integers [cdf, next emitter's cdf) of the 24-bit draw U = spm_rng_u32(..,
+ * SPM_DIM_EMITTER) >> 8 (the bits spm_rng turns into its float), found by
+ * binary search. Every emitter owns at least one count, so the pdf the
+ * estimator divides by, count / 2^24, is exactly the probability of the pick
+ * (no emitter is left unreachable by rounding). When every emitter has the
+ * same power (within SPM_EMIT_EQUAL_REL) the pick is MiniLight's uniform one,
+ * k = (uint)(spm_rng * n), inv_pdf = n, as before (emit_power = 0), so such
+ * scenes keep their images bit for bit. */
+#define SPM_EMIT_CDF_BITS 24
+#define SPM_EMIT_CDF_ONE (1u << SPM_EMIT_CDF_BITS)
+/* Relative spread of power below which emitters count as equal: the two
+ * triangles of a quad differ in area by a few float ulps (1e-7 each). */
+#define SPM_EMIT_EQUAL_REL 1e-5
+typedef struct {
+    spm_u32 tri;       /* index into the triangles */
+    spm_u32 cdf;       /* first count of the 24-bit draw it owns */
+    float pdf;         /* probability of picking it (count / 2^24, or 1 / n uniformly) */
+    float inv_pdf;     /* 1 / pdf: the light sample's factor */
+} spm_emitter;
+
+/* The emitter a 24-bit draw u24 picks from the table em[0, n) (cdf ascending,
+ * em[0].cdf == 0): the last entry whose cdf <= u24. Integer-only, so both
+ * backends pick the same triangle. */
+SPM_INLINE spm_u32 spm_emitter_search(const SPM_EMIT_TABLE_SPACE spm_emitter *em, spm_u32 n,
+                                      spm_u32 u24)
+{
+    spm_u32 lo = 0, hi = n; /* em[lo].cdf <= u24 < em[hi].cdf (em[n].cdf taken as 2^24) */
+    while (hi - lo > 1u) {
+        spm_u32 mid = lo + (hi - lo) / 2u;
+        if (em[mid].cdf <= u24)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
 
 /* A ray replayed by `specmip bench --rays` (kernels/rays.cl, host/bench/bench_rays.c):
  * one of the rays a render's paths trace, with what the traversal is asked.

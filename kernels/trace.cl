@@ -120,9 +120,9 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         float3 n = ld3(tr->n);
         float3 back = -d;
 
-        /* local emission, first vertex only, front face */
+        /* local emission, first vertex only, front face (either face when twosided) */
         uint memit = vertex_emission(m);
-        if (j == 0 && memit != SPM_NONE && dot3(back, n) > 0.0f) {
+        if (j == 0 && memit != SPM_NONE && (dot3(back, n) > 0.0f || (m.type & SPM_EMIT_TWOSIDED))) {
             hd.first_emit = memit;
             hd.first_emit_c = 1.0f;
             feel(lvlk, memit, 1u, SPM_SETBY_EMITTER, &level, &setby);
@@ -132,8 +132,16 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         uint eid = SPM_NONE;
         float c = 0.0f;
         if (p.nemitters > 0) {
-            uint k = (uint)(spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_EMITTER) * ne);
-            uint ei = emitters[min(k, p.nemitters - 1u)];
+            /* by power through the table, or uniformly when the powers are equal (spm_emitter) */
+            uint k;
+            if (p.emit_power)
+                k = spm_emitter_search(emitters, p.nemitters,
+                                       spm_rng_u32(seed, pixel, sample,
+                                                   SPM_DIM_VERTEX(j) + SPM_DIM_EMITTER) >> 8);
+            else
+                k = min((uint)(spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_EMITTER) * ne),
+                        p.nemitters - 1u);
+            uint ei = emitters[k].tri;
             __global const spm_tri *et = &tris[ei];
             float sqr1 = sqrt(spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_EPOINT_A));
             float r2 = spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_EPOINT_B);
@@ -144,14 +152,17 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             float3 ed = unit3(ev);
             int sh = shadow_hit(nodes, tris, pos, ed, (uint)hit, ei, counters);
             float cos_e = -dot3(ed, ld3(et->n));
+            spm_material em = mats[et->material];
+            if (em.type & SPM_EMIT_TWOSIDED)
+                cos_e = fabs(cos_e); /* the back face emits too */
             float cos_i = dot3(ed, n), cos_o = dot3(back, n);
-            /* unoccluded, front face, light and viewer on the same side */
+            /* unoccluded, a face that emits, light and viewer on the same side */
             if ((sh < 0 || (uint)sh == ei) && cos_e > 0.0f && (cos_i < 0.0f) == (cos_o < 0.0f)) {
                 float d2 = dot3(ev, ev);
-                float wgt = ne * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
+                float wgt = emitters[k].inv_pdf * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
                             fabs(cos_i) / SPM_PI_F;
                 if (wgt > 0.0f) {
-                    eid = vertex_emission(mats[et->material]);
+                    eid = vertex_emission(em);
                     c = wgt * rrw;
                 }
             }

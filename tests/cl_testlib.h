@@ -72,6 +72,7 @@ static inline spm_trace_params cl_test_params(const cl_test_scene *s, spm_u32 se
     p.cam = s->geom.cam;
     p.ntris = (spm_u32)s->geom.ntris;
     p.nemitters = (spm_u32)s->geom.nemitters;
+    p.emit_power = (spm_u32)s->geom.emit_power;
     p.bg_up = s->tables.bg_up;
     p.bg_down = s->tables.bg_down;
     p.seed = seed;

@@ -174,6 +174,7 @@ static inline spm_trace_params ts_params(const spm_scene *s, const spm_geometry 
     p.cam = g->cam;
     p.ntris = (spm_u32)g->ntris;
     p.nemitters = (spm_u32)g->nemitters;
+    p.emit_power = (spm_u32)g->emit_power;
     p.bg_up = s->bg_up >= 0 ? (spm_u32)s->bg_up : SPM_NONE;
     p.bg_down = s->bg_down >= 0 ? (spm_u32)s->bg_down : SPM_NONE;
     p.seed = seed;

@@ -75,7 +75,7 @@ static void test_emitters(void)
     CHECK(spm_geometry_build(&s, &g, &err) == 0, "build: %s", err.msg);
     CHECK(g.nemitters == 2, "two emitting triangles: %d", g.nemitters);
     for (int i = 0; i < g.nemitters; i++)
-        CHECK(g.tris[g.emitters[i]].material == (spm_u32)light, "emitter %d has the light", i);
+        CHECK(g.tris[g.emitters[i].tri].material == (spm_u32)light, "emitter %d has the light", i);
     spm_geometry_free(&g);
     ts_free(&s);
 }

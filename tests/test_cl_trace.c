@@ -121,5 +121,21 @@ int main(void)
         CHECK(0, "the far-sun scene loads");
     }
     cl_test_scene_close(&s);
+
+    /* emitters of unequal power: the kernel picks and weighs them through the
+     * table (spm_emitter) as the reference does */
+    snprintf(path, sizeof path, "%s/tests/data/scenes/cornell_two_lights.scene", SPM_SOURCE_DIR);
+    if (cl_test_scene_load(&s, path, W, H) == 0) {
+        CHECK(s.geom.emit_power == 1, "two lights of unequal power are picked by power");
+        if (spm_cl_create(0, &s.geom, &s.tables, SPM_MODE_ML, SEED, &r, &err) == 0) {
+            compare_pass(&s, r, SPM_MODE_ML, 0);
+            spm_cl_destroy(r);
+        } else {
+            CHECK(0, "spm_cl_create (two lights): %s", err.msg);
+        }
+    } else {
+        CHECK(0, "the two-light scene loads");
+    }
+    cl_test_scene_close(&s);
     TEST_END();
 }

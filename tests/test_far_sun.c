@@ -145,6 +145,7 @@ static double nodes_per_path(const loaded *l, int size, spm_u32 spp)
     p.cam.width = p.cam.height = size;
     p.ntris = (spm_u32)l->geom.ntris;
     p.nemitters = (spm_u32)l->geom.nemitters;
+    p.emit_power = (spm_u32)l->geom.emit_power;
     p.bg_up = l->tables.bg_up;
     p.bg_down = l->tables.bg_down;
     p.seed = 11;
@@ -168,7 +169,7 @@ static void test_bvh_closest_hits(const loaded *far)
     const spm_geometry *g = &far->geom;
     int sun[2], ns = 0;
     for (int i = 0; i < g->nemitters && ns < 2; i++)
-        sun[ns++] = (int)g->emitters[i];
+        sun[ns++] = (int)g->emitters[i].tri;
     CHECK(ns == 2, "two sun triangles emit (%d)", ns);
     if (ns < 2)
         return;

@@ -116,7 +116,13 @@ static void test_glowing_sphere(double rho, double e)
             if (i < NT - 1)
                 ts_tri(&s, m, v[i][k], v[i + 1][j], v[i + 1][k]);
         }
-    check_glowing(&s, rho, e, 6000, 0.003, "glowing sphere");
+    /* resolution: sem 0.0079 of 1.25 measured with lights picked by power
+     * (0.0031 with MiniLight's uniform pick). The power pick draws each
+     * triangle in proportion to its area, so the thin triangles near the
+     * poles, whose near-edge samples carry the heavy tail, weigh A where the
+     * uniform pick weighed them n A_i < A (second moment sum_i A_i / p_i
+     * times the integral of f^2 over triangle i) */
+    check_glowing(&s, rho, e, 6000, 0.01, "glowing sphere");
     ts_free(&s);
 }
 

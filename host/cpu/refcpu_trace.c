@@ -96,10 +96,23 @@ static void record_ray(const float o[3], const float d[3], spm_u32 skip, spm_u32
     spm_ref_rays.fn(spm_ref_rays.ctx, &r);
 }
 
+/* The emitter triangle for a vertex (spm_shared.h spm_emitter): by power
+ * through the table, or MiniLight's uniform pick when the powers are equal. */
+static const spm_emitter *pick_emitter(const spm_geometry *g, const rng_key *k, spm_u32 dim)
+{
+    int ne = g->nemitters;
+    if (g->emit_power) {
+        spm_u32 u24 = spm_rng_u32(k->seed, k->pixel, k->sample, dim + SPM_DIM_EMITTER) >> 8;
+        return &g->emitters[spm_emitter_search(g->emitters, (spm_u32)ne, u24)];
+    }
+    int pick = (int)(rnd(k, dim + SPM_DIM_EMITTER) * (float)ne);
+    return &g->emitters[pick < ne ? pick : ne - 1];
+}
+
 /* Next-event estimation at hit point x on triangle `hit` (normal n) reached
- * along d: one emitter triangle chosen uniformly, a uniform point on it, a
+ * along d: one emitter triangle (pick_emitter), a uniform point on it, a
  * shadow ray. Returns the emitter's emission colour and its weight
- *   nemitters * cos_e * area / max(d2, SPM_D2_MIN_REL * area) * |cos_i| / pi
+ *   (1 / pdf) * cos_e * area / max(d2, SPM_D2_MIN_REL * area) * |cos_i| / pi
  * or SPM_NONE (weight 0) when occluded, back-facing or on the other side. */
 static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, const rng_key *k,
                               spm_u32 dim, const float x[3], spm_u32 hit, const float n[3],
@@ -108,9 +121,8 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
     *c = 0.0f;
     if (g->nemitters == 0)
         return SPM_NONE;
-    int ne = g->nemitters;
-    int pick = (int)(rnd(k, dim + SPM_DIM_EMITTER) * (float)ne);
-    spm_u32 ei = g->emitters[pick < ne ? pick : ne - 1];
+    const spm_emitter *pe = pick_emitter(g, k, dim);
+    spm_u32 ei = pe->tri;
     const spm_tri *em = &g->tris[ei];
     float sqr1 = sqrtf(rnd(k, dim + SPM_DIM_EPOINT_A));
     float a = 1.0f - sqr1, b = (1.0f - rnd(k, dim + SPM_DIM_EPOINT_B)) * sqr1;
@@ -124,13 +136,15 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
     if (blocker >= 0 && (spm_u32)blocker != ei)
         return SPM_NONE;
     float cos_e = -v3_dot(l, em->n);
+    if (mats[em->material].type & SPM_EMIT_TWOSIDED)
+        cos_e = fabsf(cos_e); /* 'twosided': the back face emits too */
     if (!(cos_e > 0.0f))
-        return SPM_NONE; /* emitters emit from their front face only */
+        return SPM_NONE; /* emitters emit from their front face only (unless twosided) */
     float cos_i = v3_dot(l, n), cos_o = -v3_dot(d, n);
     if ((cos_i < 0.0f) != (cos_o < 0.0f))
         return SPM_NONE; /* light and viewer on different sides: no transmission */
     float d2 = v3_dot(ev, ev), d2min = SPM_D2_MIN_REL * em->area;
-    float w = (float)ne * cos_e * em->area / (d2 > d2min ? d2 : d2min) * fabsf(cos_i) / SPM_PI_F;
+    float w = pe->inv_pdf * cos_e * em->area / (d2 > d2min ? d2 : d2min) * fabsf(cos_i) / SPM_PI_F;
     if (!(w > 0.0f))
         return SPM_NONE;
     *c = w;
@@ -200,8 +214,9 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         float x[3];
         v3_madd(x, o, d, t);
         spm_u32 memit = vertex_emission(m);
-        if (j == 0 && memit != SPM_NONE && -v3_dot(d, tri->n) > 0.0f) {
-            h->first_emit = memit; /* local emission: first hit, front face */
+        if (j == 0 && memit != SPM_NONE &&
+            (-v3_dot(d, tri->n) > 0.0f || (m->type & SPM_EMIT_TWOSIDED))) {
+            h->first_emit = memit; /* local emission: first hit, an emitting face */
             h->first_emit_c = 1.0f;
             feel(&f, lvlk, memit, 1, SPM_SETBY_EMITTER);
         }

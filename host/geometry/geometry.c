@@ -1,5 +1,8 @@
 /* Scene triangles in MiniLight's form, the emitter list and the camera. */
 #include "geometry.h"
+#include "colour.h"
+#include "materials.h"
+#include "util.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -79,13 +82,73 @@ static int material_emits(const spm_scene *sc, int m)
     return 0;
 }
 
+int spm_emitter_table_build(spm_emitter *em, const double *w, int n)
+{
+    double total = 0.0, wmin = HUGE_VAL, wmax = 0.0;
+    int big = 0;
+    for (int i = 0; i < n; i++) {
+        total += w[i];
+        wmin = w[i] < wmin ? w[i] : wmin;
+        if (w[i] > wmax)
+            wmax = w[i], big = i;
+    }
+    if (n == 0 || wmax <= wmin * (1.0 + SPM_EMIT_EQUAL_REL) || n > (int)(SPM_EMIT_CDF_ONE / 2u)) {
+        for (int i = 0; i < n; i++) { /* MiniLight's uniform pick: k = (uint)(u * n) */
+            em[i].cdf = 0;
+            em[i].pdf = (float)(1.0 / n);
+            em[i].inv_pdf = (float)n;
+        }
+        return 0;
+    }
+    /* count_i = 1 + floor(w_i / W * (2^24 - n)), the rest of 2^24 to the
+     * strongest: every emitter reachable, the counts summing to 2^24 */
+    spm_u32 *count = spm_xcalloc((size_t)n, sizeof *count), sum = 0;
+    for (int i = 0; i < n; i++) {
+        count[i] = 1u + (spm_u32)floor(w[i] / total * (double)(SPM_EMIT_CDF_ONE - (spm_u32)n));
+        sum += count[i];
+    }
+    count[big] += SPM_EMIT_CDF_ONE - sum;
+    spm_u32 cdf = 0;
+    for (int i = 0; i < n; i++) {
+        em[i].cdf = cdf;
+        em[i].pdf = (float)count[i] / (float)SPM_EMIT_CDF_ONE; /* exact: both powers of two apart */
+        em[i].inv_pdf = (float)((double)SPM_EMIT_CDF_ONE / count[i]);
+        cdf += count[i];
+    }
+    free(count);
+    return 1;
+}
+
+/* An emitter's power for the pick: area * Y of its emission (CIE 1931 Y over
+ * the truth bins, the scale included), twice that when both faces emit. */
+static double emitter_power(const spm_scene *sc, const spm_tri *t)
+{
+    double xyz[3];
+    spm_xyz_emission(&sc->colours[sc->materials[t->material].emit].s, xyz);
+    double faces = spm_material_faces(&sc->materials[t->material]);
+    return faces * (double)t->area * (xyz[1] > 0.0 ? xyz[1] : 0.0);
+}
+
 static void list_emitters(const spm_scene *sc, spm_geometry *g)
 {
     g->emitters = spm_xcalloc((size_t)g->ntris + 1, sizeof *g->emitters);
+    g->light_pdf = spm_xcalloc((size_t)g->ntris + 1, sizeof *g->light_pdf);
+    double *w = spm_xcalloc((size_t)g->ntris + 1, sizeof *w);
     g->nemitters = 0;
     for (int i = 0; i < g->ntris; i++)
-        if (material_emits(sc, (int)g->tris[i].material) && g->tris[i].area > 0.0f)
-            g->emitters[g->nemitters++] = (spm_u32)i;
+        if (material_emits(sc, (int)g->tris[i].material) && g->tris[i].area > 0.0f) {
+            w[g->nemitters] = emitter_power(sc, &g->tris[i]);
+            g->emitters[g->nemitters++].tri = (spm_u32)i;
+        }
+    /* an emission whose Y is 0 (all beyond the CMF's reach) still lights by its
+     * other wavelengths: it keeps the smallest share, as a power of 0 would
+     * make it unreachable */
+    for (int i = 0; i < g->nemitters; i++)
+        w[i] = w[i] > 0.0 ? w[i] : 1e-300;
+    g->emit_power = spm_emitter_table_build(g->emitters, w, g->nemitters);
+    for (int i = 0; i < g->nemitters; i++)
+        g->light_pdf[g->emitters[i].tri] = g->emitters[i].pdf;
+    free(w);
 }
 
 static int build(spm_scene *owned, const spm_scene *scene, spm_geometry *g, spm_error *err)
@@ -130,6 +193,7 @@ void spm_geometry_free(spm_geometry *g)
     free(g->nodes);
     free(g->wide);
     free(g->emitters);
+    free(g->light_pdf);
     memset(g, 0, sizeof *g);
 }
 

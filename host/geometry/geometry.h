@@ -21,20 +21,27 @@ typedef struct {
     int nnodes;
     spm_bvh4_node *wide;    /* the kernels' tree, collapsed from nodes (bvh_wide.c) */
     int nwide;
-    spm_u32 *emitters;      /* indices into tris of triangles with emission and area > 0 */
+    spm_emitter *emitters;  /* triangles with emission and area > 0, and their pick table */
     int nemitters;
+    int emit_power;         /* 1: picked by power (spm_emitter); 0: uniformly (equal powers) */
+    float *light_pdf;       /* per triangle: its probability of being picked as the light (0: none) */
     spm_camera cam;
     spm_bvh_stats bvh;
 } spm_geometry;
 
 /* Builds triangles (MiniLight's edges/normal/tangent/area), a binned-SAH BVH
- * and the emitter list. Zero-area triangles are an input error naming the line. */
+ * and the emitter list with its pick table (spm_emitter_table_build). Zero-area triangles are an input error naming the line. */
 int spm_geometry_build(const spm_scene *scene, spm_geometry *g, spm_error *err);
 /* The same, freeing the scene's triangles (scene->tris NULL, ntris 0) once
  * they are converted, before the BVH build: a render needs them no more, and
  * a million of them are 44 MB. */
 int spm_geometry_build_consume(spm_scene *scene, spm_geometry *g, spm_error *err);
 void spm_geometry_free(spm_geometry *g);
+/* The pick table (spm_shared.h spm_emitter) of emitters em[0, n) whose tri
+ * fields are set, for their powers w[0, n) (each > 0); fills cdf, pdf and
+ * inv_pdf and returns 1 when picking by power, 0 when the powers are equal
+ * (or too many emitters for the 24-bit table) and the pick is uniform. */
+int spm_emitter_table_build(spm_emitter *em, const double *w, int n);
 spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg, int w, int h);
 
 /* Closest hit along origin + t dir, t > 0, ignoring triangle `skip` (or

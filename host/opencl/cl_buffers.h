@@ -28,7 +28,7 @@
 #define SPM_CL_SCENE_BUFFERS(X)                                                     \
     X(tris, "triangles", (size_t)g->ntris * sizeof(spm_tri), g->tris)              \
     X(nodes, "BVH", (size_t)g->nwide * sizeof(spm_bvh4_node), g->wide)             \
-    X(emitters, "emitters", (size_t)g->nemitters * sizeof(spm_u32), g->emitters)   \
+    X(emitters, "emitters", (size_t)g->nemitters * sizeof(spm_emitter), g->emitters) \
     X(mats, "materials", (size_t)t->nmaterials * sizeof(spm_material), t->materials) \
     X(lvlk, "level table", (size_t)t->ncolours * SPM_PRETEST_KMAX, lvlk)
 #endif

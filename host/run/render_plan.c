@@ -82,6 +82,7 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     tp->cam = g->cam;
     tp->ntris = (spm_u32)g->ntris;
     tp->nemitters = (spm_u32)g->nemitters;
+    tp->emit_power = (spm_u32)g->emit_power;
     tp->bg_up = t->bg_up;
     tp->bg_down = t->bg_down;
     tp->seed = seed;

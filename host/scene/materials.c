@@ -38,20 +38,26 @@ const int spm_nmaterial_types = (int)(sizeof spm_material_types / sizeof spm_mat
 
 /* ---- emitter types --------------------------------------------------------- */
 
-/* An area light: the triangle emits its colour from its front face. */
+/* An area light: the triangle emits its colour from its front face, or with
+ * 'twosided' (pbrt-v4's) from both. */
+#define AREA_FLAG_TWOSIDED 0
 static void area_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d)
 {
-    (void)sc, (void)s, (void)d;
+    (void)sc;
+    if (s->flags & 1u << AREA_FLAG_TWOSIDED)
+        d->type |= SPM_EMIT_TWOSIDED;
 }
 
 const spm_mtype_desc spm_emitter_types[] = {
     [SPM_EMIT_AREA] = {
         .keyword = "area",
         .tag = SPM_EMIT_AREA,
-        .help = "'emit SPECTRUM [SCALE]': a front-face area light",
+        .help = "'emit SPECTRUM [SCALE] [twosided]': an area light, front face (or both)",
         .params = {{.clause = "emit", .kind = SPM_MP_EMISSION, .slot = SPM_MSLOT_EMIT,
-                    .what = "an emission"}},
-        .nparams = 1,
+                    .what = "an emission"},
+                   {.clause = "twosided", .kind = SPM_MP_FLAG, .slot = AREA_FLAG_TWOSIDED,
+                    .what = "both faces emit"}},
+        .nparams = 2,
         .vertex_u32 = 0,
         .rng_dims = 0,
         .define = "SPM_WITH_AREA",
@@ -64,6 +70,11 @@ _Static_assert(sizeof spm_material_types / sizeof spm_material_types[0] <= SPM_M
                "more material types than SPM_MAT_TYPES");
 _Static_assert(sizeof spm_emitter_types / sizeof spm_emitter_types[0] <= SPM_EMIT_TYPES,
                "more emitter types than SPM_EMIT_TYPES");
+
+int spm_material_faces(const spm_scene_material *s)
+{
+    return s->etype == SPM_EMIT_AREA && (s->flags & 1u << AREA_FLAG_TWOSIDED) ? 2 : 1;
+}
 
 const spm_mtype_desc *spm_material_type_find(const char *kw)
 {

@@ -14,7 +14,8 @@
 typedef enum {
     SPM_MP_REFLECTANCE, /* a reflectance colour: slot 0 refl, 2 col2 */
     SPM_MP_EMISSION,    /* an emission colour: slot 1 emit */
-    SPM_MP_NUMBER       /* a number in [lo, hi]: p[slot] */
+    SPM_MP_NUMBER,      /* a number in [lo, hi]: p[slot] */
+    SPM_MP_FLAG         /* the clause's word alone: bit slot of flags */
 } spm_mparam_kind;
 
 #define SPM_MSLOT_REFL 0
@@ -55,6 +56,9 @@ extern const int spm_nemitter_types;
 const spm_mtype_desc *spm_material_type_find(const char *kw);
 /* The default (keyword-less) material type: Lambertian. */
 const spm_mtype_desc *spm_material_type_default(void);
+
+/* The faces scene material s emits from: 1, or 2 for a 'twosided' area light. */
+int spm_material_faces(const spm_scene_material *s);
 
 /* The device material of scene material s (every type). */
 void spm_material_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d);

@@ -24,6 +24,7 @@ typedef struct {
     int etype; /* emitter tag (SPM_EMIT_*) */
     int col2;  /* a type's second colour, -1 = none */
     double p[SPM_MAT_PARAMS]; /* a type's numbers */
+    unsigned flags; /* a type's words without a value (materials.h SPM_MP_FLAG): bit `slot` */
 } spm_scene_material;
 
 typedef struct {

@@ -365,6 +365,10 @@ static int stmt_camera(parser *p)
 /* One parameter of a material or emitter type, as its descriptor says. */
 static int material_param(parser *p, const spm_mparam *pa, spm_scene_material *m)
 {
+    if (pa->kind == SPM_MP_FLAG) {
+        m->flags |= 1u << pa->slot;
+        return 0;
+    }
     if (pa->kind == SPM_MP_NUMBER) {
         double v;
         if (spm_lex_number(&p->lx, pa->what, pa->lo, pa->hi, &v, p->err))
@@ -434,7 +438,7 @@ static int stmt_material(parser *p)
         int k = 0;
         while (k < ncl && !spm_lex_is(&p->lx, cl[k]->clause))
             k++;
-        if (k == ncl || have[k] || (ctag[k] != SPM_EMIT_TYPES && emitter))
+        if (k == ncl || have[k] || (ctag[k] != SPM_EMIT_TYPES && emitter && (int)ctag[k] != m.etype))
             return spm_lex_expected(&p->lx, p->err, expected);
         have[k] = 1;
         if (ctag[k] != SPM_EMIT_TYPES) {
