@@ -21,7 +21,8 @@
 static void usage(FILE *f)
 {
     fprintf(f,
-        "usage: specmip render [SCENE] [options]\n"
+        "usage: specmip render [SCENE] [options]   (also: specmip SCENE [options])\n"
+        "Options take their value as '--spp 16' or '--spp=16'.\n"
         "Renders SCENE (a .scene file or a MiniLight .ml.txt file); without SCENE the built-in\n"
         "Cornell box (ColorChecker walls, equal-energy light).\n\n"
         "  -o, --output FILE      image to write, by extension: .exr, .tif or .hdr (linear sRGB,\n"
@@ -39,8 +40,9 @@ static void usage(FILE *f)
     fprintf(f,
         "  --spp N                samples per pixel, 1 to %d (default: the scene's, else 16)\n"
         "  --seed S               random seed (default 1); the same seed gives the same paths\n"
-        "  --width W, --height H  image size, 1 to %d (default: the scene's); the field of view\n"
-        "                         is horizontal, so --width alone changes the vertical one\n"
+        "  --width W, --height H  image size, 1 to %d (default: the scene's); one of them alone\n"
+        "                         keeps the scene's aspect ratio (the other rounded); the field\n"
+        "                         of view is horizontal, so both change the vertical one\n"
         "  --backend B            opencl (default) | cpu (the scalar CPU reference)\n"
         "  --device D             OpenCL device index, a list 0,2, or all (default 0);\n"
         "                         all: every device but a second platform's CPU devices\n"
