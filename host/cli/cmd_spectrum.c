@@ -34,7 +34,8 @@ static void help(FILE *f)
             "and its spectral levels.\n"
             "\n"
             "  FILE               the spectrum; a file with several value columns prints each\n"
-            "                     column on its own unless --column picks one\n"
+            "                     column on its own unless --column picks one; a bare name\n"
+            "                     not found here is looked for in the bundled spectra/\n"
             "  --column NAME      use only the value column called NAME\n"
             "  --illuminant X     light for a reflectance: a name (A, D50, D65, F1..F12, HP1..HP5,\n"
             "                     LED_B1..LED_B5, LED_BH1, LED_RGB1, LED_V1, LED_V2, or a NIST lamp\n"
@@ -79,6 +80,19 @@ static int parse_number(const char *text, double lo, double hi, double *out)
 }
 
 /* Returns -1 to go on, otherwise the exit code. */
+/* FILE as given if it can be read or names a folder; otherwise a bare name is
+ * looked for in the bundled spectra/ as a scene's spectrum files and
+ * --illuminant are (the error, if neither is there, names FILE as given). */
+static const char *bundled_file(const char *file)
+{
+    static char path[4096];
+    if (access(file, R_OK) == 0 || strchr(file, '/'))
+        return file;
+    char rel[1100];
+    snprintf(rel, sizeof rel, "spectra/%s", file);
+    return access(spm_data_path(rel, path, sizeof path), R_OK) == 0 ? path : file;
+}
+
 static int parse_args(int argc, char **argv, options *o)
 {
     memset(o, 0, sizeof *o);
@@ -133,6 +147,7 @@ static int parse_args(int argc, char **argv, options *o)
     }
     if (!o->file)
         return usage_error("%s", "missing FILE");
+    o->file = bundled_file(o->file);
     return -1;
 }
 
