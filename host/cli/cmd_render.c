@@ -48,7 +48,7 @@ static void usage(FILE *f)
         "                         all: every device but a second platform's CPU devices\n"
         "                         and simulators;\n"
         "                         see 'specmip devices'\n"
-        "  --threshold T          pretest colour-difference threshold (default 2.0)\n"
+        "  --threshold T          pretest colour-difference threshold, 0 to 1000 (default 2.0)\n"
         "  --metric M             de00 (default) | deab: the pretest's colour difference\n"
         "  --coarsest-level L     coarsest level the pretest may pick: 0 (400 bins of 1 nm: no\n"
         "                         mipmapping), 1 (80), 2 (40), 3 (20, default) or 4 (10)\n"
@@ -173,9 +173,9 @@ static int parse_args(int argc, char **argv, render_opts *o)
             o->cfg.spp = (int)n;
         } else if (!strcmp(a, "--seed")) {
             NEED_VALUE;
-            if (spm_arg_long("render", a, v, 0, 0xffffffffL, &n))
+            if (spm_opt_number("render", SPM_OPT_SEED, v, &d))
                 return SPM_EXIT_INPUT;
-            o->cfg.seed = (spm_u32)n;
+            o->cfg.seed = (spm_u32)d;
         } else if (!strcmp(a, "--width") || !strcmp(a, "--height")) {
             NEED_VALUE;
             if (spm_arg_long("render", a, v, 1, SPM_SCENE_MAX_SIDE, &n))
@@ -193,7 +193,7 @@ static int parse_args(int argc, char **argv, render_opts *o)
                 return SPM_EXIT_INPUT;
         } else if (!strcmp(a, "--threshold")) {
             NEED_VALUE;
-            if (spm_arg_double("render", a, v, 0.0, 1000.0, &d))
+            if (spm_opt_number("render", SPM_OPT_THRESHOLD, v, &d))
                 return SPM_EXIT_INPUT;
             o->cfg.pretest.threshold = d;
         } else if (!strcmp(a, "--metric")) {

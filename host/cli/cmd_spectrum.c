@@ -1,5 +1,6 @@
 /* `specmip spectrum`: the colour of a spectrum file, its error at each level
  * and the level the pretest chooses for it. */
+#include "cli_args.h"
 #include "colour.h"
 #include "commands.h"
 #include "csv.h"
@@ -46,7 +47,7 @@ static void help(FILE *f)
             "                     D65 white of Y = 100; the pretest sees it on its own\n"
             "  --level L          compute XYZ, Lab and sRGB from level L (0..4: 400, 80, 40, 20,\n"
             "                     10 bins) instead of the 1 nm truth; the illuminant stays at 1 nm\n"
-            "  --threshold T      pretest threshold (default 2.0)\n"
+            "  --threshold T      pretest threshold, 0 to 1000 (default 2.0)\n"
             "  --metric M         pretest metric: de00 (CIEDE2000, default) or deab (CIE 1976)\n"
             "  --json             one JSON object per spectrum (an array for several columns)\n"
             "                     with keys XYZ, Lab, sRGB {linear, encoded}, levels\n"
@@ -136,8 +137,8 @@ static int parse_args(int argc, char **argv, options *o)
                 return usage_error("--level takes 0, 1, 2, 3 or 4, not '%s'", v);
             o->level = (int)d;
         } else if (!strcmp(a, "--threshold")) {
-            if (parse_number(v, 0, 1e9, &d))
-                return usage_error("--threshold takes a non-negative number, not '%s'", v);
+            if (spm_opt_number("spectrum", SPM_OPT_THRESHOLD, v, &d))
+                return SPM_EXIT_INPUT;
             o->pt.threshold = d;
         } else if (!strcmp(v, "de00") || !strcmp(v, "deab")) {
             o->pt.metric = !strcmp(v, "deab") ? SPM_METRIC_DEAB : SPM_METRIC_DE00;
