@@ -35,7 +35,8 @@ int spm_arg_double(const char *cmd, const char *opt, const char *s, double lo, d
 
 const spm_opt_range spm_opt_ranges[SPM_OPT_COUNT] = {
     [SPM_OPT_SEED] = {"--seed", 0, 4294967295.0, 1},
-    [SPM_OPT_THRESHOLD] = {"--threshold", 0, 1000, 0},
+    /* up to 1e6: far above any colour difference, i.e. "always the coarsest level" */
+    [SPM_OPT_THRESHOLD] = {"--threshold", 0, 1e6, 0},
 };
 
 int spm_opt_number(const char *cmd, spm_opt_id id, const char *s, double *out)

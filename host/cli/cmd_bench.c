@@ -47,7 +47,7 @@ static void usage(FILE *f)
         "  --equal-spp N      the base spp of those budgets (default: the largest --spp)\n"
         "  --calib-spp N      spp of each mode's calibration run (default: --equal-spp / 4,\n"
         "                     at least 1)\n"
-        "  --threshold T      pretest threshold of the main rows, 0 to 1000 (default 2)\n"
+        "  --threshold T      pretest threshold of the main rows, 0 to 1e6 (default 2)\n"
         "  --blur N           box blur before dE (default 5, as `specmip compare`)\n"
         "  --repeat N         each timed render runs N times, the fastest counts (default 2;\n"
         "                     the modes take turns)\n"

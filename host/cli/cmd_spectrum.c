@@ -47,7 +47,7 @@ static void help(FILE *f)
             "                     D65 white of Y = 100; the pretest sees it on its own\n"
             "  --level L          compute XYZ, Lab and sRGB from level L (0..4: 400, 80, 40, 20,\n"
             "                     10 bins) instead of the 1 nm truth; the illuminant stays at 1 nm\n"
-            "  --threshold T      pretest threshold, 0 to 1000 (default 2.0)\n"
+            "  --threshold T      pretest threshold, 0 to 1e6 (default 2.0)\n"
             "  --metric M         pretest metric: de00 (CIEDE2000, default) or deab (CIE 1976)\n"
             "  --json             one JSON object per spectrum (an array for several columns)\n"
             "                     with keys XYZ, Lab, sRGB {linear, encoded}, levels\n"
