@@ -32,3 +32,21 @@ int spm_arg_double(const char *cmd, const char *opt, const char *s, double lo, d
     *out = v;
     return 0;
 }
+
+const spm_opt_range spm_opt_ranges[SPM_OPT_COUNT] = {
+    [SPM_OPT_SEED] = {"--seed", 0, 4294967295.0, 1},
+    /* up to 1e6: far above any colour difference, i.e. "always the coarsest level" */
+    [SPM_OPT_THRESHOLD] = {"--threshold", 0, 1e6, 0},
+};
+
+int spm_opt_number(const char *cmd, spm_opt_id id, const char *s, double *out)
+{
+    const spm_opt_range *r = &spm_opt_ranges[id];
+    if (!r->whole)
+        return spm_arg_double(cmd, r->name, s, r->lo, r->hi, out);
+    long n;
+    if (spm_arg_long(cmd, r->name, s, (long)r->lo, (long)r->hi, &n))
+        return 1;
+    *out = (double)n;
+    return 0;
+}

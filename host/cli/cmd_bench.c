@@ -47,11 +47,12 @@ static void usage(FILE *f)
         "  --equal-spp N      the base spp of those budgets (default: the largest --spp)\n"
         "  --calib-spp N      spp of each mode's calibration run (default: --equal-spp / 4,\n"
         "                     at least 1)\n"
-        "  --threshold T      pretest threshold of the main rows (default 2)\n"
+        "  --threshold T      pretest threshold of the main rows, 0 to 1e6 (default 2)\n"
         "  --blur N           box blur before dE (default 5, as `specmip compare`)\n"
         "  --repeat N         each timed render runs N times, the fastest counts (default 2;\n"
         "                     the modes take turns)\n"
-        "  --seed S           seed of the compared renders (truth uses S+1, S+2 too; default 1)\n"
+        "  --seed S           seed of the compared renders, 0 to 4294967295 (truth uses S+1,\n"
+        "                     S+2 too, modulo 2^32; default 1)\n"
         "  --backend B        opencl (default) | cpu\n"
         "  --device D         OpenCL device index (default 0)\n"
         "  --out DIR          output directory (default bench-out)\n"
@@ -273,8 +274,6 @@ static int parse_args(int argc, char **argv, options *o)
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         long n;
-        double list[SPM_BENCH_MAX_THRESHOLDS];
-        int nl;
         static const char *const with_value[] = {
             "--scenes", "--modes", "--spp", "--truth-spp", "--sweep-spp", "--size", "--thresholds",
             "--threshold", "--blur", "--repeat", "--seed", "--backend", "--device", "--out", "--ops-items",
@@ -328,9 +327,10 @@ static int parse_args(int argc, char **argv, options *o)
             p->height = h;
             o->have_size = 1;
         } else if (!strcmp(a, "--threshold")) {
-            if (parse_list(a, v, 0.01, 100, 1, list, &nl))
+            double d;
+            if (spm_opt_number("bench", SPM_OPT_THRESHOLD, v, &d))
                 return SPM_EXIT_INPUT;
-            p->pretest.threshold = list[0];
+            p->pretest.threshold = d;
         } else if (!strcmp(a, "--blur")) {
             if (spm_arg_long("bench", a, v, 0, 99, &n))
                 return SPM_EXIT_INPUT;
@@ -342,9 +342,10 @@ static int parse_args(int argc, char **argv, options *o)
                 return SPM_EXIT_INPUT;
             p->repeat = (int)n;
         } else if (!strcmp(a, "--seed")) {
-            if (spm_arg_long("bench", a, v, 0, 0xfffffffdL, &n))
+            double d;
+            if (spm_opt_number("bench", SPM_OPT_SEED, v, &d))
                 return SPM_EXIT_INPUT;
-            p->seed = (spm_u32)n;
+            p->seed = (spm_u32)d; /* the truth's S+1, S+2 wrap modulo 2^32 */
         } else if (!strcmp(a, "--backend")) {
             if (strcmp(v, "cpu") && strcmp(v, "opencl"))
                 return fail("--backend is opencl or cpu, not '%s'%s", v, "");

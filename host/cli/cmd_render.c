@@ -21,7 +21,8 @@
 static void usage(FILE *f)
 {
     fprintf(f,
-        "usage: specmip render [SCENE] [options]\n"
+        "usage: specmip render [SCENE] [options]   (also: specmip SCENE [options])\n"
+        "Options take their value as '--spp 16' or '--spp=16'.\n"
         "Renders SCENE (a .scene file or a MiniLight .ml.txt file); without SCENE the built-in\n"
         "Cornell box (ColorChecker walls, equal-energy light).\n\n"
         "  -o, --output FILE      image to write, by extension: .exr, .tif or .hdr (linear sRGB,\n"
@@ -39,14 +40,15 @@ static void usage(FILE *f)
     fprintf(f,
         "  --spp N                samples per pixel, 1 to %d (default: the scene's, else 16)\n"
         "  --seed S               random seed (default 1); the same seed gives the same paths\n"
-        "  --width W, --height H  image size, 1 to %d (default: the scene's); the field of view\n"
-        "                         is horizontal, so --width alone changes the vertical one\n"
+        "  --width W, --height H  image size, 1 to %d (default: the scene's); one of them alone\n"
+        "                         keeps the scene's aspect ratio (the other rounded); the\n"
+        "                         field of view is horizontal, so both change the vertical one\n"
         "  --backend B            opencl (default) | cpu (the scalar CPU reference)\n"
         "  --device D             OpenCL device index, a list 0,2, or all (default 0);\n"
         "                         all: every device but a second platform's CPU devices\n"
         "                         and simulators;\n"
         "                         see 'specmip devices'\n"
-        "  --threshold T          pretest colour-difference threshold (default 2.0)\n"
+        "  --threshold T          pretest colour-difference threshold, 0 to 1e6 (default 2.0)\n"
         "  --metric M             de00 (default) | deab: the pretest's colour difference\n"
         "  --coarsest-level L     coarsest level the pretest may pick: 0 (400 bins of 1 nm: no\n"
         "                         mipmapping), 1 (80), 2 (40), 3 (20, default) or 4 (10)\n"
@@ -171,9 +173,9 @@ static int parse_args(int argc, char **argv, render_opts *o)
             o->cfg.spp = (int)n;
         } else if (!strcmp(a, "--seed")) {
             NEED_VALUE;
-            if (spm_arg_long("render", a, v, 0, 0xffffffffL, &n))
+            if (spm_opt_number("render", SPM_OPT_SEED, v, &d))
                 return SPM_EXIT_INPUT;
-            o->cfg.seed = (spm_u32)n;
+            o->cfg.seed = (spm_u32)d;
         } else if (!strcmp(a, "--width") || !strcmp(a, "--height")) {
             NEED_VALUE;
             if (spm_arg_long("render", a, v, 1, SPM_SCENE_MAX_SIDE, &n))
@@ -191,7 +193,7 @@ static int parse_args(int argc, char **argv, render_opts *o)
                 return SPM_EXIT_INPUT;
         } else if (!strcmp(a, "--threshold")) {
             NEED_VALUE;
-            if (spm_arg_double("render", a, v, 0.0, 1000.0, &d))
+            if (spm_opt_number("render", SPM_OPT_THRESHOLD, v, &d))
                 return SPM_EXIT_INPUT;
             o->cfg.pretest.threshold = d;
         } else if (!strcmp(a, "--metric")) {

@@ -1,5 +1,6 @@
 /* `specmip spectrum`: the colour of a spectrum file, its error at each level
  * and the level the pretest chooses for it. */
+#include "cli_args.h"
 #include "colour.h"
 #include "commands.h"
 #include "csv.h"
@@ -34,7 +35,8 @@ static void help(FILE *f)
             "and its spectral levels.\n"
             "\n"
             "  FILE               the spectrum; a file with several value columns prints each\n"
-            "                     column on its own unless --column picks one\n"
+            "                     column on its own unless --column picks one; a bare name\n"
+            "                     not found here is looked for in the bundled spectra/\n"
             "  --column NAME      use only the value column called NAME\n"
             "  --illuminant X     light for a reflectance: a name (A, D50, D65, F1..F12, HP1..HP5,\n"
             "                     LED_B1..LED_B5, LED_BH1, LED_RGB1, LED_V1, LED_V2, or a NIST lamp\n"
@@ -45,7 +47,7 @@ static void help(FILE *f)
             "                     D65 white of Y = 100; the pretest sees it on its own\n"
             "  --level L          compute XYZ, Lab and sRGB from level L (0..4: 400, 80, 40, 20,\n"
             "                     10 bins) instead of the 1 nm truth; the illuminant stays at 1 nm\n"
-            "  --threshold T      pretest threshold (default 2.0)\n"
+            "  --threshold T      pretest threshold, 0 to 1e6 (default 2.0)\n"
             "  --metric M         pretest metric: de00 (CIEDE2000, default) or deab (CIE 1976)\n"
             "  --json             one JSON object per spectrum (an array for several columns)\n"
             "                     with keys XYZ, Lab, sRGB {linear, encoded}, levels\n"
@@ -79,6 +81,19 @@ static int parse_number(const char *text, double lo, double hi, double *out)
 }
 
 /* Returns -1 to go on, otherwise the exit code. */
+/* FILE as given if it can be read or names a folder; otherwise a bare name is
+ * looked for in the bundled spectra/ as a scene's spectrum files and
+ * --illuminant are (the error, if neither is there, names FILE as given). */
+static const char *bundled_file(const char *file)
+{
+    static char path[4096];
+    if (access(file, R_OK) == 0 || strchr(file, '/'))
+        return file;
+    char rel[1100];
+    snprintf(rel, sizeof rel, "spectra/%s", file);
+    return access(spm_data_path(rel, path, sizeof path), R_OK) == 0 ? path : file;
+}
+
 static int parse_args(int argc, char **argv, options *o)
 {
     memset(o, 0, sizeof *o);
@@ -122,8 +137,8 @@ static int parse_args(int argc, char **argv, options *o)
                 return usage_error("--level takes 0, 1, 2, 3 or 4, not '%s'", v);
             o->level = (int)d;
         } else if (!strcmp(a, "--threshold")) {
-            if (parse_number(v, 0, 1e9, &d))
-                return usage_error("--threshold takes a non-negative number, not '%s'", v);
+            if (spm_opt_number("spectrum", SPM_OPT_THRESHOLD, v, &d))
+                return SPM_EXIT_INPUT;
             o->pt.threshold = d;
         } else if (!strcmp(v, "de00") || !strcmp(v, "deab")) {
             o->pt.metric = !strcmp(v, "deab") ? SPM_METRIC_DEAB : SPM_METRIC_DE00;
@@ -133,6 +148,7 @@ static int parse_args(int argc, char **argv, options *o)
     }
     if (!o->file)
         return usage_error("%s", "missing FILE");
+    o->file = bundled_file(o->file);
     return -1;
 }
 

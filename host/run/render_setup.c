@@ -1,4 +1,5 @@
 #include "render_setup.h"
+#include "scene_build.h"
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -118,6 +119,25 @@ static int interrupted_after(const char *what, spm_error *err)
     return 1;
 }
 
+/* The image size from --width/--height: both given, both used; one given, the
+ * other follows the scene's aspect ratio, rounded, at least 1 and at most
+ * SPM_SCENE_MAX_SIDE (other = given * scene_other / scene_given). */
+void spm_render_size(int want_w, int want_h, int *w, int *h)
+{
+    if (want_w > 0 && want_h > 0) {
+        *w = want_w;
+        *h = want_h;
+        return;
+    }
+    int *given = want_w > 0 ? w : h, *other = want_w > 0 ? h : w;
+    int want = want_w > 0 ? want_w : want_h;
+    if (want <= 0)
+        return;
+    double o = (double)want * *other / *given + 0.5;
+    *other = o < 1 ? 1 : o > SPM_SCENE_MAX_SIDE ? SPM_SCENE_MAX_SIDE : (int)o;
+    *given = want;
+}
+
 int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_error *err)
 {
     memset(s, 0, sizeof *s);
@@ -126,10 +146,7 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
                            : spm_scene_default(&s->scene, err);
     if (rc)
         return failed();
-    if (c->width > 0)
-        s->scene.width = c->width;
-    if (c->height > 0)
-        s->scene.height = c->height;
+    spm_render_size(c->width, c->height, &s->scene.width, &s->scene.height);
     double t1 = spm_now();
     s->times.load_s = t1 - t0;
     rc = spm_geometry_build_consume(&s->scene, &s->geom, err);

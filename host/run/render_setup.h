@@ -58,6 +58,9 @@ int spm_render_spp(const spm_render_config *c, const spm_scene *sc);
  * opened is reported by name on stderr and left out, and only when none is
  * left is that an error. A device index listed twice is an input error. */
 int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_error *err);
+/* *w x *h (the scene's size) after --width want_w / --height want_h (0: not
+ * given): one alone keeps the scene's aspect ratio. */
+void spm_render_size(int want_w, int want_h, int *w, int *h);
 /* The second half of spm_render_setup_open, for a process given the prepared
  * scene rather than reading it: from s->geom, s->tables and s->scene's width,
  * height and spp, the plan and the backends. Same return values. */
