@@ -78,8 +78,23 @@ refused unknown "mesh cube.obj material paint" "unknown material 'paint'"
 refused zeroscale "mesh cube.obj scale 1 0 1" "a scale must not be zero"
 refused axis "mesh cube.obj rotate 0 0 0 10" "the rotation axis must be a non-zero vector"
 refused strips "mesh cube_strips.ply material floor" "triangle strips"
-refused twice "mesh cube.obj scale 2 scale 3" "expected 'material', 'bind'"
+refused twice "mesh cube.obj material floor material floor" "expected 'material' (once), 'bind'"
 SPECMIP_TEST_MESH_CHILD=crash refused crash "mesh cube.obj" "cube.obj: the importer crashed"
+
+# Transforms apply in the order written: scale 2 then translate 1 0 0 puts the
+# quad's (-1 -1 0) to (1 1 0) at (-1 -2 0) to (3 2 0); the other order at
+# (0 -2 0) to (4 2 0); two rotations of one mesh are allowed.
+box_of() {  # box_of CLAUSES: the bounding box the mesh statement prints
+    sed '$d' "$T/quad.scene" > "$T/order.scene"
+    echo "mesh quad_emit.gltf $1" >> "$T/order.scene"
+    "$BIN" render "$T/order.scene" --backend cpu --spp 1 -o "$T/order.exr" 2> "$T/err" || echo "render failed"
+    sed -n 's/.*quad_emit.gltf: 2 triangles, bounding box //p' "$T/err"
+}
+check "order: scale then translate" test "$(box_of 'scale 2 translate 1 0 0')" = "(-1 -2 0) to (3 2 0)"
+check "order: translate then scale" test "$(box_of 'translate 1 0 0 scale 2')" = "(0 -2 0) to (4 2 0)"
+check "order: scale, translate, scale" test "$(box_of 'scale 2 translate 1 0 0 scale 0.5')" = \
+    "(-0.5 -1 0) to (1.5 1 0)"
+check "order: two rotations accepted" test -n "$(box_of 'rotate 1 0 0 -90 rotate 0 1 0 180')"
 
 # An OBJ whose MTL file is missing: a warning naming it, and its materials are
 # no materials (Assimp would make them its default grey): without a clause the

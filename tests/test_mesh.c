@@ -291,6 +291,31 @@ static void check_build(void)
           x.s.tris[0].p[0][1], x.s.tris[0].p[0][2]);
     bs_close(&x);
 
+    /* transforms compose in the order applied: (0 1 0) rotated -90 degrees about x
+     * is (0 0 -1), then 180 about y (0 0 1); the other order gives (0 0 -1) */
+    {
+        double ax[3] = {1, 0, 0}, ay[3] = {0, 1, 0}, m1[3][4], m2[3][4];
+        spm_mesh_identity(m1);
+        spm_mesh_rotate(m1, ax, -90);
+        spm_mesh_rotate(m1, ay, 180);
+        spm_mesh_identity(m2);
+        spm_mesh_rotate(m2, ay, 180);
+        spm_mesh_rotate(m2, ax, -90);
+        /* 1e-12: the sines and cosines of right angles in double are off by ~1e-16 */
+        CHECK(fabs(m1[0][1]) < 1e-12 && fabs(m1[1][1]) < 1e-12 && fabs(m1[2][1] - 1) < 1e-12,
+              "rotate x then y: (0 1 0) went to (%g %g %g), not (0 0 1)", m1[0][1], m1[1][1],
+              m1[2][1]);
+        CHECK(fabs(m2[0][1]) < 1e-12 && fabs(m2[1][1]) < 1e-12 && fabs(m2[2][1] + 1) < 1e-12,
+              "rotate y then x: (0 1 0) went to (%g %g %g), not (0 0 -1)", m2[0][1], m2[1][1],
+              m2[2][1]);
+        double s2[3] = {2, 2, 2}, t1[3] = {1, 0, 0};
+        spm_mesh_identity(m1);
+        spm_mesh_translate(m1, t1);
+        spm_mesh_scale(m1, s2);
+        CHECK(m1[0][0] == 2 && m1[0][3] == 2, "translate then scale: x' = %g x + %g, not 2 x + 2",
+              m1[0][0], m1[0][3]);
+    }
+
     /* a mirror keeps the front face: the normal of the mirrored triangle is the mirror
      * image of the original's (+x at x = 1 becomes -x at x = -1) */
     double mirror[3] = {-1, 1, 1}, zero[3] = {0, 0, 0};

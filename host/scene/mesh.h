@@ -99,8 +99,14 @@ typedef struct {
     int line;                  /* the statement's line */
 } spm_mesh_opts;
 
-/* The statement's transform: scale (per axis, non-zero), then a rotation of
- * `degrees` about `axis` (non-zero; right-handed), then translate. */
+/* Transforms composed in the order applied: each call applies its transform
+ * after what m already does (m <- T m). A rotation is `degrees` about `axis`
+ * (non-zero; right-handed); a scale is per axis (non-zero). */
+void spm_mesh_identity(double m[3][4]);
+void spm_mesh_scale(double m[3][4], const double scale[3]);
+void spm_mesh_rotate(double m[3][4], const double axis[3], double degrees);
+void spm_mesh_translate(double m[3][4], const double translate[3]);
+/* scale, then rotate, then translate */
 void spm_mesh_transform(const double scale[3], const double axis[3], double degrees,
                         const double translate[3], double m[3][4]);
 

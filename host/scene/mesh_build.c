@@ -8,21 +8,58 @@
 #include <stdlib.h>
 #include <string.h>
 
-void spm_mesh_transform(const double scale[3], const double axis[3], double degrees,
-                        const double translate[3], double m[3][4])
+/* m <- a m for affine 3x4 matrices (x' = A x + a_t after x' = M x + m_t). */
+static void compose(double m[3][4], const double a[3][3], const double at[3])
+{
+    double r[3][4];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 4; j++) {
+            double v = a[i][0] * m[0][j] + a[i][1] * m[1][j] + a[i][2] * m[2][j];
+            r[i][j] = j == 3 ? v + at[i] : v;
+        }
+    memcpy(m, r, sizeof r);
+}
+
+void spm_mesh_identity(double m[3][4])
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 4; j++)
+            m[i][j] = i == j;
+}
+
+void spm_mesh_scale(double m[3][4], const double scale[3])
+{
+    const double s[3][3] = {{scale[0], 0, 0}, {0, scale[1], 0}, {0, 0, scale[2]}};
+    const double zero[3] = {0, 0, 0};
+    compose(m, s, zero);
+}
+
+void spm_mesh_rotate(double m[3][4], const double axis[3], double degrees)
 {
     double len = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
     double x = axis[0] / len, y = axis[1] / len, z = axis[2] / len;
     double a = degrees * (M_PI / 180.0), c = cos(a), s = sin(a), t = 1.0 - c;
-    /* Rodrigues' rotation matrix, times the scale's diagonal on the right */
-    double r[3][3] = {{t * x * x + c, t * x * y - s * z, t * x * z + s * y},
-                      {t * x * y + s * z, t * y * y + c, t * y * z - s * x},
-                      {t * x * z - s * y, t * y * z + s * x, t * z * z + c}};
-    for (int i = 0; i < 3; i++) {
-        for (int j = 0; j < 3; j++)
-            m[i][j] = r[i][j] * scale[j];
-        m[i][3] = translate[i];
-    }
+    /* Rodrigues' rotation matrix */
+    const double r[3][3] = {{t * x * x + c, t * x * y - s * z, t * x * z + s * y},
+                            {t * x * y + s * z, t * y * y + c, t * y * z - s * x},
+                            {t * x * z - s * y, t * y * z + s * x, t * z * z + c}};
+    const double zero[3] = {0, 0, 0};
+    compose(m, r, zero);
+}
+
+void spm_mesh_translate(double m[3][4], const double translate[3])
+{
+    const double one[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    compose(m, one, translate);
+}
+
+void spm_mesh_transform(const double scale[3], const double axis[3], double degrees,
+                        const double translate[3], double m[3][4])
+{
+    spm_mesh_identity(m);
+    spm_mesh_scale(m, scale);
+    spm_mesh_rotate(m, axis, degrees);
+    spm_mesh_translate(m, translate);
 }
 
 void spm_mesh_cache_init(spm_mesh_cache *c) { spm_names_init(&c->rgb); }

@@ -496,9 +496,128 @@ static int stmt_polygon(parser *p, int nverts)
     return 0;
 }
 
-/* mesh FILE [material NAME] [bind FILE_MATERIAL NAME]... [scale S | scale SX SY SZ]
- * [rotate AX AY AZ DEGREES] [translate X Y Z]: clauses in any order, the
- * transform applied as scale, then rotate, then translate. */
+/* bind FILE_MATERIAL NAME: appended to *binds (the lexer on 'bind'). */
+static int mesh_bind(parser *p, spm_mesh_bind **binds, int *nbinds)
+{
+    char where[600], name[SPM_NAME_MAX];
+    *binds = spm_xrealloc(*binds, (size_t)(*nbinds + 1) * sizeof **binds);
+    spm_mesh_bind *bd = &(*binds)[*nbinds];
+    where_now(p, where, sizeof where);
+    if (spm_lex_next(&p->lx, p->err) ||
+        spm_lex_path(&p->lx, "a material name of the mesh file", bd->file_mat,
+                     sizeof bd->file_mat, p->err))
+        return 1;
+    for (int j = 0; j < *nbinds; j++)
+        if (!strcmp((*binds)[j].file_mat, bd->file_mat)) {
+            spm_errorf(p->err, "%s: file material '%s' is bound twice", where, bd->file_mat);
+            return 1;
+        }
+    where_now(p, where, sizeof where);
+    if (spm_lex_name(&p->lx, "a material name", name, sizeof name, p->err))
+        return 1;
+    bd->material = spm_names_get(&p->materials, name);
+    if (bd->material < 0) {
+        spm_errorf(p->err, "%s: unknown material '%s' (define it with 'material %s ...' first)",
+                   where, name, name);
+        return 1;
+    }
+    (*nbinds)++;
+    return 0;
+}
+
+/* material NAME (the lexer after 'material'). */
+static int mesh_material(parser *p, int *material)
+{
+    char where[600], name[SPM_NAME_MAX];
+    where_now(p, where, sizeof where);
+    if (spm_lex_name(&p->lx, "a material name", name, sizeof name, p->err))
+        return 1;
+    if ((*material = spm_names_get(&p->materials, name)) < 0) {
+        spm_errorf(p->err, "%s: unknown material '%s' (define it with 'material %s ...' first)",
+                   where, name, name);
+        return 1;
+    }
+    return 0;
+}
+
+/* scale S | scale SX SY SZ (the lexer after 'scale'), applied after m. */
+static int mesh_scale(parser *p, double m[3][4])
+{
+    char where[600];
+    double s[3];
+    where_now(p, where, sizeof where);
+    if (spm_lex_number(&p->lx, "a scale", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD, &s[0],
+                       p->err))
+        return 1;
+    s[1] = s[2] = s[0];
+    if (spm_lex_is_number(&p->lx) &&
+        (spm_lex_number(&p->lx, "a scale", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD, &s[1],
+                        p->err) ||
+         spm_lex_number(&p->lx, "a scale", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD, &s[2],
+                        p->err)))
+        return 1;
+    if (s[0] == 0 || s[1] == 0 || s[2] == 0) {
+        spm_errorf(p->err, "%s: a scale must not be zero (it flattens the mesh)", where);
+        return 1;
+    }
+    spm_mesh_scale(m, s);
+    return 0;
+}
+
+/* rotate AX AY AZ DEGREES (the lexer after 'rotate'), applied after m. */
+static int mesh_rotate(parser *p, double m[3][4])
+{
+    char where[600];
+    double axis[3], deg;
+    where_now(p, where, sizeof where);
+    if (vec3(p, "a rotation axis component", -HUGE_VAL, HUGE_VAL, axis) ||
+        spm_lex_number(&p->lx, "an angle in degrees", -1e6, 1e6, &deg, p->err))
+        return 1;
+    double len = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+    if (!(len > 0 && isfinite(len))) {
+        spm_errorf(p->err, "%s: the rotation axis must be a non-zero vector", where);
+        return 1;
+    }
+    spm_mesh_rotate(m, axis, deg);
+    return 0;
+}
+
+/* translate X Y Z (the lexer after 'translate'), applied after m. */
+static int mesh_translate(parser *p, double m[3][4])
+{
+    double t[3];
+    if (vec3(p, "a translation component", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD, t))
+        return 1;
+    spm_mesh_translate(m, t);
+    return 0;
+}
+
+/* The mesh file's path (relative to the scene's folder), existing and of a
+ * format the importer reads. */
+static int mesh_path(parser *p, const char *file, const char *fwhere, char *path, size_t size)
+{
+    if (file[0] != '/' && snprintf(path, size, "%s/%s", p->dir, file) >= (int)size)
+        return spm_lex_expected(&p->lx, p->err, "a shorter mesh file name");
+    if (file[0] == '/')
+        snprintf(path, size, "%s", file);
+    if (!file_exists(path)) {
+        spm_errorf(p->err, "%s: mesh file '%s' not found (or not a regular file; looked for %s)",
+                   fwhere, file, path);
+        return 1;
+    }
+    const char *dot = strrchr(file, '.');
+    static const char *exts[] = {".obj", ".ply", ".gltf", ".glb", ".stl"};
+    for (size_t i = 0; dot && i < sizeof exts / sizeof exts[0]; i++)
+        if (strcasecmp(dot, exts[i]) == 0)
+            return 0;
+    spm_errorf(p->err, "%s: mesh file '%s': unknown format (the name must end in .obj, .ply, "
+                       ".gltf, .glb or .stl)", fwhere, file);
+    return 1;
+}
+
+/* mesh FILE [material NAME] [bind FILE_MATERIAL NAME]... [scale S | scale SX SY SZ]...
+ * [rotate AX AY AZ DEGREES]... [translate X Y Z]...: clauses in any order, the
+ * transforms applied in the order written. */
 static int stmt_mesh(parser *p)
 {
     char where[600], fwhere[600], file[SPM_TOK_MAX], path[2048];
@@ -509,115 +628,36 @@ static int stmt_mesh(parser *p)
     where_now(p, fwhere, sizeof fwhere);
     if (spm_lex_path(&p->lx, "a mesh file name", file, sizeof file, p->err))
         return 1;
-    double scale[3] = {1, 1, 1}, axis[3] = {0, 1, 0}, deg = 0, tr[3] = {0, 0, 0};
-    int have[4] = {0, 0, 0, 0}, rc = 0, nbinds = 0;
+    int rc = 0, nbinds = 0, have_material = 0;
     spm_mesh_bind *binds = NULL;
-    spm_mesh_opts o = {.material = -1};
-    static const char *keys[4] = {"material", "scale", "rotate", "translate"};
+    spm_mesh_opts o = {.material = -1, .line = line};
+    spm_mesh_identity(o.m);
     while (!rc && p->lx.type != SPM_TOK_NEWLINE && p->lx.type != SPM_TOK_EOF) {
-        char mwhere[600], name[SPM_NAME_MAX];
         if (spm_lex_is(&p->lx, "bind")) {
-            binds = spm_xrealloc(binds, (size_t)(nbinds + 1) * sizeof *binds);
-            spm_mesh_bind *bd = &binds[nbinds];
-            where_now(p, mwhere, sizeof mwhere);
-            rc = spm_lex_next(&p->lx, p->err) ||
-                 spm_lex_path(&p->lx, "a material name of the mesh file", bd->file_mat,
-                              sizeof bd->file_mat, p->err);
-            for (int j = 0; !rc && j < nbinds; j++)
-                if (!strcmp(binds[j].file_mat, bd->file_mat)) {
-                    spm_errorf(p->err, "%s: file material '%s' is bound twice", mwhere,
-                               bd->file_mat);
-                    rc = 1;
-                }
-            if (!rc)
-                where_now(p, mwhere, sizeof mwhere);
-            if (rc || spm_lex_name(&p->lx, "a material name", name, sizeof name, p->err)) {
-                rc = 1;
-                break;
-            }
-            bd->material = spm_names_get(&p->materials, name);
-            if (bd->material < 0) {
-                spm_errorf(p->err, "%s: unknown material '%s' (define it with 'material %s "
-                                   "...' first)", mwhere, name, name);
-                rc = 1;
-            }
-            nbinds++;
+            rc = mesh_bind(p, &binds, &nbinds);
             continue;
         }
-        int k = 0;
-        while (k < 4 && (have[k] || !spm_lex_is(&p->lx, keys[k])))
-            k++;
-        if (k == 4) {
-            rc = spm_lex_expected(&p->lx, p->err, "'material', 'bind', 'scale', 'rotate' or "
-                                                  "'translate' (each but 'bind' once)");
+        int k = spm_lex_is(&p->lx, "scale") ? 1 : spm_lex_is(&p->lx, "rotate") ? 2
+                : spm_lex_is(&p->lx, "translate") ? 3
+                : spm_lex_is(&p->lx, "material") && !have_material ? 0 : -1;
+        if (k < 0) {
+            rc = spm_lex_expected(&p->lx, p->err, "'material' (once), 'bind', 'scale', "
+                                                  "'rotate' or 'translate'");
             break;
         }
-        have[k] = 1;
-        if (spm_lex_next(&p->lx, p->err))
-            return free(binds), 1;
-        where_now(p, mwhere, sizeof mwhere);
-        if (k == 0) {
-            rc = spm_lex_name(&p->lx, "a material name", name, sizeof name, p->err);
-            if (!rc && (o.material = spm_names_get(&p->materials, name)) < 0) {
-                spm_errorf(p->err, "%s: unknown material '%s' (define it with 'material %s "
-                                   "...' first)", mwhere, name, name);
-                rc = 1;
-            }
-        } else if (k == 1) {
-            rc = spm_lex_number(&p->lx, "a scale", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD,
-                                &scale[0], p->err);
-            scale[1] = scale[2] = scale[0];
-            if (!rc && spm_lex_is_number(&p->lx))
-                rc = spm_lex_number(&p->lx, "a scale", -SPM_SCENE_MAX_COORD,
-                                    SPM_SCENE_MAX_COORD, &scale[1], p->err) ||
-                     spm_lex_number(&p->lx, "a scale", -SPM_SCENE_MAX_COORD,
-                                    SPM_SCENE_MAX_COORD, &scale[2], p->err);
-            if (!rc && (scale[0] == 0 || scale[1] == 0 || scale[2] == 0)) {
-                spm_errorf(p->err, "%s: a scale must not be zero (it flattens the mesh)", mwhere);
-                rc = 1;
-            }
-        } else if (k == 2) {
-            rc = vec3(p, "a rotation axis component", -HUGE_VAL, HUGE_VAL, axis) ||
-                 spm_lex_number(&p->lx, "an angle in degrees", -1e6, 1e6, &deg, p->err);
-            double len = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
-            if (!rc && !(len > 0 && isfinite(len))) {
-                spm_errorf(p->err, "%s: the rotation axis must be a non-zero vector", mwhere);
-                rc = 1;
-            }
-        } else {
-            rc = vec3(p, "a translation component", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD,
-                      tr);
-        }
+        have_material |= k == 0;
+        rc = spm_lex_next(&p->lx, p->err) ||
+             (k == 0   ? mesh_material(p, &o.material)
+              : k == 1 ? mesh_scale(p, o.m)
+              : k == 2 ? mesh_rotate(p, o.m)
+                       : mesh_translate(p, o.m));
     }
-    if (!rc && file[0] != '/' && snprintf(path, sizeof path, "%s/%s", p->dir, file) >= (int)sizeof path)
-        rc = spm_lex_expected(&p->lx, p->err, "a shorter mesh file name");
-    if (!rc && file[0] == '/')
-        snprintf(path, sizeof path, "%s", file);
-    if (!rc && !file_exists(path)) {
-        spm_errorf(p->err, "%s: mesh file '%s' not found (or not a regular file; looked for %s)",
-                   fwhere, file, path);
-        rc = 1;
-    }
-    if (!rc) {
-        const char *dot = strrchr(file, '.');
-        static const char *exts[] = {".obj", ".ply", ".gltf", ".glb", ".stl"};
-        int ok = 0;
-        for (int i = 0; dot && i < 5; i++)
-            ok |= strcasecmp(dot, exts[i]) == 0;
-        if (!ok) {
-            spm_errorf(p->err, "%s: mesh file '%s': unknown format (the name must end in .obj, "
-                               ".ply, .gltf, .glb or .stl)", fwhere, file);
-            rc = 1;
-        }
-    }
-    if (!rc)
-        rc = spm_lex_end_of_statement(&p->lx, p->err);
+    rc = rc || mesh_path(p, file, fwhere, path, sizeof path) ||
+         spm_lex_end_of_statement(&p->lx, p->err);
     if (!rc) {
         spm_mesh_data d;
         o.binds = binds;
         o.nbinds = nbinds;
-        o.line = line;
-        spm_mesh_transform(scale, axis, deg, tr, o.m);
         rc = spm_mesh_import(path, &d, p->err);
         if (rc && !spm_stop_requested()) { /* say which statement */
             spm_error inner = *p->err;
