@@ -48,6 +48,12 @@ scene outside "$look" 'mesh cube.obj material floor scale 0.2 translate 0 0.2 0'
 up='quad up  -0.5 1.5 -0.5  -0.5 1.5 0.5  0.5 1.5 0.5  0.5 1.5 -0.5'
 scene away "$look" 'material up emit equal 20' "$up"
 scene away_twosided "$look" 'material up emit equal 20 twosided' "$up"
+# one of the material's quads faces away, its other one the floor
+scene half "$look" 'material up emit equal 20' "$up" \
+  'quad up  -0.5 1.2 -0.5  0.5 1.2 -0.5  0.5 1.2 0.5  -0.5 1.2 0.5'
+# the camera above both: it sees the lamp facing up, and is behind the one
+# facing the floor
+scene seen 'camera position 0 2.5 -3  direction 0 -0.5 1  fov 60' 'material up emit equal 20' "$up"
 # the camera looks away from everything
 scene black 'camera position 0 0.5 -3  direction 0 0 -1  fov 60'
 
@@ -58,7 +64,7 @@ render() {  # render NAME [ARGS...]: stderr in $T/NAME.err; its exit status must
   local rc=$?
   [ $rc -eq 0 ] && ok || bad "$name: exit $rc: $(cat "$T/$name.err")"
 }
-for s in inside open outside away away_twosided black; do
+for s in inside open outside away away_twosided seen half black; do
   render $s "$T/$s.scene"
 done
 render cornell --spp 1 --width 32 --height 32
@@ -76,13 +82,13 @@ check "inside: the closed-mesh hint naming cube.obj and its box" \
 check "away: one emitter hint for material 'up' (two triangles)" \
   [ "$(hints away "$IDLE 'up' .* its 2 triangles")" -eq 1 ]
 # and on no other scene (so a hint that always prints fails)
-for s in inside open outside away away_twosided cornell; do
+for s in inside open outside away away_twosided seen half cornell; do
   check "$s: black-image hint on an image that is not black" [ "$(hints $s "$BLACK")" -eq 0 ]
 done
-for s in open outside away away_twosided black cornell; do
+for s in open outside away away_twosided seen half black cornell; do
   check "$s: closed-mesh hint" [ "$(hints $s "$INSIDE")" -eq 0 ]
 done
-for s in inside open outside away_twosided black cornell; do
+for s in inside open outside away_twosided seen half black cornell; do
   check "$s: emitter hint" [ "$(hints $s "$IDLE")" -eq 0 ]
 done
 # the images themselves: black only where the hint says so
