@@ -9,6 +9,7 @@
 #include "film_spectral.h"
 #include "output.h"
 #include "render_meta.h"
+#include "render_hints.h"
 #include "pocl_cache.h"
 #include "backends.h"
 #include "render_stats.h"
@@ -295,6 +296,8 @@ static int write_outputs(const render_opts *o, spm_render_setup *s, const spm_ru
 {
     int rc = 0, spp = spm_render_spp(&o->cfg, &s->scene);
     spm_render_warn_dropped(res, film);
+    if (!res->interrupted)
+        spm_render_hint_black(film);
     /* the image so far after an interruption; a signal now is acted on
      * after the writes (an image write cannot be interrupted) */
     spm_render_meta meta;

@@ -6,6 +6,8 @@
 #include <string.h>
 #include "film_spectral.h"
 #include "interrupt.h"
+#include "render_hints.h"
+#include "scene_hints.h"
 
 typedef struct {
     int device;
@@ -149,11 +151,13 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
     spm_render_size(c->width, c->height, &s->scene.width, &s->scene.height);
     double t1 = spm_now();
     s->times.load_s = t1 - t0;
+    spm_scene_hint_camera_inside(&s->scene); /* before the triangles are consumed */
     rc = spm_geometry_build_consume(&s->scene, &s->geom, err);
     double t2 = spm_now();
     s->times.bvh_s = t2 - t1;
     if (rc)
         return failed();
+    spm_render_hint_emitters(&s->scene, &s->geom);
     rc = spm_tables_build(&s->scene, &c->pretest, &s->tables, err);
     s->times.tables_s = spm_now() - t2;
     if (rc)

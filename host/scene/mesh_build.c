@@ -144,6 +144,23 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
     return 0;
 }
 
+/* The statement's triangles, for the set-up's hints (scene_hints.h). */
+static void record_mesh(spm_scene *s, const char *file, const char *where, int first,
+                        const double lo[3], const double hi[3])
+{
+    s->meshes = spm_xrealloc(s->meshes, ((size_t)s->nmeshes + 1) * sizeof *s->meshes);
+    spm_scene_mesh *m = &s->meshes[s->nmeshes++];
+    const char *base = strrchr(file, '/');
+    snprintf(m->name, sizeof m->name, "%.63s", base ? base + 1 : file);
+    snprintf(m->where, sizeof m->where, "%.127s", where);
+    m->first = first;
+    m->n = s->ntris - first;
+    for (int i = 0; i < 3; i++) {
+        m->lo[i] = (float)lo[i];
+        m->hi[i] = (float)hi[i];
+    }
+}
+
 int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_data *d,
                  const spm_mesh_opts *o, const char *file, const char *where, spm_error *err)
 {
@@ -164,7 +181,7 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
     int flip = det < 0; /* a mirror keeps each face's front side */
     uint64_t skipped = 0, kept = 0;
     double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    int rc = 0;
+    int rc = 0, first = b->s->ntris;
     for (uint64_t t = 0; t < d->ntris && !rc; t++) {
         if ((t & 0xffff) == 0 && spm_stop_requested()) {
             spm_errorf(err, "interrupted while loading %s", file);
@@ -230,6 +247,7 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
             spm_warnf("%s: %s: %s ignored (shading is flat and diffuse; said once per run)",
                       where, file, spm_mesh_ignored_name(bit));
     said |= d->ignored;
+    record_mesh(b->s, file, where, first, lo, hi);
     if (!spm_quiet_warnings)
         fprintf(stderr, "specmip: %s: %s: %llu triangles, bounding box (%g %g %g) to (%g %g %g)\n",
                 where, file, (unsigned long long)kept, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);

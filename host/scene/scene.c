@@ -52,6 +52,7 @@ void spm_scene_free(spm_scene *s)
     free(s->colours);
     free(s->materials);
     free(s->tris);
+    free(s->meshes);
     memset(s, 0, sizeof *s);
     s->bg_up = s->bg_down = -1;
 }

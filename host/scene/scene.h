@@ -33,6 +33,15 @@ typedef struct {
     int line;  /* source line, for messages */
 } spm_scene_tri;
 
+/* The triangles a mesh statement added, tris[first, first + n), and their
+ * bounding box: what the set-up's hints (scene_hints.h) say of a mesh. */
+typedef struct {
+    char name[SPM_NAME_MAX];   /* the mesh file's name, without its folder */
+    char where[128];           /* the statement, "file:line:col" */
+    int first, n;
+    float lo[3], hi[3];
+} spm_scene_mesh;
+
 typedef struct {
     char path[512];      /* file it came from ("<default>" for the built-in scene) */
     float eye[3], dir[3];
@@ -47,6 +56,8 @@ typedef struct {
     int ntris;
     int bg_up;           /* colour for a ray escaping upward (+y), -1 none */
     int bg_down;         /* for one escaping downward, -1 none */
+    spm_scene_mesh *meshes; /* one per mesh statement, in the file's order */
+    int nmeshes;
 } spm_scene;
 
 /* Load a scene file: MiniLight .ml.txt (first line "#MiniLight") or the
