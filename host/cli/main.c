@@ -32,8 +32,7 @@ static void usage(FILE *f)
 
 /* "--name=value" as two arguments, "--name" "value", for every command: the
  * commands' parsers then see one form. Only arguments starting with "--" are
- * split, so a file name holding '=' is kept whole. The copy lives as long as
- * the process. */
+ * split, so a file name holding '=' is kept whole. main frees the copy. */
 static char **split_equals(int *argc, char **argv)
 {
     int n = *argc;
@@ -68,9 +67,8 @@ static int means_render(const char *a)
            (n > 7 && !strcmp(a + n - 7, ".ml.txt"));
 }
 
-int main(int argc, char **argv)
+static int run(int argc, char **argv)
 {
-    argv = split_equals(&argc, argv);
     if (argc < 2) {
         char *args[] = {"render", NULL};
         return spm_cmd_render(1, args);
@@ -93,4 +91,13 @@ int main(int argc, char **argv)
     fprintf(stderr, "specmip: unknown command '%s'\n", argv[1]);
     usage(stderr);
     return SPM_EXIT_INPUT;
+}
+
+int main(int argc, char **argv)
+{
+    char **args = split_equals(&argc, argv);
+    int rc = run(argc, args);
+    if (args != argv)
+        free(args);
+    return rc;
 }
