@@ -96,6 +96,35 @@ check "order: scale, translate, scale" test "$(box_of 'scale 2 translate 1 0 0 s
     "(-0.5 -1 0) to (1.5 1 0)"
 check "order: two rotations accepted" test -n "$(box_of 'rotate 1 0 0 -90 rotate 0 1 0 180')"
 
+# COLLADA through Assimp: a two-triangle quad with its material, as the glTF quad.
+cat > "$T/quad.dae" << 'D'
+<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="meter" meter="1"/><up_axis>Y_UP</up_axis></asset>
+  <library_effects><effect id="e"><profile_COMMON><technique sid="t"><lambert>
+    <diffuse><color>0.8 0.2 0.2 1</color></diffuse></lambert></technique></profile_COMMON></effect></library_effects>
+  <library_materials><material id="red" name="red"><instance_effect url="#e"/></material></library_materials>
+  <library_geometries><geometry id="g"><mesh>
+    <source id="p"><float_array id="pa" count="12">-1 -1 0 1 -1 0 1 1 0 -1 1 0</float_array>
+      <technique_common><accessor source="#pa" count="4" stride="3"><param name="X" type="float"/>
+      <param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+    <triangles material="red" count="2"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2 0 2 3</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#g"><bind_material>
+    <technique_common><instance_material symbol="red" target="#red"/></technique_common></bind_material>
+  </instance_geometry></node></visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+D
+sed '$d' "$T/quad.scene" > "$T/dae.scene"
+printf 'background both white 1\nmesh quad.dae\n' >> "$T/dae.scene"
+"$BIN" render "$T/dae.scene" "${R[@]}" --spp 4 -o "$T/dae.exr" 2> "$T/err"
+check "COLLADA: renders" test $? -eq 0
+check "COLLADA: its two triangles and box" \
+    grep -q "quad.dae: 2 triangles, bounding box (-1 -1 0) to (1 1 0)" "$T/err"
+check "COLLADA: the red quad is seen" above "$(avg "$T/dae.exr" 2x2+7+7)" 0.01
+
 # An OBJ whose MTL file is missing: a warning naming it, and its materials are
 # no materials (Assimp would make them its default grey): without a clause the
 # load fails as for a mesh without materials, with one it renders. An OBJ whose

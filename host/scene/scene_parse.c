@@ -606,12 +606,12 @@ static int mesh_path(parser *p, const char *file, const char *fwhere, char *path
         return 1;
     }
     const char *dot = strrchr(file, '.');
-    static const char *exts[] = {".obj", ".ply", ".gltf", ".glb", ".stl"};
+    static const char *exts[] = {".obj", ".ply", ".gltf", ".glb", ".stl", ".dae", ".fbx"};
     for (size_t i = 0; dot && i < sizeof exts / sizeof exts[0]; i++)
         if (strcasecmp(dot, exts[i]) == 0)
             return 0;
     spm_errorf(p->err, "%s: mesh file '%s': unknown format (the name must end in .obj, .ply, "
-                       ".gltf, .glb or .stl)", fwhere, file);
+                       ".gltf, .glb, .stl, .dae or .fbx)", fwhere, file);
     return 1;
 }
 
