@@ -182,6 +182,42 @@ static inline spm_trace_params ts_params(const spm_scene *s, const spm_geometry 
     return p;
 }
 
+
+/* Path Y over every path of the image: mean, its standard error, extremes. */
+typedef struct {
+    double mean, sem, min, max;
+    long n;
+} ts_ystats;
+
+/* Traces and shades (ref mode) every path of the scene's image on the CPU
+ * reference over the built geometry g. */
+static inline ts_ystats ts_ref_y(const spm_scene *s, const spm_geometry *g, spm_u32 spp,
+                                 spm_u32 seed)
+{
+    ts_ystats st = {0, 0, INFINITY, -INFINITY, 0};
+    spm_tables t;
+    ts_tables(s, &t);
+    spm_trace_params p = ts_params(s, g, spp, seed);
+    size_t n = (size_t)s->width * s->height * spp;
+    spm_path *paths = malloc(n * sizeof *paths);
+    uint8_t *levels = malloc(n);
+    float *xyz = malloc(3 * n * sizeof *xyz);
+    spm_ref_trace(g, t.materials, t.lvlk, &p, paths, levels);
+    spm_ref_shade(&t, SPM_MODE_REF, &p, 0, paths, levels, n, xyz);
+    double sum = 0, sum2 = 0;
+    for (size_t i = 0; i < n; i++) {
+        double y = xyz[3 * i + 1];
+        sum += y, sum2 += y * y;
+        st.min = fmin(st.min, y), st.max = fmax(st.max, y);
+    }
+    st.n = (long)n;
+    st.mean = sum / (double)n;
+    st.sem = sqrt(fmax(0.0, sum2 / (double)n - st.mean * st.mean) / (double)(n - 1));
+    free(paths), free(levels), free(xyz);
+    spm_tables_free(&t);
+    return st;
+}
+
 /* xorshift32 in [0, 1) for test inputs. */
 static inline float ts_rand(unsigned *state)
 {

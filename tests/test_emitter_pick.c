@@ -105,15 +105,13 @@ static void test_light_pdf(void)
     ts_free(&s);
 }
 
-typedef struct {
-    double mean, sem;
-} stats;
+typedef ts_ystats stats;
 
 /* The scene's mean path Y with the CPU reference (ref mode), picking by
  * power or, uniform != 0, uniformly (the table rebuilt for equal powers). */
 static stats render(const spm_scene *s, int uniform, spm_u32 spp, spm_u32 seed)
 {
-    stats st = {0, 0};
+    stats st = {0, 0, 0, 0, 0};
     spm_geometry g;
     spm_error err;
     if (spm_geometry_build(s, &g, &err)) {
@@ -127,22 +125,7 @@ static stats render(const spm_scene *s, int uniform, spm_u32 spp, spm_u32 seed)
         g.emit_power = spm_emitter_table_build(g.emitters, w, g.nemitters);
         free(w);
     }
-    spm_tables t;
-    ts_tables(s, &t);
-    spm_trace_params p = ts_params(s, &g, spp, seed);
-    size_t n = (size_t)s->width * s->height * spp;
-    spm_path *paths = malloc(n * sizeof *paths);
-    uint8_t *levels = malloc(n);
-    float *xyz = malloc(3 * n * sizeof *xyz);
-    spm_ref_trace(&g, t.materials, t.lvlk, &p, paths, levels);
-    spm_ref_shade(&t, SPM_MODE_REF, &p, 0, paths, levels, n, xyz);
-    double sum = 0, sum2 = 0;
-    for (size_t i = 0; i < n; i++)
-        sum += xyz[3 * i + 1], sum2 += (double)xyz[3 * i + 1] * xyz[3 * i + 1];
-    st.mean = sum / (double)n;
-    st.sem = sqrt(fmax(0.0, sum2 / (double)n - st.mean * st.mean) / (double)(n - 1));
-    free(paths), free(levels), free(xyz);
-    spm_tables_free(&t);
+    st = ts_ref_y(s, &g, spp, seed);
     spm_geometry_free(&g);
     return st;
 }

@@ -7,10 +7,7 @@
 #include "geomtest_scene.h"
 #include "testutil.h"
 
-typedef struct {
-    double mean, sem, min, max;
-    long n;
-} stats;
+typedef ts_ystats stats;
 
 /* Trace and shade (ref mode) every path of the scene's image. */
 static stats render(const spm_scene *s, spm_u32 spp, spm_u32 seed)
@@ -22,26 +19,7 @@ static stats render(const spm_scene *s, spm_u32 spp, spm_u32 seed)
         CHECK(0, "build: %s", err.msg);
         return st;
     }
-    spm_tables t;
-    ts_tables(s, &t);
-    spm_trace_params p = ts_params(s, &g, spp, seed);
-    size_t n = (size_t)s->width * s->height * spp;
-    spm_path *paths = malloc(n * sizeof *paths);
-    uint8_t *levels = malloc(n);
-    float *xyz = malloc(3 * n * sizeof *xyz);
-    spm_ref_trace(&g, t.materials, t.lvlk, &p, paths, levels);
-    spm_ref_shade(&t, SPM_MODE_REF, &p, 0, paths, levels, n, xyz);
-    double sum = 0, sum2 = 0;
-    for (size_t i = 0; i < n; i++) {
-        double y = xyz[3 * i + 1];
-        sum += y, sum2 += y * y;
-        st.min = fmin(st.min, y), st.max = fmax(st.max, y);
-    }
-    st.n = (long)n;
-    st.mean = sum / (double)n;
-    st.sem = sqrt(fmax(0.0, sum2 / (double)n - st.mean * st.mean) / (double)(n - 1));
-    free(paths), free(levels), free(xyz);
-    spm_tables_free(&t);
+    st = ts_ref_y(s, &g, spp, seed);
     spm_geometry_free(&g);
     return st;
 }
