@@ -42,6 +42,13 @@ check "every folder edge is allowed" test -z "$bad_edges"
 loops=$("$ROOT/tools/folder_graph.sh" --loops "$OBJ")
 [ -z "$loops" ] || echo "  folders that reach each other:" $(echo "$loops" | sed "s/ /<->/") >&2
 check "no folder loops" test -z "$loops"
+# within host/scene/ too: the loader calls the parsers, they and the mesh
+# statements call the builder, and nothing calls back (a file loop)
+scene_loops=$("$ROOT/tools/folder_graph.sh" --files scene --loops "$OBJ")
+[ -z "$scene_loops" ] || echo "  host/scene files that reach each other:" $(echo "$scene_loops" | sed "s/ /<->/") >&2
+check "no file loops in host/scene/" test -z "$scene_loops"
+check "host/scene/ file graph read (the parser calls the builder)" \
+    grep -qx "scene_parse.c scene_build.c" <("$ROOT/tools/folder_graph.sh" --files scene "$OBJ")
 # the check itself can fail: an upward edge is refused, a documented one not
 printf 'util run\n' > "$T/upward"
 check "an upward edge (util -> run) is refused" test "$(not_allowed "$T/upward")" = "util run"

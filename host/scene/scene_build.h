@@ -78,8 +78,4 @@ int spm_sb_emission(const spm_spectrum *shape, double luminance, const char *whe
  * emits (a triangle's material or the background); unused materials and
  * colours are dropped. */
 int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err);
-
-/* The two parsers, dispatched by spm_scene_load. */
-int spm_scene_parse_text(const char *path, spm_scene *out, spm_error *err);
-int spm_scene_parse_minilight(const char *path, spm_scene *out, spm_error *err);
 #endif

@@ -1,7 +1,7 @@
 /* The built-in default scene is scenes/cornell.scene, read from the data
  * directory (spm_data_path), so the file and the default cannot drift apart
  * and the default works from any working directory. */
-#include "scene_build.h"
+#include "scene.h"
 #include <stdio.h>
 
 int spm_scene_default(spm_scene *out, spm_error *err)

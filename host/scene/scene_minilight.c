@@ -11,6 +11,7 @@
  * Where MiniLight silently clamps bad values, this importer reports them: an
  * imported scene should be the one its author meant. */
 #include "scene_build.h"
+#include "scene_parsers.h"
 #include "scene_lexer.h"
 #include "rgb2spec.h"
 #include <math.h>

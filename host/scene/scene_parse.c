@@ -3,6 +3,7 @@
  * colours where a material or the background uses them, because the kind
  * (reflectance or emission) decides how partial data is extended. */
 #include "scene_build.h"
+#include "scene_parsers.h"
 #include "scene_lexer.h"
 #include "csv.h"
 #include "mesh.h"
@@ -44,12 +45,19 @@ typedef struct {
     spm_names spectra;       /* name -> index into defs */
     spm_names materials;     /* name -> material index */
     int image_line, camera_line, spp_line, bg_line[2];
+    int kw_line, kw_col;     /* the current statement's keyword: where it stands */
     spm_mesh_cache meshes;   /* lifted mesh colours, shared by the scene's meshes */
 } parser;
 
 static void where_now(const parser *p, char *buf, size_t size)
 {
     spm_lex_where(&p->lx, buf, size);
+}
+
+/* "file:line:col" of the current statement's keyword. */
+static void where_keyword(const parser *p, char *buf, size_t size)
+{
+    snprintf(buf, size, "%s:%d:%d", p->lx.path, p->kw_line, p->kw_col);
 }
 
 /* ---- numbers and vectors ------------------------------------------------- */
@@ -295,12 +303,12 @@ static int once(parser *p, int *line, const char *what)
 {
     if (*line) {
         char where[600];
-        where_now(p, where, sizeof where);
+        where_keyword(p, where, sizeof where);
         spm_errorf(p->err, "%s: %s given twice (first at line %d)", where, what, *line);
         return 1;
     }
-    *line = p->lx.tline;
-    return spm_lex_next(&p->lx, p->err);
+    *line = p->kw_line;
+    return 0;
 }
 
 static int stmt_image(parser *p)
@@ -328,7 +336,7 @@ static int stmt_spp(parser *p)
 static int stmt_camera(parser *p)
 {
     char where[600];
-    where_now(p, where, sizeof where);
+    where_keyword(p, where, sizeof where);
     if (once(p, &p->camera_line, "the camera"))
         return 1;
     double eye[3], dir[3], fov;
@@ -461,9 +469,7 @@ static int stmt_polygon(parser *p, int nverts)
     /* Positions are kept as numbers and formatted only for an error: a scene
      * of a million triangles is a million of these statements. */
     char where[600], name[SPM_NAME_MAX];
-    int line = p->lx.tline, col = p->lx.tcol;
-    if (spm_lex_next(&p->lx, p->err))
-        return 1;
+    int line = p->kw_line, col = p->kw_col;
     int mline = p->lx.tline, mcol = p->lx.tcol;
     if (spm_lex_name(&p->lx, "a material name", name, sizeof name, p->err))
         return 1;
@@ -621,10 +627,8 @@ static int mesh_path(parser *p, const char *file, const char *fwhere, char *path
 static int stmt_mesh(parser *p)
 {
     char where[600], fwhere[600], file[SPM_TOK_MAX], path[2048];
-    int line = p->lx.tline;
-    where_now(p, where, sizeof where);
-    if (spm_lex_next(&p->lx, p->err))
-        return 1;
+    int line = p->kw_line;
+    where_keyword(p, where, sizeof where);
     where_now(p, fwhere, sizeof fwhere);
     if (spm_lex_path(&p->lx, "a mesh file name", file, sizeof file, p->err))
         return 1;
@@ -704,29 +708,43 @@ static int stmt_background(parser *p)
     return spm_lex_end_of_statement(&p->lx, p->err);
 }
 
+static int stmt_tri(parser *p)
+{
+    return stmt_polygon(p, 3);
+}
+
+static int stmt_quad(parser *p)
+{
+    return stmt_polygon(p, 4);
+}
+
+/* The statements: a keyword and its parser, which starts on the token after
+ * the keyword (the keyword's position is p->kw_line, p->kw_col). The order is
+ * the one the error for an unknown statement lists them in. */
+static const struct {
+    const char *keyword;
+    int (*parse)(parser *p);
+} statements[] = {
+    {"image", stmt_image},   {"spp", stmt_spp},   {"camera", stmt_camera},
+    {"spectrum", stmt_spectrum}, {"material", stmt_material}, {"tri", stmt_tri},
+    {"quad", stmt_quad},     {"mesh", stmt_mesh}, {"background", stmt_background},
+};
+#define NSTATEMENTS ((int)(sizeof statements / sizeof statements[0]))
+
 static int statement(parser *p)
 {
     spm_lexer *lx = &p->lx;
-    if (spm_lex_is(lx, "tri"))
-        return stmt_polygon(p, 3);
-    if (spm_lex_is(lx, "quad"))
-        return stmt_polygon(p, 4);
-    if (spm_lex_is(lx, "mesh"))
-        return stmt_mesh(p);
-    if (spm_lex_is(lx, "image"))
-        return stmt_image(p);
-    if (spm_lex_is(lx, "spp"))
-        return stmt_spp(p);
-    if (spm_lex_is(lx, "camera"))
-        return stmt_camera(p);
-    static const char *rest[] = {"spectrum", "material", "background"};
-    static int (*const fn[])(parser *) = {stmt_spectrum, stmt_material, stmt_background};
-    for (int i = 0; i < 3; i++)
-        if (spm_lex_is(lx, rest[i]))
-            return spm_lex_next(lx, p->err) || fn[i](p);
-    return spm_lex_expected(lx, p->err,
-                            "a statement (image, spp, camera, spectrum, material, tri, quad, "
-                            "mesh, background)");
+    for (int i = 0; i < NSTATEMENTS; i++)
+        if (spm_lex_is(lx, statements[i].keyword)) {
+            p->kw_line = lx->tline;
+            p->kw_col = lx->tcol;
+            return spm_lex_next(lx, p->err) || statements[i].parse(p);
+        }
+    char what[256] = "a statement (";
+    for (int i = 0, n = (int)strlen(what); i < NSTATEMENTS; i++)
+        n += snprintf(what + n, sizeof what - (size_t)n, "%s%s", statements[i].keyword,
+                      i + 1 < NSTATEMENTS ? ", " : ")");
+    return spm_lex_expected(lx, p->err, what);
 }
 
 static void parser_free(parser *p)

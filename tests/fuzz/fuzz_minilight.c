@@ -2,6 +2,7 @@
  * directly so that inputs need not start with the "#MiniLight" line. */
 #include "fuzz_input.h"
 #include "scene_build.h"
+#include "scene_parsers.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

@@ -1,51 +1,15 @@
-/* Scenes: loading (dispatch on the file's first line), freeing, and the
- * builder both parsers share: colours and materials shared by content,
- * triangle checks, light checks, pruning of what no triangle uses. */
+/* The scene builder both parsers (scene_parse.c, scene_minilight.c) and the
+ * mesh statements (mesh_build.c) build through: colours and materials shared
+ * by content, triangle checks, light checks, pruning of what no triangle
+ * uses; and freeing the scene it made. */
 #include "scene_build.h"
 #include "colour.h"
-#include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-
-#define MINILIGHT_ID "#MiniLight"
-
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && strcmp(s + n - m, suffix) == 0;
-}
-
-int spm_scene_load(const char *path, spm_scene *out, spm_error *err)
-{
-    memset(out, 0, sizeof *out); /* a failed load leaves an empty scene to free */
-    out->bg_up = out->bg_down = -1;
-    struct stat st;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
-        spm_errorf(err, "%s: is a directory, not a scene file", path);
-        return 1;
-    }
-    FILE *f = spm_fopen_input(path, "rb");
-    if (!f) {
-        spm_errorf(err, "%s: cannot open: %s", path, strerror(errno));
-        return 1;
-    }
-    char head[sizeof MINILIGHT_ID] = {0};
-    size_t n = fread(head, 1, sizeof head - 1, f);
-    fclose(f);
-    if (n == sizeof head - 1 && memcmp(head, MINILIGHT_ID, n) == 0)
-        return spm_scene_parse_minilight(path, out, err);
-    if (ends_with(path, ".ml.txt")) {
-        spm_errorf(err, "%s:1:1: expected '%s' at the start of a MiniLight file", path,
-                   MINILIGHT_ID);
-        return 1;
-    }
-    return spm_scene_parse_text(path, out, err);
-}
 
 void spm_scene_free(spm_scene *s)
 {

@@ -1,0 +1,11 @@
+/* The two scene formats' parsers, which spm_scene_load (scene_load.c)
+ * dispatches to by the file's first line; each builds through scene_build.h. */
+#ifndef SPM_SCENE_PARSERS_H
+#define SPM_SCENE_PARSERS_H
+#include "scene.h"
+
+/* The project's format (docs/SCENE_FORMAT.md), scene_parse.c. */
+int spm_scene_parse_text(const char *path, spm_scene *out, spm_error *err);
+/* MiniLight's .ml.txt, scene_minilight.c. */
+int spm_scene_parse_minilight(const char *path, spm_scene *out, spm_error *err);
+#endif
