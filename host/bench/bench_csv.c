@@ -8,7 +8,7 @@ const char spm_bench_csv_header[] =
     "scene,kind,mode,threshold,spp,width,height,seed,wall_s,time_vs_ref,kernel_s,trace_s,"
     "shade_s,paths,paths_per_s,l0_paths,l1_paths,l2_paths,l3_paths,l4_paths,truncated," DE_COLS("bias_ref")
     "," DE_COLS("bias_truth") "," DE_COLS("err") "," DE_COLS("noise") ",conv_floor_mean,truth_spp,budget,budget_s,conv_floor_p99,"
-    "compiled_during_timing,s_per_spp";
+    "compiled_during_timing,s_per_spp,devices";
 
 int spm_bench_csv_open(spm_bench_csv *c, const char *dir, spm_error *err)
 {
@@ -54,8 +54,8 @@ int spm_bench_csv_write(spm_bench_csv *c, const spm_bench_row *r, spm_error *err
         fprintf(f, ",,,");
     else
         de(f, &r->noise);
-    fprintf(f, ",%.5f,%d,%g,%.9g,%.5f,%d,%.9g\n", r->conv_floor, r->truth_spp, r->budget,
-            r->budget_s, r->conv_floor_p99, r->compiled, r->s_per_spp);
+    fprintf(f, ",%.5f,%d,%g,%.9g,%.5f,%d,%.9g,%d\n", r->conv_floor, r->truth_spp, r->budget,
+            r->budget_s, r->conv_floor_p99, r->compiled, r->s_per_spp, r->devices);
     if (fflush(f) || ferror(f)) {
         spm_errorf(err, "%s: write failed: %s", c->part, strerror(errno));
         return 1;

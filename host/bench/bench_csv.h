@@ -35,6 +35,7 @@ typedef struct {
     int compiled;          /* 1: PoCL compiled during the timed run kept in wall_s (its time
                               includes a compile), 0: it did not, -1: not watched (the CPU
                               backend, or no PoCL cache: pocl_cache.h) */
+    int devices;           /* the backends (--device) that rendered passes of that run */
 } spm_bench_row;
 
 typedef struct {

@@ -11,8 +11,8 @@
 #include "spectrum.h"
 #include "util.h"
 
-void spm_bench_write_meta(const char *dir, const char *what, int use_cpu, int device, int argc,
-                          char **argv)
+void spm_bench_write_meta(const char *dir, const char *what, int use_cpu, const int *devices,
+                          int ndevices, int argc, char **argv)
 {
     char path[4096];
     snprintf(path, sizeof path, "%s/%s_meta.txt", dir, what);
@@ -27,11 +27,19 @@ void spm_bench_write_meta(const char *dir, const char *what, int use_cpu, int de
         fprintf(f, " %s", argv[i]);
     spm_cl_device d;
     spm_error e;
+    static const int device0 = 0;
+    if (ndevices == 0) {
+        devices = &device0;
+        ndevices = 1;
+    }
     if (use_cpu)
         fprintf(f, "\ndevice: the CPU reference backend (scalar C)");
-    else if (!spm_cl_device_get(device, &d, &e))
-        fprintf(f, "\ndevice: %s (%s, %u compute units)", d.name, d.platform_name,
-                d.compute_units);
+    else if (ndevices < 0)
+        fprintf(f, "\ndevice: every device (--device all)");
+    for (int i = 0; i < ndevices && !use_cpu; i++)
+        if (!spm_cl_device_get(devices[i], &d, &e))
+            fprintf(f, "\ndevice: %s (%s, %u compute units)", d.name, d.platform_name,
+                    d.compute_units);
     double load[3];
     if (getloadavg(load, 3) == 3)
         fprintf(f, "\nload: %.2f %.2f %.2f (1, 5, 15 min)", load[0], load[1], load[2]);

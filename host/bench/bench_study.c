@@ -18,13 +18,14 @@ typedef struct {
     double floor_p99; /* the scene's two converged truths: p99 ΔE00 */
 } study;
 
-/* One scene's setup and its backends, one per (mode, seed), created on first
- * use and warmed up once, so no render's time includes a kernel build. */
+/* One scene's setup and its backends, one per (mode, seed) and device (the
+ * devices the setup opened), created on first use and warmed up once, so no
+ * render's time includes a kernel build. */
 typedef struct {
     spm_render_setup s;
     char name[256];
     size_t npix;
-    spm_backend *b[MAX_BACKENDS_PER_SCENE];
+    spm_backend *b[MAX_BACKENDS_PER_SCENE][SPM_MAX_BACKENDS];
     int bmode[MAX_BACKENDS_PER_SCENE];
     spm_u32 bseed[MAX_BACKENDS_PER_SCENE];
     int owned[MAX_BACKENDS_PER_SCENE]; /* 0: the setup's own, closed with it */
@@ -63,9 +64,9 @@ static void progress(study *st, const char *scene, const char *what, int spp)
     fflush(stderr);
 }
 
-static void add_backend(scene_run *r, spm_backend *b, int mode, spm_u32 seed, int owned)
+static void add_backends(scene_run *r, spm_backend *const *b, int mode, spm_u32 seed, int owned)
 {
-    r->b[r->nb] = b;
+    memcpy(r->b[r->nb], b, (size_t)r->s.nb * sizeof *b);
     r->bmode[r->nb] = mode;
     r->bseed[r->nb] = seed;
     r->owned[r->nb++] = owned;
@@ -83,8 +84,9 @@ static int warm_up(spm_backend *b, size_t npix, spm_error *err)
     return rc;
 }
 
-static spm_backend *backend_for(const spm_bench_plan *p, scene_run *r, int mode, spm_u32 seed,
-                                spm_error *err)
+/* The backends of (mode, seed), one per device: r->s.nb of them. */
+static spm_backend **backend_for(const spm_bench_plan *p, scene_run *r, int mode, spm_u32 seed,
+                                 spm_error *err)
 {
     for (int i = 0; i < r->nb; i++)
         if (r->bmode[i] == mode && r->bseed[i] == seed)
@@ -96,25 +98,33 @@ static spm_backend *backend_for(const spm_bench_plan *p, scene_run *r, int mode,
     spm_render_plan *plan = &r->plan[r->nb];
     if (spm_render_plan_init(plan, &r->s.geom, &r->s.tables, mode, seed, err))
         return NULL;
-    spm_backend *b = p->use_cpu ? spm_backend_cpu_create(plan, err)
-                                : spm_backend_cl_create(p->device, plan, err);
-    if (b && warm_up(b, r->npix, err)) {
-        b->destroy(b);
-        b = NULL;
+    spm_backend *b[SPM_MAX_BACKENDS];
+    int n = 0;
+    for (; n < r->s.nb; n++) {
+        b[n] = p->use_cpu ? spm_backend_cpu_create(plan, err)
+                          : spm_backend_cl_create(r->s.device[n], plan, err);
+        if (b[n] && warm_up(b[n], r->npix, err)) {
+            b[n]->destroy(b[n]);
+            b[n] = NULL;
+        }
+        if (!b[n])
+            break;
     }
-    if (!b) {
+    if (n < r->s.nb) {
+        while (n--)
+            b[n]->destroy(b[n]);
         spm_render_plan_free(plan);
         return NULL;
     }
-    add_backend(r, b, mode, seed, 1);
-    return b;
+    add_backends(r, b, mode, seed, 1);
+    return r->b[r->nb - 1];
 }
 
 /* Renders into o (image in linear sRGB, statistics) `times` times: a repeat
  * gives the same image (deterministic film), and the fastest run's statistics
  * are kept, the least disturbed by whatever else the machine runs. 0, an exit
  * code, or SPM_EXIT_INTERRUPTED (the unfinished render is dropped). */
-static int render_with(study *st, scene_run *r, spm_backend *b, int spp, int times,
+static int render_with(study *st, scene_run *r, spm_backend **b, int spp, int times,
                        const char *what, render_out *o, spm_error *err)
 {
     int rc = 0;
@@ -126,7 +136,7 @@ static int render_with(study *st, scene_run *r, spm_backend *b, int spp, int tim
         spm_run_opts ro = {spp, spm_spp_per_pass(r->npix, spp), st->p->stop, 0};
         spm_run_result res;
         spm_pocl_cache c0 = spm_pocl_cache_now();
-        rc = spm_render_run(&b, 1, r->npix, &ro, &film, &res, err) ? SPM_EXIT_RUNTIME : 0;
+        rc = spm_render_run(b, r->s.nb, r->npix, &ro, &film, &res, err) ? SPM_EXIT_RUNTIME : 0;
         spm_pocl_cache c1 = spm_pocl_cache_now();
         int compiled = st->p->use_cpu ? -1 : spm_pocl_cache_grew(&c0, &c1);
         if (!rc && compiled == 1)
@@ -152,7 +162,7 @@ static int render(study *st, scene_run *r, int mode, spm_u32 seed, int spp, int 
                   render_out *o, spm_error *err)
 {
     memset(o, 0, sizeof *o);
-    spm_backend *b = backend_for(st->p, r, mode, seed, err);
+    spm_backend **b = backend_for(st->p, r, mode, seed, err);
     if (!b)
         return SPM_EXIT_RUNTIME;
     return render_with(st, r, b, spp, times, spm_mode_name(mode), o, err);
@@ -191,8 +201,9 @@ static int open_scene(const spm_bench_plan *p, const char *path, int mode, doubl
     cfg.width = p->width;
     cfg.height = p->height;
     cfg.backend = p->use_cpu ? &spm_backend_kind_cpu : &spm_backend_kind_opencl;
-    cfg.devices[0] = p->device;
-    cfg.ndevices = 1;
+    memcpy(cfg.devices, p->devices, sizeof cfg.devices);
+    cfg.ndevices = p->ndevices;
+    cfg.all_devices = p->all_devices;
     cfg.pretest = p->pretest;
     cfg.pretest.threshold = threshold;
     int rc = spm_render_setup_open(&cfg, &r->s, err);
@@ -200,9 +211,10 @@ static int open_scene(const spm_bench_plan *p, const char *path, int mode, doubl
         return rc;
     scene_name(path, r->name, sizeof r->name);
     r->npix = (size_t)r->s.scene.width * (size_t)r->s.scene.height;
-    if (warm_up(r->s.b[0], r->npix, err))
-        return SPM_EXIT_RUNTIME;
-    add_backend(r, r->s.b[0], mode, p->seed, 0);
+    for (int i = 0; i < r->s.nb; i++)
+        if (warm_up(r->s.b[i], r->npix, err))
+            return SPM_EXIT_RUNTIME;
+    add_backends(r, r->s.b, mode, p->seed, 0);
     return 0;
 }
 
@@ -210,7 +222,8 @@ static void close_scene(scene_run *r)
 {
     for (int i = 0; i < r->nb; i++)
         if (r->owned[i]) {
-            r->b[i]->destroy(r->b[i]);
+            for (int d = 0; d < r->s.nb; d++)
+                r->b[i][d]->destroy(r->b[i][d]);
             spm_render_plan_free(&r->plan[i]);
         }
     spm_render_setup_close(&r->s);
@@ -230,6 +243,8 @@ static void row_init(spm_bench_row *row, const scene_run *r, const char *kind, i
     row->seed = p->seed;
     row->wall_s = o->res.wall_s;
     row->compiled = o->compiled;
+    for (int i = 0; i < SPM_MAX_BACKENDS; i++)
+        row->devices += o->res.passes_by_backend[i] > 0;
     row->st = o->res.total;
     row->truth_spp = p->truth_spp;
 }
@@ -290,7 +305,7 @@ static int sweep(study *st, scene_run *main, const char *path, const sweep_base 
         char what[32];
         snprintf(what, sizeof what, "ml dE<%g", p->thresholds[t]);
         if (!rc)
-            rc = render_with(st, &r, r.s.b[0], p->sweep_spp, p->repeat, what, &o, err);
+            rc = render_with(st, &r, r.s.b, p->sweep_spp, p->repeat, what, &o, err);
         spm_bench_row row;
         if (!rc) {
             row_init(&row, &r, "sweep", SPM_MODE_ML, p->thresholds[t], p->sweep_spp, &o, p);

@@ -10,6 +10,7 @@
 #include <signal.h>
 #include "bench_csv.h"
 #include "pretest.h"
+#include "render_run.h"
 
 #define SPM_BENCH_MAX_SPP 16
 #define SPM_BENCH_MAX_THRESHOLDS 16
@@ -35,7 +36,9 @@ typedef struct {
     int blur;                    /* box blur before ΔE (odd, or 0/1 for none) */
     int repeat;                  /* timed renders run this often; the fastest counts */
     spm_u32 seed;
-    int use_cpu, device;
+    int use_cpu;
+    int devices[SPM_MAX_BACKENDS]; /* --device: a list (0 of them: device 0) or all */
+    int ndevices, all_devices;
     spm_pretest_opts pretest;    /* the main rows' pretest (threshold) */
     int progress;                /* 0: quiet, 1: one updating line (terminal), 2: a line per step */
     volatile sig_atomic_t *stop;

@@ -3,6 +3,7 @@
 #ifndef SPM_CLI_ARGS_H
 #define SPM_CLI_ARGS_H
 #include "interrupt.h"
+#include <stdio.h>
 
 /* A whole number / a number in [lo, hi]; otherwise prints
  * "specmip CMD: OPT needs ..." and returns 1. */
@@ -10,18 +11,57 @@ int spm_arg_long(const char *cmd, const char *opt, const char *s, long lo, long 
 int spm_arg_double(const char *cmd, const char *opt, const char *s, double lo, double hi,
                    double *out);
 
-/* The numeric options several commands take, one range each, shared by
- * render, bench and spectrum (and their help text). Seeds are taken modulo
- * 2^32: bench's truth renders use S+1 and S+2, which wrap. */
-typedef enum { SPM_OPT_SEED, SPM_OPT_THRESHOLD, SPM_OPT_COUNT } spm_opt_id;
+/* The options of render, bench and spectrum, one table (cli_args.c): each
+ * row names an option, the kind of its value, its range, the commands that
+ * take it and its help text, from which the commands' help is printed; the
+ * commands parse through spm_opt_next and store what it found. An option two
+ * commands spell alike but mean differently (render's --spp N, bench's list)
+ * has a row per meaning; one meaning has one range. */
+typedef enum { SPM_CMD_RENDER = 1, SPM_CMD_BENCH = 2, SPM_CMD_SPECTRUM = 4 } spm_cmd_bit;
+typedef enum {
+    SPM_ARG_FLAG,  /* no value */
+    SPM_ARG_INT,   /* a whole number in [lo, hi] */
+    SPM_ARG_REAL,  /* a number in [lo, hi] */
+    SPM_ARG_TEXT   /* a word the command reads (a list's numbers in [lo, hi]) */
+} spm_arg_kind;
+typedef enum {
+    SPM_O_HELP, SPM_O_OUTPUT, SPM_O_SPECTRAL_NM, SPM_O_MODE, SPM_O_SPP, SPM_O_SEED,
+    SPM_O_WIDTH, SPM_O_HEIGHT, SPM_O_BACKEND, SPM_O_DEVICE, SPM_O_THRESHOLD, SPM_O_METRIC,
+    SPM_O_COARSEST_LEVEL, SPM_O_TONEMAP, SPM_O_EXPOSURE, SPM_O_STATS, SPM_O_JSON,
+    SPM_O_PROGRESS, SPM_O_QUIET, SPM_O_VERBOSE,
+    /* bench */
+    SPM_O_SCENES, SPM_O_MODES, SPM_O_TRUTH_SPP, SPM_O_SIZE, SPM_O_THRESHOLDS, SPM_O_SWEEP_SPP,
+    SPM_O_BUDGETS, SPM_O_EQUAL_SPP, SPM_O_CALIB_SPP, SPM_O_BLUR, SPM_O_REPEAT, SPM_O_OUT,
+    SPM_O_QUICK, SPM_O_NO_CHARTS, SPM_O_OPS, SPM_O_OPS_ITEMS, SPM_O_OPS_ITERS, SPM_O_RAYS,
+    SPM_O_RAYS_SPP, SPM_O_RAYS_SAVE, SPM_O_RAYS_LOAD, SPM_O_RAYS_STATS, SPM_O_RAYS_GROUP,
+    SPM_O_EMBREE, SPM_O_THREADS, SPM_O_EMBREE_QUALITY,
+    /* spectrum */
+    SPM_O_COLUMN, SPM_O_ILLUMINANT, SPM_O_EMISSION, SPM_O_LEVEL
+} spm_opt_id;
 typedef struct {
-    const char *name; /* "--seed" */
-    double lo, hi;
-    int whole; /* a whole number */
-} spm_opt_range;
-extern const spm_opt_range spm_opt_ranges[SPM_OPT_COUNT];
-/* S as option ID of command CMD within its range; otherwise prints
- * "specmip CMD: OPT needs ..." and returns 1. */
-int spm_opt_number(const char *cmd, spm_opt_id id, const char *s, double *out);
+    spm_opt_id id;
+    const char *name;   /* "--output" */
+    const char *alias;  /* "-o", or NULL */
+    const char *value;  /* the value's name in the help ("FILE"); NULL for a flag */
+    spm_arg_kind kind;
+    double lo, hi;      /* INT, REAL and lists: the range; "%R" in help prints it */
+    unsigned cmds;      /* spm_cmd_bit: the commands that take it */
+    const char *label;  /* the help's left column, when not "NAME VALUE" */
+    const char *help;   /* lines split by '\n'; NULL: told in the row before */
+} spm_option;
+extern const spm_option spm_options[];
+extern const int spm_noptions;
+
+/* argv[*i] for command `cmd` (named `name` in messages): *opt its row (NULL:
+ * a positional argument), *value its value (*i moved past it), *number the
+ * checked number of an INT or REAL. 0, or SPM_EXIT_INPUT with the error on
+ * stderr. */
+int spm_opt_next(unsigned cmd, const char *name, int argc, char **argv, int *i,
+                 const spm_option **opt, const char **value, double *number);
+/* The options of `cmd`, help text in the column `col`. */
+void spm_opt_help(FILE *f, unsigned cmd, int col);
+/* --device's value, a device index, a list 0,2 or `all`, into devices[max]
+ * (*n of them) or *all; 1 with the error on stderr. */
+int spm_opt_devices(const char *name, const char *s, int *devices, int max, int *n, int *all);
 
 #endif

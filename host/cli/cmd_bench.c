@@ -12,7 +12,7 @@
 #include "bench_ops.h"
 #include "bench_rays.h"
 #include "bench_report.h"
-#include "scene_build.h"
+#include "backends.h"
 #include "bench_study.h"
 #include "cli_args.h"
 #include "commands.h"
@@ -33,52 +33,9 @@ static void usage(FILE *f)
         "equal time: its spp chosen from a short calibration run so that its render takes\n"
         "each budget x ref's time at the base spp, its error against the converged truth;\n"
         "then charts (DIR/*.png) and DIR/RESULTS.md through bench/report/bench_report.sh\n"
-        "(gnuplot).\n\n"
-        "  --scenes A,B,...   scene files (default: the bundled scenes/*.scene)\n"
-        "  --modes M,...      modes with rows (default: every mode, 'specmip modes';\n"
-        "                     truth and ref are always rendered: the others are measured on them)\n"
-        "  --spp N,...        samples per pixel, ascending (default 64)\n"
-        "  --truth-spp N      spp of the converged truth (default 1024)\n"
-        "  --size WxH         image size (default 96x96)\n"
-        "  --thresholds T,... the ml threshold sweep (default 1,2; 'none': no sweep)\n"
-        "  --sweep-spp N      spp of the sweep (default: the largest --spp)\n"
-        "  --budgets B,...    equal-time budgets, ascending, as multiples of ref's time at\n"
-        "                     --equal-spp (default 0.25,1,4; 'none': no equal-time part)\n"
-        "  --equal-spp N      the base spp of those budgets (default: the largest --spp)\n"
-        "  --calib-spp N      spp of each mode's calibration run (default: --equal-spp / 4,\n"
-        "                     at least 1)\n"
-        "  --threshold T      pretest threshold of the main rows, 0 to 1e6 (default 2)\n"
-        "  --blur N           box blur before dE (default 5, as `specmip compare`)\n"
-        "  --repeat N         each timed render runs N times, the fastest counts (default 2;\n"
-        "                     the modes take turns)\n"
-        "  --seed S           seed of the compared renders, 0 to 4294967295 (truth uses S+1,\n"
-        "                     S+2 too, modulo 2^32; default 1)\n"
-        "  --backend B        opencl (default) | cpu\n"
-        "  --device D         OpenCL device index (default 0)\n"
-        "  --out DIR          output directory (default bench-out)\n"
-        "  --quick            three scenes (cornell, cornell_spiky, metameric), 64x64, truth at\n"
-        "                     512 spp: a few minutes; options given explicitly still apply\n"
-        "  --no-charts        CSV only\n"
-        "  --progress, --quiet  progress line on stderr (default: when stderr is a terminal)\n"
-        "  --ops              the operator micro-benchmark instead (kernels/opbench.cl):\n"
-        "                     multiply, scaled add, set, clear per level and vector width,\n"
-        "                     ns/op and ratios; writes DIR/ops.csv and prints a table\n"
-        "  --ops-items N, --ops-iters K   its work-items (default 4096) and ops each (1024)\n"
-        "  --rays SCENE       traversal alone instead: the CPU reference traces SCENE's paths\n"
-        "                     ('default': the built-in scene) at --size (default 256x256) and\n"
-        "                     --rays-spp N (default 1), recording every camera, bounce and shadow\n"
-        "                     ray; they are replayed through the renderer's traversal\n"
-        "                     (kernels/rays.cl on --device) and the reference's, closest-hit and\n"
-        "                     shadow rays timed apart (fastest of --repeat), answers compared\n"
-        "  --rays-save FILE, --rays-load FILE   write the recorded rays / replay a file's\n"
-        "                     (recorded on the same scene and BVH, else an input error)\n"
-        "  --rays-stats       also count nodes visited and triangle tests per ray\n"
-        "  --rays-group N     the replay's work-group size (default 64, the renderer's)\n"
-        "  --embree           also replay through Embree 3 (when built with it), --threads N\n"
-        "                     threads (default 2), its runs alternating with the kernel's, and\n"
-        "                     give specmip/Embree ratios;\n"
-        "                     --embree-quality low|medium|high its BVH (default medium)\n"
-        "  --json             the ray benchmark's results as one JSON object on stdout\n"
+        "(gnuplot).\n\n");
+    spm_opt_help(f, SPM_CMD_BENCH, 21);
+    fprintf(f,
         "Ctrl-C stops the current render, which is dropped; finished rows are kept (exit 130);\n"
         "a second Ctrl-C exits at once.\n");
 }
@@ -161,29 +118,22 @@ static int parse_modes(const char *s, spm_bench_plan *p)
 #define NOT_MINE (-2) /* an option helper's: the option is another's */
 
 /* The --rays study's options: 0, NOT_MINE, or an exit code. */
-static int rays_option(const char *a, const char *v, options *o)
+static int rays_option(const spm_option *opt, const char *v, double d, options *o)
 {
-    long n;
-    if (!strcmp(a, "--rays")) {
+    switch (opt->id) {
+    case SPM_O_RAYS:
         o->rays_on = 1;
         o->rays.scene = strcmp(v, "default") ? v : NULL;
-    } else if (!strcmp(a, "--rays-spp")) {
-        if (spm_arg_long("bench", a, v, 1, 1 << 16, &n))
-            return SPM_EXIT_INPUT;
-        o->rays.spp = (int)n;
-    } else if (!strcmp(a, "--rays-group")) {
-        if (spm_arg_long("bench", a, v, 1, 1024, &n))
-            return SPM_EXIT_INPUT;
-        o->rays.group = (int)n;
-    } else if (!strcmp(a, "--rays-save")) {
-        o->rays.save = v;
-    } else if (!strcmp(a, "--rays-load")) {
-        o->rays.load = v;
-    } else if (!strcmp(a, "--rays-stats")) {
-        o->rays.stats = 1;
-    } else if (!strcmp(a, "--embree")) {
-        o->rays.embree = 1;
-    } else if (!strcmp(a, "--embree-quality")) {
+        return 0;
+    case SPM_O_RAYS_SPP: o->rays.spp = (int)d; return 0;
+    case SPM_O_RAYS_GROUP: o->rays.group = (int)d; return 0;
+    case SPM_O_RAYS_SAVE: o->rays.save = v; return 0;
+    case SPM_O_RAYS_LOAD: o->rays.load = v; return 0;
+    case SPM_O_RAYS_STATS: o->rays.stats = 1; return 0;
+    case SPM_O_EMBREE: o->rays.embree = 1; return 0;
+    case SPM_O_JSON: o->rays.json = 1; return 0;
+    case SPM_O_THREADS: o->rays.threads = (int)d; return 0;
+    case SPM_O_EMBREE_QUALITY: {
         static const char *const q[] = {"low", "medium", "high"};
         o->rays.embree_quality = -1;
         for (int k = 0; k < 3; k++)
@@ -191,28 +141,39 @@ static int rays_option(const char *a, const char *v, options *o)
                 o->rays.embree_quality = k;
         if (o->rays.embree_quality < 0)
             return fail("--embree-quality is low, medium or high, not '%s'%s", v, "");
-    } else if (!strcmp(a, "--json")) {
-        o->rays.json = 1;
-    } else if (!strcmp(a, "--threads")) {
-        if (spm_arg_long("bench", a, v, 1, 64, &n))
-            return SPM_EXIT_INPUT;
-        o->rays.threads = (int)n;
-    } else {
+        return 0;
+    }
+    default:
         return NOT_MINE;
     }
+}
+
+/* "--budgets B,..." or "--thresholds T,...", each in the option's range, or
+ * 'none'; budgets ascending. */
+static int number_list(const spm_option *opt, const char *v, double *out, int max, int *n)
+{
+    if (!strcmp(v, "none")) {
+        *n = 0;
+        return 0;
+    }
+    if (parse_list(opt->name, v, opt->lo, opt->hi, max, out, n))
+        return SPM_EXIT_INPUT;
+    for (int k = 1; k < *n && opt->id == SPM_O_BUDGETS; k++)
+        if (out[k] <= out[k - 1])
+            return fail("--budgets takes ascending numbers, not '%s'%s", v, "");
     return 0;
 }
 
 /* The study's sample counts, budgets and thresholds: 0, NOT_MINE, or an exit
  * code. */
-static int list_option(const char *a, const char *v, options *o)
+static int list_option(const spm_option *opt, const char *v, double d, options *o)
 {
     spm_bench_plan *p = &o->plan;
-    double list[SPM_BENCH_MAX_THRESHOLDS];
+    double list[SPM_BENCH_MAX_SPP];
     int nl;
-    long n;
-    if (!strcmp(a, "--spp")) {
-        if (parse_list(a, v, 1, SPM_SCENE_MAX_SPP, SPM_BENCH_MAX_SPP, list, &nl))
+    switch (opt->id) {
+    case SPM_O_SPP:
+        if (parse_list(opt->name, v, opt->lo, opt->hi, SPM_BENCH_MAX_SPP, list, &nl))
             return SPM_EXIT_INPUT;
         for (int k = 0; k < nl; k++) {
             if (list[k] != (int)list[k] || (k && list[k] <= list[k - 1]))
@@ -221,149 +182,101 @@ static int list_option(const char *a, const char *v, options *o)
         }
         p->nspp = nl;
         o->have_spp = 1;
-    } else if (!strcmp(a, "--truth-spp") || !strcmp(a, "--sweep-spp")) {
-        if (spm_arg_long("bench", a, v, 1, 1 << 20, &n))
-            return SPM_EXIT_INPUT;
-        if (!strcmp(a, "--truth-spp")) {
-            p->truth_spp = (int)n;
-            o->have_truth_spp = 1;
-        } else {
-            p->sweep_spp = (int)n;
-            o->have_sweep_spp = 1;
-        }
-    } else if (!strcmp(a, "--equal-spp") || !strcmp(a, "--calib-spp")) {
-        if (spm_arg_long("bench", a, v, 1, SPM_SCENE_MAX_SPP, &n))
-            return SPM_EXIT_INPUT;
-        if (!strcmp(a, "--equal-spp")) {
-            p->equal_spp = (int)n;
-            o->have_equal_spp = 1;
-        } else {
-            p->calib_spp = (int)n;
-            o->have_calib_spp = 1;
-        }
-    } else if (!strcmp(a, "--budgets")) {
-        if (!strcmp(v, "none")) {
-            p->nbudgets = 0;
-        } else {
-            if (parse_list(a, v, 0.01, 1000, SPM_BENCH_MAX_BUDGETS, list, &nl))
-                return SPM_EXIT_INPUT;
-            for (int k = 1; k < nl; k++)
-                if (list[k] <= list[k - 1])
-                    return fail("--budgets takes ascending numbers, not '%s'%s", v, "");
-            memcpy(p->budgets, list, (size_t)nl * sizeof *list);
-            p->nbudgets = nl;
-        }
-    } else if (!strcmp(a, "--thresholds")) {
-        if (!strcmp(v, "none")) {
-            p->nthresholds = 0;
-        } else {
-            if (parse_list(a, v, 0.01, 100, SPM_BENCH_MAX_THRESHOLDS, list, &nl))
-                return SPM_EXIT_INPUT;
-            memcpy(p->thresholds, list, (size_t)nl * sizeof *list);
-            p->nthresholds = nl;
-        }
-    } else {
+        return 0;
+    case SPM_O_TRUTH_SPP: p->truth_spp = (int)d; o->have_truth_spp = 1; return 0;
+    case SPM_O_SWEEP_SPP: p->sweep_spp = (int)d; o->have_sweep_spp = 1; return 0;
+    case SPM_O_EQUAL_SPP: p->equal_spp = (int)d; o->have_equal_spp = 1; return 0;
+    case SPM_O_CALIB_SPP: p->calib_spp = (int)d; o->have_calib_spp = 1; return 0;
+    case SPM_O_BUDGETS:
+        return number_list(opt, v, p->budgets, SPM_BENCH_MAX_BUDGETS, &p->nbudgets);
+    case SPM_O_THRESHOLDS:
+        return number_list(opt, v, p->thresholds, SPM_BENCH_MAX_THRESHOLDS, &p->nthresholds);
+    default:
         return NOT_MINE;
     }
-    return 0;
+}
+
+/* The options of a render: scenes, modes, size, backend and devices, seed. */
+static int render_option(const spm_option *opt, const char *v, double d, options *o)
+{
+    spm_bench_plan *p = &o->plan;
+    int w, h;
+    char end;
+    const spm_backend_kind *k;
+    switch (opt->id) {
+    case SPM_O_SCENES:
+        free(o->scene_buf);
+        o->scene_buf = spm_xstrdup(v);
+        p->nscenes = split_names(o->scene_buf, o->scenes, MAX_SCENES);
+        if (p->nscenes <= 0)
+            return fail("--scenes takes up to 64 files separated by commas, not '%s'%s", v, "");
+        o->have_scenes = 1;
+        return 0;
+    case SPM_O_MODES: return parse_modes(v, p) ? SPM_EXIT_INPUT : 0;
+    case SPM_O_SIZE:
+        if (sscanf(v, "%dx%d%c", &w, &h, &end) != 2 || w < opt->lo || h < opt->lo ||
+            w > opt->hi || h > opt->hi) {
+            fprintf(stderr, "specmip bench: --size takes WxH, each side from %g to %g, e.g. "
+                            "64x64, not '%s'\n", opt->lo, opt->hi, v);
+            return SPM_EXIT_INPUT;
+        }
+        p->width = w;
+        p->height = h;
+        o->have_size = 1;
+        return 0;
+    case SPM_O_THRESHOLD: p->pretest.threshold = d; return 0;
+    case SPM_O_SEED: p->seed = (spm_u32)d; return 0; /* the truth's S+1, S+2 wrap modulo 2^32 */
+    case SPM_O_BACKEND:
+        if (!(k = spm_backend_kind_find(v)))
+            return fail("--backend is opencl or cpu, not '%s'%s", v, "");
+        p->use_cpu = !strcmp(k->name, "cpu");
+        return 0;
+    case SPM_O_DEVICE:
+        return spm_opt_devices("bench", v, p->devices, SPM_MAX_BACKENDS, &p->ndevices,
+                               &p->all_devices) ? SPM_EXIT_INPUT : 0;
+    default:
+        return NOT_MINE;
+    }
 }
 
 static int parse_args(int argc, char **argv, options *o)
 {
     spm_bench_plan *p = &o->plan;
     for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        long n;
-        static const char *const with_value[] = {
-            "--scenes", "--modes", "--spp", "--truth-spp", "--sweep-spp", "--size", "--thresholds",
-            "--threshold", "--blur", "--repeat", "--seed", "--backend", "--device", "--out", "--ops-items",
-            "--ops-iters", "--rays", "--rays-spp", "--rays-save", "--rays-load", "--threads",
-            "--embree-quality", "--rays-group", "--budgets", "--equal-spp", "--calib-spp"};
-        int takes_value = 0;
-        for (size_t k = 0; k < sizeof with_value / sizeof *with_value; k++)
-            takes_value |= !strcmp(a, with_value[k]);
-        if (takes_value) {
-            if (!v)
-                return fail("%s needs a value%s", a, "");
-            i++;
-        }
-        int rc = rays_option(a, v, o);
+        const spm_option *opt;
+        const char *v;
+        double d;
+        if (spm_opt_next(SPM_CMD_BENCH, "bench", argc, argv, &i, &opt, &v, &d))
+            return SPM_EXIT_INPUT;
+        if (!opt)
+            return fail("unexpected argument '%s' (scenes go in --scenes)%s", v, "");
+        int rc = rays_option(opt, v, d, o);
         if (rc == NOT_MINE)
-            rc = list_option(a, v, o);
+            rc = list_option(opt, v, d, o);
+        if (rc == NOT_MINE)
+            rc = render_option(opt, v, d, o);
         if (rc != NOT_MINE) {
             if (rc)
                 return rc;
             continue;
         }
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            return -1;
-        } else if (!strcmp(a, "--quick")) {
-            o->quick = 1;
-        } else if (!strcmp(a, "--no-charts")) {
-            o->charts = 0;
-        } else if (!strcmp(a, "--ops")) {
-            o->ops = 1;
-        } else if (!strcmp(a, "--progress")) {
-            p->progress = 2;
-        } else if (!strcmp(a, "--quiet")) {
-            p->progress = 0;
-        } else if (!strcmp(a, "--scenes")) {
-            free(o->scene_buf);
-            o->scene_buf = spm_xstrdup(v);
-            p->nscenes = split_names(o->scene_buf, o->scenes, MAX_SCENES);
-            if (p->nscenes <= 0)
-                return fail("--scenes takes up to 64 files separated by commas, not '%s'%s", v, "");
-            o->have_scenes = 1;
-        } else if (!strcmp(a, "--modes")) {
-            if (parse_modes(v, p))
-                return SPM_EXIT_INPUT;
-        } else if (!strcmp(a, "--size")) {
-            int w, h;
-            char end;
-            if (sscanf(v, "%dx%d%c", &w, &h, &end) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384)
-                return fail("--size takes WxH, e.g. 64x64, not '%s'%s", v, "");
-            p->width = w;
-            p->height = h;
-            o->have_size = 1;
-        } else if (!strcmp(a, "--threshold")) {
-            double d;
-            if (spm_opt_number("bench", SPM_OPT_THRESHOLD, v, &d))
-                return SPM_EXIT_INPUT;
-            p->pretest.threshold = d;
-        } else if (!strcmp(a, "--blur")) {
-            if (spm_arg_long("bench", a, v, 0, 99, &n))
-                return SPM_EXIT_INPUT;
-            if (n > 1 && n % 2 == 0)
+        switch (opt->id) {
+        case SPM_O_HELP: usage(stdout); return -1;
+        case SPM_O_QUICK: o->quick = 1; break;
+        case SPM_O_NO_CHARTS: o->charts = 0; break;
+        case SPM_O_OPS: o->ops = 1; break;
+        case SPM_O_PROGRESS: p->progress = 2; break;
+        case SPM_O_QUIET: p->progress = 0; break;
+        case SPM_O_BLUR:
+            if (d > 1 && (int)d % 2 == 0)
                 return fail("--blur needs an odd window (or 0 for none), not '%s'%s", v, "");
-            p->blur = (int)n;
-        } else if (!strcmp(a, "--repeat")) {
-            if (spm_arg_long("bench", a, v, 1, 100, &n))
-                return SPM_EXIT_INPUT;
-            p->repeat = (int)n;
-        } else if (!strcmp(a, "--seed")) {
-            double d;
-            if (spm_opt_number("bench", SPM_OPT_SEED, v, &d))
-                return SPM_EXIT_INPUT;
-            p->seed = (spm_u32)d; /* the truth's S+1, S+2 wrap modulo 2^32 */
-        } else if (!strcmp(a, "--backend")) {
-            if (strcmp(v, "cpu") && strcmp(v, "opencl"))
-                return fail("--backend is opencl or cpu, not '%s'%s", v, "");
-            p->use_cpu = !strcmp(v, "cpu");
-        } else if (!strcmp(a, "--device")) {
-            if (spm_arg_long("bench", a, v, 0, 255, &n))
-                return SPM_EXIT_INPUT;
-            p->device = (int)n;
-        } else if (!strcmp(a, "--out")) {
-            o->out = v;
-        } else if (!strcmp(a, "--ops-items") || !strcmp(a, "--ops-iters")) {
-            if (spm_arg_long("bench", a, v, 1, 1 << 24, &n))
-                return SPM_EXIT_INPUT;
-            *(!strcmp(a, "--ops-items") ? &o->ops_items : &o->ops_iters) = (int)n;
-        } else if (a[0] == '-') {
-            return fail("unknown option '%s' (see specmip bench --help)%s", a, "");
-        } else {
-            return fail("unexpected argument '%s' (scenes go in --scenes)%s", a, "");
+            p->blur = (int)d;
+            break;
+        case SPM_O_REPEAT: p->repeat = (int)d; break;
+        case SPM_O_OUT: o->out = v; break;
+        case SPM_O_OPS_ITEMS: o->ops_items = (int)d; break;
+        case SPM_O_OPS_ITERS: o->ops_iters = (int)d; break;
+        default: break;
         }
     }
     return 0;
@@ -435,6 +348,15 @@ static int make_dir(const char *dir)
     }
 }
 
+/* --ops and --rays time one device: a list of several or 'all' is refused. */
+static int one_device(const options *o)
+{
+    if (!o->plan.all_devices && o->plan.ndevices <= 1)
+        return 0;
+    return fail("--ops and --rays time one device: --device takes one index with them%s%s", "",
+                "");
+}
+
 /* --rays: the traversal benchmark (bench_rays.c); writes nothing but --rays-save. */
 static int run_rays(options *o)
 {
@@ -443,7 +365,7 @@ static int run_rays(options *o)
     r->height = o->have_size ? o->plan.height : 256;
     r->spp = r->spp ? r->spp : 1;
     r->seed = o->plan.seed;
-    r->device = o->plan.device;
+    r->device = o->plan.devices[0];
     r->repeat = o->plan.repeat;
     r->threads = r->threads ? r->threads : 2;
     free(o->scene_buf);
@@ -487,6 +409,8 @@ int spm_cmd_bench(int argc, char **argv)
         (o.rays.save || o.rays.load || o.rays.json || o.rays.embree || o.rays.stats))
         rc = fail("--rays-save, --rays-load, --rays-stats, --embree and --json go with --rays%s%s",
                   "", "");
+    if (!rc && (o.rays_on || o.ops))
+        rc = one_device(&o);
     if (!rc && o.rays_on)
         return run_rays(&o);
     glob_t g;
@@ -500,12 +424,13 @@ int spm_cmd_bench(int argc, char **argv)
         free(o.scene_buf);
         return rc < 0 ? SPM_EXIT_OK : rc;
     }
-    spm_bench_write_meta(o.out, o.ops ? "ops" : "bench", p->use_cpu, p->device, argc, argv);
+    spm_bench_write_meta(o.out, o.ops ? "ops" : "bench", p->use_cpu, p->devices,
+                         p->all_devices ? -1 : p->ndevices, argc, argv);
     spm_catch_interrupts();
     spm_error err;
     err.msg[0] = 0;
     if (o.ops) {
-        rc = spm_bench_ops(p->device, o.ops_items, o.ops_iters, o.out, &err);
+        rc = spm_bench_ops(p->devices[0], o.ops_items, o.ops_iters, o.out, &err);
     } else {
         spm_bench_csv csv;
         rc = spm_bench_csv_open(&csv, o.out, &err) ? SPM_EXIT_INPUT : 0;

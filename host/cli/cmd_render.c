@@ -13,7 +13,6 @@
 #include "pocl_cache.h"
 #include "backends.h"
 #include "render_stats.h"
-#include "scene_build.h"
 #include "spectral_exr.h"
 
 #define MAX_OUTPUTS 4
@@ -25,78 +24,14 @@ static void usage(FILE *f)
         "usage: specmip render [SCENE] [options]   (also: specmip SCENE [options])\n"
         "Options take their value as '--spp 16' or '--spp=16'.\n"
         "Renders SCENE (a .scene file or a MiniLight .ml.txt file); without SCENE the built-in\n"
-        "Cornell box (ColorChecker walls, equal-energy light).\n\n"
-        "  -o, --output FILE      image to write, by extension: .exr, .tif or .hdr (linear sRGB,\n"
-        "                         float; EXR keeps how it was made in its header; .hdr drops\n"
-        "                         negative values) or .png, .ppm or .jpg (tone-mapped sRGB,\n"
-        "                         8-bit); up to %d times, each file once (default:\n"
-        "                         specmip.png and specmip.exr); a symbolic link is written\n"
-        "                         through to its target; a name ending in .spectral.exr gets\n"
-        "                         the spectrum of every pixel (OpenEXR spectral layout, absolute\n"
-        "                         radiance; every mode but rgb)\n"
-        "  --spectral-nm N        bin width of a .spectral.exr: 5 (default) or, in truth mode, 1\n"
-        "  --mode M               spectral mode (default ml; 'specmip modes' lists them):\n",
-        MAX_OUTPUTS);
-    spm_modes_help(f, 27);
+        "Cornell box (ColorChecker walls, equal-energy light).\n\n");
+    spm_opt_help(f, SPM_CMD_RENDER, 25);
     fprintf(f,
-        "  --spp N                samples per pixel, 1 to %d (default: the scene's, else 16)\n"
-        "  --seed S               random seed (default 1); the same seed gives the same paths\n"
-        "  --width W, --height H  image size, 1 to %d (default: the scene's); one of them alone\n"
-        "                         keeps the scene's aspect ratio (the other rounded); the\n"
-        "                         field of view is horizontal, so both change the vertical one\n"
-        "  --backend B            opencl (default) | cpu (the scalar CPU reference)\n"
-        "  --device D             OpenCL device index, a list 0,2, or all (default 0);\n"
-        "                         all: every device but a second platform's CPU devices\n"
-        "                         and simulators;\n"
-        "                         see 'specmip devices'\n"
-        "  --threshold T          pretest colour-difference threshold, 0 to 1e6 (default 2.0)\n"
-        "  --metric M             de00 (default) | deab: the pretest's colour difference\n"
-        "  --coarsest-level L     coarsest level the pretest may pick: 0 (400 bins of 1 nm: no\n"
-        "                         mipmapping), 1 (80), 2 (40), 3 (20, default) or 4 (10)\n"
-        "  --tonemap T            PNG/PPM tone mapping on luminance: linear (default; 'auto' is\n"
-        "                         the same) | thesis (the thesis' operator, scale = 1/(5 + L))\n"
-        "  --exposure E           auto (default: the 99th percentile of Y maps to white) or a\n"
-        "                         number multiplying Y before the operator\n"
-        "  --stats                print the time of every stage, the BVH (nodes, SAH cost,\n"
-        "                         threads), peak memory, paths/s and (ml, mlc) paths per level\n"
-        "                         (stdout)\n"
-        "  --json                 print the statistics as one JSON object (stdout; with --stats\n"
-        "                         too, the text goes to stderr)\n"
-        "  --progress             progress line on stderr even when it is not a terminal\n"
-        "  --quiet                no progress line\n"
-        "  --verbose              print the pretest's level table (mlc: its own)\n"
         "Under mpirun every rank renders passes on its own --device/--backend; rank 0 reads\n"
         "the scene, sends it to the others and alone writes outputs (README: several machines).\n"
         "Ctrl-C (or SIGTERM) stops within a batch of paths, writes the image of the passes done\n"
         "and exits 130 (nothing is written when no pass is done); a second Ctrl-C exits at once\n"
-        "without writing. Existing outputs are replaced only by complete images.\n",
-        SPM_SCENE_MAX_SPP, SPM_SCENE_MAX_SIDE);
-}
-
-static int parse_devices(const char *s, spm_render_config *c)
-{
-    if (!strcmp(s, "all")) {
-        c->all_devices = 1;
-        return 0;
-    }
-    const char *p = s;
-    c->ndevices = 0; /* the last --device counts */
-    do {
-        char *end;
-        long v = strtol(p, &end, 10);
-        if (end == p || v < 0 || v > 255 || (*end && (*end != ',' || !end[1])) ||
-            c->ndevices >= SPM_MAX_BACKENDS) {
-            fprintf(stderr,
-                    "specmip render: --device takes an index, a list like 0,2 (at most %d) or "
-                    "'all', not '%s'\n",
-                    SPM_MAX_BACKENDS, s);
-            return 1;
-        }
-        c->devices[c->ndevices++] = (int)v;
-        p = *end ? end + 1 : end;
-    } while (*p);
-    c->all_devices = 0;
-    return 0;
+        "without writing. Existing outputs are replaced only by complete images.\n");
 }
 
 /* The test hook of util.h: SPECMIP_TEST_REFUSE_SCENE_FILES=others makes the
@@ -122,6 +57,63 @@ typedef struct {
 
 #define HELP_SHOWN (-1) /* parse_args: --help printed, nothing to render */
 
+/* The options that take a word: 0 or SPM_EXIT_INPUT with the error on stderr. */
+static int word_option(spm_opt_id id, const char *v, render_opts *o)
+{
+    spm_error e;
+    char names[256];
+    switch (id) {
+    case SPM_O_OUTPUT:
+        if (o->nout >= MAX_OUTPUTS) {
+            fprintf(stderr, "specmip render: at most %d outputs\n", MAX_OUTPUTS);
+            return SPM_EXIT_INPUT;
+        }
+        o->outputs[o->nout++] = v;
+        return 0;
+    case SPM_O_MODE:
+        if ((o->cfg.mode = spm_mode_parse(v)) < 0) {
+            fprintf(stderr, "specmip render: unknown mode '%s' (%s)\n", v,
+                    spm_mode_list(", ", names, sizeof names));
+            return SPM_EXIT_INPUT;
+        }
+        return 0;
+    case SPM_O_SPECTRAL_NM:
+        if (strcmp(v, "1") && strcmp(v, "5")) {
+            fprintf(stderr, "specmip render: --spectral-nm is 1 or 5, not '%s'\n", v);
+            return SPM_EXIT_INPUT;
+        }
+        o->spec_nm = v[0] - '0';
+        return 0;
+    case SPM_O_BACKEND:
+        if (!(o->cfg.backend = spm_backend_kind_find(v))) {
+            fprintf(stderr, "specmip render: --backend is opencl or cpu, not '%s'\n", v);
+            return SPM_EXIT_INPUT;
+        }
+        return 0;
+    case SPM_O_DEVICE:
+        return spm_opt_devices("render", v, o->cfg.devices, SPM_MAX_BACKENDS, &o->cfg.ndevices,
+                               &o->cfg.all_devices) ? SPM_EXIT_INPUT : 0;
+    case SPM_O_METRIC:
+        if (strcmp(v, "de00") && strcmp(v, "deab")) {
+            fprintf(stderr, "specmip render: --metric is de00 or deab, not '%s'\n", v);
+            return SPM_EXIT_INPUT;
+        }
+        o->cfg.pretest.metric = !strcmp(v, "deab") ? SPM_METRIC_DEAB : SPM_METRIC_DE00;
+        return 0;
+    case SPM_O_TONEMAP:
+    case SPM_O_EXPOSURE:
+        if (id == SPM_O_TONEMAP ? spm_tonemap_select(&o->tm, v, &e)
+                                : spm_tonemap_set_exposure(&o->tm, v, &e)) {
+            fprintf(stderr, "specmip render: %s: %s\n",
+                    id == SPM_O_TONEMAP ? "--tonemap" : "--exposure", e.msg);
+            return SPM_EXIT_INPUT;
+        }
+        return 0;
+    default:
+        return 0;
+    }
+}
+
 /* 0, HELP_SHOWN, or SPM_EXIT_INPUT with the error on stderr. */
 static int parse_args(int argc, char **argv, render_opts *o)
 {
@@ -130,115 +122,36 @@ static int parse_args(int argc, char **argv, render_opts *o)
     o->progress = isatty(2);
     spm_tonemap_default(&o->tm);
     for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        long n;
+        const spm_option *opt;
+        const char *v;
         double d;
-#define NEED_VALUE                                                                          \
-    do {                                                                                    \
-        if (!v) {                                                                           \
-            fprintf(stderr, "specmip render: %s needs a value\n", a);                      \
-            return SPM_EXIT_INPUT;                                                          \
-        }                                                                                   \
-        i++;                                                                                \
-    } while (0)
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            return HELP_SHOWN;
-        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
-            NEED_VALUE;
-            if (o->nout >= MAX_OUTPUTS) {
-                fprintf(stderr, "specmip render: at most %d outputs\n", MAX_OUTPUTS);
-                return SPM_EXIT_INPUT;
-            }
-            o->outputs[o->nout++] = v;
-        } else if (!strcmp(a, "--mode")) {
-            NEED_VALUE;
-            if ((o->cfg.mode = spm_mode_parse(v)) < 0) {
-                char names[256];
-                fprintf(stderr, "specmip render: unknown mode '%s' (%s)\n", v,
-                        spm_mode_list(", ", names, sizeof names));
-                return SPM_EXIT_INPUT;
-            }
-        } else if (!strcmp(a, "--spectral-nm")) {
-            NEED_VALUE;
-            if (strcmp(v, "1") && strcmp(v, "5")) {
-                fprintf(stderr, "specmip render: --spectral-nm is 1 or 5, not '%s'\n", v);
-                return SPM_EXIT_INPUT;
-            }
-            o->spec_nm = v[0] - '0';
-        } else if (!strcmp(a, "--spp")) {
-            NEED_VALUE;
-            if (spm_arg_long("render", a, v, 1, SPM_SCENE_MAX_SPP, &n))
-                return SPM_EXIT_INPUT;
-            o->cfg.spp = (int)n;
-        } else if (!strcmp(a, "--seed")) {
-            NEED_VALUE;
-            if (spm_opt_number("render", SPM_OPT_SEED, v, &d))
-                return SPM_EXIT_INPUT;
-            o->cfg.seed = (spm_u32)d;
-        } else if (!strcmp(a, "--width") || !strcmp(a, "--height")) {
-            NEED_VALUE;
-            if (spm_arg_long("render", a, v, 1, SPM_SCENE_MAX_SIDE, &n))
-                return SPM_EXIT_INPUT;
-            *(a[2] == 'w' ? &o->cfg.width : &o->cfg.height) = (int)n;
-        } else if (!strcmp(a, "--backend")) {
-            NEED_VALUE;
-            if (!(o->cfg.backend = spm_backend_kind_find(v))) {
-                fprintf(stderr, "specmip render: --backend is opencl or cpu, not '%s'\n", v);
-                return SPM_EXIT_INPUT;
-            }
-        } else if (!strcmp(a, "--device")) {
-            NEED_VALUE;
-            if (parse_devices(v, &o->cfg))
-                return SPM_EXIT_INPUT;
-        } else if (!strcmp(a, "--threshold")) {
-            NEED_VALUE;
-            if (spm_opt_number("render", SPM_OPT_THRESHOLD, v, &d))
-                return SPM_EXIT_INPUT;
-            o->cfg.pretest.threshold = d;
-        } else if (!strcmp(a, "--metric")) {
-            NEED_VALUE;
-            if (!strcmp(v, "de00"))
-                o->cfg.pretest.metric = SPM_METRIC_DE00;
-            else if (!strcmp(v, "deab"))
-                o->cfg.pretest.metric = SPM_METRIC_DEAB;
-            else {
-                fprintf(stderr, "specmip render: --metric is de00 or deab, not '%s'\n", v);
-                return SPM_EXIT_INPUT;
-            }
-        } else if (!strcmp(a, "--coarsest-level")) {
-            NEED_VALUE;
-            if (spm_arg_long("render", a, v, 0, SPM_NUM_LEVELS - 1, &n))
-                return SPM_EXIT_INPUT;
-            o->cfg.pretest.coarsest_level = (int)n;
-        } else if (!strcmp(a, "--tonemap") || !strcmp(a, "--exposure")) {
-            NEED_VALUE;
-            spm_error e;
-            if (a[2] == 't' ? spm_tonemap_select(&o->tm, v, &e) : spm_tonemap_set_exposure(&o->tm, v, &e)) {
-                fprintf(stderr, "specmip render: %s: %s\n", a, e.msg);
-                return SPM_EXIT_INPUT;
-            }
-        } else if (!strcmp(a, "--stats")) {
-            o->stats = 1;
-        } else if (!strcmp(a, "--json")) {
-            o->json = 1;
-        } else if (!strcmp(a, "--progress")) {
-            o->progress = 1;
-        } else if (!strcmp(a, "--quiet")) {
-            o->progress = 0;
-        } else if (!strcmp(a, "--verbose")) {
-            o->cfg.verbose = 1;
-        } else if (a[0] == '-' && a[1]) {
-            fprintf(stderr, "specmip render: unknown option '%s' (see specmip render --help)\n", a);
+        if (spm_opt_next(SPM_CMD_RENDER, "render", argc, argv, &i, &opt, &v, &d))
             return SPM_EXIT_INPUT;
-        } else if (!o->cfg.scene_path) {
-            o->cfg.scene_path = a;
-        } else {
-            fprintf(stderr, "specmip render: one scene only ('%s' and '%s')\n", o->cfg.scene_path, a);
+        if (!opt && !o->cfg.scene_path) {
+            o->cfg.scene_path = v;
+            continue;
+        }
+        if (!opt) {
+            fprintf(stderr, "specmip render: one scene only ('%s' and '%s')\n", o->cfg.scene_path, v);
             return SPM_EXIT_INPUT;
         }
-#undef NEED_VALUE
+        switch (opt->id) {
+        case SPM_O_HELP: usage(stdout); return HELP_SHOWN;
+        case SPM_O_SPP: o->cfg.spp = (int)d; break;
+        case SPM_O_SEED: o->cfg.seed = (spm_u32)d; break;
+        case SPM_O_WIDTH: o->cfg.width = (int)d; break;
+        case SPM_O_HEIGHT: o->cfg.height = (int)d; break;
+        case SPM_O_THRESHOLD: o->cfg.pretest.threshold = d; break;
+        case SPM_O_COARSEST_LEVEL: o->cfg.pretest.coarsest_level = (int)d; break;
+        case SPM_O_STATS: o->stats = 1; break;
+        case SPM_O_JSON: o->json = 1; break;
+        case SPM_O_PROGRESS: o->progress = 1; break;
+        case SPM_O_QUIET: o->progress = 0; break;
+        case SPM_O_VERBOSE: o->cfg.verbose = 1; break;
+        default:
+            if (word_option(opt->id, v, o))
+                return SPM_EXIT_INPUT;
+        }
     }
     return 0;
 }

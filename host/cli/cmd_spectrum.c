@@ -36,23 +36,9 @@ static void help(FILE *f)
             "\n"
             "  FILE               the spectrum; a file with several value columns prints each\n"
             "                     column on its own unless --column picks one; a bare name\n"
-            "                     not found here is looked for in the bundled spectra/\n"
-            "  --column NAME      use only the value column called NAME\n"
-            "  --illuminant X     light for a reflectance: a name (A, D50, D65, F1..F12, HP1..HP5,\n"
-            "                     LED_B1..LED_B5, LED_BH1, LED_RGB1, LED_V1, LED_V2, or a NIST lamp\n"
-            "                     such as nist_mercury) resolved in spectra/, or a CSV file.\n"
-            "                     Default D65. XYZ is scaled so the perfect white under it has\n"
-            "                     Y = 100, and that white is the CIELAB white.\n"
-            "  --emission         FILE is a light: XYZ is scaled to Y = 100 and CIELAB uses the\n"
-            "                     D65 white of Y = 100; the pretest sees it on its own\n"
-            "  --level L          compute XYZ, Lab and sRGB from level L (0..4: 400, 80, 40, 20,\n"
-            "                     10 bins) instead of the 1 nm truth; the illuminant stays at 1 nm\n"
-            "  --threshold T      pretest threshold, 0 to 1e6 (default 2.0)\n"
-            "  --metric M         pretest metric: de00 (CIEDE2000, default) or deab (CIE 1976)\n"
-            "  --json             one JSON object per spectrum (an array for several columns)\n"
-            "                     with keys XYZ, Lab, sRGB {linear, encoded}, levels\n"
-            "                     [{level, bins, dE00, dEab}] and chosen_level\n"
-            "  --help             this text\n"
+            "                     not found here is looked for in the bundled spectra/\n");
+    spm_opt_help(f, SPM_CMD_SPECTRUM, 21);
+    fprintf(f,
             "\n"
             "sRGB is the IEC 61966-2-1 encoding of XYZ/100, without chromatic adaptation.\n"
             "The levels table gives each level's difference to level 0, the 1 nm truth (same\n"
@@ -68,16 +54,6 @@ static int usage_error(const char *fmt, const char *arg)
     fprintf(stderr, fmt, arg);
     fputs("\n(specmip spectrum --help lists the options)\n", stderr);
     return SPM_EXIT_INPUT;
-}
-
-static int parse_number(const char *text, double lo, double hi, double *out)
-{
-    char *end;
-    double v = strtod(text, &end);
-    if (end == text || *end || !(v >= lo && v <= hi))
-        return 1;
-    *out = v;
-    return 0;
 }
 
 /* Returns -1 to go on, otherwise the exit code. */
@@ -101,49 +77,31 @@ static int parse_args(int argc, char **argv, options *o)
     o->level = -1;
     spm_pretest_defaults(&o->pt);
     for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            help(stdout);
-            return SPM_EXIT_OK;
-        }
-        if (!strcmp(a, "--emission")) {
-            o->emission = 1;
-            continue;
-        }
-        if (!strcmp(a, "--json")) {
-            o->json = 1;
-            continue;
-        }
-        int takes = !strcmp(a, "--column") || !strcmp(a, "--illuminant") ||
-                    !strcmp(a, "--level") || !strcmp(a, "--threshold") || !strcmp(a, "--metric");
-        if (takes && i + 1 >= argc)
-            return usage_error("%s needs a value", a);
-        if (!takes && a[0] == '-' && a[1])
-            return usage_error("unknown option '%s'", a);
-        if (!takes) {
-            if (o->file)
-                return usage_error("more than one FILE ('%s')", a);
-            o->file = a;
-            continue;
-        }
-        const char *v = argv[++i];
+        const spm_option *opt;
+        const char *v;
         double d;
-        if (!strcmp(a, "--column")) {
-            o->column = v;
-        } else if (!strcmp(a, "--illuminant")) {
-            o->illum = v;
-        } else if (!strcmp(a, "--level")) {
-            if (parse_number(v, 0, SPM_NUM_LEVELS - 1, &d) || d != (int)d)
-                return usage_error("--level takes 0, 1, 2, 3 or 4, not '%s'", v);
-            o->level = (int)d;
-        } else if (!strcmp(a, "--threshold")) {
-            if (spm_opt_number("spectrum", SPM_OPT_THRESHOLD, v, &d))
-                return SPM_EXIT_INPUT;
-            o->pt.threshold = d;
-        } else if (!strcmp(v, "de00") || !strcmp(v, "deab")) {
+        if (spm_opt_next(SPM_CMD_SPECTRUM, "spectrum", argc, argv, &i, &opt, &v, &d))
+            return SPM_EXIT_INPUT;
+        if (!opt && o->file)
+            return usage_error("more than one FILE ('%s')", v);
+        if (!opt) {
+            o->file = v;
+            continue;
+        }
+        switch (opt->id) {
+        case SPM_O_HELP: help(stdout); return SPM_EXIT_OK;
+        case SPM_O_EMISSION: o->emission = 1; break;
+        case SPM_O_JSON: o->json = 1; break;
+        case SPM_O_COLUMN: o->column = v; break;
+        case SPM_O_ILLUMINANT: o->illum = v; break;
+        case SPM_O_LEVEL: o->level = (int)d; break;
+        case SPM_O_THRESHOLD: o->pt.threshold = d; break;
+        case SPM_O_METRIC:
+            if (strcmp(v, "de00") && strcmp(v, "deab"))
+                return usage_error("--metric takes de00 or deab, not '%s'", v);
             o->pt.metric = !strcmp(v, "deab") ? SPM_METRIC_DEAB : SPM_METRIC_DE00;
-        } else {
-            return usage_error("--metric takes de00 or deab, not '%s'", v);
+            break;
+        default: break;
         }
     }
     if (!o->file)

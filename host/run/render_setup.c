@@ -89,8 +89,10 @@ static int open_devices(const spm_render_config *c, const spm_render_plan *plan,
         if (threaded[i])
             pthread_join(th[i], NULL);
     for (int i = 0; i < n; i++) {
-        if (opens[i].b)
+        if (opens[i].b) {
+            s->device[s->nb] = opens[i].device;
             s->b[s->nb++] = opens[i].b;
+        }
         else if (n > 1)
             fprintf(stderr, "specmip: device %d '%s' left out: %s\n", opens[i].device,
                     opens[i].name, opens[i].err.msg);

@@ -45,6 +45,7 @@ typedef struct {
     spm_tables tables;
     spm_render_plan plan;     /* what every backend renders */
     spm_backend *b[SPM_MAX_BACKENDS];
+    int device[SPM_MAX_BACKENDS]; /* b[i]'s device index (0 for a kind without devices) */
     int nb;
     spm_stage_times times;
 } spm_render_setup;
