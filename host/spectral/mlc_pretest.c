@@ -173,25 +173,7 @@ static void run_one(const ctx_t *cx, const spm_mlc_colour *c, int self, const sp
     memcpy(worst_ac, res->err_k[0], sizeof worst_ac);
     memcpy(fail_ac, fail_k[0], sizeof fail_ac);
     sequences(cx, self, is_light, s_truth, s_test, o, worst_ac, fail_ac);
-    /* level_k: the coarsest level passing A, C and B for every j <= k; level 0
-     * when none does. */
-    unsigned char upto[SPM_NUM_LEVELS];
-    memcpy(upto, fail_ac, sizeof upto);
-    for (int k = 0; k < SPM_PRETEST_KMAX; k++) {
-        int best = 0;
-        for (int l = 1; l < SPM_NUM_LEVELS; l++) {
-            upto[l] |= fail_k[k][l];
-            if (l <= o->coarsest_level && !upto[l])
-                best = l;
-        }
-        res->level_k[k] = best;
-    }
-    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
-        res->err[l] = worst_ac[l];
-        for (int k = 0; k < SPM_PRETEST_KMAX; k++)
-            res->err[l] = maxd(res->err[l], res->err_k[k][l]);
-    }
-    res->level = res->level_k[SPM_PRETEST_KMAX - 1];
+    spm_pretest_fold(fail_ac, fail_k, worst_ac, o->coarsest_level, res);
 }
 
 int spm_mlc_pretest_run(const spm_mlc_colour *cols, int n, int nlanes,

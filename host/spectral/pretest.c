@@ -205,22 +205,36 @@ static void run_one(const spm_spectrum *s, int self, const set_t *set, const spm
         }
         err_ac[l] = maxd(res->err_k[0][l], sequence_error(set, self, is_light, s0, sl, o));
     }
-    /* level_k: the coarsest level passing A, C and B for every j <= k. */
-    double upto[SPM_NUM_LEVELS];
-    memcpy(upto, err_ac, sizeof upto);
-    for (int k = 1; k <= SPM_PRETEST_KMAX; k++) {
+    /* a context fails a level whose error exceeds the threshold */
+    unsigned char fail_ac[SPM_NUM_LEVELS], fail_k[SPM_PRETEST_KMAX][SPM_NUM_LEVELS];
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        fail_ac[l] = !(err_ac[l] <= o->threshold);
+        for (int k = 0; k < SPM_PRETEST_KMAX; k++)
+            fail_k[k][l] = !(res->err_k[k][l] <= o->threshold);
+    }
+    spm_pretest_fold(fail_ac, fail_k, err_ac, o->coarsest_level, res);
+}
+
+void spm_pretest_fold(const unsigned char fail_ac[SPM_NUM_LEVELS],
+                      const unsigned char fail_k[SPM_PRETEST_KMAX][SPM_NUM_LEVELS],
+                      const double err_ac[SPM_NUM_LEVELS], int coarsest,
+                      spm_pretest_result *res)
+{
+    unsigned char upto[SPM_NUM_LEVELS]; /* failed by A, C or B with at most k occurrences */
+    memcpy(upto, fail_ac, sizeof upto);
+    for (int k = 0; k < SPM_PRETEST_KMAX; k++) {
         int best = 0;
-        for (int l = 1; l <= o->coarsest_level && l < SPM_NUM_LEVELS; l++) {
-            upto[l] = maxd(upto[l], res->err_k[k - 1][l]);
-            if (upto[l] <= o->threshold)
+        for (int l = 1; l < SPM_NUM_LEVELS; l++) {
+            upto[l] |= fail_k[k][l];
+            if (l <= coarsest && !upto[l])
                 best = l;
         }
-        res->level_k[k - 1] = best;
+        res->level_k[k] = best;
     }
     for (int l = 0; l < SPM_NUM_LEVELS; l++) {
         res->err[l] = err_ac[l];
-        for (int j = 0; j < SPM_PRETEST_KMAX; j++)
-            res->err[l] = maxd(res->err[l], res->err_k[j][l]);
+        for (int k = 0; k < SPM_PRETEST_KMAX; k++)
+            res->err[l] = maxd(res->err[l], res->err_k[k][l]);
     }
     res->level = res->level_k[SPM_PRETEST_KMAX - 1];
 }

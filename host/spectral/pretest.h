@@ -34,6 +34,15 @@ void spm_pretest_defaults(spm_pretest_opts *o);
 #define SPM_PRETEST_SEQ_OTHERS 4
 uint64_t spm_pretest_seq_state(const spm_pretest_opts *o, int self);
 int spm_pretest_pick(uint64_t *state, int n);
+/* The level pick and the error fold both pretests end with: level_k[k-1],
+ * the coarsest level up to `coarsest` that no context fails (fail_ac: A and
+ * C; fail_k[j]: B with j + 1 occurrences, for every j < k), level 0 when none
+ * passes; err[l], the worst of err_ac[l] and every err_k[j][l] (res->err_k
+ * filled before). */
+void spm_pretest_fold(const unsigned char fail_ac[SPM_NUM_LEVELS],
+                      const unsigned char fail_k[SPM_PRETEST_KMAX][SPM_NUM_LEVELS],
+                      const double err_ac[SPM_NUM_LEVELS], int coarsest,
+                      spm_pretest_result *res);
 /* The colour difference of a test product from its reference, given their
  * XYZ: both scaled by the factor taking the reference to Y = 50, against a D65
  * white of Y = 100, so a luminance error counts. A reference without

@@ -43,16 +43,15 @@ static void fill_rgb(const spm_spectrum *s, const spm_spectrum *d65, const doubl
     out[3] = 0.0f;
 }
 
-static int load_d65(spm_spectrum *d65, double white_rgb[3], spm_error *err)
+/* D65 (loaded once, colour.h spm_d65) and the linear sRGB of white under it. */
+static int load_d65(const spm_spectrum **d65, double white_rgb[3], spm_error *err)
 {
     spm_spectrum white;
-    char path[1024];
-    if (spm_spectrum_load(spm_data_path("spectra/illuminant_D65_1nm.csv", path, sizeof path), NULL,
-                          SPM_KIND_EMISSION, d65, err))
+    if (!(*d65 = spm_d65(err)))
         return 1;
     spm_spectrum_constant(1.0, SPM_KIND_REFLECTANCE, &white);
     double xyz[3];
-    spm_xyz_reflectance(&white, d65, xyz);
+    spm_xyz_reflectance(&white, *d65, xyz);
     spm_xyz_to_linear_srgb(xyz, white_rgb);
     return 0;
 }
@@ -133,7 +132,7 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
     if (spm_cmf_init(err))
         return 1;
     double white_rgb[3];
-    spm_spectrum d65;
+    const spm_spectrum *d65;
     if (load_d65(&d65, white_rgb, err))
         return 1;
     int n = sc->ncolours;
@@ -142,7 +141,7 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
     spm_tables_alloc(t);
     for (int c = 0; c < n; c++) {
         fill_levels(&sc->colours[c].s, c, t);
-        fill_rgb(&sc->colours[c].s, &d65, white_rgb, &t->rgb[(size_t)c * 4]);
+        fill_rgb(&sc->colours[c].s, d65, white_rgb, &t->rgb[(size_t)c * 4]);
     }
     fill_cmf(t);
     spm_tables_fill_hero(t);
