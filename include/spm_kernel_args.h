@@ -13,7 +13,9 @@
 
 /* spm_trace (kernels/trace.cl): one batch of a pass, npaths paths, the samples
  * of pixels first_pixel ... (records indexed from 0 within the batch).
- * counters[0]: truncated paths; counters[1]: BVH stack overflows. */
+ * counters[0]: truncated paths; counters[1]: BVH stack overflows.
+ * lvlk: the level feeler's table, a level per colour c and k, the times a path
+ * meets c: lvlk[c * SPM_PRETEST_KMAX + k - 1] (host/spectral/tables.h). */
 #define SPM_TRACE_ARGS(X, S)                                            \
     X(__global const spm_tri *, cl_mem, tris) S                         \
     X(__global const spm_bvh4_node *, cl_mem, nodes) S                  \

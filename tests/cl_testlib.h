@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "refcpu.h"
-#include "render_cl.h"
+#include "backend_cl.h"
 
 typedef struct {
     spm_scene scene;

@@ -1,5 +1,5 @@
 # No timed render compiles kernels: on an empty PoCL cache a render's build
-# stage launches every kernel in each shape its passes use (cl_program.c,
+# stage launches every kernel in each shape its passes use (cl_render_program.c,
 # spm_clr_warm_up), so render --json's compiled_during_timing is false and
 # the bench's rows are 0. The render is 200x200 at 3 spp: passes of 2 spp
 # (80000 work-items, over PoCL's 65535 grid limit) and a last one of 1 spp

@@ -1,6 +1,6 @@
 /* Lists every OpenCL program the host builds, one per line: its source files
  * (relative to the data root, space-separated), a tab, its build options
- * beyond the ones every build adds (clhost.c). The render's programs come from
+ * beyond the ones every build adds (cl_core.c). The render's programs come from
  * the backend's own spm_cl_program_files / spm_cl_program_defines for every
  * mode with every slot used, without and with each spectral output bin width
  * the mode writes, on the default scene and each scene given (the shade

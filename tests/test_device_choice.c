@@ -4,7 +4,7 @@
  * has any, a simulator only when there is nothing else; and how a device type
  * is classified. */
 #include <string.h>
-#include "clhost.h"
+#include "cl_core.h"
 #include "testutil.h"
 
 static spm_cl_device dev(int index, int platform, cl_device_type type)

@@ -6,8 +6,8 @@
  * leaves an error and a film of exactly the passes it finished. */
 #include <stdlib.h>
 #include <string.h>
-#include "clhost.h"
-#include "render_cl.h"
+#include "cl_core.h"
+#include "backend_cl.h"
 #include "backends.h"
 #include "testutil.h"
 

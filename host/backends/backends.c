@@ -1,7 +1,7 @@
 #include "backends.h"
 #include <string.h>
 #include "backend_cpu.h"
-#include "render_cl.h"
+#include "backend_cl.h"
 
 const spm_backend_kind *const spm_backend_kinds[] = {&spm_backend_kind_opencl,
                                                      &spm_backend_kind_cpu, NULL};

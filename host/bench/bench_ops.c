@@ -3,7 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "clhost.h"
+#include "cl_core.h"
 
 #define ROWS 4     /* spectra per work-item (opbench.cl): a power of two */
 #define REPEATS 15 /* the fastest of these counts: the machine is shared */

@@ -6,7 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "clhost.h"
+#include "cl_core.h"
 #include "geometry_vec3.h"
 #include "interrupt.h"
 #include "refcpu.h"

@@ -6,7 +6,7 @@
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
-#include "clhost.h"
+#include "cl_core.h"
 #include "modes.h"
 #include "spectrum.h"
 #include "util.h"

@@ -6,7 +6,7 @@
 #include "pocl_cache.h"
 #include "backend_cpu.h"
 #include "backends.h"
-#include "render_cl.h"
+#include "backend_cl.h"
 #include "scene_build.h"
 
 #define MAX_BACKENDS_PER_SCENE (SPM_MODE_COUNT + 4)

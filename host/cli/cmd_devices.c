@@ -2,7 +2,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "clhost.h"
+#include "cl_core.h"
 #include "commands.h"
 
 static void usage(FILE *f)

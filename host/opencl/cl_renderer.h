@@ -1,18 +1,19 @@
-/* The OpenCL backend's parts (render_cl.h), shared by its files:
- *   render_cl.c      the handle and the pass pipeline trace -> bucket -> shade
- *                    -> accumulate
- *   cl_tables.c      the device layout: scene buffers, shade tables, batch
- *                    buffers (cl_buffers.h)
- *   cl_program.c     the program: which kernels, with which defines
- *   cl_kernels.c     kernel arguments (spm_kernel_args.h) and launches
- *   cl_test_hooks.c  trace-only and shade-only passes for the tests, and
- *                    failure injection */
+/* The OpenCL backend's parts (backend_cl.h), shared by its files:
+ *   backend_cl.c         the handle and the pass pipeline trace -> bucket ->
+ *                        shade -> accumulate
+ *   cl_buffers.c         the device layout: scene buffers, shade tables, batch
+ *                        buffers (cl_buffers.h)
+ *   cl_render_program.c  the renderer's program: which kernels, with which
+ *                        defines (built through cl_core.h)
+ *   cl_kernels.c         kernel arguments (spm_kernel_args.h) and launches
+ *   cl_test_hooks.c      trace-only and shade-only passes for the tests, and
+ *                        failure injection */
 #ifndef SPM_CL_RENDERER_H
 #define SPM_CL_RENDERER_H
 #include <stdio.h>
 #include "cl_buffers.h"
 #include "cl_resources.h"
-#include "render_cl.h"
+#include "backend_cl.h"
 #include "spm_kernel_args.h"
 
 /* Kernels and shade tables by slot: a levelled mode's levels, else slot 0
@@ -74,7 +75,7 @@ typedef struct {
     size_t n, launch;
 } batch;
 
-/* cl_tables.c */
+/* cl_buffers.c */
 int spm_clr_new_buffer(spm_cl_renderer *r, cl_mem *m, cl_mem_flags fl, size_t bytes,
                        const void *host, const char *what, spm_error *err);
 /* The scene's buffers, the shade tables of the slots the plan uses, the counters. */
@@ -83,7 +84,7 @@ int spm_clr_upload(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *e
 int spm_clr_reserve(spm_cl_renderer *r, size_t n, spm_error *err);
 void spm_clr_release_buffers(spm_cl_renderer *r);
 
-/* cl_program.c: builds the program with the plan's kernels, creates them and
+/* cl_render_program.c: builds the program with the plan's kernels, creates them and
  * launches each once (spm_clr_warm_up). */
 int spm_clr_build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *err);
 int spm_clr_warm_up(spm_cl_renderer *r, spm_error *err);
@@ -97,7 +98,7 @@ int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOT
                       cl_mem ids, int all, cl_event ev[NSLOTS], spm_error *err);
 int spm_clr_run_accumulate(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_error *err);
 
-/* render_cl.c: the pipeline's steps the test hooks reuse. */
+/* backend_cl.c: the pipeline's steps the test hooks reuse. */
 /* Samples [first_sample, first_sample + spp) of every pixel, batch by batch
  * (render_plan.h's cut into whole pixels), each batch given to fn: 0, or
  * fn's first non-zero return (1 with err filled, or SPM_PASS_STOPPED). The
@@ -112,10 +113,10 @@ int spm_clr_bucket(spm_cl_renderer *r, size_t n, const uint8_t *levels, size_t o
  * (if not NULL). */
 double spm_clr_release_events(cl_event *ev, int n, uint64_t *untimed);
 
-/* cl_test_hooks.c: SPECMIP_CL_FAIL (render_cl.h) for device `device`: the
+/* cl_test_hooks.c: SPECMIP_CL_FAIL (backend_cl.h) for device `device`: the
  * handle's passes then go through a pass that fails at the named one. */
 void spm_clr_fail_init(spm_cl_renderer *r, int device);
-/* The pass itself (render_cl.c), which spm_cl_pass runs unless a failure is injected. */
+/* The pass itself (backend_cl.c), which spm_cl_pass runs unless a failure is injected. */
 int spm_clr_render_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                         spm_pass_stats *st, spm_error *err);
 #endif

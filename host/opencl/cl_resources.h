@@ -12,7 +12,7 @@
 #ifndef SPM_CL_RESOURCES_H
 #define SPM_CL_RESOURCES_H
 #include <stddef.h>
-#include "clhost.h"
+#include "cl_core.h"
 #include "geometry.h"
 #include "tables.h"
 

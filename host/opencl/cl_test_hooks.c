@@ -1,4 +1,4 @@
-/* The OpenCL backend's test hooks (render_cl.h): a pass traced only or
+/* The OpenCL backend's test hooks (backend_cl.h): a pass traced only or
  * shaded only, with the records and level bytes read back or given; and
  * failure injection for the multi-device tests. */
 #include <stdlib.h>

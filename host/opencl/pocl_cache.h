@@ -1,6 +1,6 @@
 /* Whether PoCL compiled anything during a timed stretch. PoCL compiles a
  * kernel's work-group functions for the shape of a launch at its first launch
- * of that shape (cl_program.c, spm_clr_warm_up) and writes each compiled
+ * of that shape (cl_render_program.c, spm_clr_warm_up) and writes each compiled
  * version into its kernel cache, so the cache gaining files or bytes across a
  * timed render means the time includes a compile. Other OpenCL platforms
  * compile in clBuildProgram and are not watched. */

@@ -156,6 +156,7 @@ size_t spm_batch_pixels(size_t npix, size_t spp, size_t batch_paths)
 
 size_t spm_batch_room(size_t npix, size_t spp, size_t batch_paths)
 {
+    /* bpix: pixels a batch; n: their paths */
     size_t bpix = spm_batch_pixels(npix, spp, batch_paths), n = bpix * (spp ? spp : 1);
     return bpix < npix && n < batch_paths ? batch_paths : n;
 }

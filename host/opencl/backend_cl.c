@@ -1,4 +1,4 @@
-/* The OpenCL render backend (render_cl.h): the handle, and the pass
+/* The OpenCL render backend (backend_cl.h): the handle, and the pass
  * pipeline trace -> bucket -> shade -> accumulate, batch by batch. Its other
  * parts are listed in cl_renderer.h. */
 #include <stdlib.h>

@@ -3,8 +3,8 @@
  * error reporting by name and call site. Every function returns 0 on success
  * or non-zero with *err filled; nothing here exits. Thread-safe: each caller
  * owns its spm_cl_ctx, and the listing functions only read the platforms. */
-#ifndef SPM_CLHOST_H
-#define SPM_CLHOST_H
+#ifndef SPM_CL_CORE_H
+#define SPM_CL_CORE_H
 #include <stddef.h>
 #include <stdint.h>
 #ifdef __APPLE__
@@ -73,7 +73,7 @@ void spm_cl_ctx_release(spm_cl_ctx *c);
 
 /* Build a program from kernel files (paths relative to the data root, e.g.
  * "kernels/trace.cl", found via spm_data_path) with the options every build
- * uses (see clhost.c) plus `defines` ("-DNAME=V ..."). On a build failure the
+ * uses (see cl_core.c) plus `defines` ("-DNAME=V ..."). On a build failure the
  * compiler log goes to stderr and err names the device and first log line. */
 int spm_cl_build(spm_cl_ctx *c, const char *const *files, int nfiles, const char *defines,
                  cl_program *out, spm_error *err);

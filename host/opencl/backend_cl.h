@@ -9,12 +9,12 @@
  * Each handle has its own context, queue and program: handles may run in
  * parallel threads (one per device); one handle must not be used by two
  * threads at once. Every function returns 0 or fills err (never exits). */
-#ifndef SPM_RENDER_CL_H
-#define SPM_RENDER_CL_H
+#ifndef SPM_BACKEND_CL_H
+#define SPM_BACKEND_CL_H
 #include <stddef.h>
 #include <stdint.h>
 #include "backend.h"
-#include "clhost.h"
+#include "cl_core.h"
 
 typedef struct spm_cl_renderer spm_cl_renderer;
 

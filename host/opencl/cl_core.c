@@ -1,5 +1,5 @@
 /* OpenCL plumbing: listing, contexts, program builds, error names. */
-#include "clhost.h"
+#include "cl_core.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
