@@ -209,8 +209,8 @@ static const spm_option *find(unsigned cmd, const char *a)
     return NULL;
 }
 
-int spm_opt_next(unsigned cmd, const char *name, int argc, char **argv, int *i,
-                 const spm_option **opt, const char **value, double *number)
+static int next(unsigned cmd, const char *name, int argc, char **argv, int *i,
+                const spm_option **opt, const char **value, double *number)
 {
     const char *a = argv[*i];
     *opt = NULL;
@@ -242,6 +242,23 @@ int spm_opt_next(unsigned cmd, const char *name, int argc, char **argv, int *i,
         return SPM_EXIT_INPUT;
     }
     return 0;
+}
+
+void spm_opt_start(spm_opt_iter *it, unsigned cmd, const char *name, int argc, char **argv)
+{
+    memset(it, 0, sizeof *it);
+    it->cmd = cmd;
+    it->name = name;
+    it->argc = argc;
+    it->argv = argv;
+}
+
+int spm_opt_each(spm_opt_iter *it)
+{
+    if (++it->i >= it->argc)
+        return 0;
+    return next(it->cmd, it->name, it->argc, it->argv, &it->i, &it->opt, &it->value,
+                &it->number) ? -1 : 1;
 }
 
 /* One help line: "%R" is the row's range. */

@@ -52,12 +52,21 @@ typedef struct {
 extern const spm_option spm_options[];
 extern const int spm_noptions;
 
-/* argv[*i] for command `cmd` (named `name` in messages): *opt its row (NULL:
- * a positional argument), *value its value (*i moved past it), *number the
- * checked number of an INT or REAL. 0, or SPM_EXIT_INPUT with the error on
- * stderr. */
-int spm_opt_next(unsigned cmd, const char *name, int argc, char **argv, int *i,
-                 const spm_option **opt, const char **value, double *number);
+/* A command's arguments, one at a time (spm_opt_each). */
+typedef struct {
+    unsigned cmd;          /* spm_cmd_bit */
+    const char *name;      /* the command, in messages */
+    int argc, i;
+    char **argv;
+    const spm_option *opt; /* the option, NULL: a positional argument (value) */
+    const char *value;     /* its value, or the positional argument */
+    double number;         /* an INT's or REAL's value, checked against its range */
+} spm_opt_iter;
+void spm_opt_start(spm_opt_iter *it, unsigned cmd, const char *name, int argc, char **argv);
+/* The next argument: 1 with opt, value and number set, 0 at the end, -1 on
+ * an unknown option, a missing value or one out of its range (the error on
+ * stderr). */
+int spm_opt_each(spm_opt_iter *it);
 /* The options of `cmd`, help text in the column `col`. */
 void spm_opt_help(FILE *f, unsigned cmd, int col);
 /* --device's value, a device index, a list 0,2 or `all`, into devices[max]

@@ -242,25 +242,22 @@ static int render_option(const spm_option *opt, const char *v, double d, options
 static int parse_args(int argc, char **argv, options *o)
 {
     spm_bench_plan *p = &o->plan;
-    for (int i = 1; i < argc; i++) {
-        const spm_option *opt;
-        const char *v;
-        double d;
-        if (spm_opt_next(SPM_CMD_BENCH, "bench", argc, argv, &i, &opt, &v, &d))
-            return SPM_EXIT_INPUT;
-        if (!opt)
-            return fail("unexpected argument '%s' (scenes go in --scenes)%s", v, "");
-        int rc = rays_option(opt, v, d, o);
+    spm_opt_iter it;
+    int more;
+    for (spm_opt_start(&it, SPM_CMD_BENCH, "bench", argc, argv); (more = spm_opt_each(&it)) > 0;) {
+        if (!it.opt)
+            return fail("unexpected argument '%s' (scenes go in --scenes)%s", it.value, "");
+        int rc = rays_option(it.opt, it.value, it.number, o);
         if (rc == NOT_MINE)
-            rc = list_option(opt, v, d, o);
+            rc = list_option(it.opt, it.value, it.number, o);
         if (rc == NOT_MINE)
-            rc = render_option(opt, v, d, o);
+            rc = render_option(it.opt, it.value, it.number, o);
         if (rc != NOT_MINE) {
             if (rc)
                 return rc;
             continue;
         }
-        switch (opt->id) {
+        switch (it.opt->id) {
         case SPM_O_HELP: usage(stdout); return -1;
         case SPM_O_QUICK: o->quick = 1; break;
         case SPM_O_NO_CHARTS: o->charts = 0; break;
@@ -268,17 +265,19 @@ static int parse_args(int argc, char **argv, options *o)
         case SPM_O_PROGRESS: p->progress = 2; break;
         case SPM_O_QUIET: p->progress = 0; break;
         case SPM_O_BLUR:
-            if (d > 1 && (int)d % 2 == 0)
-                return fail("--blur needs an odd window (or 0 for none), not '%s'%s", v, "");
-            p->blur = (int)d;
+            if (it.number > 1 && (int)it.number % 2 == 0)
+                return fail("--blur needs an odd window (or 0 for none), not '%s'%s", it.value, "");
+            p->blur = (int)it.number;
             break;
-        case SPM_O_REPEAT: p->repeat = (int)d; break;
-        case SPM_O_OUT: o->out = v; break;
-        case SPM_O_OPS_ITEMS: o->ops_items = (int)d; break;
-        case SPM_O_OPS_ITERS: o->ops_iters = (int)d; break;
+        case SPM_O_REPEAT: p->repeat = (int)it.number; break;
+        case SPM_O_OUT: o->out = it.value; break;
+        case SPM_O_OPS_ITEMS: o->ops_items = (int)it.number; break;
+        case SPM_O_OPS_ITERS: o->ops_iters = (int)it.number; break;
         default: break;
         }
     }
+    if (more < 0)
+        return SPM_EXIT_INPUT;
     return 0;
 }
 

@@ -121,38 +121,37 @@ static int parse_args(int argc, char **argv, render_opts *o)
     spm_render_config_defaults(&o->cfg);
     o->progress = isatty(2);
     spm_tonemap_default(&o->tm);
-    for (int i = 1; i < argc; i++) {
-        const spm_option *opt;
-        const char *v;
-        double d;
-        if (spm_opt_next(SPM_CMD_RENDER, "render", argc, argv, &i, &opt, &v, &d))
-            return SPM_EXIT_INPUT;
-        if (!opt && !o->cfg.scene_path) {
-            o->cfg.scene_path = v;
+    spm_opt_iter it;
+    int more;
+    for (spm_opt_start(&it, SPM_CMD_RENDER, "render", argc, argv); (more = spm_opt_each(&it)) > 0;) {
+        if (!it.opt && !o->cfg.scene_path) {
+            o->cfg.scene_path = it.value;
             continue;
         }
-        if (!opt) {
-            fprintf(stderr, "specmip render: one scene only ('%s' and '%s')\n", o->cfg.scene_path, v);
+        if (!it.opt) {
+            fprintf(stderr, "specmip render: one scene only ('%s' and '%s')\n", o->cfg.scene_path, it.value);
             return SPM_EXIT_INPUT;
         }
-        switch (opt->id) {
+        switch (it.opt->id) {
         case SPM_O_HELP: usage(stdout); return HELP_SHOWN;
-        case SPM_O_SPP: o->cfg.spp = (int)d; break;
-        case SPM_O_SEED: o->cfg.seed = (spm_u32)d; break;
-        case SPM_O_WIDTH: o->cfg.width = (int)d; break;
-        case SPM_O_HEIGHT: o->cfg.height = (int)d; break;
-        case SPM_O_THRESHOLD: o->cfg.pretest.threshold = d; break;
-        case SPM_O_COARSEST_LEVEL: o->cfg.pretest.coarsest_level = (int)d; break;
+        case SPM_O_SPP: o->cfg.spp = (int)it.number; break;
+        case SPM_O_SEED: o->cfg.seed = (spm_u32)it.number; break;
+        case SPM_O_WIDTH: o->cfg.width = (int)it.number; break;
+        case SPM_O_HEIGHT: o->cfg.height = (int)it.number; break;
+        case SPM_O_THRESHOLD: o->cfg.pretest.threshold = it.number; break;
+        case SPM_O_COARSEST_LEVEL: o->cfg.pretest.coarsest_level = (int)it.number; break;
         case SPM_O_STATS: o->stats = 1; break;
         case SPM_O_JSON: o->json = 1; break;
         case SPM_O_PROGRESS: o->progress = 1; break;
         case SPM_O_QUIET: o->progress = 0; break;
         case SPM_O_VERBOSE: o->cfg.verbose = 1; break;
         default:
-            if (word_option(opt->id, v, o))
+            if (word_option(it.opt->id, it.value, o))
                 return SPM_EXIT_INPUT;
         }
     }
+    if (more < 0)
+        return SPM_EXIT_INPUT;
     return 0;
 }
 

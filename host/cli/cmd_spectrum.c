@@ -76,34 +76,33 @@ static int parse_args(int argc, char **argv, options *o)
     o->illum = "D65";
     o->level = -1;
     spm_pretest_defaults(&o->pt);
-    for (int i = 1; i < argc; i++) {
-        const spm_option *opt;
-        const char *v;
-        double d;
-        if (spm_opt_next(SPM_CMD_SPECTRUM, "spectrum", argc, argv, &i, &opt, &v, &d))
-            return SPM_EXIT_INPUT;
-        if (!opt && o->file)
-            return usage_error("more than one FILE ('%s')", v);
-        if (!opt) {
-            o->file = v;
+    spm_opt_iter it;
+    int more;
+    for (spm_opt_start(&it, SPM_CMD_SPECTRUM, "spectrum", argc, argv); (more = spm_opt_each(&it)) > 0;) {
+        if (!it.opt && o->file)
+            return usage_error("more than one FILE ('%s')", it.value);
+        if (!it.opt) {
+            o->file = it.value;
             continue;
         }
-        switch (opt->id) {
+        switch (it.opt->id) {
         case SPM_O_HELP: help(stdout); return SPM_EXIT_OK;
         case SPM_O_EMISSION: o->emission = 1; break;
         case SPM_O_JSON: o->json = 1; break;
-        case SPM_O_COLUMN: o->column = v; break;
-        case SPM_O_ILLUMINANT: o->illum = v; break;
-        case SPM_O_LEVEL: o->level = (int)d; break;
-        case SPM_O_THRESHOLD: o->pt.threshold = d; break;
+        case SPM_O_COLUMN: o->column = it.value; break;
+        case SPM_O_ILLUMINANT: o->illum = it.value; break;
+        case SPM_O_LEVEL: o->level = (int)it.number; break;
+        case SPM_O_THRESHOLD: o->pt.threshold = it.number; break;
         case SPM_O_METRIC:
-            if (strcmp(v, "de00") && strcmp(v, "deab"))
-                return usage_error("--metric takes de00 or deab, not '%s'", v);
-            o->pt.metric = !strcmp(v, "deab") ? SPM_METRIC_DEAB : SPM_METRIC_DE00;
+            if (strcmp(it.value, "de00") && strcmp(it.value, "deab"))
+                return usage_error("--metric takes de00 or deab, not '%s'", it.value);
+            o->pt.metric = !strcmp(it.value, "deab") ? SPM_METRIC_DEAB : SPM_METRIC_DE00;
             break;
         default: break;
         }
     }
+    if (more < 0)
+        return SPM_EXIT_INPUT;
     if (!o->file)
         return usage_error("%s", "missing FILE");
     o->file = bundled_file(o->file);
