@@ -23,6 +23,8 @@ typedef struct {
     int type;  /* material tag (spm_shared.h SPM_MAT_*) */
     int etype; /* emitter tag (SPM_EMIT_*) */
     int col2;  /* a type's second colour, -1 = none */
+    int col3;  /* a type's third colour, -1 = none */
+    int diag;  /* a colour the type derives at the end of the scene (materials.h derive), -1 = none */
     double p[SPM_MAT_PARAMS]; /* a type's numbers */
     unsigned flags; /* a type's words without a value (materials.h SPM_MP_FLAG): bit `slot` */
 } spm_scene_material;
