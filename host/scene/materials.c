@@ -71,7 +71,7 @@ const spm_mtype_desc spm_material_types[] = {
                     .what = "an absorption spectrum"},
                    {.kind = SPM_MP_SHAPE, .slot = SPM_MSLOT_COL3, .what = "an emission shape"},
                    {.kind = SPM_MP_NUMBER, .slot = SPM_FLUOR_P_YIELD, .lo = 0.0, .hi = 1.0,
-                    .what = "an energy yield (0 to 1)"},
+                    .what = "an energy yield"},
                    {.clause = "reflect", .kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_REFL,
                     .what = "a reflectance"}},
         .nparams = 4,
