@@ -10,10 +10,13 @@
 #    SPEC (1 - A) (integral of the light), so flat / line integral =
 #    0.8 x 0.5 / (41 x 0.5) = 0.8 / 41 whatever the light's scale.
 #  - energy: the same plane with YIELD 1, SPEC 1 and an absorption that ends
-#    below the emission (no light is shifted past it) in an equal-energy
-#    background: every column of the matrix sums to 1, so the image's
-#    radiant integral equals that of a plain white plane's, and its mean
-#    wavelength is higher (the light moved; none appeared or vanished).
+#    below the emission (no light is shifted past it) in a background falling
+#    from 1 at 380 nm to 0.1 at 780 nm: every column of the matrix sums to 1,
+#    so the image's radiant integral equals that of a plain white plane's,
+#    and its mean wavelength is higher (the light moved; none appeared or
+#    vanished). Not an equal-energy light: Russian roulette divides by the
+#    albedo, the mean column sum, so under a flat light any column sums would
+#    give the light's integral back.
 #  - hero refuses a fluorescent scene (exit 2); the statement's two orders
 #    give one image; a yield above 1 is refused naming file and line.
 . "$(dirname "$0")/lib_cli.sh"
@@ -29,7 +32,7 @@ spectrum abs     inline 380 0.5 780 0.5 end
 spectrum abs_low inline 380 0.5 559 0.5 560 0 780 0 end
 spectrum flat    inline 380 0 599 0 600 1 640 1 641 0 780 0 end
 spectrum line    inline 380 0 449 0 450 1 451 0 780 0 end
-spectrum eq      equal
+spectrum ramp    inline 380 1 780 0.1 end
 $2
 background both $3 1
 quad dye  -10 -10 0  10 -10 0  10 10 0  -10 10 0
@@ -37,8 +40,8 @@ SCENE
 }
 scene "$T/line.scene" "material dye reflect white fluoresce abs flat 0.8" line
 scene "$T/line2.scene" "material dye fluoresce abs flat 0.8 reflect white" line
-scene "$T/energy.scene" "material dye reflect white fluoresce abs_low flat 1" eq
-scene "$T/plain.scene" "material dye reflect white" eq
+scene "$T/energy.scene" "material dye reflect white fluoresce abs_low flat 1" ramp
+scene "$T/plain.scene" "material dye reflect white" ramp
 
 # stats FILE: "integral mean_wavelength flat_over_line" of the image's spectra
 stats() {
