@@ -17,6 +17,13 @@
 #    vanished). Not an equal-energy light: Russian roulette divides by the
 #    albedo, the mean column sum, so under a flat light any column sums would
 #    give the light's integral back.
+#  - a measured matrix ('donaldson FILE', 10 nm samples): diagonal 0.5, and
+#    0.005 per nm from every excitation at or below 560 nm to every emission
+#    in 600-640 nm. Bilinear between samples, that is exactly 0.005 at the
+#    1 nm bin centres 600.5-639.5 for inputs near 450 nm, so under the line
+#    flat / line integral = 0.005 / 0.5 = 0.01. Bad matrices are refused
+#    (exit 2, naming the file): a column not named em<nm>, a column putting
+#    out more than it takes in, 'reflect' beside 'donaldson'.
 #  - hero refuses a fluorescent scene (exit 2); the statement's two orders
 #    give one image; a yield above 1 is refused naming file and line.
 . "$(dirname "$0")/lib_cli.sh"
@@ -87,6 +94,43 @@ for be in opencl cpu; do
         check "$m $be: the light moved to longer wavelengths" num "$we" '>' "$(awk -v w="$wp" 'BEGIN { print w + 5 }')"
     done
 done
+
+matrix() { # matrix FILE VALUE [HEADER-PREFIX]
+    awk -v v="$2" -v pre="${3:-em}" 'BEGIN {
+        printf "excitation_nm"; for (o = 380; o <= 780; o += 10) printf ",%s%d", pre, o; print ""
+        for (i = 380; i <= 780; i += 10) {
+            printf "%d", i
+            for (o = 380; o <= 780; o += 10)
+                printf ",%g", o == i ? 0.5 : (i <= 560 && o >= 600 && o <= 640 ? v : 0)
+            print ""
+        } }' > "$1"
+}
+matrix "$T/m.csv" 0.005
+matrix "$T/m_hot.csv" 0.05
+matrix "$T/m_named.csv" 0.005 nm
+scene "$T/don.scene" "material dye donaldson m.csv" line
+for be in opencl cpu; do
+    for m in truth ref; do
+        "$BIN" render "$T/don.scene" --mode $m --backend $be --spp 4 --quiet \
+            -o "$T/don-$m-$be.spectral.exr" 2> "$T/err"
+        check "donaldson $m $be: render ($(tail -1 "$T/err"))" test -s "$T/don-$m-$be.spectral.exr"
+        read -r _ _ ratio < <(stats "$T/don-$m-$be.spectral.exr")
+        echo "donaldson $m $be: flat emission / reflected line = $ratio (closed form 0.01)"
+        check "donaldson $m $be: closed form" near "$ratio" 0.01 1e-6
+    done
+done
+for bad in "m_hot.csv:puts out" "m_named.csv:named em<nm>"; do
+    f=${bad%%:*} want=${bad#*:}
+    scene "$T/bad_$f.scene" "material dye donaldson $f" line
+    "$BIN" render "$T/bad_$f.scene" --quiet -o "$T/bad.exr" 2> "$T/err"
+    rc=$?
+    check "donaldson $f refused with exit 2 (got $rc: $(cat "$T/err"))" test $rc -eq 2
+    check "donaldson $f: the message says '$want'" grep -q "$want" "$T/err"
+done
+scene "$T/bad_mix.scene" "material dye reflect white donaldson m.csv" line
+"$BIN" render "$T/bad_mix.scene" --quiet -o "$T/bad.exr" 2> "$T/err"
+rc=$?
+check "'reflect' with 'donaldson' refused with exit 2 (got $rc: $(cat "$T/err"))" test $rc -eq 2
 
 "$BIN" render "$T/line.scene" --mode hero --quiet -o "$T/hero.exr" 2> "$T/err"
 rc=$?

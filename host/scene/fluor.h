@@ -7,8 +7,9 @@
 #define SPM_FLUOR_H
 #include "scene.h"
 
-/* p[] slot of the energy yield */
+/* p[] slots: the energy yield; a measured matrix's index in the scene */
 #define SPM_FLUOR_P_YIELD 0
+#define SPM_FLUOR_P_MATRIX 1
 
 /* The fluorescent (off-diagonal) part of material m's matrix at 1 nm, into
  * F[o * SPM_TRUTH_BINS + i] (400 x 400 doubles):
@@ -20,6 +21,19 @@
  * The diagonal, the light not absorbed, is the colour spm_fluor_diagonal
  * gives: D(i) = SPEC(i) (1 - A(i)). */
 void spm_fluor_matrix_1nm(const spm_scene *sc, const spm_scene_material *m, double *F);
+/* A measured material (SPM_MAT_DONALDSON): its matrix is the scene's
+ * rerad[p[SPM_FLUOR_P_MATRIX]] and its diagonal its refl colour. */
+
+/* A Donaldson matrix file (docs/SCENE_FORMAT.md "Re-radiation matrices"):
+ * rows excitation wavelengths, columns em<nm> emission wavelengths, the same
+ * wavelengths both ways; the diagonal a reflectance (into *diag, resampled as
+ * any spectrum), the rest the fluorescent part per nm of input, read at the
+ * 1 nm bin centres (bilinear between the samples, 0 outside them and at
+ * o <= i) into F (SPM_TRUTH_BINS^2 doubles). Errors name file and line:
+ * a badly named column, a matrix that is not square, a negative entry, light
+ * below its excitation (anti-Stokes), an excitation that puts out more than
+ * it takes in. Returns 0 or fills err. */
+int spm_fluor_load_donaldson(const char *path, spm_spectrum *diag, double *F, spm_error *err);
 /* D = SPEC (1 - A) of material m, a reflectance. */
 void spm_fluor_diagonal(const spm_scene *sc, const spm_scene_material *m, spm_spectrum *out);
 /* The mean over the 1 nm input bins of the matrix's column sums, D(i) +

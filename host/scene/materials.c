@@ -81,6 +81,19 @@ const spm_mtype_desc spm_material_types[] = {
         .fill = fluor_fill,
         .derive = fluor_derive,
     },
+    [SPM_MAT_DONALDSON] = {
+        .keyword = "donaldson",
+        .tag = SPM_MAT_DONALDSON,
+        .help = "fluorescent, diffuse, measured: 'donaldson FILE' (a re-radiation matrix, its "
+                "diagonal the reflectance; docs/SCENE_FORMAT.md)",
+        .params = {{.kind = SPM_MP_FILE, .slot = SPM_FLUOR_P_MATRIX, .what = "a matrix file"}},
+        .nparams = 1,
+        .vertex_u32 = 0,
+        .rng_dims = 0,
+        .define = "SPM_WITH_FLUOR", /* the fluorescent type's code, shared */
+        .fill = fluor_fill,
+        .derive = fluor_derive,
+    },
 };
 const int spm_nmaterial_types = (int)(sizeof spm_material_types / sizeof spm_material_types[0]);
 

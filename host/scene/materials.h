@@ -16,6 +16,8 @@ typedef enum {
     SPM_MP_EMISSION,    /* an emission colour: slot 1 emit */
     SPM_MP_NUMBER,      /* a number in [lo, hi]: p[slot] */
     SPM_MP_FLAG,        /* the clause's word alone: bit slot of flags */
+    SPM_MP_FILE,        /* a re-radiation matrix file (fluor.h): its diagonal into refl, its
+                           index in the scene's matrices into p[slot] */
     SPM_MP_SHAPE        /* a spectrum name alone (no scale), kept as its shape: its peak
                            scaled to 1, a reflectance-kind colour into slot 2 col2 or 3 col3 */
 } spm_mparam_kind;

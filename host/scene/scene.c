@@ -54,6 +54,7 @@ void spm_scene_free(spm_scene *s)
     free(s->materials);
     free(s->tris);
     free(s->meshes);
+    free(s->rerad);
     memset(s, 0, sizeof *s);
     s->bg_up = s->bg_down = -1;
 }

@@ -60,6 +60,10 @@ typedef struct {
     int bg_down;         /* for one escaping downward, -1 none */
     spm_scene_mesh *meshes; /* one per mesh statement, in the file's order */
     int nmeshes;
+    /* Measured re-radiation matrices ('donaldson'): nrerad fluorescent parts
+     * at 1 nm, SPM_TRUTH_BINS^2 doubles each as M[o][i] (host/scene/fluor.h). */
+    double *rerad;
+    int nrerad;
 } spm_scene;
 
 /* Load a scene file: MiniLight .ml.txt (first line "#MiniLight") or the

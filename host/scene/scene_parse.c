@@ -8,6 +8,7 @@
 #include "mesh.h"
 #include "interrupt.h"
 #include "materials.h"
+#include "fluor.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -380,8 +381,44 @@ static int stmt_camera(parser *p)
 }
 
 /* One parameter of a material or emitter type, as its descriptor says. */
+/* A re-radiation matrix file (materials.h SPM_MP_FILE): found as a spectrum
+ * file is, its diagonal a colour into refl, its fluorescent part appended to
+ * the scene's matrices. */
+static int matrix_param(parser *p, const spm_mparam *pa, spm_scene_material *m)
+{
+    char where[600], file[512], path[1024];
+    where_now(p, where, sizeof where);
+    if (spm_lex_path(&p->lx, "a matrix file name", file, sizeof file, p->err) ||
+        resolve_spectrum_file(p, file, where, path, sizeof path))
+        return 1;
+    spm_scene *s = p->b.s;
+    const size_t nn = (size_t)SPM_TRUTH_BINS * SPM_TRUTH_BINS;
+    double *F = spm_xcalloc(nn, sizeof *F);
+    spm_spectrum diag;
+    spm_error inner;
+    if (spm_fluor_load_donaldson(path, &diag, F, &inner)) {
+        spm_errorf(p->err, "%s: %s", where, inner.msg);
+        free(F);
+        return 1;
+    }
+    char cname[SPM_NAME_MAX];
+    snprintf(cname, sizeof cname, "%.50s:matrix", m->name);
+    m->refl = spm_sb_colour(&p->b, cname, &diag, where, p->err);
+    if (m->refl < 0) {
+        free(F);
+        return 1;
+    }
+    s->rerad = spm_xrealloc(s->rerad, (size_t)(s->nrerad + 1) * nn * sizeof *s->rerad);
+    memcpy(s->rerad + (size_t)s->nrerad * nn, F, nn * sizeof *F);
+    free(F);
+    m->p[pa->slot] = s->nrerad++;
+    return 0;
+}
+
 static int material_param(parser *p, const spm_mparam *pa, spm_scene_material *m)
 {
+    if (pa->kind == SPM_MP_FILE)
+        return matrix_param(p, pa, m);
     if (pa->kind == SPM_MP_FLAG) {
         m->flags |= 1u << pa->slot;
         return 0;
