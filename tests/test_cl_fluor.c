@@ -152,6 +152,23 @@ int main(void)
         return 1;
     CHECK(s.tables.nfluor == 2, "the scene has %d fluorescent materials, not 2", s.tables.nfluor);
     flat_levels(&s.tables);
+    { /* the scene's header says fluorescent surfaces take most vertices: measure */
+        size_t n = (size_t)W * H * SPP, all = 0, fl = 0;
+        spm_path *paths = spm_xcalloc(n, sizeof *paths);
+        uint8_t *levels = spm_xcalloc(n, 1);
+        spm_trace_params p = cl_test_params(&s, SEED, 0, SPP);
+        spm_ref_trace(&s.geom, s.tables.materials, s.tables.lvlk, &p, paths, levels);
+        for (size_t i = 0; i < n; i++)
+            for (spm_u32 j = 0; j < paths[i].h.nvert; j++) {
+                all++;
+                fl += (paths[i].v[j].ids & 0xFFFFu) != SPM_NONE &&
+                      (paths[i].v[j].ids & 0xFFFFu) >= (spm_u32)s.tables.fluor_first;
+            }
+        printf("fluorescent vertices: %zu of %zu (%.1f %%)\n", fl, all, 100.0 * (double)fl / (double)all);
+        CHECK(2 * fl >= all, "fluorescent surfaces take %zu of %zu vertices, under half", fl, all);
+        free(paths);
+        free(levels);
+    }
     int modes[] = {SPM_MODE_TRUTH, SPM_MODE_REF, SPM_MODE_ML, SPM_MODE_MLC, SPM_MODE_RGB};
     for (size_t k = 0; k < sizeof modes / sizeof modes[0]; k++)
         check_mode(&s, modes[k]);
