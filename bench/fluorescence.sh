@@ -43,5 +43,5 @@ for run in "${runs[@]}"; do
 done
 for m in ml mlc rgb ref; do
   echo "$m against truth (same paths):"
-  "$bin" compare "$tmp/truth.exr" "$tmp/$m.exr" | tail -2
+  "$bin" compare "$tmp/truth.exr" "$tmp/$m.exr" | grep -E -m2 "mean|^dE00"
 done
