@@ -216,6 +216,8 @@ typedef struct {
  * Each backend dispatches on the tag once per stage (a switch: trace.cl's
  * vertex_lobe / vertex_emission, refcpu_trace.c's likewise). */
 #define SPM_MAT_LAMBERT 0u      /* MiniLight's diffuse reflector */
+#define SPM_MAT_FLUOR 1u        /* a diffuse fluorescent surface (re-radiation matrix) */
+#define SPM_MAT_DONALDSON 2u    /* the same from a measured re-radiation (Donaldson) matrix */
 #define SPM_MAT_TYPES 8u        /* tags below this (materials.c checks) */
 #define SPM_EMIT_AREA 0u        /* a triangle emitting from its front face, uniformly */
 #define SPM_EMIT_TYPES 8u

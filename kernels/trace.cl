@@ -42,6 +42,13 @@ inline uint vertex_lobe(spm_material m, uint seed, uint pixel, uint sample, uint
         *inv_mean = m.inv_mean;
         return m.refl;
 #endif
+#ifdef SPM_WITH_FLUOR
+    case SPM_MAT_FLUOR:
+    case SPM_MAT_DONALDSON: /* diffuse: its diagonal colour marks it for the shade stage */
+        *mean = m.mean;
+        *inv_mean = m.inv_mean;
+        return m.refl;
+#endif
     default:
         *mean = 0.0f;
         *inv_mean = 0.0f;

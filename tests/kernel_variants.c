@@ -47,6 +47,9 @@ int main(int argc, char **argv)
         int rc = 0;
         for (int m = 0; m < SPM_MODE_COUNT && !rc; m++) {
             const spm_mode_desc *d = spm_mode(m);
+            spm_error why;
+            if (spm_mode_check(d, &s.tables, &why))
+                continue; /* a mode that refuses the scene (hero, fluorescence) builds nothing */
             rc = print_plan(&s, m, 0);
             for (int k = 0; k < 2 && !rc; k++)
                 if (d->spec_nm[k])

@@ -23,9 +23,17 @@ for scene in "${scenes[@]}"; do
   for mode in $modes; do
     for backend in opencl cpu; do
       out=$tmp/img.exr
+      rc=0
       "$bin" render "${arg[@]}" --mode "$mode" --backend "$backend" --width 24 --height 16 \
-        --spp 4 --seed 7 --quiet -o "$out" >/dev/null
-      hash=$(oiiotool --hash "$out" | sed -n 's/.*SHA-1: *//p')
+        --spp 4 --seed 7 --quiet -o "$out" >/dev/null 2>"$tmp/err" || rc=$?
+      if [ "$rc" -eq 0 ]; then
+        hash=$(oiiotool --hash "$out" | sed -n 's/.*SHA-1: *//p')
+      elif [ "$rc" -eq 2 ]; then  # a mode that refuses the scene (a usage error): say so
+        hash="refused"
+      else
+        cat "$tmp/err" >&2
+        exit "$rc"
+      fi
       printf '%-20s %-6s %-7s %s\n' "$(basename "$scene" .scene)" "$mode" "$backend" "$hash"
       rm -f "$out"
     done

@@ -16,6 +16,7 @@ typedef struct {
     int n;
     const int *idx;
     const float *w[3];
+    const spm_shade_table *fluor; /* the table, when it has fluorescence blocks */
 } lanes;
 
 static void fetch(const lanes *v, spm_u32 c, float *out)
@@ -31,6 +32,10 @@ static void shade_lanes(const spm_path *path, const lanes *v, float *L)
 {
     float P[MAX_LANES], X[MAX_LANES];
     const spm_path_head *h = &path->h;
+    if (v->fluor && spm_ref_fluor_path(path, v->fluor)) {
+        spm_ref_fluor_shade(path, v->fluor, v->n, L);
+        return;
+    }
     for (int l = 0; l < v->n; l++)
         L[l] = 0.0f, P[l] = 1.0f;
     if (h->first_emit != SPM_NONE) {
@@ -72,7 +77,8 @@ static void lanes_to_xyz(const lanes *v, const float *L, float xyz[3])
  * mode that draws its lanes per path). */
 static lanes table_lanes(const spm_shade_table *tab)
 {
-    lanes v = {tab->rows, (size_t)tab->stride, tab->lanes, NULL, {NULL, NULL, NULL}};
+    lanes v = {tab->rows, (size_t)tab->stride, tab->lanes, NULL, {NULL, NULL, NULL},
+               tab->fluor_floats ? tab : NULL};
     for (int ch = 0; tab->w && ch < 3; ch++)
         v.w[ch] = tab->w + (size_t)ch * (size_t)tab->stride;
     return v;
@@ -114,7 +120,7 @@ static lanes hero_path(const spm_shade_table *tab, float u, path_lanes *pl)
             pl->w[ch][i] = hx[SPM_HERO_CMF + 4 * j + ch] * r;
     }
     return (lanes){tab->rows, (size_t)tab->stride, SPM_HERO_LANES, pl->idx,
-                   {pl->w[0], pl->w[1], pl->w[2]}};
+                   {pl->w[0], pl->w[1], pl->w[2]}, NULL};
 }
 
 /* The spectral bins of lanes L: through the slot's map, or (per-path lanes)

@@ -68,6 +68,11 @@ static spm_u32 vertex_lobe(const spm_material *m, const rng_key *k, int j, float
         *mean = m->mean;
         *inv_mean = m->inv_mean;
         return m->refl;
+    case SPM_MAT_FLUOR:
+    case SPM_MAT_DONALDSON: /* diffuse: its diagonal colour marks it for the shade stage */
+        *mean = m->mean;
+        *inv_mean = m->inv_mean;
+        return m->refl;
     default:
         *mean = 0.0f;
         *inv_mean = 0.0f;

@@ -33,7 +33,7 @@ int spm_clr_new_buffer(spm_cl_renderer *r, cl_mem *m, cl_mem_flags fl, size_t by
 static int upload_slot(spm_cl_renderer *r, const spm_shade_table *tab, int slot, spm_error *err)
 {
     static const float no_weights[4];
-    size_t rows = (size_t)tab->ncolours * (size_t)tab->stride;
+    size_t rows = (size_t)tab->ncolours * (size_t)tab->stride + tab->fluor_floats;
     size_t nw = tab->w ? 3 * (size_t)tab->stride : 4;
     return spm_clr_new_buffer(r, &r->tab[slot], CL_MEM_READ_ONLY, rows * sizeof(float),
                               tab->rows, "colour table", err) ||

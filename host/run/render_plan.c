@@ -1,6 +1,7 @@
 /* The render plan shared by the backends (render_plan.h). */
 #include "render_plan.h"
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 #include "materials.h"
 
@@ -90,7 +91,11 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     p->start_level = (spm_u32)(start < SPM_NUM_LEVELS ? start : SPM_NUM_LEVELS - 1);
     p->nslots = spm_mode_nslots(p->mode);
     used_slots(p);
-    spm_material_defines(t->materials, t->nmaterials, p->type_defines, sizeof p->type_defines);
+    int nd = spm_material_defines(t->materials, t->nmaterials, p->type_defines,
+                                  sizeof p->type_defines);
+    if (t->nfluor && nd < (int)sizeof p->type_defines) /* where the shade stage finds them */
+        snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
+                 "-DSPM_FLUOR_FIRST=%du -DSPM_FLUOR_NCOL=%du ", t->fluor_first, t->ncolours);
     p->vertex_bytes = spm_material_vertex_bytes(t->materials, t->nmaterials);
     for (int s = 0; s < p->nslots; s++)
         spm_shade_table_build(p->mode, t, s, &p->shade[s]);

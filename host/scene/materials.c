@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "spm_rng.h"
+#include "fluor.h"
 
 static double colour_mean(const spm_scene *sc, int c)
 {
@@ -20,6 +21,34 @@ static void lambert_fill(const spm_scene *sc, const spm_scene_material *s, spm_m
     d->inv_mean = mean > 0.0 ? (float)(1.0 / mean) : 0.0f;
 }
 
+/* Fluorescent (Wilkie et al. 2006, fluor.h): diffuse, its reflection a
+ * re-radiation matrix. The vertex records the diagonal colour D = SPEC (1 -
+ * A) the scene derives for it (last among the colours, so the shade stage
+ * knows it by its id); the matrix's fluorescent part lives in the shade
+ * tables. Russian roulette survives with the mean column sum (the albedo to
+ * equal-energy light), so a dye whose diagonal is black still carries paths. */
+static void fluor_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d)
+{
+    double mean = spm_fluor_albedo(sc, s);
+    d->refl = s->diag >= 0 ? (spm_u32)s->diag : SPM_NONE;
+    d->col2 = SPM_NONE; /* the absorption enters through the matrix alone */
+    d->mean = (float)mean;
+    d->inv_mean = mean > 0.0 ? (float)(1.0 / mean) : 0.0f;
+    d->p[0] = (float)s->p[SPM_FLUOR_P_YIELD];
+}
+
+static int fluor_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
+{
+    (void)err;
+    sc->colours = spm_xrealloc(sc->colours, ((size_t)sc->ncolours + 2) * sizeof *sc->colours);
+    spm_colour *c = &sc->colours[sc->ncolours];
+    memset(c, 0, sizeof *c);
+    snprintf(c->name, sizeof c->name, "%.50s:diagonal", s->name);
+    spm_fluor_diagonal(sc, s, &c->s);
+    s->diag = sc->ncolours++;
+    return 0;
+}
+
 const spm_mtype_desc spm_material_types[] = {
     [SPM_MAT_LAMBERT] = {
         .keyword = NULL, /* the default type */
@@ -32,6 +61,38 @@ const spm_mtype_desc spm_material_types[] = {
         .rng_dims = 0, /* the vertex's own cosine-lobe dimensions */
         .define = "SPM_WITH_LAMBERT",
         .fill = lambert_fill,
+    },
+    [SPM_MAT_FLUOR] = {
+        .keyword = "fluoresce",
+        .tag = SPM_MAT_FLUOR,
+        .help = "fluorescent, diffuse: 'fluoresce ABSORB EMIT YIELD [reflect SPECTRUM [SCALE]]' "
+                "(Wilkie et al. 2006)",
+        .params = {{.kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_COL2,
+                    .what = "an absorption spectrum"},
+                   {.kind = SPM_MP_SHAPE, .slot = SPM_MSLOT_COL3, .what = "an emission shape"},
+                   {.kind = SPM_MP_NUMBER, .slot = SPM_FLUOR_P_YIELD, .lo = 0.0, .hi = 1.0,
+                    .what = "an energy yield"},
+                   {.clause = "reflect", .kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_REFL,
+                    .what = "a reflectance"}},
+        .nparams = 4,
+        .vertex_u32 = 0,
+        .rng_dims = 0,
+        .define = "SPM_WITH_FLUOR",
+        .fill = fluor_fill,
+        .derive = fluor_derive,
+    },
+    [SPM_MAT_DONALDSON] = {
+        .keyword = "donaldson",
+        .tag = SPM_MAT_DONALDSON,
+        .help = "fluorescent, diffuse, measured: 'donaldson FILE' (a re-radiation matrix, its "
+                "diagonal the reflectance; docs/SCENE_FORMAT.md)",
+        .params = {{.kind = SPM_MP_FILE, .slot = SPM_FLUOR_P_MATRIX, .what = "a matrix file"}},
+        .nparams = 1,
+        .vertex_u32 = 0,
+        .rng_dims = 0,
+        .define = "SPM_WITH_FLUOR", /* the fluorescent type's code, shared */
+        .fill = fluor_fill,
+        .derive = fluor_derive,
     },
 };
 const int spm_nmaterial_types = (int)(sizeof spm_material_types / sizeof spm_material_types[0]);

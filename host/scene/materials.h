@@ -15,12 +15,17 @@ typedef enum {
     SPM_MP_REFLECTANCE, /* a reflectance colour: slot 0 refl, 2 col2 */
     SPM_MP_EMISSION,    /* an emission colour: slot 1 emit */
     SPM_MP_NUMBER,      /* a number in [lo, hi]: p[slot] */
-    SPM_MP_FLAG         /* the clause's word alone: bit slot of flags */
+    SPM_MP_FLAG,        /* the clause's word alone: bit slot of flags */
+    SPM_MP_FILE,        /* a re-radiation matrix file (fluor.h): its diagonal into refl, its
+                           index in the scene's matrices into p[slot] */
+    SPM_MP_SHAPE        /* a spectrum name alone (no scale), kept as its shape: its peak
+                           scaled to 1, a reflectance-kind colour into slot 2 col2 or 3 col3 */
 } spm_mparam_kind;
 
 #define SPM_MSLOT_REFL 0
 #define SPM_MSLOT_EMIT 1
 #define SPM_MSLOT_COL2 2
+#define SPM_MSLOT_COL3 3
 
 typedef struct {
     const char *clause;   /* keyword before it, or NULL: positional (in order, after the type keyword) */
@@ -45,6 +50,10 @@ typedef struct {
     /* The device material's type-specific part (mean, inv_mean, p[]) from the
      * scene material; colour ids and tags are already set. */
     void (*fill)(const spm_scene *sc, const spm_scene_material *s, spm_material *d);
+    /* Optional: a colour derived from the material's own, appended to the
+     * scene's colours (in material order) once the scene is complete, into
+     * s->diag. Returns 0 or fills err. */
+    int (*derive)(spm_scene *sc, spm_scene_material *s, spm_error *err);
 } spm_mtype_desc;
 
 extern const spm_mtype_desc spm_material_types[];

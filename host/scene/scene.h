@@ -23,6 +23,8 @@ typedef struct {
     int type;  /* material tag (spm_shared.h SPM_MAT_*) */
     int etype; /* emitter tag (SPM_EMIT_*) */
     int col2;  /* a type's second colour, -1 = none */
+    int col3;  /* a type's third colour, -1 = none */
+    int diag;  /* a colour the type derives at the end of the scene (materials.h derive), -1 = none */
     double p[SPM_MAT_PARAMS]; /* a type's numbers */
     unsigned flags; /* a type's words without a value (materials.h SPM_MP_FLAG): bit `slot` */
 } spm_scene_material;
@@ -58,6 +60,10 @@ typedef struct {
     int bg_down;         /* for one escaping downward, -1 none */
     spm_scene_mesh *meshes; /* one per mesh statement, in the file's order */
     int nmeshes;
+    /* Measured re-radiation matrices ('donaldson'): nrerad fluorescent parts
+     * at 1 nm, SPM_TRUTH_BINS^2 doubles each as M[o][i] (host/scene/fluor.h). */
+    double *rerad;
+    int nrerad;
 } spm_scene;
 
 /* Load a scene file: MiniLight .ml.txt (first line "#MiniLight") or the

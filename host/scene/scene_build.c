@@ -4,6 +4,7 @@
  * uses; and freeing the scene it made. */
 #include "scene_build.h"
 #include "colour.h"
+#include "materials.h"
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -17,6 +18,7 @@ void spm_scene_free(spm_scene *s)
     free(s->materials);
     free(s->tris);
     free(s->meshes);
+    free(s->rerad);
     memset(s, 0, sizeof *s);
     s->bg_up = s->bg_down = -1;
 }
@@ -123,7 +125,7 @@ int spm_sb_material(spm_scene_builder *b, const char *name, int refl, int emit,
     m.emit = emit;
     m.type = SPM_MAT_LAMBERT;
     m.etype = SPM_EMIT_AREA;
-    m.col2 = -1;
+    m.col2 = m.col3 = m.diag = -1;
     return spm_sb_material_typed(b, &m, where, err);
 }
 
@@ -136,6 +138,8 @@ int spm_sb_material_typed(spm_scene_builder *b, const spm_scene_material *proto,
     if (proto->type != SPM_MAT_LAMBERT || proto->etype != SPM_EMIT_AREA || proto->col2 >= 0) {
         n += snprintf(key + n, sizeof key - (size_t)n, " %d %d %d", proto->type, proto->etype,
                       proto->col2);
+        if (proto->col3 >= 0)
+            n += snprintf(key + n, sizeof key - (size_t)n, " c%d", proto->col3);
         for (int i = 0; i < SPM_MAT_PARAMS; i++)
             n += snprintf(key + n, sizeof key - (size_t)n, " %a", proto->p[i]);
     }
@@ -284,10 +288,10 @@ static void prune(spm_scene *s)
     int nc = 0;
     spm_colour *kept = spm_xmalloc(((size_t)s->ncolours + 1) * sizeof *kept);
     int *refs[] = {&s->bg_up, &s->bg_down};
-    for (int i = 0; i < 3 * s->nmaterials + 2; i++) {
-        spm_scene_material *m = i < 3 * s->nmaterials ? &s->materials[i / 3] : NULL;
-        int *r = m ? (i % 3 == 0 ? &m->refl : i % 3 == 1 ? &m->emit : &m->col2)
-                   : refs[i - 3 * s->nmaterials];
+    for (int i = 0; i < 4 * s->nmaterials + 2; i++) {
+        spm_scene_material *m = i < 4 * s->nmaterials ? &s->materials[i / 4] : NULL;
+        int *r = m ? (i % 4 == 0 ? &m->refl : i % 4 == 1 ? &m->emit : i % 4 == 2 ? &m->col2 : &m->col3)
+                   : refs[i - 4 * s->nmaterials];
         if (*r < 0)
             continue;
         if (cmap[*r] < 0) {
@@ -311,6 +315,13 @@ int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
         return 1;
     }
     prune(s);
+    /* colours a type derives, last (materials.h derive) */
+    for (int i = 0; i < s->nmaterials; i++) {
+        const spm_mtype_desc *t = &spm_material_types[s->materials[i].type];
+        s->materials[i].diag = -1;
+        if (t->derive && t->derive(s, &s->materials[i], err))
+            return 1;
+    }
     int lit = s->bg_up >= 0 || s->bg_down >= 0;
     for (int i = 0; i < s->nmaterials && !lit; i++)
         lit = s->materials[i].emit >= 0;

@@ -9,6 +9,7 @@
 #include "mesh.h"
 #include "interrupt.h"
 #include "materials.h"
+#include "fluor.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -269,7 +270,15 @@ static const spm_spectrum *use_spectrum(parser *p, int idx, spm_kind kind, const
 }
 
 /* "NAME SCALE?" -> a colour of the scene (scaled, checked). Returns its index or -1. */
+static int colour_ref_as(parser *p, spm_kind kind, int shape_only);
 static int colour_ref(parser *p, spm_kind kind)
+{
+    return colour_ref_as(p, kind, 0);
+}
+
+/* A spectrum name, with an optional scale; shape_only: without one, the
+ * spectrum's peak scaled to 1 (a shape, as a reflectance-kind colour). */
+static int colour_ref_as(parser *p, spm_kind kind, int shape_only)
 {
     char where[600], name[SPM_NAME_MAX], cname[SPM_NAME_MAX];
     where_now(p, where, sizeof where);
@@ -283,8 +292,17 @@ static int colour_ref(parser *p, spm_kind kind)
     }
     double scale;
     const spm_spectrum *shape = use_spectrum(p, idx, kind, where);
-    if (!shape || opt_scale(p, kind == SPM_KIND_EMISSION, &scale))
+    if (!shape || (!shape_only && opt_scale(p, kind == SPM_KIND_EMISSION, &scale)))
         return -1;
+    if (shape_only) {
+        double peak = spm_spectrum_max(shape);
+        if (!(peak > 0.0)) {
+            spm_errorf(p->err, "%s: spectrum '%s' is zero inside %d-%d nm: it has no shape", where,
+                       name, SPM_LAMBDA_MIN, SPM_LAMBDA_MAX);
+            return -1;
+        }
+        scale = 1.0 / peak;
+    }
     spm_spectrum sp;
     int rc = kind == SPM_KIND_EMISSION ? spm_sb_emission(shape, scale, where, &sp, p->err)
                                        : spm_sb_reflectance(shape, scale, where, &sp, p->err);
@@ -371,8 +389,44 @@ static int stmt_camera(parser *p)
 }
 
 /* One parameter of a material or emitter type, as its descriptor says. */
+/* A re-radiation matrix file (materials.h SPM_MP_FILE): found as a spectrum
+ * file is, its diagonal a colour into refl, its fluorescent part appended to
+ * the scene's matrices. */
+static int matrix_param(parser *p, const spm_mparam *pa, spm_scene_material *m)
+{
+    char where[600], file[512], path[1024];
+    where_now(p, where, sizeof where);
+    if (spm_lex_path(&p->lx, "a matrix file name", file, sizeof file, p->err) ||
+        resolve_spectrum_file(p, file, where, path, sizeof path))
+        return 1;
+    spm_scene *s = p->b.s;
+    const size_t nn = (size_t)SPM_TRUTH_BINS * SPM_TRUTH_BINS;
+    double *F = spm_xcalloc(nn, sizeof *F);
+    spm_spectrum diag;
+    spm_error inner;
+    if (spm_fluor_load_donaldson(path, &diag, F, &inner)) {
+        spm_errorf(p->err, "%s: %s", where, inner.msg);
+        free(F);
+        return 1;
+    }
+    char cname[SPM_NAME_MAX];
+    snprintf(cname, sizeof cname, "%.50s:matrix", m->name);
+    m->refl = spm_sb_colour(&p->b, cname, &diag, where, p->err);
+    if (m->refl < 0) {
+        free(F);
+        return 1;
+    }
+    s->rerad = spm_xrealloc(s->rerad, (size_t)(s->nrerad + 1) * nn * sizeof *s->rerad);
+    memcpy(s->rerad + (size_t)s->nrerad * nn, F, nn * sizeof *F);
+    free(F);
+    m->p[pa->slot] = s->nrerad++;
+    return 0;
+}
+
 static int material_param(parser *p, const spm_mparam *pa, spm_scene_material *m)
 {
+    if (pa->kind == SPM_MP_FILE)
+        return matrix_param(p, pa, m);
     if (pa->kind == SPM_MP_FLAG) {
         m->flags |= 1u << pa->slot;
         return 0;
@@ -384,11 +438,53 @@ static int material_param(parser *p, const spm_mparam *pa, spm_scene_material *m
         m->p[pa->slot] = v;
         return 0;
     }
-    int c = colour_ref(p, pa->kind == SPM_MP_EMISSION ? SPM_KIND_EMISSION : SPM_KIND_REFLECTANCE);
+    int c = colour_ref_as(p, pa->kind == SPM_MP_EMISSION ? SPM_KIND_EMISSION : SPM_KIND_REFLECTANCE,
+                          pa->kind == SPM_MP_SHAPE);
     if (c < 0)
         return 1;
-    *(pa->slot == SPM_MSLOT_REFL ? &m->refl : pa->slot == SPM_MSLOT_EMIT ? &m->emit : &m->col2) = c;
+    *(pa->slot == SPM_MSLOT_REFL   ? &m->refl
+      : pa->slot == SPM_MSLOT_EMIT ? &m->emit
+      : pa->slot == SPM_MSLOT_COL3 ? &m->col3
+                                   : &m->col2) = c;
     return 0;
+}
+
+/* The clauses of material type mt, then every emitter type's, into cl (ctag:
+ * SPM_EMIT_TYPES for the material's own, else the emitter's tag). */
+static int clause_list(const spm_mtype_desc *mt, const spm_mparam **cl, unsigned *ctag)
+{
+    int ncl = 0;
+    for (int d = -1; d < spm_nemitter_types; d++) {
+        const spm_mtype_desc *t = d < 0 ? mt : &spm_emitter_types[d];
+        for (int i = 0; i < t->nparams; i++)
+            if (t->params[i].clause) {
+                ctag[ncl] = d < 0 ? SPM_EMIT_TYPES : t->tag;
+                cl[ncl++] = &t->params[i];
+            }
+    }
+    return ncl;
+}
+
+/* A type keyword after the default type's clauses ('material N reflect S
+ * fluoresce ...'): the type named, if it takes every clause given so far;
+ * else NULL. */
+static const spm_mtype_desc *late_type(parser *p, const spm_mtype_desc *mt,
+                                       const spm_mparam *const *cl, const int *have, int ncl)
+{
+    if (mt != spm_material_type_default())
+        return NULL;
+    const spm_mtype_desc *t = NULL;
+    for (int i = 0; i < spm_nmaterial_types && !t; i++)
+        if (spm_material_types[i].keyword && spm_lex_is(&p->lx, spm_material_types[i].keyword))
+            t = &spm_material_types[i];
+    for (int k = 0; t && k < ncl; k++) {
+        int found = !have[k];
+        for (int i = 0; i < t->nparams && !found; i++)
+            found = t->params[i].clause && !strcmp(t->params[i].clause, cl[k]->clause);
+        if (!found)
+            t = NULL;
+    }
+    return t;
 }
 
 /* material NAME [TYPE] POSITIONAL... [CLAUSE ...]...: the type's keyword
@@ -408,7 +504,7 @@ static int stmt_material(parser *p)
     spm_scene_material m;
     memset(&m, 0, sizeof m);
     snprintf(m.name, sizeof m.name, "%s", name);
-    m.refl = m.emit = m.col2 = -1;
+    m.refl = m.emit = m.col2 = m.col3 = m.diag = -1;
     const spm_mtype_desc *mt = NULL;
     for (int i = 0; i < spm_nmaterial_types && !mt; i++)
         if (spm_material_types[i].keyword && spm_lex_is(&p->lx, spm_material_types[i].keyword))
@@ -427,17 +523,10 @@ static int stmt_material(parser *p)
     /* the clauses: the material type's, then every emitter type's */
     const spm_mparam *cl[SPM_MTYPE_MAX_PARAMS * (1 + SPM_EMIT_TYPES)];
     unsigned ctag[SPM_MTYPE_MAX_PARAMS * (1 + SPM_EMIT_TYPES)];
-    int ncl = 0, have[SPM_MTYPE_MAX_PARAMS * (1 + SPM_EMIT_TYPES)] = {0}, emitter = 0;
+    int have[SPM_MTYPE_MAX_PARAMS * (1 + SPM_EMIT_TYPES)] = {0}, emitter = 0;
+    int ncl = clause_list(mt, cl, ctag);
     char expected[256];
     int ne = 0;
-    for (int d = -1; d < spm_nemitter_types; d++) {
-        const spm_mtype_desc *t = d < 0 ? mt : &spm_emitter_types[d];
-        for (int i = 0; i < t->nparams; i++)
-            if (t->params[i].clause) {
-                ctag[ncl] = d < 0 ? SPM_EMIT_TYPES : t->tag; /* SPM_EMIT_TYPES: the material's */
-                cl[ncl++] = &t->params[i];
-            }
-    }
     for (int k = 0; k < ncl; k++) /* "'a', 'b' or 'c' (each once)" */
         ne += snprintf(expected + ne, sizeof expected - (size_t)ne, "%s'%s'",
                        k == 0 ? "" : k == ncl - 1 ? " or " : ", ", cl[k]->clause);
@@ -446,6 +535,27 @@ static int stmt_material(parser *p)
         int k = 0;
         while (k < ncl && !spm_lex_is(&p->lx, cl[k]->clause))
             k++;
+        const spm_mtype_desc *lt = k == ncl ? late_type(p, mt, cl, have, ncl) : NULL;
+        if (lt) { /* the clauses given keep their marks under the new type's list */
+            const spm_mparam *ocl[SPM_MTYPE_MAX_PARAMS * (1 + SPM_EMIT_TYPES)];
+            int ohave[SPM_MTYPE_MAX_PARAMS * (1 + SPM_EMIT_TYPES)], on = ncl;
+            memcpy(ocl, cl, sizeof ocl);
+            memcpy(ohave, have, sizeof ohave);
+            mt = lt;
+            m.type = (int)mt->tag;
+            ncl = clause_list(mt, cl, ctag);
+            for (int a = 0; a < ncl; a++) {
+                have[a] = 0;
+                for (int b = 0; b < on; b++)
+                    have[a] |= ohave[b] && !strcmp(ocl[b]->clause, cl[a]->clause);
+            }
+            if (spm_lex_next(&p->lx, p->err))
+                return 1;
+            for (int i = 0; i < mt->nparams; i++)
+                if (!mt->params[i].clause && material_param(p, &mt->params[i], &m))
+                    return 1;
+            continue;
+        }
         if (k == ncl || have[k] || (ctag[k] != SPM_EMIT_TYPES && emitter && (int)ctag[k] != m.etype))
             return spm_lex_expected(&p->lx, p->err, expected);
         have[k] = 1;

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "colour.h"
+#include "fluor_tables.h"
 
 static int round_up(int n, int w)
 {
@@ -19,6 +20,21 @@ static void copy_rows(float *dst, int dst_stride, const float *src, int src_stri
         memcpy(&dst[(size_t)r * dst_stride], &src[(size_t)r * src_stride], (size_t)n * sizeof *dst);
 }
 
+/* Fluorescence blocks (modes.h) at level l: the level's matrices, column i
+ * of matrix f into block row i. */
+static void fluor_blocks(const spm_tables *t, int l, spm_shade_table *o)
+{
+    int n = SPM_LEVEL_BINS(l);
+    float *blk = o->rows + (size_t)t->ncolours * (size_t)o->stride;
+    for (int f = 0; f < t->nfluor; f++) {
+        const float *M = t->fluor[l] + (size_t)f * n * n;
+        float *b = blk + (size_t)f * o->stride * o->stride;
+        for (int i = 0; i < n; i++)
+            for (int r = 0; r < n; r++)
+                b[(size_t)i * o->stride + r] = M[(size_t)r * n + i];
+    }
+}
+
 /* ---- truth, ref, ml: the bins of a level (spm_shared.h: level 0 the 1 nm
  * bins as 25 x float16, then five vectors of 16, 8, 4, 2 floats) ---------- */
 static void level_layout(const spm_tables *t, int l, spm_shade_table *o)
@@ -32,6 +48,7 @@ static void level_fill(const spm_tables *t, int l, spm_shade_table *o)
     int bins = SPM_LEVEL_BINS(l);
     copy_rows(o->rows, o->stride, t->lvl[l], bins, t->ncolours, bins);
     copy_rows(o->w, o->stride, &t->cmf_lvl[l][0][0], SPM_TRUTH_BINS, 3, bins);
+    fluor_blocks(t, l, o);
 }
 
 /* ---- mlc: a level's smooth bins, then the scene's spike lanes weighted by
@@ -42,6 +59,28 @@ static void mlc_layout(const spm_tables *t, int l, spm_shade_table *o)
     o->stride = round_up(o->lanes, o->width);
 }
 
+/* A spike lane through a matrix: what the matrix's diagonal keeps of it
+ * stays a spike (its colour row's spike lane is the diagonal at the spike's
+ * wavelength); what it absorbs is re-emitted into the smooth bins, block row
+ * bins + k holding the mean over each output bin of the 1 nm column at the
+ * spike's wavelength (a spike lane carries energy, per nm times nm; the
+ * column is per 1 nm bin, so per nm). */
+static void mlc_fluor_spikes(const spm_tables *t, int l, spm_shade_table *o)
+{
+    int bins = SPM_LEVEL_BINS(l), w = SPM_TRUTH_BINS / bins;
+    float *blk = o->rows + (size_t)t->ncolours * (size_t)o->stride;
+    for (int f = 0; f < t->nfluor; f++) {
+        const float *M0 = t->fluor[0] + (size_t)f * SPM_TRUTH_BINS * SPM_TRUTH_BINS;
+        float *b = blk + (size_t)f * o->stride * o->stride;
+        for (int k = 0; k < t->nspikes; k++) {
+            int j = (int)(t->spike_wl[k] - (float)SPM_LAMBDA_MIN);
+            j = j < 0 ? 0 : j >= SPM_TRUTH_BINS ? SPM_TRUTH_BINS - 1 : j;
+            for (int r = 0; r < SPM_TRUTH_BINS; r++)
+                b[(size_t)(bins + k) * o->stride + r / w] += M0[(size_t)r * SPM_TRUTH_BINS + j] / (float)w;
+        }
+    }
+}
+
 static void mlc_fill(const spm_tables *t, int l, spm_shade_table *o)
 {
     int bins = SPM_LEVEL_BINS(l);
@@ -50,6 +89,8 @@ static void mlc_fill(const spm_tables *t, int l, spm_shade_table *o)
         memcpy(&o->w[ch * o->stride], t->cmf_lvl[l][ch], (size_t)bins * sizeof *o->w);
         memcpy(&o->w[ch * o->stride + bins], t->spike_cmf[ch], (size_t)t->nspikes * sizeof *o->w);
     }
+    fluor_blocks(t, l, o);
+    mlc_fluor_spikes(t, l, o);
 }
 
 /* ---- hero: truth's 1 nm rows, read at four wavelengths drawn per path ----- */
@@ -90,6 +131,14 @@ static void rgb_fill(const spm_tables *t, int level, spm_shade_table *o)
         spm_linear_srgb_to_xyz(rgb, xyz);
         for (int ch = 0; ch < 3; ch++)
             o->w[ch * o->stride + c] = (float)xyz[ch];
+    }
+    float *blk = o->rows + (size_t)t->ncolours * (size_t)o->stride;
+    for (int f = 0; f < t->nfluor; f++) {
+        float m3[3][3];
+        spm_fluor_rgb(t, f, m3);
+        for (int i = 0; i < 3; i++)
+            for (int r = 0; r < 3; r++)
+                blk[(size_t)f * 16 + (size_t)i * 4 + r] = m3[r][i];
     }
 }
 
@@ -233,6 +282,12 @@ const uint8_t *spm_mode_lvlk(const spm_mode_desc *m, const spm_tables *t)
 
 int spm_mode_check(const spm_mode_desc *m, const spm_tables *t, spm_error *err)
 {
+    if (m->per_path && t->nfluor) {
+        spm_errorf(err, "%s mode cannot render fluorescent materials (a wavelength drawn per "
+                        "path has no way to another wavelength); use truth, ref, ml, mlc or rgb",
+                   m->name);
+        return 1;
+    }
     if (m->composite && !t->mlc_lvlk) {
         spm_errorf(err, "%s mode needs the Composite Model tables", m->name);
         return 1;
@@ -262,7 +317,11 @@ void spm_shade_table_build(const spm_mode_desc *m, const spm_tables *t, int slot
     memset(o, 0, sizeof *o);
     m->layout(t, level, o);
     o->ncolours = t->ncolours;
-    o->rows = spm_xcalloc((size_t)t->ncolours * (size_t)o->stride + 1, sizeof *o->rows);
+    o->nfluor = t->nfluor;
+    o->fluor_first = t->fluor_first;
+    o->fluor_floats = m->per_path ? 0 : (size_t)t->nfluor * (size_t)o->stride * (size_t)o->stride;
+    o->rows = spm_xcalloc((size_t)t->ncolours * (size_t)o->stride + o->fluor_floats + 1,
+                          sizeof *o->rows);
     if (!m->per_path)
         o->w = spm_xcalloc(3 * (size_t)o->stride, sizeof *o->w);
     if (o->nextra)
@@ -285,6 +344,8 @@ size_t spm_mode_footprint(const spm_mode_desc *m, const spm_tables *t)
         spm_shade_table lo = {0};
         m->layout(t, spm_mode_slot_level(m, s), &lo);
         floats += ((size_t)t->ncolours + (m->per_path ? 0 : 3)) * (size_t)lo.stride + lo.nextra;
+        if (!m->per_path) /* the fluorescence blocks (modes.h) */
+            floats += (size_t)t->nfluor * (size_t)lo.stride * (size_t)lo.stride;
     }
     return floats * sizeof(float);
 }

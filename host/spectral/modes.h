@@ -35,7 +35,14 @@ typedef struct {
     int lanes, width, stride;
     size_t nextra;  /* floats of extra */
     int ncolours;
-    float *rows;    /* ncolours x stride */
+    /* Fluorescence (tables.h nfluor): rows holds, after the colours' rows,
+     * nfluor blocks of stride x stride floats, block f's row i the
+     * fluorescent part of matrix f's column i (input lane i to every output
+     * lane: M[o][i] at [i * stride + o]); colour fluor_first + f is matrix
+     * f's diagonal. fluor_floats: the blocks' floats (0: none). */
+    size_t fluor_floats;
+    int nfluor, fluor_first;
+    float *rows;    /* ncolours x stride, then the fluorescence blocks */
     float *w;       /* 3 x stride, or NULL */
     float *extra;   /* nextra floats, or NULL */
 } spm_shade_table;

@@ -9,6 +9,7 @@
 #include "interrupt.h"
 #include "materials.h"
 #include "mlc_tables.h"
+#include "fluor_tables.h"
 
 static void fill_levels(const spm_spectrum *s, int c, spm_tables *t)
 {
@@ -138,6 +139,7 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
     int n = sc->ncolours;
     t->ncolours = n;
     t->nmaterials = sc->nmaterials;
+    spm_fluor_tables_count(sc, t);
     spm_tables_alloc(t);
     for (int c = 0; c < n; c++) {
         fill_levels(&sc->colours[c].s, c, t);
@@ -162,8 +164,12 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
         for (int k = 0; k < SPM_PRETEST_KMAX; k++)
             t->lvlk[(size_t)c * SPM_PRETEST_KMAX + k] = (uint8_t)t->pretest[c].level_k[k];
 
+    spm_fluor_tables_fill(sc, &d65, t);
+    spm_fluor_pretest(sc, po, t, t->lvlk);
+
     if (spm_mlc_tables_build(sc, po, t, err))
         return 1;
+    spm_fluor_pretest(sc, po, t, t->mlc_lvlk);
     if (spm_stop_requested()) {
         spm_errorf(err, "interrupted during the Composite Model pretests");
         return 1;

@@ -29,6 +29,8 @@
     A(mlc_lvlk, uint8_t, (size_t)(t)->ncolours * SPM_PRETEST_KMAX)               \
     A(mlc_pretest, spm_pretest_result, (size_t)(t)->ncolours)                    \
     A(materials, spm_material, (size_t)(t)->nmaterials)                          \
+    L(fluor, float, (size_t)(t)->nfluor * SPM_LEVEL_BINS(l) * SPM_LEVEL_BINS(l))  \
+    A(fluor_rgb, float, (size_t)(t)->nfluor * 9)                                 \
     SPM_TABLES_TEST_ARRAYS(A, L)
 
 /* A test build (tests/test_tables_list.c) appends an array to the list
@@ -45,6 +47,9 @@
 typedef struct {
     int ncolours;
     int nmaterials;
+    /* Fluorescent materials (fluor_tables.h): their diagonal colours are
+     * colours fluor_first .. fluor_first + nfluor - 1, the last ones. */
+    int nfluor, fluor_first;
     /* lvl[l]: ncolours x SPM_LEVEL_BINS(l), bin means (lvl[0]: truth's)
      * truth: ncolours x SPM_TRUTH_BINS
      * rgb: ncolours x 4: linear sRGB (reflectance D65-referred, white = 1)
@@ -53,7 +58,10 @@ typedef struct {
      * mlc_lvl[l]: ncolours x (SPM_LEVEL_BINS(l) + SPM_MAX_SPIKES): smooth bins then spike lanes
      * mlc_lvlk: as lvlk, from the composite representation's error
      * mlc_pretest: per colour (mlc_pretest.h)
-     * materials: per scene material */
+     * materials: per scene material
+     * fluor[l]: nfluor x bins(l) x bins(l), the fluorescent part of each
+     *   re-radiation matrix at level l as M[o][i] (row o output, column i input)
+     * fluor_rgb: nfluor x 3 x 3, rgb mode's M[o][i] (fluor_tables.h) */
     float cmf_lvl[SPM_NUM_LEVELS][3][SPM_TRUTH_BINS];  /* XYZ weights per level (bins(l) used) */
     float cmf_truth[3][SPM_TRUTH_BINS];
     int coarsest_level;            /* the coarsest level the pretest could pick */

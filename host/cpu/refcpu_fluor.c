@@ -1,0 +1,59 @@
+/* CPU reference, fluorescent paths (refcpu.h): the record walked from the
+ * light end, A = E_bg c_bg; for j = n-1 .. 0: A = M_j (E_j c_j + A);
+ * L = E_first c_first + A, with M_j x = R_j x lane by lane plus, at a
+ * fluorescent vertex, the block's columns weighted by x. Plain scalar float
+ * loops, uncontracted sums in lane order (the kernel fuses them). */
+#include "refcpu.h"
+#include <string.h>
+
+#define MAX_LANES (SPM_TRUTH_BINS + SPM_MAX_SPIKES)
+
+int spm_ref_fluor_path(const spm_path *path, const spm_shade_table *tab)
+{
+    for (spm_u32 j = 0; j < path->h.nvert; j++) {
+        spm_u32 r = path->v[j].ids & 0xFFFFu;
+        if (r == SPM_NONE)
+            return 0;
+        if (r >= (spm_u32)tab->fluor_first)
+            return 1;
+    }
+    return 0;
+}
+
+void spm_ref_fluor_shade(const spm_path *path, const spm_shade_table *tab, int n, float *L)
+{
+    const spm_path_head *h = &path->h;
+    const size_t st = (size_t)tab->stride;
+    const float *rows = tab->rows, *blocks = rows + (size_t)tab->ncolours * st;
+    float A[MAX_LANES], X[MAX_LANES];
+    spm_u32 nv = h->nvert;
+    for (spm_u32 j = 0; j < h->nvert; j++)
+        if ((path->v[j].ids & 0xFFFFu) == SPM_NONE) {
+            nv = j;
+            break;
+        }
+    int lit = nv == h->nvert && h->bg != SPM_NONE;
+    for (int l = 0; l < n; l++)
+        A[l] = lit ? rows[h->bg * st + (size_t)l] * h->bg_c : 0.0f;
+    for (spm_u32 jj = nv; jj > 0; jj--) {
+        const spm_vertex *v = &path->v[jj - 1];
+        spm_u32 r = v->ids & 0xFFFFu, e = v->ids >> 16;
+        if (e != SPM_NONE)
+            for (int l = 0; l < n; l++)
+                A[l] += rows[e * st + (size_t)l] * v->c;
+        memcpy(X, A, (size_t)n * sizeof *X);
+        for (int l = 0; l < n; l++)
+            A[l] = X[l] * rows[r * st + (size_t)l];
+        if (r >= (spm_u32)tab->fluor_first) {
+            const float *blk = blocks + (size_t)(r - (spm_u32)tab->fluor_first) * st * st;
+            for (int i = 0; i < n; i++)
+                for (int o = 0; o < n; o++)
+                    A[o] += blk[(size_t)i * st + (size_t)o] * X[i];
+        }
+    }
+    for (int l = 0; l < n; l++) {
+        float e = h->first_emit != SPM_NONE ? h->first_emit_c * rows[h->first_emit * st + (size_t)l]
+                                            : 0.0f;
+        L[l] = e + A[l];
+    }
+}
