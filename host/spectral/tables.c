@@ -164,7 +164,7 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
         for (int k = 0; k < SPM_PRETEST_KMAX; k++)
             t->lvlk[(size_t)c * SPM_PRETEST_KMAX + k] = (uint8_t)t->pretest[c].level_k[k];
 
-    spm_fluor_tables_fill(sc, &d65, t);
+    spm_fluor_tables_fill(sc, d65, t);
     spm_fluor_pretest(sc, po, t, t->lvlk);
 
     if (spm_mlc_tables_build(sc, po, t, err))
