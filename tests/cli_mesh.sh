@@ -155,6 +155,28 @@ check "two meshes with normals: renders" test $? -eq 0
 check "vertex normals ignored: said once ($(grep -c 'vertex normals ignored' "$T/err") times)" \
     test "$(grep -c 'vertex normals ignored' "$T/err")" -eq 1
 
+# A base-colour texture: its mean colour times the factor, and a warning that
+# says so with the mean (tex.mean: 0.447 0.381 0.193); bound to a scene
+# material instead, nothing is said.
+cp "$T/quad.scene" "$T/tex.scene"
+echo "mesh tex_cube.glb translate 0 0 5" >> "$T/tex.scene"
+"$BIN" render "$T/tex.scene" "${R[@]}" --spp 1 -o "$T/tex.exr" 2> "$T/err"
+check "textured glb: renders" test $? -eq 0
+check "textured glb: the mean colour is said" grep -q "warning: .*tex_cube.glb: material 'red': base-colour texture 'embedded image 0' replaced by its mean colour (0.447 0.381 0.193, linear) times the material's colour" "$T/err"
+check "textured glb: not as a texture ignored" not_said "textures ignored"
+cp "$T/quad.scene" "$T/texbound.scene"
+echo "mesh tex_cube.gltf material floor translate 0 0 5" >> "$T/texbound.scene"
+"$BIN" render "$T/texbound.scene" "${R[@]}" --spp 1 -o "$T/tex.exr" 2> "$T/err"
+check "textured glTF bound: renders" test $? -eq 0
+check "textured glTF bound: no texture warning" not_said "base-colour texture"
+sed 's/tex.png/nosuch.png/' "$T/tex_cube.mtl" > "$T/notex.mtl"
+sed 's/tex_cube.mtl/notex.mtl/' "$T/tex_cube.obj" > "$T/notex.obj"
+cp "$T/quad.scene" "$T/notex.scene"
+echo "mesh notex.obj translate 0 0 5" >> "$T/notex.scene"
+"$BIN" render "$T/notex.scene" "${R[@]}" --spp 1 -o "$T/tex.exr" 2> "$T/err"
+check "missing texture: renders" test $? -eq 0
+check "missing texture: said, the colour alone used" grep -q "notex.obj: material 'red': base-colour texture 'nosuch.png' cannot be read (no such file beside the model): the material's colour alone is used" "$T/err"
+
 # 4. Ctrl-C while the importer runs (a child that never answers; the parent
 #    held at the "mesh" test pause): exit 130 within a few seconds, nothing
 #    written, the child killed.

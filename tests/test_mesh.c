@@ -5,6 +5,7 @@
  * and degenerate filtering. */
 #include "mesh.h"
 #include "testutil.h"
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -145,11 +146,63 @@ static void write_file(const char *name, const void *data, size_t n)
     fclose(f);
 }
 
+/* ---- textured materials: the mean colour ---- */
+
+/* The textured 'red' of NAME: its colour is the factor (0.9 0.6 0.3, as
+ * gen_meshes.py writes it) times tex.mean (the mean of the texture's decoded
+ * pixels, computed there in double precision), or the factor alone when
+ * mean_used is 0; 'white' has no texture and keeps 0.7. */
+static void check_textured(const char *name, int mean_used, const char *tex_name)
+{
+    static const float factor[3] = {0.9f, 0.6f, 0.3f};
+    double mean[3] = {1, 1, 1};
+    char path[512];
+    snprintf(path, sizeof path, "%s/tex.mean", dir);
+    FILE *f = fopen(path, "r");
+    int got = f ? fscanf(f, "%lf %lf %lf", &mean[0], &mean[1], &mean[2]) : 0;
+    if (f)
+        fclose(f);
+    CHECK(got == 3, "tex.mean read");
+    spm_mesh_data d;
+    spm_error err;
+    if (import(name, &d, &err)) {
+        CHECK(0, "%s imports: %s", name, err.msg);
+        return;
+    }
+    int red = 0, white = 0;
+    for (uint32_t i = 0; i < d.nmats; i++) {
+        const spm_mesh_material *m = &d.mats[i];
+        if (!strcmp(m->name, "red")) {
+            red++;
+            CHECK(m->texture == (mean_used ? SPM_MESH_TEX_MEAN : SPM_MESH_TEX_UNREAD) &&
+                      !strcmp(m->texture_name, tex_name),
+                  "%s: red's texture: state %d, '%s' (want '%s')", name, (int)m->texture,
+                  m->texture_name, tex_name);
+            for (int c = 0; c < 3; c++) {
+                double want = factor[c] * (mean_used ? mean[c] : 1.0);
+                /* 1e-6: the float mean and the float product round at 6e-8
+                 * relative each; measured: at most 1.2e-7 */
+                CHECK(fabs(m->diffuse[c] - want) <= 1e-6 * want,
+                      "%s: red's colour %d: %.9g, want %.9g", name, c, m->diffuse[c], want);
+            }
+        } else if (!strcmp(m->name, "white")) {
+            white++;
+            CHECK(m->texture == SPM_MESH_TEX_NONE && m->diffuse[0] == 0.7f &&
+                      m->diffuse[2] == 0.7f,
+                  "%s: white untextured (state %d, %g)", name, (int)m->texture, m->diffuse[0]);
+        }
+    }
+    CHECK(red == 1 && white >= 1, "%s: materials red (%d) and white (%d)", name, red, white);
+    CHECK(!(d.ignored & SPM_MESH_IGN_TEXTURES), "%s: no other texture said ignored", name);
+    spm_mesh_free(&d);
+}
+
 /* ---- the answer's decoder ---- */
 
 static void check_decode(void)
 {
-    spm_mesh_material mats[2] = {{"a", {0.5f, 0.5f, 0.5f}, {0, 0, 0}}, {"b", {1, 0, 0}, {0, 0, 0}}};
+    spm_mesh_material mats[2] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}, .emission = {0, 0, 0}},
+                                 {.name = "b", .diffuse = {1, 0, 0}, .emission = {0, 0, 0}}};
     spm_mesh_tri tris[2] = {{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1}, {{{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}, 0}};
     spm_mesh_data d = {0, 2, 2, mats, tris, NULL}, out;
     spm_error err;
@@ -226,9 +279,9 @@ static void identity(spm_mesh_opts *o)
 
 static void check_build(void)
 {
-    spm_mesh_material mats[3] = {{"a", {0.8f, 0.2f, 0.1f}, {0, 0, 0}},
-                                 {"b", {0.8f, 0.2f, 0.1f}, {0, 0, 0}},
-                                 {"c", {0, 0, 0}, {2, 2, 2}}};
+    spm_mesh_material mats[3] = {{.name = "a", .diffuse = {0.8f, 0.2f, 0.1f}, .emission = {0, 0, 0}},
+                                 {.name = "b", .diffuse = {0.8f, 0.2f, 0.1f}, .emission = {0, 0, 0}},
+                                 {.name = "c", .diffuse = {0, 0, 0}, .emission = {2, 2, 2}}};
     spm_mesh_tri tris[4] = {{{{1, 0, 0}, {1, 1, 0}, {1, 0, 1}}, 0},
                             {{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, 1}, /* collinear */
                             {{{0, 0, 0}, {0, 0, 0}, {0, 1, 0}}, 1}, /* coincident */
@@ -366,6 +419,16 @@ int main(void)
     check_materials("cube.obj");
     check_materials("cube.gltf");
     check_materials("cube.glb");
+
+    check_textured("tex_cube.obj", 1, "tex.png");
+    check_textured("tex_cube.gltf", 1, "tex.png");
+    check_textured("tex_cube.glb", 1, "embedded image 0");
+    /* a texture that is not there: the factor alone, and the reason kept */
+    char cmd2[2048];
+    snprintf(cmd2, sizeof cmd2, "sed 's/tex.png/nosuch.png/' %s/tex_cube.mtl > %s/notex.mtl && "
+             "sed 's/tex_cube.mtl/notex.mtl/' %s/tex_cube.obj > %s/notex.obj", dir, dir, dir, dir);
+    CHECK(system(cmd2) == 0, "%s", cmd2);
+    check_textured("notex.obj", 0, "nosuch.png");
 
     check_fails("cube_strips.ply", "triangle strips");
     static const char glb[] = "glTF\x02\0\0\0\xff\xff\xff\xff not json";
