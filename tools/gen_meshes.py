@@ -8,6 +8,10 @@ statement reads, plus the expected triangles as text:
   cube_strips.ply       ASCII PLY, triangle strips (one per face, -1 between)
   cube_strips_be.ply    binary big-endian PLY, the same strips in one list int int,
                         vertices with colours and the +-x faces as a face element
+  grid_faces.ply        binary PLY, a bumpy 16x9-quad height field as triangle faces
+  grid_strips.ply       ASCII PLY, the same triangles as strips, one per row: rows
+                        restart at -1 or are joined by repeated indices (whose
+                        triangles are no triangles)
   tex.png               a 3x2 RGB texture; tex.mean its mean linear colour (each
                         sRGB code decoded, then averaged)
   tex_cube.obj/.mtl     the cube, 'red' with map_Kd tex.png (Kd the factor)
@@ -116,6 +120,48 @@ def ply(out):
     b += b''.join(struct.pack('>B4i', 4, *f) for f in faces)
     b += struct.pack('>i', len(idx)) + b''.join(struct.pack('>i', i) for i in idx)
     w(os.path.join(out, 'cube_strips_be.ply'), b, 'wb')
+
+
+def strip_tris(idx):
+    """The triangles of a strip list (the PLY convention, as a check)."""
+    tris, run = [], []
+    for i in idx:
+        if i < 0:
+            run = []
+            continue
+        run.append(i)
+        if len(run) >= 3:
+            a, b, c = run[-3:]
+            t = (b, a, c) if (len(run) - 3) % 2 else (a, b, c)
+            if len(set(t)) == 3:
+                tris.append(t)
+    return tris
+
+
+def grid(out):
+    nx, ny = 16, 9
+    f32 = lambda v: struct.unpack('<f', struct.pack('<f', v))[0]  # %.9g then reads back exactly
+    verts = [(x * 0.5, y * 0.5, f32(0.25 * math.sin(x * 0.9) * math.cos(y * 1.3)))
+             for y in range(ny + 1) for x in range(nx + 1)]
+    vid = lambda x, y: y * (nx + 1) + x
+    faces, idx = [], []
+    for y in range(ny):
+        # quad (t_j, b_j, b_j+1, t_j+1) counter-clockwise from +z, t the row above
+        for x in range(nx):
+            t0, b0, t1, b1 = vid(x, y + 1), vid(x, y), vid(x + 1, y + 1), vid(x + 1, y)
+            faces += [(t0, b0, t1), (t1, b0, b1)]
+        row = [v for x in range(nx + 1) for v in (vid(x, y + 1), vid(x, y))]
+        if not idx:
+            idx = row
+        elif y % 2:  # joined: last and first repeated (an even count keeps the parity)
+            idx += [idx[-1], row[0]] + row
+        else:
+            idx += [-1] + row
+    assert sorted(strip_tris(idx)) == sorted(faces)
+    write_ply(os.path.join(out, 'grid_faces.ply'), [c for p in verts for c in p], faces)
+    s = ply_header('ascii', len(verts), 'tristrips', 1, 'int').replace('uchar int', 'int int')
+    s += ''.join('%.9g %.9g %.9g\n' % p for p in verts) + '%d %s\n' % (len(idx), ' '.join(map(str, idx)))
+    w(os.path.join(out, 'grid_strips.ply'), s)
 
 
 def srgb_decode(c):
@@ -412,6 +458,7 @@ def main():
     stl(out)
     gltf(out)
     textured(out)
+    grid(out)
     write_tris(os.path.join(out, 'cube.tris'), [[V[i] for i in t[:3]] for t in TRIS])
     if len(sys.argv) > 2:
         print(big(out, int(sys.argv[2])))

@@ -71,9 +71,10 @@ typedef struct {
     void *buf;                 /* owns mats and tris */
 } spm_mesh_data;
 
-/* Imports `path` in a child process. Errors name `path` (and what Assimp
- * said); a crash or a limit hit in the child is an error; a stop request
- * (Ctrl-C) kills the child and fails with "interrupted". */
+/* Imports `path` in a child process (a PLY with triangle strips: by
+ * mesh_ply.c, in this process). Errors name `path` (and what Assimp said);
+ * a crash or a limit hit in the child is an error; a stop request (Ctrl-C)
+ * kills the child and fails with "interrupted". */
 int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err);
 
 /* For an OBJ (by its extension): a warning naming each `mtllib` file that is

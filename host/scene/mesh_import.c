@@ -8,6 +8,7 @@
 #define _GNU_SOURCE /* memmem */
 #include "mesh.h"
 #include "interrupt.h"
+#include "mesh_ply.h"
 #include "mesh_texture.h"
 #include <assimp/cimport.h>
 #include <assimp/material.h>
@@ -234,25 +235,6 @@ static int ends_with_ci(const char *s, const char *suffix)
     return 1;
 }
 
-/* Assimp 5.2 turns a PLY's triangle strips into one triangle (upstream
- * issue 2337, fixed after 5.2), so such a file is refused rather than
- * rendered wrong. The header is text up to "end_header". */
-static int ply_has_strips(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return 0;
-    char line[256];
-    int strips = 0;
-    for (int n = 0; n < 1000 && fgets(line, sizeof line, f); n++) {
-        if (!strncmp(line, "end_header", 10))
-            break;
-        strips |= !strncmp(line, "element tristrips", 17);
-    }
-    fclose(f);
-    return strips;
-}
-
 /* Whether the file's bytes (the first 64 MiB: glTF's JSON comes first)
  * contain `needle`. Assimp 5.2 drops glTF's emissive strength without a word. */
 static int file_mentions(const char *path, const char *needle)
@@ -306,10 +288,6 @@ static void child_main(const char *path, int fd, pid_t parent)
         pause();
     static writer w;
     w.fd = fd;
-    if (ends_with_ci(path, ".ply") && ply_has_strips(path))
-        child_fail(&w, "PLY triangle strips (element tristrips) are not supported: the "
-                       "importer (Assimp 5.2) reads only one triangle of them; convert the "
-                       "strips to a face list");
     const struct aiScene *sc = aiImportFile(path, aiProcess_Triangulate);
     if (!sc) {
         char msg[700];
@@ -415,6 +393,10 @@ static int child_error(const char *path, int status, spm_error *err)
 int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err)
 {
     memset(out, 0, sizeof *out);
+    /* Assimp 5.2 makes one triangle of a PLY's strips (upstream issue 2337,
+     * fixed after 5.2): such a file is read by the project's own code */
+    if (ends_with_ci(path, ".ply") && spm_ply_has_strips(path))
+        return spm_ply_read(path, out, err);
     int fds[2];
     if (pipe(fds)) {
         spm_errorf(err, "%s: cannot start the importer: %s", path, strerror(errno));
