@@ -450,6 +450,8 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
             return 1;
         }
     }
+    if (e->nprops == 0)
+        return (r->e = NULL, 0); /* no bytes to read: any count costs nothing */
     for (; r->item < e->count; r->item++) {
         if ((r->item & 0xffff) == 0 && spm_stop_requested()) {
             spm_errorf(r->err, "interrupted while loading %s", r->path);
