@@ -77,9 +77,20 @@ refused unbound "mesh cube.obj bind blue floor" "cube.obj has no material 'blue'
 refused unknown "mesh cube.obj material paint" "unknown material 'paint'"
 refused zeroscale "mesh cube.obj scale 1 0 1" "a scale must not be zero"
 refused axis "mesh cube.obj rotate 0 0 0 10" "the rotation axis must be a non-zero vector"
-refused strips "mesh cube_strips.ply material floor" "triangle strips"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2 7\n' > "$T/badstrip.ply"
+refused badstrip "mesh badstrip.ply material floor" "badstrip.ply:13: element tristrips item 1: vertex index 7 is out of range"
 refused twice "mesh cube.obj material floor material floor" "expected 'material' (once), 'bind'"
 SPECMIP_TEST_MESH_CHILD=crash refused crash "mesh cube.obj" "cube.obj: the importer crashed"
+
+# PLY triangle strips, read by the project's own code: the cube's 12 triangles.
+sed '$d' "$T/quad.scene" > "$T/strips.scene"
+printf 'background both white 1\nmesh cube_strips.ply material floor translate -1 -1 0\n' >> "$T/strips.scene"
+"$BIN" render "$T/strips.scene" "${R[@]}" --spp 4 -o "$T/strips.exr" 2> "$T/err"
+check "strips: renders" test $? -eq 0
+check "strips: the cube's 12 triangles and box" \
+    grep -q "cube_strips.ply: 12 triangles, bounding box (-1 -1 0) to (1 1 2)" "$T/err"
+# the background alone gives 1 there; the cube's face (reflectance 0.8) less
+check "strips: the cube is seen" num "$(avg "$T/strips.exr" 2x2+7+7)" '<' 0.9
 
 # Transforms apply in the order written: scale 2 then translate 1 0 0 puts the
 # quad's (-1 -1 0) to (1 1 0) at (-1 -2 0) to (3 2 0); the other order at
@@ -154,6 +165,28 @@ printf 'mesh normals.obj translate 0 0 5\nmesh normals.obj translate 2 0 5\n' >>
 check "two meshes with normals: renders" test $? -eq 0
 check "vertex normals ignored: said once ($(grep -c 'vertex normals ignored' "$T/err") times)" \
     test "$(grep -c 'vertex normals ignored' "$T/err")" -eq 1
+
+# A base-colour texture: its mean colour times the factor, and a warning that
+# says so with the mean (tex.mean: 0.447 0.381 0.193); bound to a scene
+# material instead, nothing is said.
+cp "$T/quad.scene" "$T/tex.scene"
+echo "mesh tex_cube.glb translate 0 0 5" >> "$T/tex.scene"
+"$BIN" render "$T/tex.scene" "${R[@]}" --spp 1 -o "$T/tex.exr" 2> "$T/err"
+check "textured glb: renders" test $? -eq 0
+check "textured glb: the mean colour is said" grep -q "warning: .*tex_cube.glb: material 'red': base-colour texture 'embedded image 0' replaced by its mean colour (0.447 0.381 0.193, linear) times the material's colour" "$T/err"
+check "textured glb: not as a texture ignored" not_said "textures ignored"
+cp "$T/quad.scene" "$T/texbound.scene"
+echo "mesh tex_cube.gltf material floor translate 0 0 5" >> "$T/texbound.scene"
+"$BIN" render "$T/texbound.scene" "${R[@]}" --spp 1 -o "$T/tex.exr" 2> "$T/err"
+check "textured glTF bound: renders" test $? -eq 0
+check "textured glTF bound: no texture warning" not_said "base-colour texture"
+sed 's/tex.png/nosuch.png/' "$T/tex_cube.mtl" > "$T/notex.mtl"
+sed 's/tex_cube.mtl/notex.mtl/' "$T/tex_cube.obj" > "$T/notex.obj"
+cp "$T/quad.scene" "$T/notex.scene"
+echo "mesh notex.obj translate 0 0 5" >> "$T/notex.scene"
+"$BIN" render "$T/notex.scene" "${R[@]}" --spp 1 -o "$T/tex.exr" 2> "$T/err"
+check "missing texture: renders" test $? -eq 0
+check "missing texture: said, the colour alone used" grep -q "notex.obj: material 'red': base-colour texture 'nosuch.png' cannot be read (no such file beside the model): the material's colour alone is used" "$T/err"
 
 # 4. Ctrl-C while the importer runs (a child that never answers; the parent
 #    held at the "mesh" test pause): exit 130 within a few seconds, nothing

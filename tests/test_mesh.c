@@ -5,6 +5,7 @@
  * and degenerate filtering. */
 #include "mesh.h"
 #include "testutil.h"
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -145,11 +146,150 @@ static void write_file(const char *name, const void *data, size_t n)
     fclose(f);
 }
 
+/* ---- PLY triangle strips (mesh_ply.c) ---- */
+
+/* Two files import to the same triangles, bit for bit and winding kept. */
+static void check_same_files(const char *a, const char *b)
+{
+    spm_mesh_data d[2];
+    spm_error err;
+    const char *names[2] = {a, b};
+    tri9 *t[2] = {NULL, NULL};
+    for (int f = 0; f < 2; f++) {
+        if (import(names[f], &d[f], &err)) {
+            CHECK(0, "%s imports: %s", names[f], err.msg);
+            if (f)
+                spm_mesh_free(&d[0]);
+            free(t[0]);
+            return;
+        }
+        t[f] = malloc((d[f].ntris + 1) * sizeof *t[f]);
+        for (uint64_t i = 0; i < d[f].ntris; i++) {
+            memcpy(t[f][i].v, d[f].tris[i].p, sizeof t[f][i].v);
+            canon(&t[f][i]);
+        }
+        qsort(t[f], d[f].ntris, sizeof *t[f], cmp_tri);
+    }
+    CHECK(d[0].ntris == d[1].ntris && d[0].ntris > 100, "%s: %llu triangles, %s: %llu", a,
+          (unsigned long long)d[0].ntris, b, (unsigned long long)d[1].ntris);
+    uint64_t differ = 0;
+    for (uint64_t i = 0; i < d[0].ntris && i < d[1].ntris; i++)
+        differ += cmp_tri(&t[0][i], &t[1][i]) != 0;
+    CHECK(differ == 0, "%s and %s: %llu triangles differ", a, b, (unsigned long long)differ);
+    for (int f = 0; f < 2; f++) {
+        free(t[f]);
+        spm_mesh_free(&d[f]);
+    }
+}
+
+/* A bad strips file: refused, the error naming the file, where (needle) and what. */
+static void check_ply_bad(const char *name, const char *body, const char *where,
+                          const char *what)
+{
+    char text[2048];
+    snprintf(text, sizeof text,
+             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+             "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
+             "end_header\n%s", body);
+    write_file(name, text, strlen(text));
+    check_fails(name, where);
+    check_fails(name, what);
+}
+
+static void check_strips(void)
+{
+    check_same("cube_strips.ply", "cube.tris", 0);
+    check_same("cube_strips_be.ply", "cube.tris", 0);
+    /* the same height field as faces (through Assimp) and as strips (ours) */
+    check_same_files("grid_strips.ply", "grid_faces.ply");
+    const char *v = "0 0 0\n1 0 0\n0 1 0\n";
+    char body[256];
+    snprintf(body, sizeof body, "%s4 0 1 2 7\n", v);
+    check_ply_bad("strip_range.ply", body, "strip_range.ply:13: element tristrips item 1",
+                  "vertex index 7 is out of range (3 vertices");
+    snprintf(body, sizeof body, "%s4 0 1 2 -2\n", v);
+    check_ply_bad("strip_negative.ply", body, ":13: element tristrips", "vertex index -2");
+    snprintf(body, sizeof body, "%s5 0 1 2\n", v);
+    check_ply_bad("strip_short.ply", body, "strip_short.ply:", "the file ends");
+    snprintf(body, sizeof body, "0 0 0\n1 zero 0\n");
+    check_ply_bad("strip_word.ply", body, "strip_word.ply:11: element vertex item 2",
+                  "'zero' is not a float");
+    snprintf(body, sizeof body, "%s3 0 1 1\n", v);
+    check_ply_bad("strip_degenerate.ply", body, "strip_degenerate.ply", "no triangles");
+    static const char hdr[] = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                              "property float y\nproperty quad z\nelement tristrips 1\n"
+                              "property list int int vertex_indices\nend_header\n";
+    write_file("strip_type.ply", hdr, sizeof hdr - 1);
+    check_fails("strip_type.ply", "strip_type.ply:6: unknown property type 'quad'");
+    /* binary: the element, item and byte offset */
+    static const char bin[] = "ply\nformat binary_little_endian 1.0\nelement vertex 1\n"
+                              "property uchar x\nproperty uchar y\nproperty uchar z\n"
+                              "element tristrips 1\nproperty list uchar uchar vertex_indices\n"
+                              "end_header\n\1\2\3\3\0\0\x09";
+    write_file("strip_bin.ply", bin, sizeof bin - 1);
+    char want[128];
+    snprintf(want, sizeof want, "element tristrips item 1 (byte %d): vertex index 9",
+             (int)(sizeof bin - 1));
+    check_fails("strip_bin.ply", want);
+}
+
+/* ---- textured materials: the mean colour ---- */
+
+/* The textured 'red' of NAME: its colour is the factor (0.9 0.6 0.3, as
+ * gen_meshes.py writes it) times tex.mean (the mean of the texture's decoded
+ * pixels, computed there in double precision), or the factor alone when
+ * mean_used is 0; 'white' has no texture and keeps 0.7. */
+static void check_textured(const char *name, int mean_used, const char *tex_name)
+{
+    static const float factor[3] = {0.9f, 0.6f, 0.3f};
+    double mean[3] = {1, 1, 1};
+    char path[512];
+    snprintf(path, sizeof path, "%s/tex.mean", dir);
+    FILE *f = fopen(path, "r");
+    int got = f ? fscanf(f, "%lf %lf %lf", &mean[0], &mean[1], &mean[2]) : 0;
+    if (f)
+        fclose(f);
+    CHECK(got == 3, "tex.mean read");
+    spm_mesh_data d;
+    spm_error err;
+    if (import(name, &d, &err)) {
+        CHECK(0, "%s imports: %s", name, err.msg);
+        return;
+    }
+    int red = 0, white = 0;
+    for (uint32_t i = 0; i < d.nmats; i++) {
+        const spm_mesh_material *m = &d.mats[i];
+        if (!strcmp(m->name, "red")) {
+            red++;
+            CHECK(m->texture == (mean_used ? SPM_MESH_TEX_MEAN : SPM_MESH_TEX_UNREAD) &&
+                      !strcmp(m->texture_name, tex_name),
+                  "%s: red's texture: state %d, '%s' (want '%s')", name, (int)m->texture,
+                  m->texture_name, tex_name);
+            for (int c = 0; c < 3; c++) {
+                double want = factor[c] * (mean_used ? mean[c] : 1.0);
+                /* 1e-6: the float mean and the float product round at 6e-8
+                 * relative each; measured: at most 1.2e-7 */
+                CHECK(fabs(m->diffuse[c] - want) <= 1e-6 * want,
+                      "%s: red's colour %d: %.9g, want %.9g", name, c, m->diffuse[c], want);
+            }
+        } else if (!strcmp(m->name, "white")) {
+            white++;
+            CHECK(m->texture == SPM_MESH_TEX_NONE && m->diffuse[0] == 0.7f &&
+                      m->diffuse[2] == 0.7f,
+                  "%s: white untextured (state %d, %g)", name, (int)m->texture, m->diffuse[0]);
+        }
+    }
+    CHECK(red == 1 && white >= 1, "%s: materials red (%d) and white (%d)", name, red, white);
+    CHECK(!(d.ignored & SPM_MESH_IGN_TEXTURES), "%s: no other texture said ignored", name);
+    spm_mesh_free(&d);
+}
+
 /* ---- the answer's decoder ---- */
 
 static void check_decode(void)
 {
-    spm_mesh_material mats[2] = {{"a", {0.5f, 0.5f, 0.5f}, {0, 0, 0}}, {"b", {1, 0, 0}, {0, 0, 0}}};
+    spm_mesh_material mats[2] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}, .emission = {0, 0, 0}},
+                                 {.name = "b", .diffuse = {1, 0, 0}, .emission = {0, 0, 0}}};
     spm_mesh_tri tris[2] = {{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1}, {{{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}, 0}};
     spm_mesh_data d = {0, 2, 2, mats, tris, NULL}, out;
     spm_error err;
@@ -226,9 +366,9 @@ static void identity(spm_mesh_opts *o)
 
 static void check_build(void)
 {
-    spm_mesh_material mats[3] = {{"a", {0.8f, 0.2f, 0.1f}, {0, 0, 0}},
-                                 {"b", {0.8f, 0.2f, 0.1f}, {0, 0, 0}},
-                                 {"c", {0, 0, 0}, {2, 2, 2}}};
+    spm_mesh_material mats[3] = {{.name = "a", .diffuse = {0.8f, 0.2f, 0.1f}, .emission = {0, 0, 0}},
+                                 {.name = "b", .diffuse = {0.8f, 0.2f, 0.1f}, .emission = {0, 0, 0}},
+                                 {.name = "c", .diffuse = {0, 0, 0}, .emission = {2, 2, 2}}};
     spm_mesh_tri tris[4] = {{{{1, 0, 0}, {1, 1, 0}, {1, 0, 1}}, 0},
                             {{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, 1}, /* collinear */
                             {{{0, 0, 0}, {0, 0, 0}, {0, 1, 0}}, 1}, /* coincident */
@@ -367,7 +507,17 @@ int main(void)
     check_materials("cube.gltf");
     check_materials("cube.glb");
 
-    check_fails("cube_strips.ply", "triangle strips");
+    check_textured("tex_cube.obj", 1, "tex.png");
+    check_textured("tex_cube.gltf", 1, "tex.png");
+    check_textured("tex_cube.glb", 1, "embedded image 0");
+    /* a texture that is not there: the factor alone, and the reason kept */
+    char cmd2[2048];
+    snprintf(cmd2, sizeof cmd2, "sed 's/tex.png/nosuch.png/' %s/tex_cube.mtl > %s/notex.mtl && "
+             "sed 's/tex_cube.mtl/notex.mtl/' %s/tex_cube.obj > %s/notex.obj", dir, dir, dir, dir);
+    CHECK(system(cmd2) == 0, "%s", cmd2);
+    check_textured("notex.obj", 0, "nosuch.png");
+
+    check_strips();
     static const char glb[] = "glTF\x02\0\0\0\xff\xff\xff\xff not json";
     write_file("garbage.glb", glb, sizeof glb - 1);
     check_fails("garbage.glb", "Assimp");

@@ -6,6 +6,17 @@ statement reads, plus the expected triangles as text:
   cube_ascii.ply        ASCII PLY, face lists
   cube_binary.ply       binary little-endian PLY, face lists
   cube_strips.ply       ASCII PLY, triangle strips (one per face, -1 between)
+  cube_strips_be.ply    binary big-endian PLY, the same strips in one list int int,
+                        vertices with colours and the +-x faces as a face element
+  grid_faces.ply        binary PLY, a bumpy 16x9-quad height field as triangle faces
+  grid_strips.ply       ASCII PLY, the same triangles as strips, one per row: rows
+                        restart at -1 or are joined by repeated indices (whose
+                        triangles are no triangles)
+  tex.png               a 3x2 RGB texture; tex.mean its mean linear colour (each
+                        sRGB code decoded, then averaged)
+  tex_cube.obj/.mtl     the cube, 'red' with map_Kd tex.png (Kd the factor)
+  tex_cube.gltf / .glb  the cube, 'red' with baseColorTexture tex.png (the .glb's
+                        embedded in its binary chunk)
   cube.gltf / cube.glb  glTF 2.0, one mesh of two primitives (the two materials)
   cube_ascii.stl / cube_binary.stl
   cube.tris             the 12 triangles, 9 numbers a line, front faces outward
@@ -91,6 +102,119 @@ def ply(out):
     s = ply_header('ascii', len(V), 'tristrips', 1).replace('vertex_indices', 'vertex_indices')
     s += ''.join(fmt(p) + '\n' for p in V) + '%d %s\n' % (len(idx), ' '.join(map(str, idx)))
     w(os.path.join(out, 'cube_strips.ply'), s)
+    # big-endian: x y z and a colour per vertex; the x faces as faces, the
+    # other four faces as strips restarting at -1 (one list for them all)
+    idx = []
+    faces = []
+    for (a, b_, c, d), m in QUADS:
+        if m == 'red':
+            faces.append((a, b_, c, d))
+        else:
+            idx += ([-1] if idx else []) + [b_, c, a, d]
+    hdr = ('ply\nformat binary_big_endian 1.0\nelement vertex %d\nproperty float x\n'
+           'property float y\nproperty float z\nproperty uchar red\nproperty uchar green\n'
+           'property uchar blue\nelement face %d\nproperty list uchar int vertex_indices\n'
+           'element tristrips 1\nproperty list int int vertex_indices\nend_header\n'
+           % (len(V), len(faces)))
+    b = hdr.encode() + b''.join(struct.pack('>3f3B', *p, 9, 8, 7) for p in V)
+    b += b''.join(struct.pack('>B4i', 4, *f) for f in faces)
+    b += struct.pack('>i', len(idx)) + b''.join(struct.pack('>i', i) for i in idx)
+    w(os.path.join(out, 'cube_strips_be.ply'), b, 'wb')
+
+
+def strip_tris(idx):
+    """The triangles of a strip list (the PLY convention, as a check)."""
+    tris, run = [], []
+    for i in idx:
+        if i < 0:
+            run = []
+            continue
+        run.append(i)
+        if len(run) >= 3:
+            a, b, c = run[-3:]
+            t = (b, a, c) if (len(run) - 3) % 2 else (a, b, c)
+            if len(set(t)) == 3:
+                tris.append(t)
+    return tris
+
+
+def grid(out):
+    nx, ny = 16, 9
+    f32 = lambda v: struct.unpack('<f', struct.pack('<f', v))[0]  # %.9g then reads back exactly
+    verts = [(x * 0.5, y * 0.5, f32(0.25 * math.sin(x * 0.9) * math.cos(y * 1.3)))
+             for y in range(ny + 1) for x in range(nx + 1)]
+    vid = lambda x, y: y * (nx + 1) + x
+    faces, idx = [], []
+    for y in range(ny):
+        # quad (t_j, b_j, b_j+1, t_j+1) counter-clockwise from +z, t the row above
+        for x in range(nx):
+            t0, b0, t1, b1 = vid(x, y + 1), vid(x, y), vid(x + 1, y + 1), vid(x + 1, y)
+            faces += [(t0, b0, t1), (t1, b0, b1)]
+        row = [v for x in range(nx + 1) for v in (vid(x, y + 1), vid(x, y))]
+        if not idx:
+            idx = row
+        elif y % 2:  # joined: last and first repeated (an even count keeps the parity)
+            idx += [idx[-1], row[0]] + row
+        else:
+            idx += [-1] + row
+    assert sorted(strip_tris(idx)) == sorted(faces)
+    write_ply(os.path.join(out, 'grid_faces.ply'), [c for p in verts for c in p], faces)
+    s = ply_header('ascii', len(verts), 'tristrips', 1, 'int').replace('uchar int', 'int int')
+    s += ''.join('%.9g %.9g %.9g\n' % p for p in verts) + '%d %s\n' % (len(idx), ' '.join(map(str, idx)))
+    w(os.path.join(out, 'grid_strips.ply'), s)
+
+
+def srgb_decode(c):
+    c /= 255.0
+    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+
+
+TEX = [[(255, 128, 0), (200, 30, 90), (0, 0, 0)],
+       [(255, 255, 64), (10, 250, 20), (90, 90, 255)]]  # 3x2, rows top to bottom
+TEX_FACTOR = (0.9, 0.6, 0.3)  # the textured 'red''s colour factor (Kd, baseColorFactor)
+
+
+def png(rows):
+    import zlib
+    raw = b''.join(b'\0' + bytes(c for px in r for c in px) for r in rows)
+    def chunk(t, d):
+        return struct.pack('>I', len(d)) + t + d + struct.pack('>I', zlib.crc32(t + d))
+    return (b'\x89PNG\r\n\x1a\n' +
+            chunk(b'IHDR', struct.pack('>IIBBBBB', len(rows[0]), len(rows), 8, 2, 0, 0, 0)) +
+            chunk(b'IDAT', zlib.compress(raw)) + chunk(b'IEND', b''))
+
+
+def textured(out):
+    pix = [px for r in TEX for px in r]
+    mean = [sum(srgb_decode(px[k]) for px in pix) / len(pix) for k in range(3)]
+    w(os.path.join(out, 'tex.mean'), '%.9g %.9g %.9g\n' % tuple(mean))
+    image = png(TEX)
+    w(os.path.join(out, 'tex.png'), image, 'wb')
+    mats = dict(MATS, red=TEX_FACTOR)
+    w(os.path.join(out, 'tex_cube.mtl'), ''.join(
+        'newmtl %s\nKd %s\n%s\n' % (m, fmt(c), 'map_Kd tex.png\n' if m == 'red' else '')
+        for m, c in mats.items()))
+    s = 'mtllib tex_cube.mtl\n' + ''.join('v %s\n' % fmt(p) for p in V)
+    for m in MATS:
+        s += 'usemtl %s\n' % m + ''.join('f %d %d %d\n' % (i + 1, j + 1, k + 1)
+                                         for i, j, k, mm in TRIS if mm == m)
+    w(os.path.join(out, 'tex_cube.obj'), s)
+    names = list(MATS)
+    prims = [([i for t in TRIS if t[3] == m for i in t[:3]], names.index(m)) for m in names]
+    materials = gltf_materials(names)
+    red = materials[names.index('red')]['pbrMetallicRoughness']
+    red['baseColorFactor'] = list(TEX_FACTOR) + [1.0]
+    red['baseColorTexture'] = {'index': 0}
+    doc, buf = gltf_doc(V, prims, [{'mesh': 0}], [0], materials)
+    doc['textures'] = [{'source': 0}]
+    doc['images'] = [{'uri': 'tex.png'}]
+    write_gltf(os.path.join(out, 'tex_cube.gltf'), doc, buf)
+    buf = buf + b'\0' * (-len(buf) % 4)
+    doc['bufferViews'].append({'buffer': 0, 'byteOffset': len(buf), 'byteLength': len(image)})
+    doc['images'] = [{'bufferView': len(doc['bufferViews']) - 1, 'mimeType': 'image/png'}]
+    buf += image
+    doc['buffers'][0]['byteLength'] = len(buf)
+    write_glb(os.path.join(out, 'tex_cube.glb'), doc, buf)
 
 
 def stl(out):
@@ -333,6 +457,8 @@ def main():
     ply(out)
     stl(out)
     gltf(out)
+    textured(out)
+    grid(out)
     write_tris(os.path.join(out, 'cube.tris'), [[V[i] for i in t[:3]] for t in TRIS])
     if len(sys.argv) > 2:
         print(big(out, int(sys.argv[2])))

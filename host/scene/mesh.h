@@ -46,7 +46,14 @@ typedef struct {
     char name[SPM_NAME_MAX];   /* the file's material name (truncated) */
     float diffuse[3];          /* linear RGB: diffuse or glTF base colour */
     float emission[3];         /* linear RGB radiance (times a glTF emissive strength) */
+    int32_t texture;           /* SPM_MESH_TEX_*: a base-colour texture (mesh_texture.h) */
+    float texture_mean[3];     /* its mean linear colour (SPM_MESH_TEX_MEAN) */
+    char texture_name[96];     /* as the file names it, or "embedded image N" */
+    char texture_why[128];     /* why it was not read (SPM_MESH_TEX_UNREAD) */
 } spm_mesh_material;
+/* spm_mesh_material.texture: none; diffuse is the factor times the
+ * texture's mean; the texture could not be read, diffuse is the factor */
+enum { SPM_MESH_TEX_NONE = 0, SPM_MESH_TEX_MEAN = 1, SPM_MESH_TEX_UNREAD = 2 };
 
 /* A triangle in file coordinates, node transforms applied, in the file's
  * winding (mirroring node transforms already compensated). */
@@ -64,9 +71,10 @@ typedef struct {
     void *buf;                 /* owns mats and tris */
 } spm_mesh_data;
 
-/* Imports `path` in a child process. Errors name `path` (and what Assimp
- * said); a crash or a limit hit in the child is an error; a stop request
- * (Ctrl-C) kills the child and fails with "interrupted". */
+/* Imports `path` in a child process (a PLY with triangle strips: by
+ * mesh_ply.c, in this process). Errors name `path` (and what Assimp said);
+ * a crash or a limit hit in the child is an error; a stop request (Ctrl-C)
+ * kills the child and fails with "interrupted". */
 int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err);
 
 /* For an OBJ (by its extension): a warning naming each `mtllib` file that is

@@ -3,6 +3,7 @@
  * skipped and counted. */
 #include "mesh.h"
 #include "interrupt.h"
+#include "mesh_texture.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -131,6 +132,7 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
             spm_errorf(err, "%s: colours must be finite and emissions not negative", mwhere);
             return 1;
         }
+        spm_mesh_texture_warn(m, mwhere);
         int r = rgb_colour(b, cache, m->diffuse, SPM_KIND_REFLECTANCE, mwhere, err);
         int e = r < -1 ? -2 : rgb_colour(b, cache, m->emission, SPM_KIND_EMISSION, mwhere, err);
         if (e < -1)

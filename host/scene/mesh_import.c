@@ -8,6 +8,8 @@
 #define _GNU_SOURCE /* memmem */
 #include "mesh.h"
 #include "interrupt.h"
+#include "mesh_ply.h"
+#include "mesh_texture.h"
 #include <assimp/cimport.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -182,8 +184,10 @@ static int has_colour(const struct aiMaterial *m, const char *key, unsigned type
 
 /* A material; what it holds that is ignored goes to *ignored. Assimp's own
  * default material (for files without materials) gets no name: such a mesh
- * needs a `material` clause. */
-static void material(const struct aiMaterial *m, spm_mesh_material *out, uint32_t *ignored)
+ * needs a `material` clause. A base-colour texture's mean multiplies the
+ * colour (mesh_texture.c). */
+static void material(const struct aiScene *sc, const char *path, const struct aiMaterial *m,
+                     spm_mesh_material *out, uint32_t *ignored)
 {
     memset(out, 0, sizeof *out);
     struct aiString s;
@@ -197,6 +201,7 @@ static void material(const struct aiMaterial *m, spm_mesh_material *out, uint32_
     if (!has_colour(m, AI_MATKEY_BASE_COLOR, out->diffuse) &&
         !has_colour(m, AI_MATKEY_COLOR_DIFFUSE, out->diffuse))
         out->diffuse[0] = out->diffuse[1] = out->diffuse[2] = 0.0f;
+    int base_tex = spm_mesh_texture_apply(sc, m, path, out);
     if (has_colour(m, AI_MATKEY_COLOR_EMISSIVE, out->emission)) {
         float strength;
         if (aiGetMaterialFloatArray(m, AI_MATKEY_EMISSIVE_INTENSITY, &strength, NULL) ==
@@ -211,7 +216,8 @@ static void material(const struct aiMaterial *m, spm_mesh_material *out, uint32_
     if (aiGetMaterialFloatArray(m, AI_MATKEY_OPACITY, &f, NULL) == aiReturn_SUCCESS && f < 1)
         *ignored |= SPM_MESH_IGN_OPACITY;
     for (int type = 1; type <= AI_TEXTURE_TYPE_MAX; type++)
-        if (aiGetMaterialTextureCount(m, (enum aiTextureType)type) > 0)
+        if (aiGetMaterialTextureCount(m, (enum aiTextureType)type) > 0 &&
+            !(base_tex && (type == aiTextureType_BASE_COLOR || type == aiTextureType_DIFFUSE)))
             *ignored |= type == aiTextureType_NORMALS || type == aiTextureType_HEIGHT ||
                                   type == aiTextureType_NORMAL_CAMERA
                               ? SPM_MESH_IGN_NORMAL_MAPS
@@ -227,25 +233,6 @@ static int ends_with_ci(const char *s, const char *suffix)
         if (tolower((unsigned char)s[n - m + i]) != suffix[i])
             return 0;
     return 1;
-}
-
-/* Assimp 5.2 turns a PLY's triangle strips into one triangle (upstream
- * issue 2337, fixed after 5.2), so such a file is refused rather than
- * rendered wrong. The header is text up to "end_header". */
-static int ply_has_strips(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return 0;
-    char line[256];
-    int strips = 0;
-    for (int n = 0; n < 1000 && fgets(line, sizeof line, f); n++) {
-        if (!strncmp(line, "end_header", 10))
-            break;
-        strips |= !strncmp(line, "element tristrips", 17);
-    }
-    fclose(f);
-    return strips;
 }
 
 /* Whether the file's bytes (the first 64 MiB: glTF's JSON comes first)
@@ -301,10 +288,6 @@ static void child_main(const char *path, int fd, pid_t parent)
         pause();
     static writer w;
     w.fd = fd;
-    if (ends_with_ci(path, ".ply") && ply_has_strips(path))
-        child_fail(&w, "PLY triangle strips (element tristrips) are not supported: the "
-                       "importer (Assimp 5.2) reads only one triangle of them; convert the "
-                       "strips to a face list");
     const struct aiScene *sc = aiImportFile(path, aiProcess_Triangulate);
     if (!sc) {
         char msg[700];
@@ -339,7 +322,7 @@ static void child_main(const char *path, int fd, pid_t parent)
         child_fail(&w, "out of memory");
     for (unsigned i = 0; i < sc->mNumMaterials; i++) {
         uint32_t ign = 0;
-        material(sc->mMaterials[i], &mats[i], &ign);
+        material(sc, path, sc->mMaterials[i], &mats[i], &ign);
         if (k.used[i])
             k.ignored |= ign;
     }
@@ -355,8 +338,16 @@ static void child_main(const char *path, int fd, pid_t parent)
         if (m->mNumBones || m->mNumAnimMeshes)
             k.ignored |= SPM_MESH_IGN_ANIMATION;
     }
-    if (sc->mNumTextures)
-        k.ignored |= SPM_MESH_IGN_TEXTURES;
+    /* embedded images other than the base-colour ones are ignored textures */
+    for (unsigned i = 0; i < sc->mNumTextures; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "embedded image %u", i);
+        int base = 0;
+        for (unsigned j = 0; j < sc->mNumMaterials; j++)
+            base |= k.used[j] && mats[j].texture && !strcmp(mats[j].texture_name, name);
+        if (!base)
+            k.ignored |= SPM_MESH_IGN_TEXTURES;
+    }
     if ((ends_with_ci(path, ".gltf") || ends_with_ci(path, ".glb")) &&
         file_mentions(path, "KHR_materials_emissive_strength"))
         k.ignored |= SPM_MESH_IGN_EMISSIVE_STRENGTH;
@@ -402,6 +393,10 @@ static int child_error(const char *path, int status, spm_error *err)
 int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err)
 {
     memset(out, 0, sizeof *out);
+    /* Assimp 5.2 makes one triangle of a PLY's strips (upstream issue 2337,
+     * fixed after 5.2): such a file is read by the project's own code */
+    if (ends_with_ci(path, ".ply") && spm_ply_has_strips(path))
+        return spm_ply_read(path, out, err);
     int fds[2];
     if (pipe(fds)) {
         spm_errorf(err, "%s: cannot start the importer: %s", path, strerror(errno));

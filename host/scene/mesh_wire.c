@@ -73,8 +73,15 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
     }
     spm_mesh_material *mats = (spm_mesh_material *)((char *)buf + sizeof h);
     spm_mesh_tri *tris = (spm_mesh_tri *)((char *)buf + sizeof h + h.nmats * sizeof *mats);
-    for (uint32_t i = 0; i < h.nmats; i++)
+    for (uint32_t i = 0; i < h.nmats; i++) {
         mats[i].name[SPM_NAME_MAX - 1] = 0;
+        mats[i].texture_name[sizeof mats[i].texture_name - 1] = 0;
+        mats[i].texture_why[sizeof mats[i].texture_why - 1] = 0;
+        if (mats[i].texture < SPM_MESH_TEX_NONE || mats[i].texture > SPM_MESH_TEX_UNREAD) {
+            spm_errorf(err, "%s: the importer returned a bad material", path);
+            return 1;
+        }
+    }
     for (uint64_t t = 0; t < h.ntris; t++)
         if (tris[t].mat >= h.nmats) {
             spm_errorf(err, "%s: the importer returned a bad material index", path);

@@ -2,7 +2,7 @@
 # Runs one libFuzzer harness until it has used CPU_SECONDS of CPU (the machine
 # is shared: one job, rounds of at most the CPU time still owed), seeded with
 # the bundled good files and tests/bad-inputs. Findings go to OUT/art_NAME/.
-# usage: bash tests/fuzz/run_fuzz.sh BUILD_DIR scene|minilight|csv|mesh OUT [CPU_SECONDS]
+# usage: bash tests/fuzz/run_fuzz.sh BUILD_DIR scene|minilight|csv|mesh|ply OUT [CPU_SECONDS]
 # (BUILD_DIR configured with CC=clang CXX=clang++ -DSPECMIP_FUZZ=ON)
 set -u
 BUILD=$(cd "${1:?build dir}" && pwd) NAME=${2:?harness} OUT=${3:?output dir} CPU=${4:-600}
@@ -23,6 +23,10 @@ case $NAME in
   mesh) # generated meshes, as bytes (the harness makes its meshes from any bytes)
          python3 "$ROOT/tools/gen_meshes.py" "seed_$NAME" > /dev/null
          maxlen=4096 ;;
+  ply) # the generated PLY files, faces and strips, ASCII and binary
+       python3 "$ROOT/tools/gen_meshes.py" "dir_$NAME/gen" > /dev/null
+       cp "dir_$NAME"/gen/*.ply "seed_$NAME/" && rm -r "dir_$NAME/gen"
+       maxlen=8192 ;;
   *) echo "unknown harness $NAME" >&2; exit 2 ;;
 esac
 used=0 round=0

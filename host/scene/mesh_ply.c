@@ -1,0 +1,545 @@
+/* PLY with triangle strips (mesh_ply.h): the header, then each element's
+ * items in order, ASCII tokens or binary values of either byte order. The
+ * reader streams: memory grows with the vertices and triangles read, never
+ * with the counts a header declares. */
+#include "mesh_ply.h"
+#include "interrupt.h"
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum { P_NONE, P_I8, P_U8, P_I16, P_U16, P_I32, P_U32, P_F32, P_F64 } ply_type;
+static const char *const type_names[][2] = {
+    {"", ""}, {"char", "int8"}, {"uchar", "uint8"}, {"short", "int16"}, {"ushort", "uint16"},
+    {"int", "int32"}, {"uint", "uint32"}, {"float", "float32"}, {"double", "float64"}};
+static const int type_size[] = {0, 1, 1, 2, 2, 4, 4, 4, 8};
+
+typedef struct {
+    char name[32];
+    ply_type type;       /* the value's, or a list's items' */
+    ply_type count_type; /* P_NONE: not a list */
+} ply_prop;
+
+typedef struct {
+    char name[32];
+    uint64_t count;
+    int nprops;
+    ply_prop props[SPM_PLY_MAX_PROPERTIES];
+} ply_elem;
+
+enum { F_ASCII, F_LE, F_BE };
+
+typedef struct {
+    FILE *f;
+    const char *path;
+    spm_error *err;
+    int format, swap;
+    long line;           /* ASCII: the line being read */
+    uint64_t offset;     /* binary: bytes read */
+    const ply_elem *e;   /* where reading is, for messages */
+    uint64_t item;
+    int failed;
+} reader;
+
+static void fail(reader *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void fail(reader *r, const char *fmt, ...)
+{
+    if (r->failed)
+        return;
+    r->failed = 1;
+    char msg[600];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    if (!r->e)
+        spm_errorf(r->err, "%s:%ld: %s", r->path, r->line, msg);
+    else if (r->format == F_ASCII)
+        spm_errorf(r->err, "%s:%ld: element %s item %llu: %s", r->path, r->line, r->e->name,
+                   (unsigned long long)r->item + 1, msg);
+    else
+        spm_errorf(r->err, "%s: element %s item %llu (byte %llu): %s", r->path, r->e->name,
+                   (unsigned long long)r->item + 1, (unsigned long long)r->offset, msg);
+}
+
+static ply_type type_of(const char *s)
+{
+    for (int t = P_I8; t <= P_F64; t++)
+        if (!strcmp(s, type_names[t][0]) || !strcmp(s, type_names[t][1]))
+            return (ply_type)t;
+    return P_NONE;
+}
+
+/* ---- values ---------------------------------------------------------------- */
+
+/* The next ASCII token (at most 63 characters), lines counted. */
+static int token(reader *r, char tok[64])
+{
+    int c;
+    while ((c = getc(r->f)) != EOF && isspace(c))
+        r->line += c == '\n';
+    if (c == EOF) {
+        fail(r, "the file ends before the element's %llu items", (unsigned long long)r->e->count);
+        return 1;
+    }
+    int n = 0;
+    for (; c != EOF && !isspace(c); c = getc(r->f)) {
+        if (n == 63) {
+            fail(r, "a value longer than 63 characters");
+            return 1;
+        }
+        tok[n++] = (char)c;
+    }
+    tok[n] = 0;
+    if (c == '\n')
+        ungetc(c, r->f); /* counted by the next token */
+    return 0;
+}
+
+static const double type_min[] = {0, -128, 0, -32768, 0, -2147483648.0, 0, 0, 0};
+static const double type_max[] = {0, 127, 255, 32767, 65535, 2147483647.0, 4294967295.0, 0, 0};
+
+/* One value of type t as a double (every integer type is exact in one). */
+static int value(reader *r, ply_type t, double *v)
+{
+    if (r->format == F_ASCII) {
+        char tok[64], *end;
+        if (token(r, tok))
+            return 1;
+        errno = 0;
+        if (t == P_F32 || t == P_F64) {
+            *v = strtod(tok, &end);
+        } else {
+            long long i = strtoll(tok, &end, 10);
+            *v = (double)i;
+            if (!*end && (errno || *v < type_min[t] || *v > type_max[t])) {
+                fail(r, "'%s' is out of the range of %s", tok, type_names[t][0]);
+                return 1;
+            }
+        }
+        if (end == tok || *end) {
+            fail(r, "'%s' is not a%s %s", tok, t == P_I8 || t == P_U8 || t == P_U32 ? "n" : "",
+                 type_names[t][0]);
+            return 1;
+        }
+        return 0;
+    }
+    unsigned char b[8];
+    int n = type_size[t];
+    if (fread(b, 1, (size_t)n, r->f) != (size_t)n) {
+        fail(r, "the file ends before the element's %llu items", (unsigned long long)r->e->count);
+        return 1;
+    }
+    r->offset += (uint64_t)n;
+    if (r->swap)
+        for (int i = 0; i < n / 2; i++) {
+            unsigned char x = b[i];
+            b[i] = b[n - 1 - i];
+            b[n - 1 - i] = x;
+        }
+    switch (t) {
+    case P_I8: *v = (int8_t)b[0]; break;
+    case P_U8: *v = b[0]; break;
+    case P_I16: { int16_t x; memcpy(&x, b, 2); *v = x; } break;
+    case P_U16: { uint16_t x; memcpy(&x, b, 2); *v = x; } break;
+    case P_I32: { int32_t x; memcpy(&x, b, 4); *v = x; } break;
+    case P_U32: { uint32_t x; memcpy(&x, b, 4); *v = x; } break;
+    case P_F32: { float x; memcpy(&x, b, 4); *v = x; } break;
+    default: { double x; memcpy(&x, b, 8); *v = x; } break;
+    }
+    return 0;
+}
+
+/* ---- the header ------------------------------------------------------------- */
+
+typedef struct {
+    int format;
+    int nelems;
+    ply_elem elems[SPM_PLY_MAX_ELEMENTS];
+} ply_header;
+
+/* One header line into buf (its newline and any \r removed); 1 at the end of the file. */
+static int header_line(reader *r, char *buf, size_t n)
+{
+    if (!fgets(buf, (int)n, r->f)) {
+        fail(r, "the file ends before 'end_header'");
+        return 1;
+    }
+    r->line++;
+    size_t len = strlen(buf);
+    if (len == n - 1 && buf[len - 1] != '\n') {
+        fail(r, "a header line longer than %zu characters", n - 2);
+        return 1;
+    }
+    while (len && (buf[len - 1] == '\n' || buf[len - 1] == '\r'))
+        buf[--len] = 0;
+    return 0;
+}
+
+static int parse_property(reader *r, ply_header *h, char *rest)
+{
+    if (h->nelems == 0) {
+        fail(r, "a property before any element");
+        return 1;
+    }
+    ply_elem *e = &h->elems[h->nelems - 1];
+    if (e->nprops == SPM_PLY_MAX_PROPERTIES) {
+        fail(r, "more than %d properties in element %s", SPM_PLY_MAX_PROPERTIES, e->name);
+        return 1;
+    }
+    ply_prop *p = &e->props[e->nprops];
+    char a[32], b[32] = "", c[32] = "", extra[2];
+    int k = sscanf(rest, "%31s %31s %31s %1s", a, b, c, extra);
+    if (k >= 1 && !strcmp(a, "list")) {
+        char name[32];
+        if (sscanf(rest, "%*s %*s %*s %31s %1s", name, extra) != 1) {
+            fail(r, "expected 'property list COUNT_TYPE ITEM_TYPE NAME'");
+            return 1;
+        }
+        p->count_type = type_of(b);
+        p->type = type_of(c);
+        if (p->count_type == P_NONE || p->type == P_NONE || p->count_type >= P_F32) {
+            fail(r, "unknown list types '%s %s' (a count of an integer type, items of any)", b, c);
+            return 1;
+        }
+        snprintf(p->name, sizeof p->name, "%s", name);
+    } else {
+        if (k != 2) {
+            fail(r, "expected 'property TYPE NAME'");
+            return 1;
+        }
+        p->type = type_of(a);
+        p->count_type = P_NONE;
+        if (p->type == P_NONE) {
+            fail(r, "unknown property type '%s'", a);
+            return 1;
+        }
+        snprintf(p->name, sizeof p->name, "%s", b);
+    }
+    e->nprops++;
+    return 0;
+}
+
+static int parse_header(reader *r, ply_header *h)
+{
+    char buf[1026];
+    memset(h, 0, sizeof *h);
+    h->format = -1;
+    if (header_line(r, buf, sizeof buf))
+        return 1;
+    if (strcmp(buf, "ply")) {
+        fail(r, "not a PLY file (its first line is not 'ply')");
+        return 1;
+    }
+    for (int n = 1;; n++) {
+        if (n > SPM_PLY_MAX_HEADER_LINES) {
+            fail(r, "a header of more than %d lines", SPM_PLY_MAX_HEADER_LINES);
+            return 1;
+        }
+        if (header_line(r, buf, sizeof buf))
+            return 1;
+        char key[32] = "", *rest = buf;
+        while (*rest == ' ' || *rest == '\t')
+            rest++;
+        int kl = 0;
+        while (rest[kl] && rest[kl] != ' ' && rest[kl] != '\t')
+            kl++;
+        snprintf(key, sizeof key, "%.*s", kl < 31 ? kl : 31, rest);
+        rest += kl;
+        if (!strcmp(key, "end_header"))
+            break;
+        if (!strcmp(key, "comment") || !strcmp(key, "obj_info") || !key[0])
+            continue;
+        if (!strcmp(key, "format")) {
+            char f[32], v[32], extra[2];
+            if (sscanf(rest, "%31s %31s %1s", f, v, extra) != 2 || strcmp(v, "1.0")) {
+                fail(r, "expected 'format ascii|binary_little_endian|binary_big_endian 1.0'");
+                return 1;
+            }
+            h->format = !strcmp(f, "ascii") ? F_ASCII
+                        : !strcmp(f, "binary_little_endian") ? F_LE
+                        : !strcmp(f, "binary_big_endian") ? F_BE : -1;
+            if (h->format < 0) {
+                fail(r, "unknown format '%s'", f);
+                return 1;
+            }
+        } else if (!strcmp(key, "element")) {
+            if (h->nelems == SPM_PLY_MAX_ELEMENTS) {
+                fail(r, "more than %d elements", SPM_PLY_MAX_ELEMENTS);
+                return 1;
+            }
+            ply_elem *e = &h->elems[h->nelems];
+            char count[32], extra[2];
+            if (sscanf(rest, "%31s %31s %1s", e->name, count, extra) != 2) {
+                fail(r, "expected 'element NAME COUNT'");
+                return 1;
+            }
+            char *end;
+            errno = 0;
+            unsigned long long c = strtoull(count, &end, 10);
+            if (*end || end == count || errno || count[0] == '-' || c > UINT32_MAX) {
+                fail(r, "element %s: '%s' is not a count (0 to %u)", e->name, count, UINT32_MAX);
+                return 1;
+            }
+            e->count = c;
+            h->nelems++;
+        } else if (!strcmp(key, "property")) {
+            if (parse_property(r, h, rest))
+                return 1;
+        } else {
+            fail(r, "unknown header line '%.40s'", buf);
+            return 1;
+        }
+    }
+    if (h->format < 0) {
+        fail(r, "no 'format' line in the header");
+        return 1;
+    }
+    return 0;
+}
+
+/* ---- the elements ------------------------------------------------------------ */
+
+typedef struct {
+    float *v;            /* xyz per vertex */
+    uint64_t nv, capv;
+    spm_mesh_tri *t;
+    uint64_t nt, capt;
+    uint32_t ignored;
+    int have_vertices;
+} ply_mesh;
+
+static int find_prop(const ply_elem *e, const char *name)
+{
+    for (int i = 0; i < e->nprops; i++)
+        if (!strcmp(e->props[i].name, name))
+            return i;
+    return -1;
+}
+
+static int add_tri(reader *r, ply_mesh *m, const double idx[3])
+{
+    if (m->nt == SPM_SCENE_MAX_TRIS) {
+        fail(r, "more than %d triangles", SPM_SCENE_MAX_TRIS);
+        return 1;
+    }
+    if (m->nt == m->capt) {
+        m->capt = m->capt ? 2 * m->capt : 1024;
+        m->t = spm_xrealloc(m->t, m->capt * sizeof *m->t);
+    }
+    spm_mesh_tri *t = &m->t[m->nt++];
+    for (int k = 0; k < 3; k++)
+        memcpy(t->p[k], &m->v[3 * (uint64_t)idx[k]], sizeof t->p[k]);
+    t->mat = 0;
+    return 0;
+}
+
+/* A vertex index read from a list: an integer in [0, nv), or -1 where allowed. */
+static int index_ok(reader *r, const ply_mesh *m, double i, int restart_ok)
+{
+    if (restart_ok && i == -1)
+        return 1;
+    if (i < 0 || i >= (double)m->nv || i != floor(i)) {
+        fail(r, "vertex index %.17g is out of range (%llu vertices%s)", i,
+             (unsigned long long)m->nv, restart_ok ? "; -1 restarts a strip" : "");
+        return 0;
+    }
+    return 1;
+}
+
+/* The list of face or strip indices: a face's polygon as a fan (v0, vi, vi+1);
+ * a strip's triangle j (from its start or last -1) is (vj, vj+1, vj+2), its
+ * first two vertices swapped for odd j so that every triangle keeps the
+ * first one's winding; triangles with a repeated index (joins) are left out. */
+static int read_indices(reader *r, ply_mesh *m, const ply_prop *p, int strip)
+{
+    double count, idx[3], i;
+    if (value(r, p->count_type, &count))
+        return 1;
+    if (count < 0) {
+        fail(r, "a list of %.0f indices", count);
+        return 1;
+    }
+    if (!strip && count < 3)
+        m->ignored |= SPM_MESH_IGN_POINTS_LINES;
+    int have = 0, odd = 0;
+    for (double k = 0; k < count; k++) {
+        if (value(r, p->type, &i) || !index_ok(r, m, i, strip))
+            return 1;
+        if (strip && i == -1) {
+            have = odd = 0;
+            continue;
+        }
+        if (have < 2) {
+            idx[have++] = i;
+            continue;
+        }
+        if (!strip) { /* fan: v0 stays */
+            idx[2] = i;
+            if (add_tri(r, m, idx))
+                return 1;
+            idx[1] = i;
+            continue;
+        }
+        double t[3] = {odd ? idx[1] : idx[0], odd ? idx[0] : idx[1], i};
+        if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2] && add_tri(r, m, t))
+            return 1;
+        odd ^= 1;
+        idx[0] = idx[1];
+        idx[1] = i;
+    }
+    return 0;
+}
+
+static int skip_prop(reader *r, const ply_prop *p)
+{
+    double v, count = 1;
+    if (p->count_type != P_NONE && value(r, p->count_type, &count))
+        return 1;
+    if (count < 0) {
+        fail(r, "property %s: a list of %.0f items", p->name, count);
+        return 1;
+    }
+    for (double k = 0; k < count; k++)
+        if (value(r, p->type, &v))
+            return 1;
+    return 0;
+}
+
+static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
+{
+    int is_v = !strcmp(e->name, "vertex");
+    int is_f = !strcmp(e->name, "face"), is_s = !strcmp(e->name, "tristrips");
+    int xyz[3] = {-1, -1, -1}, list = -1;
+    r->e = e;
+    r->item = 0;
+    if (is_v) {
+        if (m->have_vertices) {
+            fail(r, "a second vertex element");
+            return 1;
+        }
+        m->have_vertices = 1;
+        for (int k = 0; k < 3; k++) {
+            xyz[k] = find_prop(e, (const char *[]){"x", "y", "z"}[k]);
+            if (xyz[k] < 0 || e->props[xyz[k]].count_type != P_NONE) {
+                fail(r, "the vertex element has no scalar property %c", "xyz"[k]);
+                return 1;
+            }
+        }
+        if (find_prop(e, "nx") >= 0)
+            m->ignored |= SPM_MESH_IGN_NORMALS;
+        if (find_prop(e, "red") >= 0 || find_prop(e, "diffuse_red") >= 0)
+            m->ignored |= SPM_MESH_IGN_COLOURS;
+        if (find_prop(e, "u") >= 0 || find_prop(e, "s") >= 0 || find_prop(e, "texture_u") >= 0)
+            m->ignored |= SPM_MESH_IGN_TEXCOORDS;
+    } else if (is_f || is_s) {
+        list = find_prop(e, "vertex_indices");
+        if (list < 0)
+            list = find_prop(e, "vertex_index");
+        if (list < 0 || e->props[list].count_type == P_NONE || e->props[list].type >= P_F32) {
+            fail(r, "no list of integer vertex_indices");
+            return 1;
+        }
+        if (!m->have_vertices && e->count) {
+            fail(r, "the element comes before the vertex element");
+            return 1;
+        }
+    }
+    if (e->nprops == 0)
+        return (r->e = NULL, 0); /* no bytes to read: any count costs nothing */
+    for (; r->item < e->count; r->item++) {
+        if ((r->item & 0xffff) == 0 && spm_stop_requested()) {
+            spm_errorf(r->err, "interrupted while loading %s", r->path);
+            r->failed = 1;
+            return 1;
+        }
+        for (int k = 0; k < e->nprops; k++) {
+            const ply_prop *p = &e->props[k];
+            if (k == list) {
+                if (read_indices(r, m, p, is_s))
+                    return 1;
+            } else if (is_v && (k == xyz[0] || k == xyz[1] || k == xyz[2])) {
+                double v;
+                if (value(r, p->type, &v))
+                    return 1;
+                if (m->nv == m->capv) {
+                    m->capv = m->capv ? 2 * m->capv : 1024;
+                    m->v = spm_xrealloc(m->v, m->capv * 3 * sizeof *m->v);
+                }
+                m->v[3 * m->nv + (k == xyz[0] ? 0 : k == xyz[1] ? 1 : 2)] = (float)v;
+            } else if (skip_prop(r, p)) {
+                return 1;
+            }
+        }
+        m->nv += is_v;
+    }
+    r->e = NULL;
+    return 0;
+}
+
+int spm_ply_read(const char *path, spm_mesh_data *out, spm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        spm_errorf(err, "%s: cannot open: %s", path, strerror(errno));
+        return 1;
+    }
+    reader r = {f, path, err, 0, 0, 0, 0, NULL, 0, 0};
+    static ply_header h; /* 64 elements of 64 properties: kept off the stack */
+    ply_mesh m;
+    memset(&m, 0, sizeof m);
+    int rc = parse_header(&r, &h);
+    if (!rc) {
+        uint16_t one = 1;
+        int little = *(unsigned char *)&one == 1;
+        r.format = h.format;
+        r.swap = h.format != F_ASCII && (h.format == F_LE) != little;
+        r.offset = (uint64_t)ftell(f);
+        r.line++; /* the line after end_header */
+        for (int i = 0; i < h.nelems && !rc; i++)
+            rc = read_element(&r, &m, &h.elems[i]);
+    }
+    fclose(f);
+    if (!rc && !m.have_vertices) {
+        spm_errorf(err, "%s: the file has no vertex element", path);
+        rc = 1;
+    }
+    if (!rc) {
+        spm_mesh_material mat;
+        memset(&mat, 0, sizeof mat);
+        spm_mesh_data d = {m.ignored, 1, m.nt, &mat, m.t, NULL};
+        size_t size;
+        void *buf = spm_mesh_encode(&d, &size);
+        rc = spm_mesh_decode(buf, size, path, out, err); /* no triangles: its error */
+        if (rc)
+            free(buf);
+    }
+    free(m.v);
+    free(m.t);
+    return rc;
+}
+
+int spm_ply_has_strips(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return 0;
+    char line[256];
+    int strips = 0, ply = 0;
+    for (int n = 0; n < SPM_PLY_MAX_HEADER_LINES && fgets(line, sizeof line, f); n++) {
+        if (n == 0)
+            ply = !strncmp(line, "ply", 3) && (line[3] == '\n' || line[3] == '\r');
+        if (!ply || !strncmp(line, "end_header", 10))
+            break;
+        strips |= !strncmp(line, "element tristrips", 17) &&
+                  (line[17] == ' ' || line[17] == '\t');
+    }
+    fclose(f);
+    return ply && strips;
+}

@@ -1,0 +1,132 @@
+/* A mesh material's base-colour texture, replaced by its mean colour until
+ * textures are supported (mesh_texture.h): found through Assimp in the
+ * importer's child (an embedded image, "*N" or by file name, or a file beside
+ * the model), averaged by mesh_texture_io.cpp; the parent's warning. */
+#include "mesh_texture.h"
+#include "colour.h"
+#include <assimp/material.h>
+#include <assimp/scene.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+/* An embedded image stored as texels (Assimp's mHeight > 0): BGRA8 codes,
+ * sRGB-encoded. */
+static void texel_mean(const struct aiTexture *t, float mean[3])
+{
+    double sum[3] = {0, 0, 0};
+    size_t n = (size_t)t->mWidth * t->mHeight;
+    for (size_t i = 0; i < n; i++) {
+        const struct aiTexel *p = &t->pcData[i];
+        sum[0] += spm_srgb_decode(p->r / 255.0);
+        sum[1] += spm_srgb_decode(p->g / 255.0);
+        sum[2] += spm_srgb_decode(p->b / 255.0);
+    }
+    for (int c = 0; c < 3; c++)
+        mean[c] = (float)(sum[c] / (double)n);
+}
+
+/* The embedded image a texture path names ("*N", or an image's file name), or NULL. */
+static const struct aiTexture *embedded(const struct aiScene *sc, const char *path, int *index)
+{
+    if (path[0] == '*') {
+        char *end;
+        unsigned long i = strtoul(path + 1, &end, 10);
+        if (end == path + 1 || *end || i >= sc->mNumTextures || !sc->mTextures[i])
+            return NULL;
+        *index = (int)i;
+        return sc->mTextures[i];
+    }
+    for (unsigned i = 0; i < sc->mNumTextures; i++)
+        if (sc->mTextures[i] && sc->mTextures[i]->mFilename.length &&
+            !strcmp(sc->mTextures[i]->mFilename.data, path)) {
+            *index = (int)i;
+            return sc->mTextures[i];
+        }
+    return NULL;
+}
+
+/* The mean of the texture `path` names: 0, or 1 with why filled. */
+static int texture_mean(const struct aiScene *sc, const char *model, const char *path,
+                        spm_mesh_material *out)
+{
+    int index = -1;
+    const struct aiTexture *t = embedded(sc, path, &index);
+    if (t || path[0] == '*') {
+        snprintf(out->texture_name, sizeof out->texture_name, "embedded image %d", index);
+        if (!t) {
+            snprintf(out->texture_name, sizeof out->texture_name, "%.95s", path);
+            snprintf(out->texture_why, sizeof out->texture_why, "the file has no such image");
+            return 1;
+        }
+        if (t->mHeight > 0) {
+            if ((long long)t->mWidth * t->mHeight > SPM_TEXTURE_MAX_PIXELS || !t->pcData) {
+                snprintf(out->texture_why, sizeof out->texture_why, "unsupported image");
+                return 1;
+            }
+            texel_mean(t, out->texture_mean);
+            return 0;
+        }
+        /* compressed (PNG, JPEG...): mWidth bytes; the hint is the format's extension */
+        char name[32];
+        snprintf(name, sizeof name, "embedded.%.8s", t->achFormatHint[0] ? t->achFormatHint : "png");
+        return spm_texture_mean(name, t->pcData, t->mWidth, out->texture_mean, out->texture_why,
+                                sizeof out->texture_why);
+    }
+    /* a file: relative to the model's folder; Windows separators as '/' */
+    snprintf(out->texture_name, sizeof out->texture_name, "%.95s", path);
+    char rel[1024], file[2048];
+    snprintf(rel, sizeof rel, "%s", path);
+    for (char *c = rel; *c; c++)
+        if (*c == '\\')
+            *c = '/';
+    const char *slash = strrchr(model, '/');
+    if (rel[0] == '/' || !slash)
+        snprintf(file, sizeof file, "%s", rel);
+    else
+        snprintf(file, sizeof file, "%.*s/%s", (int)(slash - model), model, rel);
+    struct stat st;
+    if (stat(file, &st) != 0 || !S_ISREG(st.st_mode)) {
+        snprintf(out->texture_why, sizeof out->texture_why, "no such file beside the model");
+        return 1;
+    }
+    return spm_texture_mean(file, NULL, 0, out->texture_mean, out->texture_why,
+                            sizeof out->texture_why);
+}
+
+int spm_mesh_texture_apply(const struct aiScene *sc, const struct aiMaterial *m,
+                           const char *model, spm_mesh_material *out)
+{
+    /* glTF's base colour texture, else the diffuse one (OBJ's map_Kd; Assimp
+     * gives a glTF's base colour texture as both) */
+    enum aiTextureType type = aiTextureType_BASE_COLOR;
+    if (aiGetMaterialTextureCount(m, type) == 0)
+        type = aiTextureType_DIFFUSE;
+    if (aiGetMaterialTextureCount(m, type) == 0)
+        return 0;
+    struct aiString path;
+    if (aiGetMaterialTexture(m, type, 0, &path, NULL, NULL, NULL, NULL, NULL, NULL) !=
+        aiReturn_SUCCESS)
+        return 0;
+    if (texture_mean(sc, model, path.data, out)) {
+        out->texture = SPM_MESH_TEX_UNREAD;
+        return 1;
+    }
+    out->texture = SPM_MESH_TEX_MEAN;
+    for (int c = 0; c < 3; c++)
+        out->diffuse[c] *= out->texture_mean[c];
+    return 1;
+}
+
+void spm_mesh_texture_warn(const spm_mesh_material *m, const char *mwhere)
+{
+    if (m->texture == SPM_MESH_TEX_MEAN)
+        spm_warnf("%s: base-colour texture '%s' replaced by its mean colour (%.3g %.3g %.3g, "
+                  "linear) times the material's colour: textures are not supported",
+                  mwhere, m->texture_name, m->texture_mean[0], m->texture_mean[1],
+                  m->texture_mean[2]);
+    else if (m->texture == SPM_MESH_TEX_UNREAD)
+        spm_warnf("%s: base-colour texture '%s' cannot be read (%s): the material's colour "
+                  "alone is used", mwhere, m->texture_name, m->texture_why);
+}

@@ -1,0 +1,44 @@
+/* Textured materials until textures are supported: a mesh material's
+ * base-colour texture (glTF baseColorTexture, an OBJ's map_Kd; a file beside
+ * the model or an image embedded in it) is replaced by its mean linear colour,
+ * which multiplies the material's colour factor, and a warning says so when
+ * the colour is used. */
+#ifndef SPM_MESH_TEXTURE_H
+#define SPM_MESH_TEXTURE_H
+#include <stddef.h>
+#ifndef __cplusplus
+#include "mesh.h"
+#endif
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A texture of more pixels is not read (8192 x 8192: its float pixels,
+ * 768 MiB, fit under the importer child's address-space limit beside Assimp). */
+#define SPM_TEXTURE_MAX_PIXELS (1LL << 26)
+
+/* The mean linear RGB of the image file `name`, or, when data is not NULL, of
+ * the size bytes at data (an embedded image; name's extension says the
+ * format). Integer-coded pixels are sRGB-decoded before averaging; one or two
+ * channels are grey. Returns 0, or 1 with why filled. (mesh_texture_io.cpp) */
+int spm_texture_mean(const char *name, const void *data, size_t size, float mean[3], char *why,
+                     size_t whylen);
+
+#ifndef __cplusplus
+struct aiScene;
+struct aiMaterial;
+/* In the importer's child: the material's base-colour texture, if it has
+ * one, read and its mean multiplied into out->diffuse (out->texture* say
+ * what happened). `model` is the file's path (textures are found beside it).
+ * Returns 1 if the material has a base-colour texture. */
+int spm_mesh_texture_apply(const struct aiScene *sc, const struct aiMaterial *m,
+                           const char *model, spm_mesh_material *out);
+/* In the parent, when a file material's colour is used: the warning that its
+ * texture was replaced by its mean (or could not be read). `mwhere` names
+ * the statement, file and material. */
+void spm_mesh_texture_warn(const spm_mesh_material *m, const char *mwhere);
+#endif
+#ifdef __cplusplus
+}
+#endif
+#endif

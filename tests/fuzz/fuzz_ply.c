@@ -1,0 +1,24 @@
+/* libFuzzer harness: the project's own PLY reader (mesh_ply.c, PLY files
+ * with triangle strips) on any bytes, written to a file as the loader reads
+ * files. A success must hold triangles of in-range material indices. */
+#include "fuzz_input.h"
+#include "mesh_ply.h"
+#include <stdlib.h>
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    const char *path = spm_fuzz_write("in.ply", data, size);
+    if (!path)
+        return 0;
+    spm_mesh_data d;
+    spm_error err;
+    if (spm_ply_read(path, &d, &err) == 0) {
+        if (d.ntris == 0 || d.nmats != 1)
+            abort();
+        for (uint64_t t = 0; t < d.ntris; t++)
+            if (d.tris[t].mat != 0)
+                abort();
+        spm_mesh_free(&d);
+    }
+    return 0;
+}
