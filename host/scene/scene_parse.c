@@ -260,8 +260,10 @@ static const spm_spectrum *use_spectrum(parser *p, int idx, spm_kind kind, const
     return d->made[kind];
 }
 
-/* "NAME SCALE?" -> a colour of the scene (scaled, checked). Returns its index or -1. */
-static int colour_ref(parser *p, spm_kind kind)
+/* "NAME SCALE?" -> a colour of the scene (scaled, checked). Returns its index or -1.
+ * optical: an optical constant (a conductor's eta or k), extended as a
+ * reflectance (by its end values) but not bounded by 1. */
+static int colour_ref_as(parser *p, spm_kind kind, int optical)
 {
     char where[600], name[SPM_NAME_MAX], cname[SPM_NAME_MAX];
     where_now(p, where, sizeof where);
@@ -279,6 +281,7 @@ static int colour_ref(parser *p, spm_kind kind)
         return -1;
     spm_spectrum sp;
     int rc = kind == SPM_KIND_EMISSION ? spm_sb_emission(shape, scale, where, &sp, p->err)
+             : optical                 ? spm_sb_optical(shape, scale, &sp)
                                        : spm_sb_reflectance(shape, scale, where, &sp, p->err);
     if (rc)
         return -1;
@@ -287,6 +290,11 @@ static int colour_ref(parser *p, spm_kind kind)
     else
         snprintf(cname, sizeof cname, "%.40s*%.6g", name, scale);
     return spm_sb_colour(&p->b, cname, &sp, where, p->err);
+}
+
+static int colour_ref(parser *p, spm_kind kind)
+{
+    return colour_ref_as(p, kind, 0);
 }
 
 /* ---- statements ------------------------------------------------------------ */
@@ -376,7 +384,8 @@ static int material_param(parser *p, const spm_mparam *pa, spm_scene_material *m
         m->p[pa->slot] = v;
         return 0;
     }
-    int c = colour_ref(p, pa->kind == SPM_MP_EMISSION ? SPM_KIND_EMISSION : SPM_KIND_REFLECTANCE);
+    int c = colour_ref_as(p, pa->kind == SPM_MP_EMISSION ? SPM_KIND_EMISSION : SPM_KIND_REFLECTANCE,
+                          pa->kind == SPM_MP_OPTICAL);
     if (c < 0)
         return 1;
     *(pa->slot == SPM_MSLOT_REFL ? &m->refl : pa->slot == SPM_MSLOT_EMIT ? &m->emit : &m->col2) = c;
