@@ -11,7 +11,9 @@
 #include <complex.h>
 #include <stdlib.h>
 #include <string.h>
+#include "colour.h"
 #include "materials.h"
+#include "tables.h"
 #include "refcpu_conductor.h"
 #include "testutil.h"
 
@@ -190,8 +192,81 @@ static void test_smooth(void)
     CHECK(fabs(cm - cos(0.6)) < 1e-6, "Fresnel cosine %g", cm);
 }
 
+/* The conductor's pretest judges what the shade stage computes, F of each
+ * level's bins of eta and k, not the bins' mean of the 1 nm F: with optical
+ * constants that swing within a bin the two differ, and the pretest's error
+ * (context A under one equal-energy light, the only spectrum of the set) must
+ * be the former's, worst over its six cosines, recomputed here with the
+ * complex Fresnel. */
+static void xyz_of(const double *f, double xyz[3])
+{
+    const double (*w)[SPM_TRUTH_BINS] = spm_cmf_truth();
+    for (int c = 0; c < 3; c++) {
+        xyz[c] = 0.0;
+        for (int b = 0; b < SPM_TRUTH_BINS; b++)
+            xyz[c] += f[b] * w[c][b];
+    }
+}
+
+static void test_pretest(void)
+{
+    double wl[81], ve[81], vk[81];
+    for (int i = 0; i <= 80; i++) { /* a swing every 5 nm: inside every bin of 10 nm or more */
+        wl[i] = 380 + 5 * i;
+        ve[i] = i % 2 ? 0.15 : 1.4;
+        vk[i] = i % 2 ? 4.0 : 1.8;
+    }
+    spm_spectrum eta, k, light;
+    spm_error err;
+    int rc = spm_spectrum_from_samples(wl, ve, 81, SPM_KIND_REFLECTANCE, "eta", &eta, &err) ||
+             spm_spectrum_from_samples(wl, vk, 81, SPM_KIND_REFLECTANCE, "k", &k, &err);
+    CHECK(rc == 0, "spectra: %s", err.msg);
+    spm_spectrum_constant(1.0, SPM_KIND_EMISSION, &light);
+    const spm_spectrum *set[1] = {&light};
+    spm_pretest_opts o;
+    spm_pretest_defaults(&o);
+    o.coarsest_level = 4;
+    spm_pretest_result r;
+    spm_conductor_pretest(set, 1, &eta, &k, 1, &o, &r);
+    const double cosines[] = {1.0, 0.8, 0.6, 0.4, 0.2, 0.05};
+    double e0[SPM_TRUTH_BINS], k0[SPM_TRUTH_BINS], el[SPM_TRUTH_BINS], kl[SPM_TRUTH_BINS];
+    spm_spectrum_level(&eta, 0, e0);
+    spm_spectrum_level(&k, 0, k0);
+    double apart = 0.0;
+    for (int l = 1; l < SPM_NUM_LEVELS; l++) {
+        int w = SPM_TRUTH_BINS / SPM_LEVEL_BINS(l);
+        spm_spectrum_level(&eta, l, el);
+        spm_spectrum_level(&k, l, kl);
+        double want = 0.0, mean_err = 0.0;
+        for (int a = 0; a < 6; a++) {
+            double f0[SPM_TRUTH_BINS], fk[SPM_TRUTH_BINS], fm[SPM_TRUTH_BINS], x0[3], xk[3], xm[3];
+            for (int b = 0; b < SPM_TRUTH_BINS; b++)
+                f0[b] = fresnel_complex(e0[b], k0[b], cosines[a]);
+            for (int b = 0; b < SPM_TRUTH_BINS; b++) {
+                fk[b] = fresnel_complex(el[b / w], kl[b / w], cosines[a]);
+                double m = 0.0;
+                for (int q = b / w * w; q < (b / w + 1) * w; q++)
+                    m += f0[q];
+                fm[b] = m / w;
+            }
+            xyz_of(f0, x0);
+            xyz_of(fk, xk);
+            xyz_of(fm, xm);
+            want = fmax(want, spm_pretest_xyz_error(x0, xk, SPM_METRIC_DE00));
+            mean_err = fmax(mean_err, spm_pretest_xyz_error(x0, xm, SPM_METRIC_DE00));
+        }
+        printf("pretest level %d: conductor %.4f (recomputed %.4f), bin-mean Fresnel would be %.4f\n",
+               l, r.err_k[0][l], want, mean_err);
+        CHECK(fabs(r.err_k[0][l] - want) <= 1e-9 * fmax(1.0, want), "level %d: %g vs %g", l,
+              r.err_k[0][l], want);
+        apart = fmax(apart, fabs(want - mean_err));
+    }
+    CHECK(apart > 0.5, "the two Fresnel levels are too alike (%g) to tell apart", apart);
+}
+
 int main(void)
 {
+    test_pretest();
     test_fresnel();
     test_mis();
     test_furnace();
