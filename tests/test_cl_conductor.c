@@ -188,12 +188,13 @@ static void test_box(void)
         if (mode == 0) { /* the records do not depend on the mode (test_cl_trace) */
             int rc = spm_cl_trace(r, 0, SPP, gp, gl, &err);
             CHECK(rc == 0, "spm_cl_trace: %s", err.msg);
-            size_t diverged = 0, xdiff = 0, cond = 0, hits = 0, lights = 0, level_diff = 0;
+            size_t diverged = 0, xdiff = 0, cond = 0, hits = 0, lights = 0, level_diff = 0, nv = 0;
             for (size_t i = 0; i < n; i++) {
                 int d = cl_test_path_differs(&gp[i], &cp[i]);
                 diverged += d;
                 xdiff += !d && ext_differs(&gp[i], &cp[i]);
                 level_diff += !d && gl[i] != cl[i];
+                nv += cp[i].h.nvert;
                 for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
                     int k = SPM_EXT_K(cp[i].x[j]) != SPM_NONE;
                     cond += k;
@@ -201,9 +202,16 @@ static void test_box(void)
                     lights += k && (cp[i].v[j].ids >> 16) != SPM_NONE;
                 }
             }
-            printf("box trace: %zu paths, %zu conductor vertices (%zu light samples, %zu lobe "
-                   "hits); %zu diverged, %zu conductor words differ, %zu level bytes differ\n",
-                   n, cond, lights, hits, diverged, xdiff, level_diff);
+            printf("box trace: %zu paths, %.3f vertices a path, %zu conductor vertices (%zu light "
+                   "samples, %zu lobe hits); %zu diverged, %zu conductor words differ, %zu level "
+                   "bytes differ\n", n, (double)nv / (double)n, cond, lights, hits, diverged, xdiff,
+                   level_diff);
+            /* the device record a path reads and writes: its header, and per vertex
+             * spm_vertex, plus spm_vertex_ext in a scene with a conductor */
+            printf("record: %.1f bytes a path (%.1f without the conductor's words)\n",
+                   sizeof(spm_dev_head) + (double)nv / (double)n *
+                                            (sizeof(spm_vertex) + sizeof(spm_vertex_ext)),
+                   sizeof(spm_dev_head) + (double)nv / (double)n * sizeof(spm_vertex));
             CHECK(cond > n / 10 && hits > 20 && lights > 100, "too little conductor transport");
             CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu paths diverged",
                   diverged);
