@@ -83,7 +83,7 @@ const spm_mtype_desc spm_material_types[] = {
                    {.kind = SPM_MP_OPTICAL, .slot = SPM_MSLOT_COL2,
                     .what = "the extinction coefficient k"},
                    {.clause = "alpha", .kind = SPM_MP_NUMBER, .slot = SPM_COND_P_ALPHA, .lo = 0.0,
-                    .hi = 1.0, .what = "a GGX width (0 to 1)"}},
+                    .hi = 1.0, .what = "a GGX width"}},
         .nparams = 3,
         .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
         .rng_dims = 2, /* SPM_DIM_COND_M_A, SPM_DIM_COND_M_B */
