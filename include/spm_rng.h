@@ -41,6 +41,9 @@
 #define SPM_TYPE_EMIT_DIMS (SPM_TYPE_DIMS_PER_VERTEX - SPM_TYPE_MAT_DIMS)
 #define SPM_DIM_TYPE(j, k) (SPM_DIM_TYPE_BASE + SPM_TYPE_DIMS_PER_VERTEX * (spm_u32)(j) + (spm_u32)(k))
 #define SPM_DIM_EMIT_TYPE(j, k) SPM_DIM_TYPE(j, SPM_TYPE_MAT_DIMS + (spm_u32)(k))
+/* the conductor's (host/scene/materials.c): its rough lobe's visible normal */
+#define SPM_DIM_COND_M_A 0u
+#define SPM_DIM_COND_M_B 1u
 
 /* "lowbias32" integer mixer (Wellons): full avalanche, cheap. Its steps on x
  * of any unsigned 32-bit integer type (the kernels also mix 16 keys at once). */

@@ -98,9 +98,41 @@ typedef struct {
     spm_u32 pad0, pad1;
 } spm_path_head;
 
+/* A vertex's record beyond spm_vertex, for the types that declare words of
+ * their own (host/scene/materials.c vertex_u32; the conductor, 4 words). At
+ * a conductor vertex the spm_vertex's reflectance id is its eta colour and
+ *   ids        1 + its k colour (low 16 bits; 0: not a conductor's vertex)
+ *              | 1 + the emission colour the vertex's sampled ray hit (high
+ *              16 bits; 0: none, or not counted), so that a zero record
+ *              (SPM_EXT_ZERO) is a plain vertex
+ *   cos_lobe   the cosine the spectral Fresnel takes for the sampled
+ *              direction: wo.m (the smooth lobe: wo.n)
+ *   cos_light  the one for the light sample: wo.h (0 without one)
+ *   hit_c      the scalar weight of the emission hit (its MIS weight and the
+ *              throughput so far folded in)
+ * and shading it is
+ *   if e != NONE: L += P * F(cos_light) * E[e] * c;  P *= F(cos_lobe);
+ *   if hit != NONE: L += P * E[hit] * hit_c
+ * with F the conductor Fresnel of (eta, k) per lane (kernels/conductor.clh,
+ * host/cpu/refcpu_conductor.c). A Lambertian vertex of such a scene has a
+ * zero record and shades as always. */
+typedef struct {
+    spm_u32 ids;
+    float cos_lobe;
+    float cos_light;
+    float hit_c;
+} spm_vertex_ext;
+/* the k colour and the hit emission of a record, SPM_NONE for none */
+#define SPM_EXT_K(x) (((x).ids + 0xFFFFu) & 0xFFFFu)
+#define SPM_EXT_HIT(x) ((((x).ids >> 16) + 0xFFFFu) & 0xFFFFu)
+#define SPM_EXT_IDS(k, hit) ((((k) + 1u) & 0xFFFFu) | (((hit) + 1u) & 0xFFFFu) << 16)
+
+/* The host's record of a path: x[] is written only in scenes whose types
+ * declare vertex words (zero otherwise). */
 typedef struct {
     spm_path_head h;
     spm_vertex v[SPM_MAX_DEPTH];
+    spm_vertex_ext x[SPM_MAX_DEPTH];
 } spm_path;
 
 /* ---- path records on the device (OpenCL backend) --------------------------
@@ -115,7 +147,12 @@ typedef struct {
  * for SPM_MAX_DEPTH slabs of n vertices; slab j is touched only if some path
  * of the pass reaches depth j. The host converts from and to spm_path arrays
  * (render_cl.h's test hooks) with the two helpers below, losslessly: colour
- * ids fit 16 bits (spm_vertex packs them so too) and nvert <= SPM_MAX_DEPTH. */
+ * ids fit 16 bits (spm_vertex packs them so too) and nvert <= SPM_MAX_DEPTH.
+ * A scene whose types declare vertex words (spm_vertex_ext) has, after the
+ * SPM_MAX_DEPTH spm_vertex slabs, SPM_MAX_DEPTH slabs of spm_vertex_ext laid
+ * out the same way, in the same buffer (SPM_VERTEX_EXT below); other scenes
+ * have none, and their buffer is what it always was. */
+#define SPM_VERTEX_EXT(verts, n) ((verts) + (size_t)SPM_MAX_DEPTH * (n))
 typedef struct {
     spm_u32 colours;   /* first_emit (low 16 bits) | bg << 16 */
     spm_u32 nvert_end; /* nvert (low 16 bits) | end << 16 */
@@ -216,12 +253,17 @@ typedef struct {
  * Each backend dispatches on the tag once per stage (a switch: trace.cl's
  * vertex_lobe / vertex_emission, refcpu_trace.c's likewise). */
 #define SPM_MAT_LAMBERT 0u      /* MiniLight's diffuse reflector */
-#define SPM_MAT_FLUOR 1u        /* a diffuse fluorescent surface (re-radiation matrix) */
-#define SPM_MAT_DONALDSON 2u    /* the same from a measured re-radiation (Donaldson) matrix */
+#define SPM_MAT_CONDUCTOR 1u    /* a metal: Fresnel of eta + i k, smooth or GGX-rough */
+#define SPM_MAT_FLUOR 2u        /* a diffuse fluorescent surface (re-radiation matrix) */
+#define SPM_MAT_DONALDSON 3u    /* the same from a measured re-radiation (Donaldson) matrix */
 #define SPM_MAT_TYPES 8u        /* tags below this (materials.c checks) */
 #define SPM_EMIT_AREA 0u        /* a triangle emitting from its front face, uniformly */
 #define SPM_EMIT_TYPES 8u
 #define SPM_MAT_PARAMS 4        /* a type's own floats per material */
+/* the conductor's p[]: its GGX width alpha (0: the smooth lobe; host widths
+ * below SPM_COND_MIN_ALPHA become 0: a narrower GGX lobe's D overflows float) */
+#define SPM_COND_P_ALPHA 0
+#define SPM_COND_MIN_ALPHA 1e-3
 
 /* Material as the device sees it: colour ids into the spectral tables, the
  * type tags and each type's parameters (its descriptor's `fill` sets them). */

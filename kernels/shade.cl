@@ -14,6 +14,9 @@
 #include "spm_shared.h"
 #include "spm_rng.h"
 #include "spm_kernel_args.h"
+#ifdef SPM_WITH_CONDUCTOR
+#include "conductor.clh"
+#endif
 
 /* Floats of a path's record and of a pass pixel: XYZ, then with
  * -DSPM_SPEC_BINS=n the n spectral bins (the host sets both). */

@@ -13,6 +13,10 @@
 #include "spm_rng.h"
 #include "spm_kernel_args.h"
 #include "traverse.clh"
+#ifdef SPM_WITH_CONDUCTOR
+#define COND_TRACE
+#include "conductor.clh"
+#endif
 
 /* Level feeler: one colour met; lvlk[c * KMAX + min(k, KMAX) - 1] (k = occurrence count). */
 inline void feel(__global const uchar *lvlk, uint c, uint k, uint by, uint *level, uint *setby)
@@ -38,6 +42,12 @@ inline uint vertex_lobe(spm_material m, uint seed, uint pixel, uint sample, uint
     switch (SPM_MAT_TAG(m)) {
 #ifdef SPM_WITH_LAMBERT
     case SPM_MAT_LAMBERT:
+        *mean = m.mean;
+        *inv_mean = m.inv_mean;
+        return m.refl;
+#endif
+#ifdef SPM_WITH_CONDUCTOR
+    case SPM_MAT_CONDUCTOR: /* eta recorded as the colour, k in the vertex's own words */
         *mean = m.mean;
         *inv_mean = m.inv_mean;
         return m.refl;
@@ -80,6 +90,12 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
     uint sample = p.first_sample + gid % p.spp_per_pass;
     uint seed = p.seed;
     __global spm_vertex *vrec = &verts[gid]; /* vertex j at vrec[j * npaths] (spm_shared.h) */
+#ifdef SPM_WITH_CONDUCTOR
+    /* the conductor's vertex words, slabs after the vertices' (SPM_VERTEX_EXT) */
+    __global spm_vertex_ext *xrec = (__global spm_vertex_ext *)SPM_VERTEX_EXT(verts, npaths) + gid;
+    float cpdf = -1.0f; /* the last vertex's lobe density: < 0 none (not a conductor),
+                           0 the smooth lobe, else the rough lobe's, for MIS */
+#endif
 
     /* camera ray (spm_shared.h: spm_camera) */
     uint px = pixel % (uint)p.cam.width, py = pixel / (uint)p.cam.width;
@@ -135,10 +151,40 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             feel(lvlk, memit, 1u, SPM_SETBY_EMITTER, &level, &setby);
         }
 
+#ifdef SPM_WITH_CONDUCTOR
+        /* emission the last vertex's conductor lobe hit: counted there, with
+         * its MIS weight against the light sample (smooth: 1) */
+        if (cpdf >= 0.0f && memit != SPM_NONE) {
+            float ce = dot3(back, n);
+            if (m.type & SPM_EMIT_TWOSIDED)
+                ce = fabs(ce);
+            if (ce > 0.0f) {
+                float wm = 1.0f;
+                if (cpdf > 0.0f) {
+                    float pl = light_pdf[hit] * fmax(t * t, SPM_D2_MIN_REL * tr->area) / (tr->area * ce);
+                    wm = cond_power(cpdf, pl);
+                }
+                __global spm_vertex_ext *px = &xrec[(size_t)(j - 1u) * npaths];
+                px->ids = (px->ids & 0xFFFFu) | SPM_EXT_IDS(SPM_NONE, memit);
+                px->hit_c = rrw * wm;
+                feel(lvlk, memit, 1u, SPM_SETBY_EMITTER, &level, &setby);
+            }
+        }
+        int cond = SPM_MAT_TAG(m) == SPM_MAT_CONDUCTOR;
+        float calpha = cond ? m.p[SPM_COND_P_ALPHA] : 0.0f;
+        float3 cn = dot3(n, back) < 0.0f ? -n : n; /* the normal on the incoming side */
+        float3 ctg = ld3(tr->t), cbt = cross3(cn, ctg);
+        float3 wl = (float3)(dot3(back, ctg), dot3(back, cbt), dot3(back, cn)); /* wo in the frame */
+        spm_vertex_ext xe = {0u, 0.0f, 0.0f, 0.0f};
+        int nee = p.nemitters > 0 && !(cond && calpha == 0.0f); /* no light sample on a delta lobe */
+#else
+        int nee = p.nemitters > 0;
+#endif
+
         /* next-event estimation: one emitter triangle, one point on it */
         uint eid = SPM_NONE;
         float c = 0.0f;
-        if (p.nemitters > 0) {
+        if (nee) {
             /* by power through the table, or uniformly when the powers are equal (spm_emitter) */
             uint k;
             if (p.emit_power)
@@ -166,8 +212,23 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             /* unoccluded, a face that emits, light and viewer on the same side */
             if ((sh < 0 || (uint)sh == ei) && cos_e > 0.0f && (cos_i < 0.0f) == (cos_o < 0.0f)) {
                 float d2 = dot3(ev, ev);
-                float wgt = emitters[k].inv_pdf * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
-                            fabs(cos_i) / SPM_PI_F;
+                float wgt;
+#ifdef SPM_WITH_CONDUCTOR
+                if (cond) {
+                    /* the rough lobe: BRDF cos_i without F, D G2 / (4 wo_z), times the power
+                     * heuristic against the lobe's density (solid angle: the pick's pdf
+                     * times d^2 / (area cos_e)); Fresnel at wo.h in the shade stage */
+                    float3 il = (float3)(dot3(ed, ctg), dot3(ed, cbt), dot3(ed, cn));
+                    float pb, ch;
+                    float f = cond_eval(calpha, wl, il, &pb, &ch);
+                    float d2c = fmax(d2, SPM_D2_MIN_REL * et->area);
+                    float pl = emitters[k].pdf * d2c / (et->area * cos_e);
+                    wgt = emitters[k].inv_pdf * cos_e * et->area / d2c * (f * cond_power(pl, pb));
+                    xe.cos_light = ch;
+                } else
+#endif
+                wgt = emitters[k].inv_pdf * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
+                      fabs(cos_i) / SPM_PI_F;
                 if (wgt > 0.0f) {
                     eid = vertex_emission(em);
                     c = wgt * rrw;
@@ -190,6 +251,15 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         __global spm_vertex *vx = &vrec[(size_t)j * npaths];
         vx->ids = (refl & 0xFFFFu) | (eid << 16);
         vx->c = c;
+#ifdef SPM_WITH_CONDUCTOR
+        cpdf = -1.0f;
+        if (cond) {
+            xe.ids = SPM_EXT_IDS(m.col2, SPM_NONE);
+            if (m.col2 != SPM_NONE)
+                feel(lvlk, m.col2, 1u, SPM_SETBY_REFLECTOR, &level, &setby);
+        }
+        xrec[(size_t)j * npaths] = xe; /* every vertex: a zero record is a plain one */
+#endif
 
         /* Russian roulette on the mean reflectance (the same at every level) */
         if (!(spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_RR) < mmean)) {
@@ -198,6 +268,37 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             break;
         }
         rrw *= minv;
+#ifdef SPM_WITH_CONDUCTOR
+        if (cond) {
+            /* the lobe: the mirror direction, or about a visible normal m; its weight
+             * f cos_i / pdf without F is 1 (smooth) or G2 / G1(wo); F at wo.m */
+            float cl;
+            if (calpha == 0.0f) {
+                cl = wl.z;
+                d = cn * (2.0f * wl.z) - back;
+                cpdf = 0.0f;
+            } else {
+                float3 mh = cond_vndf(wl, calpha,
+                                      spm_rng(seed, pixel, sample, SPM_DIM_TYPE(j, SPM_DIM_COND_M_A)),
+                                      spm_rng(seed, pixel, sample, SPM_DIM_TYPE(j, SPM_DIM_COND_M_B)));
+                cl = dot3(wl, mh);
+                float3 il = mh * (2.0f * cl) - wl;
+                if (!(il.z > 0.0f) || !(cl > 0.0f)) { /* below the surface: the path ends */
+                    hd.end = SPM_END_ABSORBED;
+                    j++;
+                    break;
+                }
+                float lo = cond_lambda(calpha, wl.z), li = cond_lambda(calpha, il.z);
+                rrw *= (1.0f + lo) / (1.0f + lo + li);
+                cpdf = cond_d(calpha, mh.z) / ((1.0f + lo) * 4.0f * wl.z);
+                d = ctg * il.x + cbt * il.y + cn * il.z;
+            }
+            xrec[(size_t)j * npaths].cos_lobe = cl;
+            o = pos;
+            skip = (uint)hit;
+            continue;
+        }
+#endif
 
         /* cosine-weighted direction about the normal on the incoming side */
         float u = spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_DIR_A);

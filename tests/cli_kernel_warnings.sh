@@ -27,13 +27,16 @@ compile() {  # compile "FILES" OPTIONS...: 0 when clang accepts the program with
         return 1
     fi
 }
-"$VARIANTS" "$DATA"/scenes/*.scene > "$T/variants" 2> "$T/variants.err"
+# the bundled scenes, and a conductor scene (its type's kernel code)
+"$VARIANTS" "$DATA"/scenes/*.scene "$DATA"/tests/data/scenes/conductor_box.scene > "$T/variants" \
+    2> "$T/variants.err"
 rc=$?
 check "kernel_variants lists the programs (exit $rc: $(head -1 "$T/variants.err"))" test $rc -eq 0
 sort -u "$T/variants" > "$T/programs"
 # what the list must hold, so that an empty or partial one cannot pass
 check "the list has the render's program" grep -q "^kernels/trace.cl kernels/shade.cl	" "$T/programs"
 check "the list has spectral output builds" grep -q "	.*-DSPM_SPEC_BINS=" "$T/programs"
+check "the list has conductor builds" grep -q "	.*-DSPM_WITH_CONDUCTOR" "$T/programs"
 check "the list has the ray replay's builds" test "$(grep -c "^kernels/rays.cl	" "$T/programs")" -eq 2
 check "the list has a program for every mode's kernel" test "$(grep -c "^kernels/trace.cl" "$T/programs")" -ge \
     "$("$BIN" modes | wc -l)"

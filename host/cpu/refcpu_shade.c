@@ -5,6 +5,7 @@
 #include "refcpu.h"
 #include <math.h>
 #include "spm_rng.h"
+#include "refcpu_conductor.h"
 
 #define MAX_LANES (SPM_TRUTH_BINS + SPM_MAX_SPIKES) /* mlc at level 0 */
 
@@ -24,6 +25,31 @@ static void fetch(const lanes *v, spm_u32 c, float *out)
     const float *row = v->base + (size_t)c * v->stride;
     for (int l = 0; l < v->n; l++)
         out[l] = row[v->idx ? v->idx[l] : l];
+}
+
+/* A conductor vertex j (spm_shared.h spm_vertex_ext): eta in the vertex's
+ * colour, k in its own words; per lane
+ *   L += P F(cos_light) E[e] c;  P *= F(cos_lobe);  L += P E[hit] hit_c. */
+static void conductor_vertex(const spm_path *path, spm_u32 j, const lanes *v, float *P, float *L)
+{
+    float eta[MAX_LANES], k[MAX_LANES], X[MAX_LANES];
+    const spm_vertex *vx = &path->v[j];
+    const spm_vertex_ext *x = &path->x[j];
+    spm_u32 e = vx->ids >> 16, hit = SPM_EXT_HIT(*x);
+    fetch(v, vx->ids & 0xFFFFu, eta);
+    fetch(v, SPM_EXT_K(*x), k);
+    if (e != SPM_NONE) {
+        fetch(v, e, X);
+        for (int l = 0; l < v->n; l++)
+            L[l] += P[l] * spm_ref_cond_fresnel(eta[l], k[l], x->cos_light) * X[l] * vx->c;
+    }
+    for (int l = 0; l < v->n; l++)
+        P[l] *= spm_ref_cond_fresnel(eta[l], k[l], x->cos_lobe);
+    if (hit != SPM_NONE) {
+        fetch(v, hit, X);
+        for (int l = 0; l < v->n; l++)
+            L[l] += P[l] * X[l] * x->hit_c;
+    }
 }
 
 /* P = 1; L = first_emit_c E[first]; per vertex P *= R, L += P E c; then the
@@ -47,6 +73,10 @@ static void shade_lanes(const spm_path *path, const lanes *v, float *L)
         spm_u32 r = path->v[j].ids & 0xFFFFu, e = path->v[j].ids >> 16;
         if (r == SPM_NONE)
             return;
+        if (SPM_EXT_K(path->x[j]) != SPM_NONE) {
+            conductor_vertex(path, j, v, P, L);
+            continue;
+        }
         fetch(v, r, X);
         for (int l = 0; l < v->n; l++)
             P[l] *= X[l];

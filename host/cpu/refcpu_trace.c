@@ -8,6 +8,7 @@
 #include "render_plan.h"
 #include "geometry_vec3.h"
 #include "spm_rng.h"
+#include "refcpu_conductor.h"
 
 /* The level feeler: the finest (smallest) level among the colours met,
  * starting from the coarsest level in use; a colour lowers it only when
@@ -68,6 +69,10 @@ static spm_u32 vertex_lobe(const spm_material *m, const rng_key *k, int j, float
         *mean = m->mean;
         *inv_mean = m->inv_mean;
         return m->refl;
+    case SPM_MAT_CONDUCTOR: /* eta as the colour; k in the vertex's own words */
+        *mean = m->mean;
+        *inv_mean = m->inv_mean;
+        return m->refl;
     case SPM_MAT_FLUOR:
     case SPM_MAT_DONALDSON: /* diffuse: its diagonal colour marks it for the shade stage */
         *mean = m->mean;
@@ -118,10 +123,12 @@ static const spm_emitter *pick_emitter(const spm_geometry *g, const rng_key *k, 
  * along d: one emitter triangle (pick_emitter), a uniform point on it, a
  * shadow ray. Returns the emitter's emission colour and its weight
  *   (1 / pdf) * cos_e * area / max(d2, SPM_D2_MIN_REL * area) * |cos_i| / pi
- * or SPM_NONE (weight 0) when occluded, back-facing or on the other side. */
+ * or SPM_NONE (weight 0) when occluded, back-facing or on the other side. At a
+ * rough conductor (cc) the factor after the distance is its lobe's
+ * (spm_ref_cond_light), and *cos_h its Fresnel angle. */
 static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, const rng_key *k,
                               spm_u32 dim, const float x[3], spm_u32 hit, const float n[3],
-                              const float d[3], float *c)
+                              const float d[3], const spm_ref_cond *cc, float *c, float *cos_h)
 {
     *c = 0.0f;
     if (g->nemitters == 0)
@@ -149,7 +156,14 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
     if ((cos_i < 0.0f) != (cos_o < 0.0f))
         return SPM_NONE; /* light and viewer on different sides: no transmission */
     float d2 = v3_dot(ev, ev), d2min = SPM_D2_MIN_REL * em->area;
-    float w = pe->inv_pdf * cos_e * em->area / (d2 > d2min ? d2 : d2min) * fabsf(cos_i) / SPM_PI_F;
+    float w;
+    if (cc) {
+        float d2c = d2 > d2min ? d2 : d2min;
+        w = pe->inv_pdf * cos_e * em->area / d2c *
+            spm_ref_cond_light(cc, l, pe->pdf, d2c, em->area, cos_e, cos_h);
+    } else {
+        w = pe->inv_pdf * cos_e * em->area / (d2 > d2min ? d2 : d2min) * fabsf(cos_i) / SPM_PI_F;
+    }
     if (!(w > 0.0f))
         return SPM_NONE;
     *c = w;
@@ -182,6 +196,31 @@ static int occurrences(const spm_path *path, int j, spm_u32 r)
     return k;
 }
 
+/* Emission hit by the sampled ray of the last vertex, a conductor's lobe of
+ * density cpdf (0: the smooth one): counted there, into its record x, with
+ * the throughput so far and the power heuristic against the light sample
+ * (light_pdf: the hit triangle's pick probability; the solid-angle density
+ * light_pdf d^2 / (area cos_e)). A face that does not emit counts nothing. */
+static void lobe_hit(const spm_tri *tri, const spm_material *m, const float d[3], float t,
+                     float light_pdf, float cpdf, float weight, spm_u32 memit, spm_vertex_ext *x,
+                     feeler *f, const uint8_t *lvlk)
+{
+    float ce = -v3_dot(d, tri->n);
+    if (m->type & SPM_EMIT_TWOSIDED)
+        ce = fabsf(ce);
+    if (!(ce > 0.0f))
+        return;
+    float wm = 1.0f;
+    if (cpdf > 0.0f) {
+        float d2 = t * t, d2min = SPM_D2_MIN_REL * tri->area;
+        float pl = light_pdf * (d2 > d2min ? d2 : d2min) / (tri->area * ce);
+        wm = spm_ref_cond_power(cpdf, pl);
+    }
+    x->ids = (x->ids & 0xFFFFu) | SPM_EXT_IDS(SPM_NONE, memit);
+    x->hit_c = weight * wm;
+    feel(f, lvlk, memit, 1, SPM_SETBY_EMITTER);
+}
+
 static void escape(const spm_trace_params *p, const float d[3], float weight, spm_path *path)
 {
     spm_u32 bg = d[1] > 0.0f ? p->bg_up : p->bg_down; /* MiniLight: sky for an upward ray */
@@ -200,6 +239,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
     *h = (spm_path_head){0, SPM_END_ABSORBED, SPM_NONE, 0.0f, SPM_NONE, 0.0f, 0, 0};
 
     float o[3], d[3], weight = 1.0f; /* product of 1 / mean over survived vertices */
+    float cpdf = -1.0f; /* the last vertex's conductor lobe density (< 0: none, 0: a delta) */
     for (int i = 0; i < 3; i++)
         o[i] = p->cam.eye[i];
     camera_ray(&p->cam, k.seed, k.pixel, k.sample, d);
@@ -225,19 +265,37 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
             h->first_emit_c = 1.0f;
             feel(&f, lvlk, memit, 1, SPM_SETBY_EMITTER);
         }
+        if (j > 0 && cpdf >= 0.0f && memit != SPM_NONE)
+            lobe_hit(tri, m, d, t, g->light_pdf[hit], cpdf, weight, memit, &path->x[j - 1], &f,
+                     lvlk);
+        int cond = SPM_MAT_TAG(*m) == SPM_MAT_CONDUCTOR;
+        spm_ref_cond cc;
+        if (cond)
+            spm_ref_cond_make(tri, d, m->p[SPM_COND_P_ALPHA], &cc);
         spm_u32 dim = SPM_DIM_VERTEX(j);
-        float c;
-        spm_u32 e = sample_emitter(g, mats, &k, dim, x, (spm_u32)hit, tri->n, d, &c);
+        float c = 0.0f, cos_h = 0.0f;
+        spm_u32 e = SPM_NONE;
+        if (!(cond && cc.alpha == 0.0f)) /* no light sample on a delta lobe */
+            e = sample_emitter(g, mats, &k, dim, x, (spm_u32)hit, tri->n, d, cond ? &cc : NULL,
+                               &c, &cos_h);
         float mmean, minv;
         spm_u32 refl = vertex_lobe(m, &k, j, &mmean, &minv);
         spm_vertex *vx = &path->v[j];
         vx->ids = (refl & 0xFFFFu) | (e << 16);
         vx->c = c * weight;
+        cpdf = -1.0f;
+        path->x[j] = (spm_vertex_ext){0u, 0.0f, 0.0f, 0.0f};
+        if (cond) {
+            path->x[j].ids = SPM_EXT_IDS(m->col2, SPM_NONE);
+            path->x[j].cos_light = cos_h;
+        }
         h->nvert = (spm_u32)j + 1;
         if (refl != SPM_NONE)
             feel(&f, lvlk, refl, occurrences(path, j, refl), SPM_SETBY_REFLECTOR);
         if (e != SPM_NONE)
             feel(&f, lvlk, e, 1, SPM_SETBY_EMITTER);
+        if (cond && m->col2 != SPM_NONE)
+            feel(&f, lvlk, m->col2, 1, SPM_SETBY_REFLECTOR);
 
         if (!(rnd(&k, dim + SPM_DIM_RR) < mmean)) {
             h->end = SPM_END_ABSORBED;
@@ -249,7 +307,22 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         }
         weight *= minv;
         float nd[3];
-        bounce(tri, &k, dim, d, nd);
+        if (cond) {
+            float lw;
+            int up = spm_ref_cond_lobe(&cc, rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_COND_M_A)),
+                                       rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_COND_M_B)), nd,
+                                       &path->x[j].cos_lobe, &lw, &cpdf);
+            if (!up) { /* below the surface: the path ends */
+                path->x[j].cos_lobe = 0.0f;
+                cpdf = -1.0f;
+                h->end = SPM_END_ABSORBED;
+                break;
+            }
+            if (cpdf > 0.0f)
+                weight *= lw;
+        } else {
+            bounce(tri, &k, dim, d, nd);
+        }
         for (int i = 0; i < 3; i++)
             o[i] = x[i], d[i] = nd[i];
         skip = (spm_u32)hit;

@@ -98,7 +98,7 @@ int spm_clr_reserve(spm_cl_renderer *r, size_t n, spm_error *err)
 #define INIT_NONE NULL
 #define INIT_IDENTITY r->h_idx
     int rc = 0;
-    size_t pix_ch = (size_t)r->pix_ch;
+    size_t pix_ch = (size_t)r->pix_ch, vertex_bytes = r->vertex_bytes;
 #define CREATE(field, what, per_path, flags, init) \
     rc = rc || spm_clr_new_buffer(r, &r->field, flags, n * (per_path), INIT_##init, what, err);
     SPM_CL_BATCH_BUFFERS(CREATE)

@@ -9,13 +9,13 @@
 /* Per batch, room for n paths (and up to n pixels):
  * X(field, what, bytes per path, flags, initial contents), evaluated where
  * pix_ch (render_plan.h: the floats of a path's record, 3 + spectral bins)
- * is in scope. The vertex slabs
+ * and vertex_bytes (render_plan.h: spm_vertex plus the words of the scene's
+ * types, materials.h) are in scope. The vertex slabs
  * have room for every depth; only those some path reaches are touched.
  * IDENTITY: 0, 1, 2, ... (the bucket list when one kernel takes every path). */
 #define SPM_CL_BATCH_BUFFERS(X)                                                     \
     X(heads, "path record headers", sizeof(spm_dev_head), CL_MEM_READ_WRITE, NONE)  \
-    X(verts, "path records", SPM_MAX_DEPTH * sizeof(spm_vertex), CL_MEM_READ_WRITE, \
-      NONE)                                                                         \
+    X(verts, "path records", SPM_MAX_DEPTH * vertex_bytes, CL_MEM_READ_WRITE, NONE)  \
     X(levels, "level bytes", 1, CL_MEM_READ_WRITE, NONE)                            \
     X(ident, "identity indices", sizeof(spm_u32), CL_MEM_READ_ONLY, IDENTITY)       \
     X(idx, "bucket indices", sizeof(spm_u32), CL_MEM_READ_ONLY, NONE)               \
@@ -29,6 +29,7 @@
     X(tris, "triangles", (size_t)g->ntris * sizeof(spm_tri), g->tris)              \
     X(nodes, "BVH", (size_t)g->nwide * sizeof(spm_bvh4_node), g->wide)             \
     X(emitters, "emitters", (size_t)g->nemitters * sizeof(spm_emitter), g->emitters) \
+    X(light_pdf, "light pdfs", (size_t)g->ntris * sizeof(float), g->light_pdf)      \
     X(mats, "materials", (size_t)t->nmaterials * sizeof(spm_material), t->materials) \
     X(lvlk, "level table", (size_t)t->ncolours * SPM_PRETEST_KMAX, lvlk)
 #endif

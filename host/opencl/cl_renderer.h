@@ -35,6 +35,7 @@ struct spm_cl_renderer {
     char kname[NSLOTS][64];
     cl_mem tab[NSLOTS], cmf[NSLOTS], extra;
     int pix_ch;                          /* floats a path record holds (render_plan.h) */
+    size_t vertex_bytes;                 /* bytes of a path vertex's record (render_plan.h) */
     cl_mem smap[NSLOTS], sfac[NSLOTS];   /* spectral records: lanes to bins (pix_ch > 3) */
 #define SCENE_FIELD(field, what, bytes, host) cl_mem field;
     SPM_CL_SCENE_BUFFERS(SCENE_FIELD)

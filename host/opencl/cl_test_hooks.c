@@ -74,15 +74,27 @@ static int trace_batch(spm_cl_renderer *r, const batch *b, spm_dev_head *h, spm_
                                               depth * n * sizeof *v, v, 0, NULL, NULL),
                           "clEnqueueReadBuffer(path records)", err);
     }
+    spm_vertex_ext *x = NULL; /* the types' vertex words, when the scene has some */
+    if (!rc && depth && r->vertex_bytes > sizeof(spm_vertex)) {
+        x = spm_xcalloc(depth * n, sizeof *x);
+        rc = spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->verts, CL_TRUE,
+                                              SPM_MAX_DEPTH * n * sizeof *v, depth * n * sizeof *x,
+                                              x, 0, NULL, NULL),
+                          "clEnqueueReadBuffer(path records' vertex words)", err);
+    }
     clFinish(r->cl.queue);
     spm_clr_release_events(&ev, 1, NULL);
     for (size_t i = 0; !rc && i < n; i++) {
         memset(&paths[i], 0, sizeof paths[i]);
         paths[i].h = spm_dev_head_unpack(&h[i]);
-        for (spm_u32 j = 0; j < paths[i].h.nvert && j < SPM_MAX_DEPTH; j++)
+        for (spm_u32 j = 0; j < paths[i].h.nvert && j < SPM_MAX_DEPTH; j++) {
             paths[i].v[j] = v[(size_t)j * n + i];
+            if (x)
+                paths[i].x[j] = x[(size_t)j * n + i];
+        }
     }
     free(v);
+    free(x);
     return rc;
 }
 
@@ -120,9 +132,14 @@ static int shade_batch(spm_cl_renderer *r, const batch *b, const spm_path *paths
         h[i] = spm_dev_head_pack(&paths[i].h);
     size_t depth = max_nvert(h, n);
     spm_vertex *v = spm_xcalloc(depth * n + 1, sizeof *v);
+    int ext = r->vertex_bytes > sizeof(spm_vertex);
+    spm_vertex_ext *x = spm_xcalloc(ext ? depth * n + 1 : 1, sizeof *x);
     for (size_t i = 0; i < n; i++)
-        for (spm_u32 j = 0; j < paths[i].h.nvert && j < SPM_MAX_DEPTH; j++)
+        for (spm_u32 j = 0; j < paths[i].h.nvert && j < SPM_MAX_DEPTH; j++) {
             v[(size_t)j * n + i] = paths[i].v[j];
+            if (ext)
+                x[(size_t)j * n + i] = paths[i].x[j];
+        }
     cl_event ev[NSLOTS] = {NULL};
     size_t off[NSLOTS + 1];
     cl_mem ids = NULL;
@@ -132,6 +149,11 @@ static int shade_batch(spm_cl_renderer *r, const batch *b, const spm_path *paths
              (depth && spm_cl_check(clEnqueueWriteBuffer(r->cl.queue, r->verts, CL_FALSE, 0,
                                                          depth * n * sizeof *v, v, 0, NULL, NULL),
                                     "clEnqueueWriteBuffer(path records)", err)) ||
+             (depth && ext &&
+              spm_cl_check(clEnqueueWriteBuffer(r->cl.queue, r->verts, CL_FALSE,
+                                                SPM_MAX_DEPTH * n * sizeof *v, depth * n * sizeof *x,
+                                                x, 0, NULL, NULL),
+                           "clEnqueueWriteBuffer(path records' vertex words)", err)) ||
              spm_clr_bucket(r, n, levels, off, &ids, err) || spm_clr_run_shade(r, b, off, ids, 0, ev, err) ||
              spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->xyz, CL_TRUE, 0,
                                               n * (size_t)r->pix_ch * sizeof(float), xyz, 0, NULL, NULL),
@@ -140,6 +162,7 @@ static int shade_batch(spm_cl_renderer *r, const batch *b, const spm_path *paths
     spm_clr_release_events(ev, NSLOTS, NULL);
     free(h);
     free(v);
+    free(x);
     return rc;
 }
 

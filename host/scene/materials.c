@@ -1,6 +1,7 @@
 /* The material and emitter type descriptors (materials.h). */
 #include "materials.h"
 #include <stdio.h>
+#include <math.h>
 #include <string.h>
 #include "spm_rng.h"
 #include "fluor.h"
@@ -19,6 +20,45 @@ static void lambert_fill(const spm_scene *sc, const spm_scene_material *s, spm_m
     double mean = colour_mean(sc, s->refl);
     d->mean = (float)mean;
     d->inv_mean = mean > 0.0 ? (float)(1.0 / mean) : 0.0f;
+}
+
+/* A conductor (a metal): eta + i k per wavelength, smooth or GGX-rough of
+ * width alpha (Mitsuba 3's alpha); its lobe draws the visible normal from
+ * SPM_DIM_TYPE(j, SPM_DIM_COND_M_A/B). Russian roulette survives with its
+ * scalar albedo: the mean over the 1 nm bins of its normal-incidence
+ * reflectance F(eta, k, 1) = ((eta - 1)^2 + k^2) / ((eta + 1)^2 + k^2). */
+double spm_conductor_fresnel(double eta, double k, double c)
+{
+    /* the exact Fresnel reflectance of a conductor, unpolarised, from real
+     * arithmetic: s2 = 1 - c^2, t0 = eta^2 - k^2 - s2, a2b2 = |n^2 - s2| =
+     * sqrt(t0^2 + 4 eta^2 k^2), a = sqrt((a2b2 + t0) / 2);
+     * Rs = (a2b2 + c^2 - 2 a c) / (a2b2 + c^2 + 2 a c),
+     * Rp = Rs (c^2 a2b2 + s2^2 - 2 a c s2) / (c^2 a2b2 + s2^2 + 2 a c s2) */
+    double s2 = 1.0 - c * c, t0 = eta * eta - k * k - s2;
+    double a2b2 = sqrt(t0 * t0 + 4.0 * eta * eta * k * k);
+    double a = sqrt(fmax(0.5 * (a2b2 + t0), 0.0));
+    double t1 = a2b2 + c * c, t2 = 2.0 * a * c;
+    double rs = (t1 - t2) / fmax(t1 + t2, 1e-300);
+    double t3 = c * c * a2b2 + s2 * s2, t4 = t2 * s2;
+    double rp = rs * (t3 - t4) / fmax(t3 + t4, 1e-300);
+    return 0.5 * (rs + rp);
+}
+
+static void conductor_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d)
+{
+    double mean = 0.0;
+    if (s->refl >= 0 && s->col2 >= 0) {
+        const double *eta = sc->colours[s->refl].s.nm1, *k = sc->colours[s->col2].s.nm1;
+        for (int i = 0; i < SPM_TRUTH_BINS; i++)
+            mean += spm_conductor_fresnel(eta[i], k[i], 1.0);
+        mean /= SPM_TRUTH_BINS;
+    }
+    d->mean = (float)mean;
+    d->inv_mean = mean > 0.0 ? (float)(1.0 / mean) : 0.0f;
+    /* widths below SPM_COND_MIN_ALPHA render as the smooth lobe (alpha 0) */
+    d->p[SPM_COND_P_ALPHA] = s->p[SPM_COND_P_ALPHA] < SPM_COND_MIN_ALPHA
+                                 ? 0.0f
+                                 : (float)s->p[SPM_COND_P_ALPHA];
 }
 
 /* Fluorescent (Wilkie et al. 2006, fluor.h): diffuse, its reflection a
@@ -61,6 +101,23 @@ const spm_mtype_desc spm_material_types[] = {
         .rng_dims = 0, /* the vertex's own cosine-lobe dimensions */
         .define = "SPM_WITH_LAMBERT",
         .fill = lambert_fill,
+    },
+    [SPM_MAT_CONDUCTOR] = {
+        .keyword = "conductor",
+        .tag = SPM_MAT_CONDUCTOR,
+        .help = "metal: 'conductor ETA_SPECTRUM K_SPECTRUM [alpha A]' (complex index eta + i k; "
+                "alpha: GGX width, 0 smooth)",
+        .params = {{.kind = SPM_MP_OPTICAL, .slot = SPM_MSLOT_REFL,
+                    .what = "the real part eta of the index of refraction"},
+                   {.kind = SPM_MP_OPTICAL, .slot = SPM_MSLOT_COL2,
+                    .what = "the extinction coefficient k"},
+                   {.clause = "alpha", .kind = SPM_MP_NUMBER, .slot = SPM_COND_P_ALPHA, .lo = 0.0,
+                    .hi = 1.0, .what = "a GGX width"}},
+        .nparams = 3,
+        .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
+        .rng_dims = 2, /* SPM_DIM_COND_M_A, SPM_DIM_COND_M_B */
+        .define = "SPM_WITH_CONDUCTOR",
+        .fill = conductor_fill,
     },
     [SPM_MAT_FLUOR] = {
         .keyword = "fluoresce",

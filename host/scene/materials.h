@@ -18,8 +18,9 @@ typedef enum {
     SPM_MP_FLAG,        /* the clause's word alone: bit slot of flags */
     SPM_MP_FILE,        /* a re-radiation matrix file (fluor.h): its diagonal into refl, its
                            index in the scene's matrices into p[slot] */
-    SPM_MP_SHAPE        /* a spectrum name alone (no scale), kept as its shape: its peak
+    SPM_MP_SHAPE,       /* a spectrum name alone (no scale), kept as its shape: its peak
                            scaled to 1, a reflectance-kind colour into slot 2 col2 or 3 col3 */
+    SPM_MP_OPTICAL      /* an optical constant (eta, k): a colour not bounded by 1, slot 0 or 2 */
 } spm_mparam_kind;
 
 #define SPM_MSLOT_REFL 0
@@ -78,6 +79,11 @@ void spm_material_types_used(const spm_material *mats, int n, int used_m[SPM_MAT
 /* The kernel options that compile in exactly the types mats use ("-DX -DY "),
  * into buf; returns its length. */
 int spm_material_defines(const spm_material *mats, int n, char *buf, size_t size);
+/* The conductor's exact unpolarised Fresnel reflectance for the complex
+ * index eta + i k at incidence cosine c in [0, 1] (double: the host's tables
+ * and pretest; the kernels and the CPU reference have their own floats). */
+double spm_conductor_fresnel(double eta, double k, double c);
+
 /* Bytes of one path vertex's record for the types mats use. */
 size_t spm_material_vertex_bytes(const spm_material *mats, int n);
 #endif

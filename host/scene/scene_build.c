@@ -248,6 +248,14 @@ int spm_sb_reflectance(const spm_spectrum *shape, double scale, const char *wher
     return 0;
 }
 
+int spm_sb_optical(const spm_spectrum *shape, double scale, spm_spectrum *out)
+{
+    *out = *shape; /* loaded as a reflectance: extended by its end values */
+    out->kind = SPM_KIND_REFLECTANCE;
+    spm_spectrum_scale(out, scale);
+    return 0;
+}
+
 int spm_sb_emission(const spm_spectrum *shape, double luminance, const char *where,
                     spm_spectrum *out, spm_error *err)
 {

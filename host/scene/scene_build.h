@@ -67,6 +67,10 @@ int spm_sb_degenerate(const float p[3][3]);
 int spm_sb_camera(spm_scene_builder *b, const double eye[3], const double dir[3], double fov,
                   const char *where, spm_error *err);
 
+/* An optical constant (a conductor's eta or k): shape times scale, any
+ * non-negative value (the loader refuses negative ones), extended as a
+ * reflectance by its end values. 0. */
+int spm_sb_optical(const spm_spectrum *shape, double scale, spm_spectrum *out);
 /* Reflectance `shape` times `scale`; more than 1 anywhere is an error. */
 int spm_sb_reflectance(const spm_spectrum *shape, double scale, const char *where,
                        spm_spectrum *out, spm_error *err);

@@ -269,16 +269,12 @@ static const spm_spectrum *use_spectrum(parser *p, int idx, spm_kind kind, const
     return d->made[kind];
 }
 
-/* "NAME SCALE?" -> a colour of the scene (scaled, checked). Returns its index or -1. */
-static int colour_ref_as(parser *p, spm_kind kind, int shape_only);
-static int colour_ref(parser *p, spm_kind kind)
-{
-    return colour_ref_as(p, kind, 0);
-}
-
-/* A spectrum name, with an optional scale; shape_only: without one, the
- * spectrum's peak scaled to 1 (a shape, as a reflectance-kind colour). */
-static int colour_ref_as(parser *p, spm_kind kind, int shape_only)
+/* "NAME SCALE?" -> a colour of the scene (scaled, checked). Returns its index
+ * or -1. A spectrum name, with an optional scale; shape_only: without one, the
+ * spectrum's peak scaled to 1 (a shape, as a reflectance-kind colour);
+ * optical: an optical constant (a conductor's eta or k), extended as a
+ * reflectance (by its end values) but not bounded by 1. */
+static int colour_ref_as(parser *p, spm_kind kind, int shape_only, int optical)
 {
     char where[600], name[SPM_NAME_MAX], cname[SPM_NAME_MAX];
     where_now(p, where, sizeof where);
@@ -305,6 +301,7 @@ static int colour_ref_as(parser *p, spm_kind kind, int shape_only)
     }
     spm_spectrum sp;
     int rc = kind == SPM_KIND_EMISSION ? spm_sb_emission(shape, scale, where, &sp, p->err)
+             : optical                 ? spm_sb_optical(shape, scale, &sp)
                                        : spm_sb_reflectance(shape, scale, where, &sp, p->err);
     if (rc)
         return -1;
@@ -313,6 +310,11 @@ static int colour_ref_as(parser *p, spm_kind kind, int shape_only)
     else
         snprintf(cname, sizeof cname, "%.40s*%.6g", name, scale);
     return spm_sb_colour(&p->b, cname, &sp, where, p->err);
+}
+
+static int colour_ref(parser *p, spm_kind kind)
+{
+    return colour_ref_as(p, kind, 0, 0);
 }
 
 /* ---- statements ------------------------------------------------------------ */
@@ -439,7 +441,7 @@ static int material_param(parser *p, const spm_mparam *pa, spm_scene_material *m
         return 0;
     }
     int c = colour_ref_as(p, pa->kind == SPM_MP_EMISSION ? SPM_KIND_EMISSION : SPM_KIND_REFLECTANCE,
-                          pa->kind == SPM_MP_SHAPE);
+                          pa->kind == SPM_MP_SHAPE, pa->kind == SPM_MP_OPTICAL);
     if (c < 0)
         return 1;
     *(pa->slot == SPM_MSLOT_REFL   ? &m->refl

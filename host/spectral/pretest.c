@@ -169,18 +169,18 @@ static double sequence_error(const set_t *set, int self, int is_light, const bin
     return worst;
 }
 
-static void run_one(const spm_spectrum *s, int self, const set_t *set, const spm_pretest_opts *o,
-                    spm_pretest_result *res)
+/* The contexts of a spectrum given at 1 nm (s0) and as each level renders it
+ * (slv[l], held at 1 nm; slv[0] unused). */
+static void run_given(const double *s0, const bins_t *slv, int is_light, int self,
+                      const set_t *set, const spm_pretest_opts *o, spm_pretest_result *res)
 {
-    int is_light = s->kind == SPM_KIND_EMISSION;
     double err_ac[SPM_NUM_LEVELS] = {0};
-    bins_t s0, sl, one;
+    bins_t one;
     for (int b = 0; b < SPM_TRUTH_BINS; b++)
         one[b] = 1.0;
-    at_level(s, 0, s0);
     memset(res, 0, sizeof *res);
     for (int l = 1; l < SPM_NUM_LEVELS; l++) {
-        at_level(s, l, sl);
+        const double *sl = slv[l];
         /* A and B: s^k under each light, the powers built up one k at a time;
          * an emission ends the product, so for it every k is context A (s on
          * its own). */
@@ -237,6 +237,28 @@ void spm_pretest_fold(const unsigned char fail_ac[SPM_NUM_LEVELS],
             res->err[l] = maxd(res->err[l], res->err_k[k][l]);
     }
     res->level = res->level_k[SPM_PRETEST_KMAX - 1];
+}
+
+static void run_one(const spm_spectrum *s, int self, const set_t *set, const spm_pretest_opts *o,
+                    spm_pretest_result *res)
+{
+    bins_t s0, slv[SPM_NUM_LEVELS];
+    at_level(s, 0, s0);
+    for (int l = 1; l < SPM_NUM_LEVELS; l++)
+        at_level(s, l, slv[l]);
+    run_given(s0, slv, s->kind == SPM_KIND_EMISSION, self, set, o, res);
+}
+
+void spm_pretest_given(const spm_spectrum *const *spectra, int n, const double *f0,
+                       const double (*fl)[SPM_TRUTH_BINS], int self, const spm_pretest_opts *o,
+                       spm_pretest_result *res)
+{
+    set_t set;
+    split_set(spectra, n, &set);
+    run_given(f0, fl, 0, self, &set, o, res);
+    free(set.lights);
+    free(set.refl);
+    free(set.refl_index);
 }
 
 int spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,

@@ -56,6 +56,15 @@ double spm_pretest_xyz_error(const double ref[3], const double test[3], spm_metr
  * the run early, the results not reached left as they were. */
 int spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
                     spm_pretest_result *results);
+/* A reflectance the renderer computes at each level rather than averaging
+ * its 1 nm data (a conductor's Fresnel from each level's eta and k): f0 its
+ * 1 nm values, fl[l] what level l renders, held at 1 nm (fl[0] unused),
+ * judged in contexts A, B and C against the set spectra[0..n-1] as
+ * spm_pretest_run judges a reflectance; self seeds its context-C sequences
+ * (a number no spectrum of the set has: none of them is "itself"). */
+void spm_pretest_given(const spm_spectrum *const *spectra, int n, const double *f0,
+                       const double (*fl)[SPM_TRUTH_BINS], int self, const spm_pretest_opts *o,
+                       spm_pretest_result *res);
 /* Print the decision table (one row per spectrum and level) to f. */
 #include <stdio.h>
 void spm_pretest_print(FILE *f, const char *const *names, const spm_pretest_result *r, int n,

@@ -121,6 +121,57 @@ static void fill_materials(const spm_scene *sc, spm_tables *t)
     t->bg_down = sc->bg_down >= 0 ? (spm_u32)sc->bg_down : SPM_NONE;
 }
 
+/* The pretest over the scene's colours. A conductor's eta and k are no
+ * reflectances: they are left out of the set, and get the levels of their
+ * Fresnel (spm_conductor_pretest; a colour two conductors share, the finer).
+ * 1 when interrupted (*done: colours done). */
+static int pretest_colours(const spm_scene *sc, const spm_pretest_opts *po, spm_tables *t, int *done)
+{
+    int n = sc->ncolours;
+    int *optical = spm_xcalloc((size_t)n + 1, sizeof *optical), *at = spm_xcalloc((size_t)n + 1, sizeof *at);
+    for (int i = 0; i < sc->nmaterials; i++)
+        if (sc->materials[i].type == SPM_MAT_CONDUCTOR) {
+            if (sc->materials[i].refl >= 0)
+                optical[sc->materials[i].refl] = 1;
+            if (sc->materials[i].col2 >= 0)
+                optical[sc->materials[i].col2] = 1;
+        }
+    const spm_spectrum **set = spm_xcalloc((size_t)n + 1, sizeof *set);
+    int m = 0;
+    for (int c = 0; c < n; c++)
+        if (!optical[c])
+            at[m] = c, set[m++] = &sc->colours[c].s;
+    spm_pretest_result *res = spm_xcalloc((size_t)m + 1, sizeof *res);
+    *done = spm_pretest_run(set, m, po, res);
+    for (int i = 0; i < m; i++)
+        t->pretest[at[i]] = res[i];
+    int stopped = spm_stop_requested();
+    for (int i = 0; i < sc->nmaterials && !stopped; i++) {
+        const spm_scene_material *mt = &sc->materials[i];
+        if (mt->type != SPM_MAT_CONDUCTOR || mt->refl < 0 || mt->col2 < 0)
+            continue;
+        spm_pretest_result r;
+        spm_conductor_pretest(set, m, &sc->colours[mt->refl].s, &sc->colours[mt->col2].s, n + i, po, &r);
+        for (int j = 0; j < 2; j++) {
+            int c = j ? mt->col2 : mt->refl;
+            if (optical[c] == 1)
+                t->pretest[c] = r, optical[c] = 2; /* the first conductor that uses it */
+            else
+                for (int k = 0; k <= SPM_PRETEST_KMAX; k++) {
+                    int *l = k < SPM_PRETEST_KMAX ? &t->pretest[c].level_k[k] : &t->pretest[c].level;
+                    int rl = k < SPM_PRETEST_KMAX ? r.level_k[k] : r.level;
+                    *l = rl < *l ? rl : *l;
+                }
+        }
+        stopped = spm_stop_requested();
+    }
+    free(res);
+    free(set);
+    free(optical);
+    free(at);
+    return stopped;
+}
+
 int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables *t,
                      spm_error *err)
 {
@@ -151,12 +202,8 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
 
     /* ml levels: the pretest over the scene's whole set of colours */
     t->coarsest_level = po->coarsest_level;
-    const spm_spectrum **set = spm_xcalloc((size_t)n + 1, sizeof *set);
-    for (int c = 0; c < n; c++)
-        set[c] = &sc->colours[c].s;
-    int done = spm_pretest_run(set, n, po, t->pretest);
-    free(set);
-    if (spm_stop_requested()) {
+    int done = 0;
+    if (pretest_colours(sc, po, t, &done)) {
         spm_errorf(err, "interrupted during the pretests (%d of %d colours done)", done, n);
         return 1;
     }

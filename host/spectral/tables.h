@@ -82,6 +82,14 @@ typedef struct {
     SPM_TABLES_ARRAYS(SPM_TABLES_DECL_A, SPM_TABLES_DECL_L)
 } spm_tables;
 
+/* A conductor's pretest: its Fresnel F(eta, k, c) as each level renders it
+ * (F of the level's bins of eta and k) against F of the 1 nm eta and k,
+ * judged as a reflectance (spm_pretest_given) against set[0..n-1] (the
+ * scene's colours other than optical constants) at six incidence cosines
+ * from 1 to 0.05, the worst of them kept (conductor_pretest.c says why). */
+void spm_conductor_pretest(const spm_spectrum *const *set, int n, const spm_spectrum *eta,
+                           const spm_spectrum *k, int self, const spm_pretest_opts *o,
+                           spm_pretest_result *out);
 int spm_tables_build(const spm_scene *scene, const spm_pretest_opts *po, spm_tables *t,
                      spm_error *err);
 void spm_tables_free(spm_tables *t);
