@@ -476,6 +476,28 @@ def render_mitsuba(sc, outdir, spp, seed, width, path):
     return time.time() - t0
 
 
+def absolute_copy(scene_path, out):
+    """A copy of the scene whose spectrum and mesh files are absolute paths, resolved as this
+    script resolves them (this tree's spectra/), so that a specmip binary built from another
+    tree, whose data directory lacks a file, renders the same scene."""
+    sdir = os.path.dirname(os.path.abspath(scene_path))
+    lines = []
+    with open(scene_path) as f:
+        for line in f:
+            toks = line.split('#', 1)[0].split()
+            if len(toks) >= 4 and toks[0] == 'spectrum' and toks[2] == 'file':
+                p = shlex.split(line.split('#', 1)[0])[3]
+                line = line.replace(toks[3], shlex.quote(os.path.abspath(
+                    find_spectrum_file(p, sdir))), 1)
+            elif len(toks) >= 2 and toks[0] == 'mesh' and not os.path.isabs(toks[1]):
+                line = line.replace(toks[1], shlex.quote(os.path.join(sdir, toks[1])), 1)
+            lines.append(line)
+    copy = os.path.join(out, os.path.basename(scene_path))
+    with open(copy, 'w') as f:
+        f.writelines(lines)
+    return copy
+
+
 def render_specmip(binary, scene_path, spp, seed, width, path, mode='truth'):
     cmd = [binary, 'render', scene_path, '--mode', mode, '--spp', str(spp), '--seed', str(seed),
            '--quiet', '-o', path]
@@ -516,7 +538,8 @@ def run_one(args, scene_path):
                                                  'specmip_truth.exr'))
     t1 = render_mitsuba(sc, out, spp, 1, args.width, m1)
     t2 = render_mitsuba(sc, out, spp, 2, args.width, m2)
-    ts = render_specmip(args.specmip, scene_path, spp, 1, args.width, sp, args.mode)
+    ts = render_specmip(args.specmip, absolute_copy(scene_path, out), spp, 1, args.width, sp,
+                        args.mode)
     c_floor = compare(args.specmip, m1, m2)
     white = c_floor['white_y']
     c_spec = compare(args.specmip, m1, sp, white)
