@@ -419,6 +419,9 @@ def write_ply(path, tris):
             f.write(struct.pack('<B3i', 3, 3 * k, 3 * k + 1, 3 * k + 2))
 
 
+MAX_DEPTH = -1  # Mitsuba's path length limit (-1: none); --max-depth sets it
+
+
 def convert(sc, outdir, spp, seed, width=None):
     """The Mitsuba scene dictionary (and its PLY files in outdir)."""
     import mitsuba as mi
@@ -430,7 +433,7 @@ def convert(sc, outdir, spp, seed, width=None):
     target = [pos[k] + d[k] for k in range(3)]
     scene = {
         'type': 'scene',
-        'integrator': {'type': 'path', 'max_depth': -1},
+        'integrator': {'type': 'path', 'max_depth': MAX_DEPTH},
         'sensor': {
             'type': 'perspective', 'fov': fov, 'fov_axis': 'x',
             # specmip's image x runs along dir x up (world +x to the right when looking
@@ -611,6 +614,9 @@ def main():
     ap.add_argument('--mode', default='truth', help='specmip mode to compare (default truth)')
     ap.add_argument('--out', default='mitsuba-out')
     ap.add_argument('--md', action='store_true', help='print the table as markdown')
+    ap.add_argument('--max-depth', type=int, default=-1,
+                    help="Mitsuba's max_depth (default -1: unlimited; specmip's record of 64 "
+                         "vertices with a light sample at each is max_depth 65)")
     ap.add_argument('--check-ior', action='store_true')
     ap.add_argument('--convert-only', action='store_true')
     ap.add_argument('--mitsuba-only', action='store_true',
@@ -618,6 +624,8 @@ def main():
     args = ap.parse_args()
     import mitsuba as mi
     mi.set_variant('scalar_spectral')
+    global MAX_DEPTH
+    MAX_DEPTH = args.max_depth
     if args.check_ior:
         sys.exit(check_ior())
     if not args.scenes:
