@@ -39,8 +39,15 @@ mesh fills the view: every camera ray hits it) under an emissive quad:
   torus    a bumpy torus seen from inside its tube
   soup     N random triangles in a cube, edges about 4/cbrt(N) of its side,
            seen from the cube's front face (seeded: the same N gives the same soup)
+With --metals, the conductor scenes (their objects as `tri` statements, so each
+scene is one self-contained file):
+  metals.scene          the Cornell box of scenes/cornell.scene with smooth gold,
+                        copper and aluminium blocks and rough (GGX) spheres of them
+  copper_sodium.scene   copper under a low-pressure sodium lamp (the failure scene)
+
 usage: gen_meshes.py OUTDIR [BIG_TRIANGLES]
-       gen_meshes.py --scale SHAPE N OUT.ply OUT.scene   (prints the triangle count)"""
+       gen_meshes.py --scale SHAPE N OUT.ply OUT.scene   (prints the triangle count)
+       gen_meshes.py --metals OUTDIR"""
 import base64, json, math, os, struct, sys
 
 # cube [0,2]^3, faces as quads (a b c d) counter-clockwise seen from outside
@@ -445,7 +452,175 @@ def scale_mesh(shape, n, ply, scene):
     return len(faces)
 
 
+# ---- conductor scenes -------------------------------------------------------
+
+def outward(c, tri):
+    """tri with its front face, (v1 - v0) x (v2 - v0), away from the point c."""
+    p, q, r = tri
+    e1 = [q[k] - p[k] for k in range(3)]
+    e2 = [r[k] - p[k] for k in range(3)]
+    n = (e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+         e1[0] * e2[1] - e1[1] * e2[0])
+    g = [(p[k] + q[k] + r[k]) / 3 - c[k] for k in range(3)]
+    return tri if sum(n[k] * g[k] for k in range(3)) > 0 else (p, r, q)
+
+
+def uv_sphere(c, r, rings=4, segs=8):
+    """A sphere of 2 segs (rings - 1) triangles: poles as single vertices."""
+    def pt(i, j):
+        th, ph = math.pi * i / rings, 2 * math.pi * (j + 0.5 * (i % 2)) / segs
+        return (c[0] + r * math.sin(th) * math.cos(ph), c[1] + r * math.cos(th),
+                c[2] + r * math.sin(th) * math.sin(ph))
+    tris = []
+    for i in range(rings):
+        for j in range(segs):
+            a, b = pt(i, j), pt(i, j + 1)
+            cc, d = pt(i + 1, j), pt(i + 1, j + 1)
+            if i > 0:
+                tris.append((a, b, d) if i % 2 == 0 else (a, b, cc))
+            if i < rings - 1:
+                tris.append((a, d, cc) if i % 2 == 0 else (b, d, cc))
+    return [outward(c, t) for t in tris]
+
+
+def block(cx, cz, half, height, deg):
+    """A block standing on the floor (y = 0), square footprint 2 half, turned deg
+    about y: the top and four sides (the floor hides the bottom), 10 triangles."""
+    a = math.radians(deg)
+    corners = [(cx + half * (u * math.cos(a) - v * math.sin(a)), cz + half * (u * math.sin(a) +
+                v * math.cos(a))) for u, v in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+    lo = [(x, 0.0, z) for x, z in corners]
+    hi = [(x, height, z) for x, z in corners]
+    quads = [hi] + [(lo[k], lo[(k + 1) % 4], hi[(k + 1) % 4], hi[k]) for k in range(4)]
+    c = (cx, 0.5 * height, cz)
+    tris = []
+    for q in quads:
+        tris += [outward(c, (q[0], q[1], q[2])), outward(c, (q[0], q[2], q[3]))]
+    return tris
+
+
+def tri_lines(material, tris):
+    return ''.join('tri %-11s %s\n' % (material, '  '.join(' '.join('%.6f' % x for x in v)
+                                                        for v in t)) for t in tris)
+
+
+ROOM = """# room: floor, back wall, left (red) wall, right (green) wall, ceiling
+quad white  0.556 0.000 0.000  0.003 0.000 0.000  0.006 0.000 0.559  0.556 0.000 0.559
+quad white  0.556 0.000 0.559  0.006 0.000 0.559  0.000 0.549 0.559  0.556 0.549 0.559
+quad %s    0.006 0.000 0.559  0.003 0.000 0.000  0.000 0.549 0.000  0.000 0.549 0.559
+quad %s  0.556 0.000 0.000  0.556 0.000 0.559  0.556 0.549 0.559  0.556 0.549 0.000
+quad white  0.556 0.549 0.559  0.000 0.549 0.559  0.000 0.549 0.000  0.556 0.549 0.000
+
+# light, just below the ceiling, facing down (emitters emit from the front face:
+# the normal (b - a) x (c - a) points to -y)
+quad light  0.343 0.545 0.332  0.213 0.545 0.332  0.213 0.545 0.227  0.343 0.545 0.227
+"""
+
+METALS_HEAD = """# Metals: the Cornell box of cornell.scene (its walls, camera and equal-energy
+# light of luminance 1000) with measured conductors in place of its two boxes:
+# at the back, smooth (mirror) blocks of gold, copper and aluminium; in front,
+# rough spheres (GGX, alpha 0.2) of the same metals. Their colours come from
+# the complex index of refraction eta + i k per wavelength (spectra/metal_*:
+# LuxPop data), so they change with the angle of incidence. The objects are
+# written by tools/gen_meshes.py --metals (do not edit them here: regenerate);
+# bench/peers/mitsuba_compare.py renders it with Mitsuba 3 as a check of truth.
+# Format: docs/SCENE_FORMAT.md.
+
+image 256 256
+spp 64
+camera position 0.278 0.275 -0.789  direction 0 0 1  fov 40
+
+spectrum white     file colorchecker_n_ohta.csv column white_9_5
+spectrum red       file colorchecker_n_ohta.csv column red
+spectrum green     file colorchecker_n_ohta.csv column green
+spectrum equal     equal
+"""
+
+SODIUM_HEAD = """# Copper under sodium light - where rgb breaks on a metal. The Cornell box of
+# cornell.scene, all walls ColorChecker white, lit only by the NIST low-pressure
+# sodium lamp: one line at 590 nm (585-595 nm at its 5 nm sampling). In it
+# stand a smooth copper block, a rough copper sphere (GGX, alpha 0.2) and a
+# white (Lambertian) block for comparison. Copper's reflectance climbs steeply
+# across the line's neighbourhood (normal incidence: 0.66 at 560, 0.81 at
+# 589, 0.91 at 620 nm), but inside a single line a reflection can only dim the
+# light, not change its chromaticity:
+#  - truth, ref, ml, mlc, hero: the copper looks the lamp's yellow, like the
+#    white block, only darker (its reflectance at 590 nm, about 0.81, at normal
+#    incidence);
+#  - rgb is wrong: it multiplies three channels, copper's D65-referred RGB
+#    (about 0.95, 0.64, 0.54) times the lamp's linear sRGB, which for a
+#    spectral line lies outside the sRGB gamut (a negative blue); a product
+#    per channel moves the chromaticity, so the copper comes out redder than
+#    the white block: on the same paths (128 px wide, 256 spp) rgb is 4.6
+#    dE00 off truth on the smooth copper block (1.4 over the whole image),
+#    where ref, ml and mlc stay below 0.35;
+#  - ml at a coarse level would average eta and k over a 20 nm bin (580-600 nm)
+#    across the copper edge: the pretest has to see that the Fresnel of the
+#    bin means is not the mean Fresnel under the line.
+# The objects are written by tools/gen_meshes.py --metals. Format:
+# docs/SCENE_FORMAT.md.
+
+image 256 256
+spp 64
+camera position 0.278 0.275 -0.789  direction 0 0 1  fov 40
+
+spectrum white     file colorchecker_n_ohta.csv column white_9_5
+spectrum lps       file lightsource_nist_lps.csv
+"""
+
+METAL_DATA = {'gold': 'Au', 'copper': 'Cu', 'aluminium': 'Al'}
+
+
+def metal_spectra(names):
+    s = ''
+    for m in names:
+        sym = METAL_DATA[m]
+        s += 'spectrum %-9s file metal_%s_eta.csv\n' % (sym.lower() + '_eta', sym)
+        s += 'spectrum %-9s file metal_%s_k.csv\n' % (sym.lower() + '_k', sym)
+    return s
+
+
+def metal_materials(names, alpha):
+    s = ''
+    for m in names:
+        sym = METAL_DATA[m].lower()
+        s += 'material %-15s conductor %s_eta %s_k\n' % (m + '_smooth', sym, sym)
+        s += 'material %-15s conductor %s_eta %s_k alpha %g\n' % (m + '_rough', sym, sym, alpha)
+    return s
+
+
+def metals_scenes(out):
+    """Writes metals.scene and copper_sodium.scene into out; returns their paths."""
+    names = ('gold', 'copper', 'aluminium')
+    s = METALS_HEAD + metal_spectra(names) + '\n'
+    s += ('material white     reflect white\nmaterial red       reflect red\n'
+          'material green     reflect green\nmaterial light     reflect white  emit equal 1000\n')
+    s += metal_materials(names, 0.2) + '\n' + ROOM % ('red', 'green')
+    s += '\n# smooth blocks at the back: gold (tall, left), copper, aluminium (short, right)\n'
+    for m, x, h, deg in (('gold', 0.125, 0.30, 40), ('copper', 0.28, 0.22, -45),
+                         ('aluminium', 0.435, 0.16, 50)):
+        s += tri_lines(m + '_smooth', block(x, 0.42, 0.055, h, deg))
+    s += '\n# rough spheres in front, on the floor: gold (left), copper, aluminium (right)\n'
+    for m, x in (('gold', 0.13), ('copper', 0.28), ('aluminium', 0.43)):
+        s += tri_lines(m + '_rough', uv_sphere((x, 0.06, 0.17), 0.06))
+    paths = [os.path.join(out, 'metals.scene'), os.path.join(out, 'copper_sodium.scene')]
+    w(paths[0], s)
+    s = SODIUM_HEAD + metal_spectra(('copper',)) + '\n'
+    s += 'material white     reflect white\nmaterial light     reflect white  emit lps 1000\n'
+    s += metal_materials(('copper',), 0.2) + '\n' + ROOM % ('white', 'white')
+    s += '\n# a smooth copper block (left), a white block (right), a rough copper sphere (front)\n'
+    s += tri_lines('copper_smooth', block(0.17, 0.38, 0.07, 0.22, 45))
+    s += tri_lines('white', block(0.40, 0.38, 0.07, 0.22, -20))
+    s += tri_lines('copper_rough', uv_sphere((0.28, 0.08, 0.15), 0.08))
+    w(paths[1], s)
+    return paths
+
+
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == '--metals':
+        os.makedirs(sys.argv[2], exist_ok=True)
+        print('\n'.join(metals_scenes(sys.argv[2])))
+        return
     if len(sys.argv) == 6 and sys.argv[1] == '--scale' and sys.argv[2] in SCALE_SCENES:
         print(scale_mesh(sys.argv[2], int(sys.argv[3]), sys.argv[4], sys.argv[5]))
         return
