@@ -41,11 +41,15 @@ static void put(writer *w, const void *src, size_t n)
     w->n += n;
 }
 
+/* An array's length, or NO_ARRAY for none (NULL): an empty array (a count
+ * of 0, as a scene without fluorescent materials has) arrives as one. */
+#define NO_ARRAY UINT64_MAX
 static void put_array(writer *w, const void *a, size_t n)
 {
-    uint64_t len = a ? n : 0;
+    uint64_t len = a ? n : NO_ARRAY;
     put(w, &len, sizeof len);
-    put(w, a, (size_t)len);
+    if (a)
+        put(w, a, (size_t)len);
 }
 
 typedef struct {
@@ -70,7 +74,7 @@ static void *get_array(reader *r, size_t want)
 {
     uint64_t len = 0;
     get(r, &len, sizeof len);
-    if (r->bad || len == 0)
+    if (r->bad || len == NO_ARRAY)
         return NULL;
     if (len != want || len > r->n - r->at) {
         r->bad = 1;
