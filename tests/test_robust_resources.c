@@ -84,6 +84,26 @@ int main(void)
           "spectral records: %zu bytes more than XYZ's %zu in batches of %zu", fs.total - fx.total,
           fx.total, fs.batch_paths);
 
+    /* a scene whose types record more per vertex (a conductor: spm_vertex_ext
+     * words): its spectral batches shrink by its own records' size, so they
+     * too take no more than its XYZ ones */
+    spm_material metal = {0};
+    metal.type = SPM_MAT_CONDUCTOR;
+    t.materials = &metal;
+    t.nmaterials = 1;
+    spm_cl_footprint fm, fms;
+    spm_cl_footprint_of(&g, &t, npix, npix, &fm);
+    spm_cl_footprint_of_ch(&g, &t, npix, npix, 403, &fms);
+    CHECK(fm.largest == SPM_CL_BATCH_PATHS * SPM_MAX_DEPTH * (sizeof(spm_vertex) +
+                                                              sizeof(spm_vertex_ext)),
+          "conductor records %zu", fm.largest);
+    CHECK(fms.total <= fm.total, "conductor spectral total %zu over the XYZ one %zu", fms.total,
+          fm.total);
+    CHECK(fms.batch_paths > fs.batch_paths, "conductor spectral batch %zu, plain %zu",
+          fms.batch_paths, fs.batch_paths);
+    t.materials = NULL;
+    t.nmaterials = 300;
+
     /* a pass smaller than a batch is one batch of its own size */
     spm_cl_footprint_of(&g, &t, 256 * 256, 256 * 256, &f4k);
     CHECK(f4k.batch_paths == 256 * 256, "256^2 batch %zu", f4k.batch_paths);

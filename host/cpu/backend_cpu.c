@@ -66,7 +66,7 @@ static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pa
 void spm_backend_cpu_set_batch_paths(spm_backend *b, size_t paths)
 {
     cpu_impl *c = b->impl;
-    c->batch_paths = paths ? paths : spm_plan_batch_paths(SPM_CPU_BATCH_PATHS, c->ch);
+    c->batch_paths = paths ? paths : spm_plan_batch_paths(SPM_CPU_BATCH_PATHS, c->ch, c->plan->vertex_bytes);
 }
 
 size_t spm_backend_cpu_batch_capacity(const spm_backend *b)
@@ -92,7 +92,7 @@ spm_backend *spm_backend_cpu_create(const spm_render_plan *plan, spm_error *err)
     cpu_impl *c = spm_xcalloc(1, sizeof *c);
     c->plan = plan;
     c->ch = plan->pix_ch;
-    c->batch_paths = spm_plan_batch_paths(SPM_CPU_BATCH_PATHS, c->ch);
+    c->batch_paths = spm_plan_batch_paths(SPM_CPU_BATCH_PATHS, c->ch, c->plan->vertex_bytes);
     b->impl = c;
     b->pass = cpu_pass;
     b->destroy = cpu_destroy;

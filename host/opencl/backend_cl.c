@@ -15,7 +15,7 @@ int spm_cl_create_plan(int device, const spm_render_plan *plan, spm_cl_renderer 
     r->npix = plan->npix;
     r->pix_ch = plan->pix_ch;
     r->vertex_bytes = plan->vertex_bytes;
-    r->batch_paths = spm_plan_batch_paths(SPM_CL_BATCH_PATHS, r->pix_ch);
+    r->batch_paths = spm_plan_batch_paths(SPM_CL_BATCH_PATHS, r->pix_ch, r->vertex_bytes);
     r->run_pass = spm_clr_render_pass;
     spm_clr_fail_init(r, device);
     r->params = plan->params;

@@ -27,11 +27,12 @@ void spm_cl_footprint_of_ch(const spm_geometry *g, const spm_tables *t, size_t n
 {
     spm_cl_footprint f = {0, "nothing", 0, 0, 0};
     size_t spp = npix ? paths_per_pass / npix : 0;
-    size_t n = spm_batch_room(npix, spp ? spp : 1, spm_plan_batch_paths(SPM_CL_BATCH_PATHS, pix_ch));
-    f.batch_paths = n;
     /* a vertex's record for the scene's types (tables without materials: the plain one) */
     size_t vertex_bytes = t->materials ? spm_material_vertex_bytes(t->materials, t->nmaterials)
                                        : sizeof(spm_vertex);
+    size_t n = spm_batch_room(npix, spp ? spp : 1,
+                              spm_plan_batch_paths(SPM_CL_BATCH_PATHS, pix_ch, vertex_bytes));
+    f.batch_paths = n;
     /* the backend's buffers (cl_buffers.h) */
 #define BATCH(field, what, per_path, flags, init) add(&f, n * (per_path), what, 0);
     SPM_CL_BATCH_BUFFERS(BATCH)

@@ -31,7 +31,7 @@ void spm_clr_fail_init(spm_cl_renderer *r, int device)
 
 void spm_cl_set_batch_paths(spm_cl_renderer *r, size_t paths)
 {
-    r->batch_paths = paths ? paths : spm_plan_batch_paths(SPM_CL_BATCH_PATHS, r->pix_ch);
+    r->batch_paths = paths ? paths : spm_plan_batch_paths(SPM_CL_BATCH_PATHS, r->pix_ch, r->vertex_bytes);
 }
 
 size_t spm_cl_batch_capacity(const spm_cl_renderer *r)

@@ -123,13 +123,13 @@ int spm_render_plan_spectral(spm_render_plan *p, int nm, spm_error *err)
     return 0;
 }
 
-size_t spm_plan_batch_paths(size_t base, int pix_ch)
+size_t spm_plan_batch_paths(size_t base, int pix_ch, size_t vertex_bytes)
 {
     if (pix_ch <= 3)
         return base;
     /* a path's vertex record, and its record and batch-image floats */
-    size_t xyz = SPM_MAX_DEPTH * sizeof(spm_vertex) + 2 * 3 * sizeof(float);
-    size_t spec = SPM_MAX_DEPTH * sizeof(spm_vertex) + 2 * (size_t)pix_ch * sizeof(float);
+    size_t xyz = SPM_MAX_DEPTH * vertex_bytes + 2 * 3 * sizeof(float);
+    size_t spec = SPM_MAX_DEPTH * vertex_bytes + 2 * (size_t)pix_ch * sizeof(float);
     size_t n = base / spec * xyz;
     return n ? n : 1;
 }

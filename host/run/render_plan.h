@@ -45,9 +45,10 @@ void spm_render_plan_free(spm_render_plan *p);
  * the plan). 0, or 1 with err filled when the mode writes none at nm. */
 int spm_render_plan_spectral(spm_render_plan *p, int nm, spm_error *err);
 /* The paths of a batch: base (a backend's batch size for XYZ alone) scaled
- * down so that a batch's vertex records, path records and batch image
+ * down so that a batch's vertex records (vertex_bytes a vertex: the plan's,
+ * with the words of the scene's types), path records and batch image
  * together take no more memory than without spectral output. */
-size_t spm_plan_batch_paths(size_t base, int pix_ch);
+size_t spm_plan_batch_paths(size_t base, int pix_ch, size_t vertex_bytes);
 /* The trace parameters of a pass of spp samples per pixel from first_sample. */
 spm_trace_params spm_plan_pass_params(const spm_render_plan *p, spm_u32 first_sample, spm_u32 spp);
 
