@@ -1,6 +1,7 @@
 /* The Composite Model's pretest against an independent recomputation from the
  * shade tables mlc renders with, and the lanes' XYZ weights against the spikes
  * they stand for. */
+#include <complex.h>
 #include <stdlib.h>
 #include <string.h>
 #include "colour.h"
@@ -140,6 +141,129 @@ static void recompute(const char *scene)
     spm_scene_free(&sc);
 }
 
+/* The complex Fresnel reflectance, unpolarised (Snell's law in complex form;
+ * an independent formula from the one the renderer uses). */
+static double fresnel_complex(double eta, double k, double c)
+{
+    double complex n = eta + I * k;
+    double complex ct = csqrt(1.0 - (1.0 - c * c) / (n * n));
+    double complex rs = (c - n * ct) / (c + n * ct), rp = (n * c - ct) / (n * c + ct);
+    return 0.5 * (creal(rs * conj(rs)) + creal(rp * conj(rp)));
+}
+
+/* XYZ of light e times the Fresnel of eta colour ce and k colour ck at cosine
+ * c, both from the float tables: truth from the 1 nm rows; level l from e's
+ * level-0 composite row and F of ce's and ck's level-l rows value by value
+ * (each smooth bin over its 1 nm bins, then each lane from the lane's eta
+ * and k, as the shade stage computes it). as_refl: the composite product
+ * with eta's row itself as the factor, as a reflectance would be judged. */
+static void fresnel_xyz(const spm_tables *t, int e, int ce, int ck, double c, int l, int truth,
+                        int as_refl, double xyz[3])
+{
+    const float *re = &t->mlc_lvl[0][(size_t)e * SPM_MLC_STRIDE(0)];
+    const float *r1 = &t->mlc_lvl[l][(size_t)ce * SPM_MLC_STRIDE(l)];
+    const float *r2 = &t->mlc_lvl[l][(size_t)ck * SPM_MLC_STRIDE(l)];
+    int width = SPM_TRUTH_BINS / SPM_LEVEL_BINS(l);
+    for (int ch = 0; ch < 3; ch++) {
+        double s = 0.0;
+        for (int b = 0; b < SPM_TRUTH_BINS; b++) {
+            double f;
+            if (truth)
+                f = fresnel_complex(t->truth[(size_t)ce * SPM_TRUTH_BINS + b],
+                                    t->truth[(size_t)ck * SPM_TRUTH_BINS + b], c);
+            else
+                f = as_refl ? r1[b / width] : fresnel_complex(r1[b / width], r2[b / width], c);
+            s += (truth ? t->truth[(size_t)e * SPM_TRUTH_BINS + b] : re[b]) * f *
+                 t->cmf_truth[ch][b];
+        }
+        for (int q = 0; q < t->nspikes && !truth; q++) {
+            double f1 = r1[SPM_LEVEL_BINS(l) + q], f2 = r2[SPM_LEVEL_BINS(l) + q];
+            s += re[SPM_LEVEL_BINS(0) + q] * (as_refl ? f1 : fresnel_complex(f1, f2, c)) *
+                 t->spike_cmf[ch][q];
+        }
+        xyz[ch] = s;
+    }
+}
+
+/* A conductor's eta and k are judged by the Fresnel the shade stage computes
+ * from them, not as reflectances: context A's error (one occurrence, the
+ * worst over the scene's lights and the six cosines) of each conductor's eta
+ * and k colour, recomputed from the float tables with the complex Fresnel,
+ * is the pretest's (tolerance as recompute()'s, the Fresnel adding a few
+ * float roundings of eta and k). The same error with eta taken as a
+ * reflectance must differ somewhere (by more than 0.05), so the check tells
+ * the two judgements apart. A colour that two conductors of different pairs
+ * share is left out (it takes the finer level, and the first pair's errors);
+ * the smooth and the rough metal of one pair are one check each. */
+static void conductor_fresnel(const char *scene)
+{
+    spm_scene sc;
+    spm_geometry g;
+    spm_tables t;
+    spm_pretest_opts po;
+    spm_error err;
+    char path[1024];
+    spm_pretest_defaults(&po);
+    if (spm_scene_load(spm_data_path(scene, path, sizeof path), &sc, &err)) {
+        CHECK(0, "%s: %s", scene, err.msg);
+        return;
+    }
+    sc.width = 8, sc.height = 6;
+    if (spm_geometry_build(&sc, &g, &err) || spm_tables_build(&sc, &po, &t, &err)) {
+        CHECK(0, "%s: %s", scene, err.msg);
+        return;
+    }
+    const double cosines[] = {1.0, 0.8, 0.6, 0.4, 0.2, 0.05};
+    int checked = 0;
+    double apart = 0.0, off = 0.0;
+    for (int m = 0; m < sc.nmaterials; m++) {
+        const spm_scene_material *mt = &sc.materials[m];
+        if (mt->type != SPM_MAT_CONDUCTOR)
+            continue;
+        int shared = 0;
+        for (int o = 0; o < sc.nmaterials; o++)
+            shared |= sc.materials[o].type == SPM_MAT_CONDUCTOR &&
+                      (sc.materials[o].refl == mt->refl) != (sc.materials[o].col2 == mt->col2);
+        if (shared)
+            continue;
+        for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+            double worst = 0.0, worst_refl = 0.0;
+            for (int e = 0; e < sc.ncolours; e++) {
+                if (sc.colours[e].s.kind != SPM_KIND_EMISSION)
+                    continue;
+                for (int a = 0; a < 6; a++) {
+                    double ref[3], test[3];
+                    fresnel_xyz(&t, e, mt->refl, mt->col2, cosines[a], l, 1, 0, ref);
+                    fresnel_xyz(&t, e, mt->refl, mt->col2, cosines[a], l, 0, 0, test);
+                    if (ref[1] > 0.0 && test[1] > 0.0)
+                        worst = fmax(worst, de(ref, test));
+                }
+                double ref[3], test[3];
+                truth_xyz(&t, e, mt->refl, 1, ref);
+                fresnel_xyz(&t, e, mt->refl, mt->col2, 1.0, l, 0, 1, test);
+                if (ref[1] > 0.0 && test[1] > 0.0)
+                    worst_refl = fmax(worst_refl, de(ref, test));
+            }
+            for (int q = 0; q < 2; q++) {
+                int c = q ? mt->col2 : mt->refl;
+                double got = t.mlc_pretest[c].err_k[0][l];
+                off = fmax(off, fabs(got - worst));
+                CHECK(fabs(got - worst) <= 1e-3, "%s: %s level %d: pretest %.5f, Fresnel %.5f", scene,
+                      sc.colours[c].name, l, got, worst);
+                checked++;
+            }
+            apart = fmax(apart, fabs(worst - worst_refl));
+        }
+    }
+    printf("%s: %d conductor colour levels checked (pretest against tables: %.2g at most); "
+           "Fresnel and reflectance judgements differ by up to %.3f\n", scene, checked, off, apart);
+    CHECK(checked > 0, "%s: no conductor checked", scene);
+    CHECK(apart > 0.05, "%s: Fresnel and reflectance judgements too alike (%g)", scene, apart);
+    spm_tables_free(&t);
+    spm_geometry_free(&g);
+    spm_scene_free(&sc);
+}
+
 /* One light's lanes on their own give the XYZ of the spikes they stand for
  * (the lane weights are means over the spikes, not the CMFs at their
  * centroids, which miss F11's by 0.1-0.6 % per channel): cornell_spiky's F11
@@ -196,5 +320,7 @@ int main(void)
     recompute("scenes/metameric.scene");
     recompute("scenes/narrowline.scene");
     lanes_alone();
+    conductor_fresnel("scenes/metals.scene");
+    conductor_fresnel("scenes/copper_sodium.scene");
     TEST_END();
 }

@@ -125,3 +125,24 @@ float spm_ref_cond_fresnel(float eta, float k, float cin)
     float rp = rs * (t3 - t4) / fmaxf(t3 + t4, FLT_MIN);
     return 0.5f * (rs + rp);
 }
+
+/* Each walk in its own order of roundings (the kernels' too). */
+void spm_ref_cond_vertex(const spm_vertex *v, const spm_vertex_ext *x, const float *eta,
+                         const float *k, const float *e, const float *hit, int n, int eye,
+                         float *W, float *acc)
+{
+    for (int l = 0; l < n; l++) {
+        if (eye) {
+            if (e)
+                acc[l] += W[l] * spm_ref_cond_fresnel(eta[l], k[l], x->cos_light) * e[l] * v->c;
+            W[l] *= spm_ref_cond_fresnel(eta[l], k[l], x->cos_lobe);
+            if (hit)
+                acc[l] += W[l] * hit[l] * x->hit_c;
+        } else {
+            float in = acc[l] + (hit ? hit[l] * x->hit_c : 0.0f);
+            acc[l] = spm_ref_cond_fresnel(eta[l], k[l], x->cos_lobe) * in;
+            if (e)
+                acc[l] += spm_ref_cond_fresnel(eta[l], k[l], x->cos_light) * e[l] * v->c;
+        }
+    }
+}

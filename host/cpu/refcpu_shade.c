@@ -28,28 +28,21 @@ static void fetch(const lanes *v, spm_u32 c, float *out)
 }
 
 /* A conductor vertex j (spm_shared.h spm_vertex_ext): eta in the vertex's
- * colour, k in its own words; per lane
- *   L += P F(cos_light) E[e] c;  P *= F(cos_lobe);  L += P E[hit] hit_c. */
+ * colour, k in its own words, its lanes through spm_ref_cond_vertex. */
 static void conductor_vertex(const spm_path *path, spm_u32 j, const lanes *v, float *P, float *L)
 {
-    float eta[MAX_LANES], k[MAX_LANES], X[MAX_LANES];
+    float eta[MAX_LANES], k[MAX_LANES], E[MAX_LANES], H[MAX_LANES];
     const spm_vertex *vx = &path->v[j];
     const spm_vertex_ext *x = &path->x[j];
     spm_u32 e = vx->ids >> 16, hit = SPM_EXT_HIT(*x);
     fetch(v, vx->ids & 0xFFFFu, eta);
     fetch(v, SPM_EXT_K(*x), k);
-    if (e != SPM_NONE) {
-        fetch(v, e, X);
-        for (int l = 0; l < v->n; l++)
-            L[l] += P[l] * spm_ref_cond_fresnel(eta[l], k[l], x->cos_light) * X[l] * vx->c;
-    }
-    for (int l = 0; l < v->n; l++)
-        P[l] *= spm_ref_cond_fresnel(eta[l], k[l], x->cos_lobe);
-    if (hit != SPM_NONE) {
-        fetch(v, hit, X);
-        for (int l = 0; l < v->n; l++)
-            L[l] += P[l] * X[l] * x->hit_c;
-    }
+    if (e != SPM_NONE)
+        fetch(v, e, E);
+    if (hit != SPM_NONE)
+        fetch(v, hit, H);
+    spm_ref_cond_vertex(vx, x, eta, k, e != SPM_NONE ? E : NULL, hit != SPM_NONE ? H : NULL, v->n,
+                        1, P, L);
 }
 
 /* P = 1; L = first_emit_c E[first]; per vertex P *= R, L += P E c; then the

@@ -10,10 +10,9 @@
  * incidence, where F depends most on eta and k, and not at all at grazing,
  * where F -> 1 whatever they are; the error is smooth in the angle, so six
  * cosines from 1 to 0.05 hold its largest value. */
-static const double cosines[] = {1.0, 0.8, 0.6, 0.4, 0.2, 0.05};
-#define NCOS ((int)(sizeof cosines / sizeof cosines[0]))
+const double spm_conductor_cosines[SPM_CONDUCTOR_NCOS] = {1.0, 0.8, 0.6, 0.4, 0.2, 0.05};
 
-static void merge(spm_pretest_result *out, const spm_pretest_result *r, int first)
+void spm_conductor_pretest_merge(spm_pretest_result *out, const spm_pretest_result *r, int first)
 {
     if (first) {
         *out = *r;
@@ -41,8 +40,8 @@ void spm_conductor_pretest(const spm_spectrum *const *set, int n, const spm_spec
         spm_spectrum_level(eta, l, el[l]);
         spm_spectrum_level(k, l, kl[l]);
     }
-    for (int a = 0; a < NCOS; a++) {
-        double c = cosines[a];
+    for (int a = 0; a < SPM_CONDUCTOR_NCOS; a++) {
+        double c = spm_conductor_cosines[a];
         /* truth: F of the 1 nm eta, k; level l: F of the level's bin eta, k
          * (what the shade stage computes), held at 1 nm */
         for (int b = 0; b < SPM_TRUTH_BINS; b++)
@@ -54,7 +53,7 @@ void spm_conductor_pretest(const spm_spectrum *const *set, int n, const spm_spec
         }
         spm_pretest_result r;
         spm_pretest_given(set, n, f0, (const double (*)[SPM_TRUTH_BINS])fl, self, o, &r);
-        merge(out, &r, a == 0);
+        spm_conductor_pretest_merge(out, &r, a == 0);
     }
     free(el);
     free(kl);

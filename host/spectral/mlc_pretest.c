@@ -4,10 +4,17 @@
  * weight (truth's 1 nm weights, then the lanes' CMFs). A level's smooth bins
  * are held as their 1 nm repetitions: a level weight is the sum of the 1 nm
  * weights it covers, so this is the sum the shade kernel computes. Truth has
- * its whole spectrum in the 1 nm part and nothing in the lanes. */
+ * its whole spectrum in the 1 nm part and nothing in the lanes. A conductor's
+ * eta and k are no factor of a product: they leave the set, and the pair is
+ * judged by its Fresnel as the shade stage computes it, F per 1 nm value or
+ * bin and per lane from that value's or lane's eta and k, against F of the
+ * 1 nm eta and k, at the conductor pretest's cosines (conductor_pretest.c),
+ * the worst kept. */
 #include "mlc_pretest.h"
 #include "colour.h"
 #include "interrupt.h"
+#include "materials.h"
+#include "tables.h"
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,7 +28,7 @@ typedef struct {
     vec_t w[3];       /* XYZ weights */
     vec_t *truth;     /* per colour */
     vec_t *comp0;     /* per colour, composite at level 0 */
-    int *lights, nlights, *refl, nrefl;
+    int *lights, nlights, *refl, nrefl; /* refl: the reflectances but optical constants */
     vec_t one;        /* the equal-energy light standing in when there is none */
 } ctx_t;
 
@@ -135,15 +142,11 @@ static void sequences(const ctx_t *cx, int self, int is_light, const vec_t s_tru
     }
 }
 
-static void run_one(const ctx_t *cx, const spm_mlc_colour *c, int self, const spm_pretest_opts *o,
-                    spm_pretest_result *res)
+/* One factor s (truth s_truth, level l s_test[l]) in every context. */
+static void run_factor(const ctx_t *cx, int is_light, int self, const double *s_truth,
+                       vec_t *s_test, const spm_pretest_opts *o, spm_pretest_result *res)
 {
-    int is_light = c->full->kind == SPM_KIND_EMISSION;
     memset(res, 0, sizeof *res);
-    const double *s_truth = cx->truth[self];
-    vec_t s_test[SPM_NUM_LEVELS];
-    for (int l = 0; l < SPM_NUM_LEVELS; l++)
-        composite(c, cx->nlanes, l, s_test[l]);
     /* A and C together (fail_ac), B per k (fail_k): the general pretest's contexts */
     double worst_ac[SPM_NUM_LEVELS] = {0};
     unsigned char fail_ac[SPM_NUM_LEVELS] = {0}, fail_k[SPM_PRETEST_KMAX][SPM_NUM_LEVELS];
@@ -176,9 +179,46 @@ static void run_one(const ctx_t *cx, const spm_mlc_colour *c, int self, const sp
     spm_pretest_fold(fail_ac, fail_k, worst_ac, o->coarsest_level, res);
 }
 
+static void run_one(const ctx_t *cx, const spm_mlc_colour *c, int self, const spm_pretest_opts *o,
+                    spm_pretest_result *res)
+{
+    vec_t s_test[SPM_NUM_LEVELS];
+    for (int l = 0; l < SPM_NUM_LEVELS; l++)
+        composite(c, cx->nlanes, l, s_test[l]);
+    run_factor(cx, c->full->kind == SPM_KIND_EMISSION, self, cx->truth[self], s_test, o, res);
+}
+
+/* A conductor of eta colour ce and k colour ck (self: its context C seed): at
+ * each cosine, truth F(eta, k) per 1 nm value; level l F of eta's and k's
+ * level-l composites value by value (the smooth bins held at 1 nm, then the
+ * lanes: the shade stage's F per lane from the lane's eta and k). */
+static void run_conductor(const ctx_t *cx, const spm_mlc_colour *ce, const spm_mlc_colour *ck,
+                          int self, const spm_pretest_opts *o, spm_pretest_result *res)
+{
+    vec_t ft, ve[SPM_NUM_LEVELS], vk[SPM_NUM_LEVELS], ftest[SPM_NUM_LEVELS];
+    for (int l = 0; l < SPM_NUM_LEVELS; l++) {
+        composite(ce, cx->nlanes, l, ve[l]);
+        composite(ck, cx->nlanes, l, vk[l]);
+    }
+    for (int a = 0; a < SPM_CONDUCTOR_NCOS; a++) {
+        double c = spm_conductor_cosines[a];
+        for (int i = 0; i < V; i++)
+            ft[i] = i < SPM_TRUTH_BINS ? spm_conductor_fresnel(ce->full->nm1[i], ck->full->nm1[i], c)
+                                       : 0.0;
+        for (int l = 0; l < SPM_NUM_LEVELS; l++)
+            for (int i = 0; i < V; i++)
+                ftest[l][i] = i < SPM_TRUTH_BINS + cx->nlanes
+                                  ? spm_conductor_fresnel(ve[l][i], vk[l][i], c)
+                                  : 0.0;
+        spm_pretest_result r;
+        run_factor(cx, 0, self, ft, ftest, o, &r);
+        spm_conductor_pretest_merge(res, &r, a == 0);
+    }
+}
+
 int spm_mlc_pretest_run(const spm_mlc_colour *cols, int n, int nlanes,
-                        const double lane_cmf[3][SPM_MAX_SPIKES], const spm_pretest_opts *o,
-                        spm_pretest_result *results)
+                        const double lane_cmf[3][SPM_MAX_SPIKES], const int (*conductors)[2],
+                        int nconductors, const spm_pretest_opts *o, spm_pretest_result *results)
 {
     ctx_t *cx = spm_xcalloc(1, sizeof *cx);
     cx->n = n;
@@ -195,12 +235,16 @@ int spm_mlc_pretest_run(const spm_mlc_colour *cols, int n, int nlanes,
     cx->comp0 = spm_xcalloc((size_t)n + 1, sizeof *cx->comp0);
     cx->lights = spm_xcalloc((size_t)n + 1, sizeof *cx->lights);
     cx->refl = spm_xcalloc((size_t)n + 1, sizeof *cx->refl);
+    /* optical[c]: 1 for a conductor's eta or k, 2 once a conductor's result is in */
+    unsigned char *optical = spm_xcalloc((size_t)n + 1, 1);
+    for (int j = 0; j < nconductors; j++)
+        optical[conductors[j][0]] = optical[conductors[j][1]] = 1;
     for (int i = 0; i < n; i++) {
         truth_of(&cols[i], cx->truth[i]);
         composite(&cols[i], nlanes, 0, cx->comp0[i]);
         if (cols[i].full->kind == SPM_KIND_EMISSION)
             cx->lights[cx->nlights++] = i;
-        else
+        else if (!optical[i])
             cx->refl[cx->nrefl++] = i;
     }
     int i = 0;
@@ -208,8 +252,26 @@ int spm_mlc_pretest_run(const spm_mlc_colour *cols, int n, int nlanes,
         spm_test_pause("pretest");
         if (spm_stop_requested())
             break;
-        run_one(cx, &cols[i], i, o, &results[i]);
+        if (!optical[i])
+            run_one(cx, &cols[i], i, o, &results[i]);
     }
+    /* a colour two conductors share takes the finer level of the two */
+    for (int j = 0; j < nconductors && i == n && !spm_stop_requested(); j++) {
+        spm_pretest_result r;
+        run_conductor(cx, &cols[conductors[j][0]], &cols[conductors[j][1]], n + j, o, &r);
+        for (int q = 0; q < 2; q++) {
+            int c = conductors[j][q];
+            if (optical[c] == 1) {
+                results[c] = r, optical[c] = 2;
+                continue;
+            }
+            for (int k = 0; k < SPM_PRETEST_KMAX; k++)
+                results[c].level_k[k] = r.level_k[k] < results[c].level_k[k] ? r.level_k[k]
+                                                                             : results[c].level_k[k];
+            results[c].level = r.level < results[c].level ? r.level : results[c].level;
+        }
+    }
+    free(optical);
     free(cx->truth);
     free(cx->comp0);
     free(cx->lights);

@@ -13,7 +13,9 @@ typedef struct {
                                   * reflectance's value at each lane's wavelength */
 } spm_mlc_colour;
 
-/* results[i] for cols[i], in the general pretest's terms: err[l] and err_k[k-1][l]
+/* results[i] for cols[i], in the general pretest's terms (a conductor's eta
+ * and k, conductors[j][0] and [1], are left out of the products and take
+ * their pair's Fresnel's result, mlc_pretest.c): err[l] and err_k[k-1][l]
  * (l = 0 included: the representation's own floor) are ΔE of products with
  * colour i in composite form at level l, the other factors in composite form at
  * level 0, against the same products of 1 nm truth spectra; contexts A, B
@@ -21,6 +23,6 @@ typedef struct {
  * lane_cmf: the XYZ weights of the lanes (the CMFs at their wavelengths, per nm).
  * Returns the number of colours done (fewer when interrupted). */
 int spm_mlc_pretest_run(const spm_mlc_colour *cols, int n, int nlanes,
-                        const double lane_cmf[3][SPM_MAX_SPIKES], const spm_pretest_opts *o,
-                        spm_pretest_result *results);
+                        const double lane_cmf[3][SPM_MAX_SPIKES], const int (*conductors)[2],
+                        int nconductors, const spm_pretest_opts *o, spm_pretest_result *results);
 #endif

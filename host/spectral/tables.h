@@ -90,6 +90,12 @@ typedef struct {
 void spm_conductor_pretest(const spm_spectrum *const *set, int n, const spm_spectrum *eta,
                            const spm_spectrum *k, int self, const spm_pretest_opts *o,
                            spm_pretest_result *out);
+/* The incidence cosines a conductor's Fresnel is judged at (both pretests),
+ * and the fold of one cosine's result r into out (first: out = r): the worst
+ * error and the finest level of the two. */
+#define SPM_CONDUCTOR_NCOS 6
+extern const double spm_conductor_cosines[SPM_CONDUCTOR_NCOS];
+void spm_conductor_pretest_merge(spm_pretest_result *out, const spm_pretest_result *r, int first);
 int spm_tables_build(const spm_scene *scene, const spm_pretest_opts *po, spm_tables *t,
                      spm_error *err);
 void spm_tables_free(spm_tables *t);
