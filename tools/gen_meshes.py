@@ -656,8 +656,10 @@ COATED_SPIKY_HEAD = """# Saturated coated paints under a tri-band lamp - where r
 # where F11's bands sit, so a product of three channels (rgb: the RGB of D
 # under D65 times the lamp's RGB) misses what the bands pick out of the
 # spectrum, and the interreflections multiply the error; the spectral modes
-# shade D per bin. Measured figures: README ("Coatings"). The objects are
-# written by tools/gen_meshes.py --coated. Format: docs/SCENE_FORMAT.md.
+# shade D per bin. On the same paths (128 x 128 px, 64 spp, seed 1) rgb is
+# 2.9 dE00 off truth at the 99th percentile (mean 0.39, max 3.4), where ref
+# stays at 0.08 and ml (T = 1 or 2) at 0.30 (README "Materials"). The objects
+# are written by tools/gen_meshes.py --coated. Format: docs/SCENE_FORMAT.md.
 
 image 256 256
 spp 64
