@@ -44,6 +44,11 @@
 /* the conductor's (host/scene/materials.c): its rough lobe's visible normal */
 #define SPM_DIM_COND_M_A 0u
 #define SPM_DIM_COND_M_B 1u
+/* the coated type's (kernels/coated.clh): its lobe choice, its rough
+ * coating's visible normal */
+#define SPM_DIM_COAT_LOBE 0u
+#define SPM_DIM_COAT_M_A 1u
+#define SPM_DIM_COAT_M_B 2u
 
 /* "lowbias32" integer mixer (Wellons): full avalanche, cheap. Its steps on x
  * of any unsigned 32-bit integer type (the kernels also mix 16 keys at once). */

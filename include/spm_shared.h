@@ -115,7 +115,10 @@ typedef struct {
  *   if hit != NONE: L += P * E[hit] * hit_c
  * with F the conductor Fresnel of (eta, k) per lane (kernels/conductor.clh,
  * host/cpu/refcpu_conductor.c). A Lambertian vertex of such a scene has a
- * zero record and shades as always. */
+ * zero record and shades as always. A coated vertex (SPM_MAT_COATED) is a
+ * plain vertex whose record holds only the emission hit through its
+ * specular lobe (k part 0, cos_lobe and cos_light 0): shading it is the plain
+ * vertex's rule, then if hit != NONE: L += P * E[hit] * hit_c. */
 typedef struct {
     spm_u32 ids;
     float cos_lobe;
@@ -256,6 +259,7 @@ typedef struct {
 #define SPM_MAT_CONDUCTOR 1u    /* a metal: Fresnel of eta + i k, smooth or GGX-rough */
 #define SPM_MAT_FLUOR 2u        /* a diffuse fluorescent surface (re-radiation matrix) */
 #define SPM_MAT_DONALDSON 3u    /* the same from a measured re-radiation (Donaldson) matrix */
+#define SPM_MAT_COATED 5u       /* a Lambertian base under a smooth or GGX-rough dielectric coating */
 #define SPM_MAT_TYPES 8u        /* tags below this (materials.c checks) */
 #define SPM_EMIT_AREA 0u        /* a triangle emitting from its front face, uniformly */
 #define SPM_EMIT_TYPES 8u
@@ -264,6 +268,14 @@ typedef struct {
  * below SPM_COND_MIN_ALPHA become 0: a narrower GGX lobe's D overflows float) */
 #define SPM_COND_P_ALPHA 0
 #define SPM_COND_MIN_ALPHA 1e-3
+/* the coated type's p[] (host/scene/materials.c coated_fill): the coating's
+ * GGX width (0: smooth; below SPM_COND_MIN_ALPHA smooth), its index of
+ * refraction eta, the diffuse lobe's scalar factor 1 / (eta^2 (1 - Fdr_i))
+ * and the specular lobe's sampling weight (kernels/coated.clh) */
+#define SPM_COAT_P_ALPHA 0
+#define SPM_COAT_P_ETA 1
+#define SPM_COAT_P_KD 2
+#define SPM_COAT_P_SPEC 3
 
 /* Material as the device sees it: colour ids into the spectral tables, the
  * type tags and each type's parameters (its descriptor's `fill` sets them). */

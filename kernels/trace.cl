@@ -13,9 +13,15 @@
 #include "spm_rng.h"
 #include "spm_kernel_args.h"
 #include "traverse.clh"
-#ifdef SPM_WITH_CONDUCTOR
+/* the types with vertex words (spm_vertex_ext); the coated type's rough
+ * coating takes the conductor's GGX terms */
+#if defined(SPM_WITH_CONDUCTOR) || defined(SPM_WITH_COATED)
+#define SPM_WITH_VERTEX_EXT
 #define COND_TRACE
 #include "conductor.clh"
+#endif
+#ifdef SPM_WITH_COATED
+#include "coated.clh"
 #endif
 
 /* Level feeler: one colour met; lvlk[c * KMAX + min(k, KMAX) - 1] (k = occurrence count). */
@@ -59,6 +65,12 @@ inline uint vertex_lobe(spm_material m, uint seed, uint pixel, uint sample, uint
         *inv_mean = m.inv_mean;
         return m.refl;
 #endif
+#ifdef SPM_WITH_COATED
+    case SPM_MAT_COATED: /* its lobe's colour and survival: the trace loop's (coated.clh) */
+        *mean = m.mean;
+        *inv_mean = m.inv_mean;
+        return m.refl;
+#endif
     default:
         *mean = 0.0f;
         *inv_mean = 0.0f;
@@ -90,11 +102,12 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
     uint sample = p.first_sample + gid % p.spp_per_pass;
     uint seed = p.seed;
     __global spm_vertex *vrec = &verts[gid]; /* vertex j at vrec[j * npaths] (spm_shared.h) */
-#ifdef SPM_WITH_CONDUCTOR
-    /* the conductor's vertex words, slabs after the vertices' (SPM_VERTEX_EXT) */
+#ifdef SPM_WITH_VERTEX_EXT
+    /* the types' vertex words, slabs after the vertices' (SPM_VERTEX_EXT) */
     __global spm_vertex_ext *xrec = (__global spm_vertex_ext *)SPM_VERTEX_EXT(verts, npaths) + gid;
-    float cpdf = -1.0f; /* the last vertex's lobe density: < 0 none (not a conductor),
-                           0 the smooth lobe, else the rough lobe's, for MIS */
+    float cpdf = -1.0f; /* the last vertex's lobe density: < 0 none (not a conductor's or
+                           a coating's specular lobe), 0 a smooth lobe, else the rough
+                           lobe's, for MIS */
 #endif
 
     /* camera ray (spm_shared.h: spm_camera) */
@@ -151,8 +164,8 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             feel(lvlk, memit, 1u, SPM_SETBY_EMITTER, &level, &setby);
         }
 
-#ifdef SPM_WITH_CONDUCTOR
-        /* emission the last vertex's conductor lobe hit: counted there, with
+#ifdef SPM_WITH_VERTEX_EXT
+        /* emission the last vertex's conductor (or coating) lobe hit: counted there, with
          * its MIS weight against the light sample (smooth: 1) */
         if (cpdf >= 0.0f && memit != SPM_NONE) {
             float ce = dot3(back, n);
@@ -170,15 +183,50 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                 feel(lvlk, memit, 1u, SPM_SETBY_EMITTER, &level, &setby);
             }
         }
-        int cond = SPM_MAT_TAG(m) == SPM_MAT_CONDUCTOR;
-        float calpha = cond ? m.p[SPM_COND_P_ALPHA] : 0.0f;
         float3 cn = dot3(n, back) < 0.0f ? -n : n; /* the normal on the incoming side */
         float3 ctg = ld3(tr->t), cbt = cross3(cn, ctg);
         float3 wl = (float3)(dot3(back, ctg), dot3(back, cbt), dot3(back, cn)); /* wo in the frame */
         spm_vertex_ext xe = {0u, 0.0f, 0.0f, 0.0f};
+#endif
+#ifdef SPM_WITH_CONDUCTOR
+        int cond = SPM_MAT_TAG(m) == SPM_MAT_CONDUCTOR;
+        float calpha = cond ? m.p[SPM_COND_P_ALPHA] : 0.0f;
         int nee = p.nemitters > 0 && !(cond && calpha == 0.0f); /* no light sample on a delta lobe */
 #else
         int nee = p.nemitters > 0;
+#endif
+#ifdef SPM_WITH_COATED
+        /* a coated vertex (coated.clh): the lobe first, from its own dimension; the
+         * specular lobe's direction, weight cw and density; the diffuse lobe's weight
+         * without 1 - F(cos_i), its direction the cosine-weighted bounce's */
+        int coat = SPM_MAT_TAG(m) == SPM_MAT_COATED, cspec = 0;
+        float ceta = m.p[SPM_COAT_P_ETA], kalpha = m.p[SPM_COAT_P_ALPHA];
+        float cps = 1.0f, cw = 0.0f, kpdf = 0.0f;
+        float3 kdir = (float3)(0.0f, 0.0f, 0.0f);
+        if (coat) {
+            float fo = coat_fresnel(ceta, wl.z);
+            cps = coat_spec_prob(fo, m.p[SPM_COAT_P_SPEC]);
+            cspec = spm_rng(seed, pixel, sample, SPM_DIM_TYPE(j, SPM_DIM_COAT_LOBE)) < cps;
+            if (!cspec) {
+                cw = (1.0f - fo) * m.p[SPM_COAT_P_KD] / (1.0f - cps);
+            } else if (kalpha == 0.0f) {
+                cw = fo / cps;
+                kdir = cn * (2.0f * wl.z) - back;
+            } else {
+                float3 mh = cond_vndf(wl, kalpha,
+                                      spm_rng(seed, pixel, sample, SPM_DIM_TYPE(j, SPM_DIM_COAT_M_A)),
+                                      spm_rng(seed, pixel, sample, SPM_DIM_TYPE(j, SPM_DIM_COAT_M_B)));
+                float cl = dot3(wl, mh);
+                float3 il = mh * (2.0f * cl) - wl;
+                if (il.z > 0.0f && cl > 0.0f) { /* else below the surface: weight 0 */
+                    float lo = cond_lambda(kalpha, wl.z), li = cond_lambda(kalpha, il.z);
+                    cw = coat_fresnel(ceta, cl) * ((1.0f + lo) / (1.0f + lo + li)) / cps;
+                    kpdf = cond_d(kalpha, mh.z) / ((1.0f + lo) * 4.0f * wl.z);
+                    kdir = ctg * il.x + cbt * il.y + cn * il.z;
+                }
+            }
+            nee = nee && !(cspec && kalpha == 0.0f); /* no light sample on a delta lobe */
+        }
 #endif
 
         /* next-event estimation: one emitter triangle, one point on it */
@@ -227,6 +275,23 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                     xe.cos_light = ch;
                 } else
 #endif
+#ifdef SPM_WITH_COATED
+                if (coat) {
+                    float d2c = fmax(d2, SPM_D2_MIN_REL * et->area);
+                    float lw;
+                    if (cspec) { /* rough: F(wo.h) D G2 / (4 wo_z) / ps, the power heuristic */
+                        float3 il = (float3)(dot3(ed, ctg), dot3(ed, cbt), dot3(ed, cn));
+                        float pb, ch;
+                        float f = cond_eval(kalpha, wl, il, &pb, &ch);
+                        float pl = emitters[k].pdf * d2c / (et->area * cos_e);
+                        lw = coat_fresnel(ceta, ch) * (f * cond_power(pl, pb)) / cps;
+                    } else { /* diffuse: |cos_i| / pi (1 - F(|cos_i|)) times its weight */
+                        float ci = fabs(cos_i);
+                        lw = ci / SPM_PI_F * (1.0f - coat_fresnel(ceta, ci)) * cw;
+                    }
+                    wgt = emitters[k].inv_pdf * cos_e * et->area / d2c * lw;
+                } else
+#endif
                 wgt = emitters[k].inv_pdf * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
                       fabs(cos_i) / SPM_PI_F;
                 if (wgt > 0.0f) {
@@ -239,6 +304,14 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         /* the vertex; its reflectance counted per occurrence */
         float mmean, minv;
         uint refl = vertex_lobe(m, seed, pixel, sample, j, &mmean, &minv);
+#ifdef SPM_WITH_COATED
+        if (coat) { /* the lobe's colour; survival min(1, cw mean) and weight cw / q */
+            float q = fmin(1.0f, cw * (cspec ? 1.0f : m.mean));
+            refl = cspec ? m.col2 : m.refl;
+            mmean = q;
+            minv = q > 0.0f ? cw / q : 0.0f;
+        }
+#endif
         if (refl != SPM_NONE) {
             uint k = 1;
             for (uint i = 0; i < j; i++)
@@ -251,13 +324,17 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         __global spm_vertex *vx = &vrec[(size_t)j * npaths];
         vx->ids = (refl & 0xFFFFu) | (eid << 16);
         vx->c = c;
-#ifdef SPM_WITH_CONDUCTOR
+#ifdef SPM_WITH_VERTEX_EXT
         cpdf = -1.0f;
+#endif
+#ifdef SPM_WITH_CONDUCTOR
         if (cond) {
             xe.ids = SPM_EXT_IDS(m.col2, SPM_NONE);
             if (m.col2 != SPM_NONE)
                 feel(lvlk, m.col2, 1u, SPM_SETBY_REFLECTOR, &level, &setby);
         }
+#endif
+#ifdef SPM_WITH_VERTEX_EXT
         xrec[(size_t)j * npaths] = xe; /* every vertex: a zero record is a plain one */
 #endif
 
@@ -299,12 +376,25 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             continue;
         }
 #endif
+#ifdef SPM_WITH_COATED
+        if (coat && cspec) { /* the specular lobe's direction; its hit counted at the next vertex */
+            cpdf = kpdf;
+            d = kdir;
+            o = pos;
+            skip = (uint)hit;
+            continue;
+        }
+#endif
 
         /* cosine-weighted direction about the normal on the incoming side */
         float u = spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_DIR_A);
         float v = spm_rng(seed, pixel, sample, SPM_DIM_VERTEX(j) + SPM_DIM_DIR_B);
         float phi = 2.0f * SPM_PI_F * u, sr = sqrt(v);
         float x = cos(phi) * sr, y = sin(phi) * sr, z = sqrt(1.0f - v);
+#ifdef SPM_WITH_COATED
+        if (coat) /* the diffuse lobe's transmission out through the coating */
+            rrw *= 1.0f - coat_fresnel(ceta, z);
+#endif
         float3 nn = dot3(n, back) < 0.0f ? -n : n;
         float3 tg = ld3(tr->t);
         d = tg * x + cross3(nn, tg) * y + nn * z;

@@ -17,6 +17,13 @@ The scene (docs/SCENE_FORMAT.md) is converted, not approximated:
   - conductors (`material NAME conductor ETA K [alpha A]`): `twosided` `conductor` (no alpha)
     or `roughconductor` (distribution ggx, sample_visible, the same alpha), spectral eta and k
     extended by their end values;
+  - coated materials (`material NAME coated reflect R [S] ior N [alpha A]`): `twosided`
+    `plastic` (no alpha) or `roughplastic` (distribution ggx, sample_visible, the same alpha),
+    int_ior N, ext_ior 1 (Mitsuba's default is air's 1.000277), nonlinear true, the spectral
+    diffuse_reflectance (coated_material, coated_bsdf below). Mitsuba's plastic takes its
+    internal diffuse reflectance from a polynomial fit and its roughplastic the rough lobe's
+    tabulated albedo for the diffuse lobe's transmission, where specmip integrates the smooth
+    Fresnel (docs/METHODS.md "Coatings"): small differences by design;
   - the camera: `perspective`, the horizontal field of view (fov_axis x), up +y, box pixel
     filter, `independent` sampler; the `path` integrator without a depth limit.
 Unsupported (an error, exit 2): `twosided` emitters, `background`, MiniLight files, mesh
@@ -310,6 +317,8 @@ def parse_material(t, where, sc):
             m['emit'], k = spectrum_then_scale(k + 1)
         elif t[k] == 'twosided':
             raise SceneError('%s: twosided emitters are not converted' % where)
+        elif t[k] == 'coated':
+            k = coated_material(t, k + 1, where, m, spectrum_then_scale)
         elif t[k] == 'conductor':
             eta, k = spectrum_then_scale(k + 1)
             kk, k = spectrum_then_scale(k)
@@ -387,7 +396,37 @@ def radiance(sc, em):
     return irregular(wl, [x * f for x in v], zero_outside=True)
 
 
+def coated_material(t, k, where, m, spectrum_then_scale):
+    """The clauses after `coated` (reflect, ior, alpha, in any order; emit is the caller's)
+    into m['coated'] = (reflectance, ior, alpha) and m['reflect']; returns the next index."""
+    ior, alpha = 1.5, None  # specmip's default index (host/scene/coated.h)
+    while k < len(t) and t[k] in ('reflect', 'ior', 'alpha'):
+        if t[k] == 'reflect':
+            m['reflect'], k = spectrum_then_scale(k + 1)
+        elif t[k] == 'ior':
+            ior, k = num(t[k + 1], where), k + 2
+        else:
+            alpha, k = num(t[k + 1], where), k + 2
+    m['coated'] = (ior, alpha)
+    return k
+
+
+def coated_bsdf(sc, m):
+    """Mitsuba's plastic / roughplastic for a coated material (nonlinear, ext_ior 1)."""
+    ior, alpha = m['coated']
+    if alpha is not None and alpha < SMOOTH_ALPHA:
+        alpha = None  # specmip renders such widths as the smooth coating
+    refl = reflectance(sc, m['reflect']) if m['reflect'] else {'type': 'spectrum', 'value': 0.0}
+    inner = {'type': 'plastic' if alpha is None else 'roughplastic', 'int_ior': ior,
+             'ext_ior': 1.0, 'nonlinear': True, 'diffuse_reflectance': refl}
+    if alpha is not None:
+        inner.update({'distribution': 'ggx', 'alpha': alpha, 'sample_visible': True})
+    return {'type': 'twosided', 'bsdf': inner}
+
+
 def bsdf(sc, m):
+    if m.get('coated'):
+        return coated_bsdf(sc, m)
     if m['conductor']:
         (eta, se), (k, sk), alpha = m['conductor']
         e, kk = sc.spectra[eta], sc.spectra[k]

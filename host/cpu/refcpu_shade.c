@@ -45,8 +45,8 @@ static void conductor_vertex(const spm_path *path, spm_u32 j, const lanes *v, fl
                         1, P, L);
 }
 
-/* P = 1; L = first_emit_c E[first]; per vertex P *= R, L += P E c; then the
- * background. A black vertex (no reflectance colour) ends every later term. */
+/* P = 1; L = first_emit_c E[first]; per vertex P *= R, L += P E c (and at
+ * a coated vertex L += P E[hit] hit_c); then the background. A black vertex (no reflectance colour) ends every later term. */
 static void shade_lanes(const spm_path *path, const lanes *v, float *L)
 {
     float P[MAX_LANES], X[MAX_LANES];
@@ -77,6 +77,12 @@ static void shade_lanes(const spm_path *path, const lanes *v, float *L)
             fetch(v, e, X);
             for (int l = 0; l < v->n; l++)
                 L[l] += P[l] * X[l] * path->v[j].c;
+        }
+        spm_u32 hit = SPM_EXT_HIT(path->x[j]); /* a coated vertex's specular lobe hit */
+        if (hit != SPM_NONE) {
+            fetch(v, hit, X);
+            for (int l = 0; l < v->n; l++)
+                L[l] += P[l] * X[l] * path->x[j].hit_c;
         }
     }
     if (h->bg != SPM_NONE) {

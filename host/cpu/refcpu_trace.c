@@ -9,6 +9,7 @@
 #include "geometry_vec3.h"
 #include "spm_rng.h"
 #include "refcpu_conductor.h"
+#include "refcpu_coated.h"
 
 /* The level feeler: the finest (smallest) level among the colours met,
  * starting from the coarsest level in use; a colour lowers it only when
@@ -78,6 +79,10 @@ static spm_u32 vertex_lobe(const spm_material *m, const rng_key *k, int j, float
         *mean = m->mean;
         *inv_mean = m->inv_mean;
         return m->refl;
+    case SPM_MAT_COATED: /* its lobe's colour and survival: trace_path's (refcpu_coated.h) */
+        *mean = m->mean;
+        *inv_mean = m->inv_mean;
+        return m->refl;
     default:
         *mean = 0.0f;
         *inv_mean = 0.0f;
@@ -125,10 +130,12 @@ static const spm_emitter *pick_emitter(const spm_geometry *g, const rng_key *k, 
  *   (1 / pdf) * cos_e * area / max(d2, SPM_D2_MIN_REL * area) * |cos_i| / pi
  * or SPM_NONE (weight 0) when occluded, back-facing or on the other side. At a
  * rough conductor (cc) the factor after the distance is its lobe's
- * (spm_ref_cond_light), and *cos_h its Fresnel angle. */
+ * (spm_ref_cond_light), and *cos_h its Fresnel angle; at a coated vertex
+ * (co) its chosen lobe's (spm_ref_coat_light). */
 static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, const rng_key *k,
                               spm_u32 dim, const float x[3], spm_u32 hit, const float n[3],
-                              const float d[3], const spm_ref_cond *cc, float *c, float *cos_h)
+                              const float d[3], const spm_ref_cond *cc, const spm_ref_coat *co,
+                              float *c, float *cos_h)
 {
     *c = 0.0f;
     if (g->nemitters == 0)
@@ -161,6 +168,10 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
         float d2c = d2 > d2min ? d2 : d2min;
         w = pe->inv_pdf * cos_e * em->area / d2c *
             spm_ref_cond_light(cc, l, pe->pdf, d2c, em->area, cos_e, cos_h);
+    } else if (co) {
+        float d2c = d2 > d2min ? d2 : d2min;
+        w = pe->inv_pdf * cos_e * em->area / d2c *
+            spm_ref_coat_light(co, l, cos_i, pe->pdf, d2c, em->area, cos_e);
     } else {
         w = pe->inv_pdf * cos_e * em->area / (d2 > d2min ? d2 : d2min) * fabsf(cos_i) / SPM_PI_F;
     }
@@ -239,7 +250,8 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
     *h = (spm_path_head){0, SPM_END_ABSORBED, SPM_NONE, 0.0f, SPM_NONE, 0.0f, 0, 0};
 
     float o[3], d[3], weight = 1.0f; /* product of 1 / mean over survived vertices */
-    float cpdf = -1.0f; /* the last vertex's conductor lobe density (< 0: none, 0: a delta) */
+    float cpdf = -1.0f; /* the last vertex's conductor (or coating's specular) lobe density
+                           (< 0: none, 0: a delta) */
     for (int i = 0; i < 3; i++)
         o[i] = p->cam.eye[i];
     camera_ray(&p->cam, k.seed, k.pixel, k.sample, d);
@@ -272,14 +284,26 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         spm_ref_cond cc;
         if (cond)
             spm_ref_cond_make(tri, d, m->p[SPM_COND_P_ALPHA], &cc);
+        int coat = SPM_MAT_TAG(*m) == SPM_MAT_COATED;
+        spm_ref_coat co;
+        if (coat) /* its lobe first, from its own dimensions */
+            spm_ref_coat_make(tri, d, m, rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_COAT_LOBE)),
+                              rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_COAT_M_A)),
+                              rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_COAT_M_B)), &co);
         spm_u32 dim = SPM_DIM_VERTEX(j);
         float c = 0.0f, cos_h = 0.0f;
         spm_u32 e = SPM_NONE;
-        if (!(cond && cc.alpha == 0.0f)) /* no light sample on a delta lobe */
+        if (!(cond && cc.alpha == 0.0f) && !(coat && co.spec && co.f.alpha == 0.0f))
             e = sample_emitter(g, mats, &k, dim, x, (spm_u32)hit, tri->n, d, cond ? &cc : NULL,
-                               &c, &cos_h);
+                               coat ? &co : NULL, &c, &cos_h); /* none on a delta lobe */
         float mmean, minv;
         spm_u32 refl = vertex_lobe(m, &k, j, &mmean, &minv);
+        if (coat) { /* the lobe's colour; survival q = min(1, w mean), weight w / q */
+            float q = fminf(1.0f, co.w * (co.spec ? 1.0f : m->mean));
+            refl = co.spec ? m->col2 : m->refl;
+            mmean = q;
+            minv = q > 0.0f ? co.w / q : 0.0f;
+        }
         spm_vertex *vx = &path->v[j];
         vx->ids = (refl & 0xFFFFu) | (e << 16);
         vx->c = c * weight;
@@ -320,8 +344,15 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
             }
             if (cpdf > 0.0f)
                 weight *= lw;
+        } else if (coat && co.spec) { /* its hit counted at the next vertex */
+            for (int i = 0; i < 3; i++)
+                nd[i] = co.dir[i];
+            cpdf = co.pdf;
         } else {
             bounce(tri, &k, dim, d, nd);
+            if (coat) /* the diffuse lobe's transmission out: 1 - F(cos_i), cos_i = sqrt(1 - v) */
+                weight *= 1.0f - spm_ref_coat_fresnel(co.eta,
+                                                      sqrtf(1.0f - rnd(&k, dim + SPM_DIM_DIR_B)));
         }
         for (int i = 0; i < 3; i++)
             o[i] = x[i], d[i] = nd[i];

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "spm_rng.h"
 #include "fluor.h"
+#include "coated.h"
 
 static double colour_mean(const spm_scene *sc, int c)
 {
@@ -89,6 +90,72 @@ static int fluor_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
     return 0;
 }
 
+/* Coated (coated.h): a Lambertian base under a smooth or GGX-rough dielectric
+ * coating, Mitsuba 3's plastic / roughplastic with nonlinear true. The vertex
+ * records the derived colour D (col3, the diffuse lobe) or the derived white
+ * (col2, the specular lobe); Fresnel, GGX and the lobe choice are scalars of
+ * the trace stage (kernels/coated.clh). p[]: alpha, eta, the diffuse factor
+ * 1 / (eta^2 (1 - Fdr_i)) and the specular lobe's sampling weight, Mitsuba's
+ * 1 / (1 + mean R). mean: D's mean over the 1 nm bins, the diffuse lobe's
+ * colour in Russian roulette's scalar albedo (kernels/coated.clh). */
+static double coat_eta(const spm_scene_material *s)
+{
+    return s->p[SPM_COAT_P_ETA] > 0.0 ? s->p[SPM_COAT_P_ETA] : SPM_COAT_DEFAULT_ETA;
+}
+
+static void coated_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d)
+{
+    double eta = coat_eta(s), fdr = spm_coat_fdr_internal(eta);
+    double mean = colour_mean(sc, s->col3);
+    d->refl = s->col3 >= 0 ? (spm_u32)s->col3 : SPM_NONE;
+    d->col2 = s->col2 >= 0 ? (spm_u32)s->col2 : SPM_NONE;
+    d->mean = (float)mean;
+    d->inv_mean = mean > 0.0 ? (float)(1.0 / mean) : 0.0f;
+    d->p[SPM_COAT_P_ALPHA] = s->p[SPM_COAT_P_ALPHA] < SPM_COND_MIN_ALPHA
+                                 ? 0.0f
+                                 : (float)s->p[SPM_COAT_P_ALPHA];
+    d->p[SPM_COAT_P_ETA] = (float)eta;
+    d->p[SPM_COAT_P_KD] = (float)(1.0 / (eta * eta * (1.0 - fdr)));
+    d->p[SPM_COAT_P_SPEC] = (float)(1.0 / (1.0 + colour_mean(sc, s->refl)));
+}
+
+/* D into col3 (a new colour per material) and the white the specular lobe
+ * records into col2 (one for the scene, shared). A scene with fluorescent
+ * materials is refused: their diagonal colours must be the scene's last (the
+ * shade stage knows them by id), and their light-end walk has no case for
+ * the coated vertex's hit. */
+static int coated_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
+{
+    for (int i = 0; i < sc->nmaterials; i++)
+        if (sc->materials[i].type == (int)SPM_MAT_FLUOR ||
+            sc->materials[i].type == (int)SPM_MAT_DONALDSON) {
+            spm_errorf(err, "material '%s' (coated) and material '%s' (fluorescent): a scene "
+                            "cannot have both types yet", s->name, sc->materials[i].name);
+            return 1;
+        }
+    static const char white_name[] = "coated:white";
+    int white = -1;
+    for (int i = 0; i < sc->ncolours && white < 0; i++)
+        if (!strcmp(sc->colours[i].name, white_name))
+            white = i;
+    sc->colours = spm_xrealloc(sc->colours, ((size_t)sc->ncolours + 2) * sizeof *sc->colours);
+    spm_colour *c = &sc->colours[sc->ncolours];
+    memset(c, 0, sizeof *c);
+    snprintf(c->name, sizeof c->name, "%.50s:effective", s->name);
+    spm_coat_effective(s->refl >= 0 ? &sc->colours[s->refl].s : NULL,
+                       spm_coat_fdr_internal(coat_eta(s)), &c->s);
+    s->col3 = sc->ncolours++;
+    if (white < 0) {
+        c = &sc->colours[sc->ncolours];
+        memset(c, 0, sizeof *c);
+        snprintf(c->name, sizeof c->name, "%s", white_name);
+        spm_spectrum_constant(1.0, SPM_KIND_REFLECTANCE, &c->s);
+        white = sc->ncolours++;
+    }
+    s->col2 = white;
+    return 0;
+}
+
 const spm_mtype_desc spm_material_types[] = {
     [SPM_MAT_LAMBERT] = {
         .keyword = NULL, /* the default type */
@@ -150,6 +217,25 @@ const spm_mtype_desc spm_material_types[] = {
         .define = "SPM_WITH_FLUOR", /* the fluorescent type's code, shared */
         .fill = fluor_fill,
         .derive = fluor_derive,
+    },
+    [SPM_MAT_COATED] = {
+        .keyword = "coated",
+        .tag = SPM_MAT_COATED,
+        .help = "paint, plastic: 'coated reflect SPECTRUM [SCALE] ior N [alpha A]' (a diffuse "
+                "base under a dielectric coating of index N, default 1.5; alpha: GGX width, 0 "
+                "smooth)",
+        .params = {{.clause = "reflect", .kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_REFL,
+                    .what = "a reflectance"},
+                   {.clause = "ior", .kind = SPM_MP_NUMBER, .slot = SPM_COAT_P_ETA, .lo = 1.0,
+                    .hi = 4.0, .what = "an index of refraction"},
+                   {.clause = "alpha", .kind = SPM_MP_NUMBER, .slot = SPM_COAT_P_ALPHA, .lo = 0.0,
+                    .hi = 1.0, .what = "a GGX width"}},
+        .nparams = 3,
+        .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
+        .rng_dims = 3, /* SPM_DIM_COAT_LOBE, SPM_DIM_COAT_M_A, SPM_DIM_COAT_M_B */
+        .define = "SPM_WITH_COATED",
+        .fill = coated_fill,
+        .derive = coated_derive,
     },
 };
 const int spm_nmaterial_types = (int)(sizeof spm_material_types / sizeof spm_material_types[0]);
@@ -238,7 +324,7 @@ int spm_material_defines(const spm_material *mats, int n, char *buf, size_t size
     spm_material_types_used(mats, n, um, ue);
     buf[0] = '\0';
     for (int i = 0; i < spm_nmaterial_types; i++)
-        if (um[i] && len < (int)size)
+        if (um[i] && spm_material_types[i].define && len < (int)size)
             len += snprintf(buf + len, size - (size_t)len, "-D%s ", spm_material_types[i].define);
     for (int i = 0; i < spm_nemitter_types; i++)
         if (ue[i] && len < (int)size)
@@ -250,10 +336,14 @@ size_t spm_material_vertex_bytes(const spm_material *mats, int n)
 {
     int um[SPM_MAT_TYPES], ue[SPM_EMIT_TYPES];
     spm_material_types_used(mats, n, um, ue);
+    /* the types with words share the one spm_vertex_ext record: the most any
+     * of them declares */
     size_t words = 0;
     for (int i = 0; i < spm_nmaterial_types; i++)
-        words += um[i] ? (size_t)spm_material_types[i].vertex_u32 : 0;
+        if (um[i] && (size_t)spm_material_types[i].vertex_u32 > words)
+            words = (size_t)spm_material_types[i].vertex_u32;
     for (int i = 0; i < spm_nemitter_types; i++)
-        words += ue[i] ? (size_t)spm_emitter_types[i].vertex_u32 : 0;
+        if (ue[i] && (size_t)spm_emitter_types[i].vertex_u32 > words)
+            words = (size_t)spm_emitter_types[i].vertex_u32;
     return sizeof(spm_vertex) + 4 * words;
 }

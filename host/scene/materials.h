@@ -44,7 +44,8 @@ typedef struct {
     const char *help;
     spm_mparam params[SPM_MTYPE_MAX_PARAMS];
     int nparams;
-    int vertex_u32;       /* path-record fields per vertex beyond spm_vertex (32-bit words) */
+    int vertex_u32;       /* path-record fields per vertex beyond spm_vertex (32-bit words;
+                             the types share one spm_vertex_ext) */
     int rng_dims;         /* dimensions it draws per vertex: SPM_DIM_TYPE(j, 0 .. rng_dims-1) for a
                              material type, SPM_DIM_EMIT_TYPE(j, ...) for an emitter type */
     const char *define;   /* the kernel -D that compiles its code in */
@@ -53,7 +54,9 @@ typedef struct {
     void (*fill)(const spm_scene *sc, const spm_scene_material *s, spm_material *d);
     /* Optional: a colour derived from the material's own, appended to the
      * scene's colours (in material order) once the scene is complete, into
-     * s->diag. Returns 0 or fills err. */
+     * s->diag (the fluorescent types: the shade tables key on it) or a
+     * colour slot the type leaves unused (coated: col3 and col2). Returns 0
+     * or fills err. */
     int (*derive)(spm_scene *sc, spm_scene_material *s, spm_error *err);
 } spm_mtype_desc;
 

@@ -327,8 +327,12 @@ int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
     for (int i = 0; i < s->nmaterials; i++) {
         const spm_mtype_desc *t = &spm_material_types[s->materials[i].type];
         s->materials[i].diag = -1;
-        if (t->derive && t->derive(s, &s->materials[i], err))
+        if (t->derive && t->derive(s, &s->materials[i], err)) {
+            char msg[sizeof err->msg]; /* the message names the file */
+            snprintf(msg, sizeof msg, "%s", err->msg);
+            spm_errorf(err, "%s: %s", where, msg);
             return 1;
+        }
     }
     int lit = s->bg_up >= 0 || s->bg_down >= 0;
     for (int i = 0; i < s->nmaterials && !lit; i++)
