@@ -2,7 +2,8 @@
 # The coated scenes: scenes/coated.scene and coated_spiky.scene are what
 # tools/gen_meshes.py --coated writes, within the bundled scenes' triangle
 # budget (tests/test_scenes_bundled.c); each renders, and its coated objects
-# are in view (black, they change the image).
+# are in view (black, they change the image); the pretest's table (--verbose)
+# judges every coated material's derived colour, NAME:effective.
 # usage: bash tests/cli_coated_scenes.sh /path/to/specmip
 source "$(dirname "$0")/lib_cli.sh"
 R=(--backend cpu --quiet --width 24 --height 24 --spp 4 --seed 3)
@@ -27,6 +28,10 @@ for f in "$DATA"/scenes/coated.scene "$DATA"/scenes/coated_spiky.scene; do
     "$BIN" render "$f" "${R[@]}" -o "$T/$b.exr" > /dev/null 2> "$T/$b.err"
     check "$b: renders ($(head -c 300 "$T/$b.err"))" test $? -eq 0
     check "$b: not black" num "$(mean_y "$T/$b.exr")" '>' 0
+    "$BIN" render "$f" "${R[@]}" --mode ml --verbose -o "$T/$b.v.exr" > "$T/$b.v" 2>&1
+    for m in $(awk '$1 == "material" && $3 == "coated" { print $2 }' "$f"); do
+        check "$b: the pretest judges $m:effective" grep -q "^$m:effective .*chosen level" "$T/$b.v"
+    done
     # the coated objects black: more than 2 % of the pixels change by half the mean
     sed -E 's/^(material [a-z_]+) +coated .*/\1/' "$f" > "$T/$b.black.scene"
     check "$b: the black variant has no coating" test "$(grep -c '^material .* coated ' "$T/$b.black.scene")" -eq 0

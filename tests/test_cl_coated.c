@@ -7,7 +7,10 @@
  *  - a rough coated plane with a white base under a uniform sky, a white
  *    furnace: the mean of its paths against the directional albedo of the
  *    model integrated here numerically (single-scatter GGX loses energy, so
- *    the albedo is below 1), both from this file's own quadratures;
+ *    the albedo is below 1), both from this file's own quadratures; the same
+ *    with a grey base (0.5), smooth and rough, whose diffuse part is the
+ *    nonlinear R / (1 - Fdr_i R) (a vertex recording R instead of its
+ *    derived colour fails it);
  *  - the kernel's trace against the reference's, path by path, on a box
  *    with a smooth and a rough coated object (records, the vertex words,
  *    level bytes), and each mode's shade kernel against the reference's
@@ -48,13 +51,17 @@ static double lambda(double a, double z)
     return 0.5 * (-1.0 + sqrt(1.0 + a * a * t2));
 }
 
-/* The directional albedo of a white base under a GGX coating (alpha a,
+/* The directional albedo of a grey base R under a GGX coating (alpha a,
  * index eta) at cos_o: the specular lobe's integral of
  * F(wo.h) D(h) G2 / (4 cos_o) over the hemisphere (midpoint in cos_i and phi,
- * 512 x 512: against 1024 x 1024 the albedo moves by < 2e-4) plus the diffuse
- * lobe's (1 - Fo) (1 - Fdr_e) / (eta^2 (1 - Fdr_i)). */
-static double albedo(double a, double eta, double co, double fi, double fe)
+ * 512 x 512: against 1024 x 1024 the albedo moves by < 2e-4; a = 0: F(cos_o))
+ * plus the diffuse lobe's (1 - Fo) (1 - Fdr_e) R / (eta^2 (1 - Fdr_i R)),
+ * Mitsuba's nonlinear plastic. */
+static double albedo(double a, double eta, double co, double fi, double fe, double R)
 {
+    double dif = (1.0 - fresnel(eta, co)) * (1.0 - fe) * R / (eta * eta * (1.0 - fi * R));
+    if (a == 0.0)
+        return fresnel(eta, co) + dif;
     const int n = 512;
     double so = sqrt(1.0 - co * co), spec = 0.0;
     for (int i = 0; i < n; i++) {
@@ -73,7 +80,7 @@ static double albedo(double a, double eta, double co, double fi, double fe)
         }
     }
     spec *= (1.0 / n) * (2.0 * M_PI / n);
-    return spec + (1.0 - fresnel(eta, co)) * (1.0 - fe) / (eta * eta * (1.0 - fi));
+    return spec + dif;
 }
 
 /* The camera ray of path i, in double (as test_cl_conductor). */
@@ -230,7 +237,7 @@ static void test_sphere(double eta, int spp)
 #define PH 12
 #define NTAB 64
 
-static void test_furnace(double a, double eta)
+static void test_furnace(double a, double eta, double R)
 {
     const char *path = "coated_plane.scene";
     FILE *f = fopen(path, "w");
@@ -241,9 +248,9 @@ static void test_furnace(double a, double eta)
     fprintf(f, "image %d %d\ncamera position 0 1 -1 direction 0 -1 1 fov 70\n"
                "spectrum sky inline 380 0.5 550 1.0 780 2.0 end\n"
                "spectrum white equal\n"
-               "material coat coated reflect white ior %.17g alpha %.17g\n"
+               "material coat coated reflect white %.17g ior %.17g alpha %.17g\n"
                "quad coat -100 0 -100  -100 0 100  100 0 100  100 0 -100\n"
-               "background up sky 1\n", PW, PH, eta, a);
+               "background up sky 1\n", PW, PH, R, eta, a);
     fclose(f);
     cl_test_scene s;
     if (cl_test_scene_load(&s, path, PW, PH)) {
@@ -262,7 +269,7 @@ static void test_furnace(double a, double eta)
         hi = fmax(hi, fabs(d[1]));
     }
     for (int k = 0; k <= NTAB; k++) /* the albedo at cosines across [lo, hi], linear between */
-        tab[k] = albedo(a, eta, lo + (hi - lo) * k / NTAB, fi, fe);
+        tab[k] = albedo(a, eta, lo + (hi - lo) * k / NTAB, fi, fe, R);
     for (size_t i = 0; i < n; i++) {
         double d[3];
         camera_dir(&p, i, d);
@@ -270,8 +277,8 @@ static void test_furnace(double a, double eta)
         int k = (int)u < NTAB ? (int)u : NTAB - 1;
         want[i] = tab[k] + (u - k) * (tab[k + 1] - tab[k]);
     }
-    printf("furnace alpha %.2f eta %.2f: albedo %.4f at cos %.3f, %.4f at cos %.3f\n", a, eta,
-           tab[0], lo, tab[NTAB], hi);
+    printf("furnace alpha %.2f eta %.2f base %.2f: albedo %.4f at cos %.3f, %.4f at cos %.3f\n", a, eta,
+           R, tab[0], lo, tab[NTAB], hi);
     spm_path *paths = spm_xcalloc(n, sizeof *paths);
     float *xyz = spm_xcalloc(3 * n, sizeof *xyz);
     double ybg = bg_y(&s);
@@ -403,8 +410,10 @@ int main(void)
         return 1;
     test_sphere(2.5, 32);
     test_sphere(1.5, 32);
-    test_furnace(0.3, 1.5);
-    test_furnace(0.6, 2.5);
+    test_furnace(0.3, 1.5, 1.0);
+    test_furnace(0.6, 2.5, 1.0);
+    test_furnace(0.0, 1.5, 0.5); /* a grey base: its effective colour R / (1 - Fdr_i R) */
+    test_furnace(0.2, 1.5, 0.5);
     test_box();
     TEST_END();
 }
