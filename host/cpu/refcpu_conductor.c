@@ -125,3 +125,19 @@ float spm_ref_cond_fresnel(float eta, float k, float cin)
     float rp = rs * (t3 - t4) / fmaxf(t3 + t4, FLT_MIN);
     return 0.5f * (rs + rp);
 }
+
+/* GGX's pieces for the dielectric's lobe (refcpu_dielectric.c) */
+float spm_ref_ggx_lambda(float a, float z)
+{
+    return lambda(a, z);
+}
+
+float spm_ref_ggx_d(float a, float mz)
+{
+    return ggx_d(a, mz);
+}
+
+void spm_ref_ggx_vndf(const float wo[3], float a, float u1, float u2, float m[3])
+{
+    vndf(wo, a, u1, u2, m);
+}

@@ -31,4 +31,9 @@ int spm_ref_cond_lobe(const spm_ref_cond *c, float u1, float u2, float out[3], f
 float spm_ref_cond_power(float a, float b);
 /* The conductor's exact unpolarised Fresnel reflectance (materials.c's formula). */
 float spm_ref_cond_fresnel(float eta, float k, float c);
+/* GGX of width a in a vertex frame: Smith's Lambda at cosine z, D at m_z, a
+ * visible normal m for wo from two random numbers (the formulas above) */
+float spm_ref_ggx_lambda(float a, float z);
+float spm_ref_ggx_d(float a, float mz);
+void spm_ref_ggx_vndf(const float wo[3], float a, float u1, float u2, float m[3]);
 #endif

@@ -89,6 +89,47 @@ static int fluor_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
     return 0;
 }
 
+/* A dielectric (glass) of one index, smooth or GGX-rough (alpha, sampled by
+ * visible normals as the conductor's), absorbing inside by Beer-Lambert:
+ * transmittance exp(-sigma d) over a length d inside, sigma = DENSITY SPEC
+ * per scene unit ('absorb SPEC DENSITY', an optical colour: the scale is the
+ * density). Its vertex records sigma as its colour, so clear glass derives a
+ * zero one. Fresnel with one index is the same at every wavelength, so the
+ * reflect/refract choice and the weights are scalar (kernels/dielectric.clh).
+ * Russian roulette: the interface's scalar albedo, R + T = 1, so a glass
+ * vertex always survives (absorption is spectral and left to the shade
+ * stage; the record's depth bounds a path trapped by total internal
+ * reflection). */
+static void dielectric_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d)
+{
+    (void)sc;
+    d->refl = s->col2 >= 0 ? (spm_u32)s->col2 : SPM_NONE;
+    d->col2 = SPM_NONE;
+    d->mean = 1.0f;
+    d->inv_mean = 1.0f;
+    d->p[SPM_DIEL_P_IOR] = (float)s->p[SPM_DIEL_P_IOR];
+    d->p[SPM_DIEL_P_ALPHA] = s->p[SPM_DIEL_P_ALPHA] < SPM_COND_MIN_ALPHA
+                                 ? 0.0f
+                                 : (float)s->p[SPM_DIEL_P_ALPHA];
+}
+
+static int dielectric_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
+{
+    if (!(s->p[SPM_DIEL_P_IOR] > 0.0)) {
+        spm_errorf(err, "%s: material '%s': a dielectric needs 'ior N'", sc->path, s->name);
+        return 1;
+    }
+    if (s->col2 >= 0)
+        return 0;
+    sc->colours = spm_xrealloc(sc->colours, ((size_t)sc->ncolours + 2) * sizeof *sc->colours);
+    spm_colour *c = &sc->colours[sc->ncolours];
+    memset(c, 0, sizeof *c);
+    snprintf(c->name, sizeof c->name, "%.50s:clear", s->name);
+    spm_spectrum_constant(0.0, SPM_KIND_REFLECTANCE, &c->s);
+    s->col2 = sc->ncolours++;
+    return 0;
+}
+
 const spm_mtype_desc spm_material_types[] = {
     [SPM_MAT_LAMBERT] = {
         .keyword = NULL, /* the default type */
@@ -150,6 +191,25 @@ const spm_mtype_desc spm_material_types[] = {
         .define = "SPM_WITH_FLUOR", /* the fluorescent type's code, shared */
         .fill = fluor_fill,
         .derive = fluor_derive,
+    },
+    [SPM_MAT_DIELECTRIC] = {
+        .keyword = "dielectric",
+        .tag = SPM_MAT_DIELECTRIC,
+        .help = "glass: 'dielectric ior N [absorb SPECTRUM DENSITY] [alpha A]' (index inside "
+                "the front face's side; Beer-Lambert exp(-DENSITY SPECTRUM d), d in scene units; "
+                "alpha: GGX width, 0 smooth)",
+        .params = {{.clause = "ior", .kind = SPM_MP_NUMBER, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
+                    .hi = 4.0, .what = "an index of refraction"},
+                   {.clause = "absorb", .kind = SPM_MP_OPTICAL, .slot = SPM_MSLOT_COL2,
+                    .what = "an absorption coefficient (spectrum and density per scene unit)"},
+                   {.clause = "alpha", .kind = SPM_MP_NUMBER, .slot = SPM_DIEL_P_ALPHA, .lo = 0.0,
+                    .hi = 1.0, .what = "a GGX width"}},
+        .nparams = 3,
+        .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
+        .rng_dims = 3, /* SPM_DIM_DIEL_M_A, SPM_DIM_DIEL_M_B, SPM_DIM_DIEL_CHOICE */
+        .define = "SPM_WITH_DIELECTRIC",
+        .fill = dielectric_fill,
+        .derive = dielectric_derive,
     },
 };
 const int spm_nmaterial_types = (int)(sizeof spm_material_types / sizeof spm_material_types[0]);
@@ -250,10 +310,14 @@ size_t spm_material_vertex_bytes(const spm_material *mats, int n)
 {
     int um[SPM_MAT_TYPES], ue[SPM_EMIT_TYPES];
     spm_material_types_used(mats, n, um, ue);
+    /* the types that declare words share one record (spm_vertex_ext, its kind
+     * bit telling them apart): the widest's */
     size_t words = 0;
     for (int i = 0; i < spm_nmaterial_types; i++)
-        words += um[i] ? (size_t)spm_material_types[i].vertex_u32 : 0;
+        if (um[i] && (size_t)spm_material_types[i].vertex_u32 > words)
+            words = (size_t)spm_material_types[i].vertex_u32;
     for (int i = 0; i < spm_nemitter_types; i++)
-        words += ue[i] ? (size_t)spm_emitter_types[i].vertex_u32 : 0;
+        if (ue[i] && (size_t)spm_emitter_types[i].vertex_u32 > words)
+            words = (size_t)spm_emitter_types[i].vertex_u32;
     return sizeof(spm_vertex) + 4 * words;
 }
