@@ -90,6 +90,18 @@ typedef struct {
 void spm_conductor_pretest(const spm_spectrum *const *set, int n, const spm_spectrum *eta,
                            const spm_spectrum *k, int self, const spm_pretest_opts *o,
                            spm_pretest_result *out);
+/* A dielectric's pretest: its transmittance exp(-sigma d) as each level
+ * renders it (exp of the level's bin means of sigma) against exp of the 1 nm
+ * sigma, judged as a reflectance (spm_pretest_given) against set[0..n-1] at
+ * six lengths d from dmax / 32 to dmax, the worst kept
+ * (dielectric_pretest.c says why). */
+void spm_dielectric_pretest(const spm_spectrum *const *set, int n, const spm_spectrum *sigma,
+                            double dmax, int self, const spm_pretest_opts *o,
+                            spm_pretest_result *out);
+/* The longest straight segment inside the scene's objects of material m:
+ * the diagonal of its triangles' bounding box (a segment inside an object
+ * lies in its box). */
+double spm_dielectric_length(const spm_scene *sc, int material);
 int spm_tables_build(const spm_scene *scene, const spm_pretest_opts *po, spm_tables *t,
                      spm_error *err);
 void spm_tables_free(spm_tables *t);
