@@ -290,6 +290,8 @@ typedef struct {
  * SPM_COND_MIN_ALPHA, 0 as the conductor's) */
 #define SPM_DIEL_P_IOR 0
 #define SPM_DIEL_P_ALPHA 1
+/* (the scene material's only, for the pretest: the longest segment inside) */
+#define SPM_DIEL_P_LEN 2
 
 /* Material as the device sees it: colour ids into the spectral tables, the
  * type tags and each type's parameters (its descriptor's `fill` sets them). */

@@ -113,12 +113,31 @@ static void dielectric_fill(const spm_scene *sc, const spm_scene_material *s, sp
                                  : (float)s->p[SPM_DIEL_P_ALPHA];
 }
 
+/* The longest straight segment inside the scene's objects of material m:
+ * the diagonal of its triangles' bounding box (a segment inside an object
+ * lies in its box), for the absorption's pretest. */
+static double dielectric_length(const spm_scene *sc, int m)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < sc->ntris; i++)
+        for (int v = 0; sc->tris[i].material == m && v < 3; v++)
+            for (int k = 0; k < 3; k++) {
+                lo[k] = fmin(lo[k], sc->tris[i].p[v][k]);
+                hi[k] = fmax(hi[k], sc->tris[i].p[v][k]);
+            }
+    double d2 = 0.0;
+    for (int k = 0; k < 3; k++)
+        d2 += hi[k] >= lo[k] ? (hi[k] - lo[k]) * (hi[k] - lo[k]) : 0.0;
+    return sqrt(d2);
+}
+
 static int dielectric_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
 {
     if (!(s->p[SPM_DIEL_P_IOR] > 0.0)) {
         spm_errorf(err, "%s: material '%s': a dielectric needs 'ior N'", sc->path, s->name);
         return 1;
     }
+    s->p[SPM_DIEL_P_LEN] = dielectric_length(sc, (int)(s - sc->materials));
     if (s->col2 >= 0)
         return 0;
     sc->colours = spm_xrealloc(sc->colours, ((size_t)sc->ncolours + 2) * sizeof *sc->colours);

@@ -58,22 +58,3 @@ void spm_dielectric_pretest(const spm_spectrum *const *set, int n, const spm_spe
     free(sl);
     free(fl);
 }
-
-double spm_dielectric_length(const spm_scene *sc, int material)
-{
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int i = 0; i < sc->ntris; i++) {
-        if (sc->tris[i].material != material)
-            continue;
-        for (int v = 0; v < 3; v++)
-            for (int k = 0; k < 3; k++) {
-                float x = sc->tris[i].p[v][k];
-                lo[k] = x < lo[k] ? x : lo[k];
-                hi[k] = x > hi[k] ? x : hi[k];
-            }
-    }
-    double d2 = 0.0;
-    for (int k = 0; k < 3; k++)
-        d2 += hi[k] >= lo[k] ? ((double)hi[k] - lo[k]) * ((double)hi[k] - lo[k]) : 0.0;
-    return sqrt(d2);
-}

@@ -157,7 +157,7 @@ static int pretest_colours(const spm_scene *sc, const spm_pretest_opts *po, spm_
             continue;
         spm_pretest_result r;
         if (diel)
-            spm_dielectric_pretest(set, m, &sc->colours[mt->col2].s, spm_dielectric_length(sc, i),
+            spm_dielectric_pretest(set, m, &sc->colours[mt->col2].s, mt->p[SPM_DIEL_P_LEN],
                                    n + i, po, &r);
         else
             spm_conductor_pretest(set, m, &sc->colours[mt->refl].s, &sc->colours[mt->col2].s,

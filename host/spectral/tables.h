@@ -98,10 +98,6 @@ void spm_conductor_pretest(const spm_spectrum *const *set, int n, const spm_spec
 void spm_dielectric_pretest(const spm_spectrum *const *set, int n, const spm_spectrum *sigma,
                             double dmax, int self, const spm_pretest_opts *o,
                             spm_pretest_result *out);
-/* The longest straight segment inside the scene's objects of material m:
- * the diagonal of its triangles' bounding box (a segment inside an object
- * lies in its box). */
-double spm_dielectric_length(const spm_scene *sc, int material);
 int spm_tables_build(const spm_scene *scene, const spm_pretest_opts *po, spm_tables *t,
                      spm_error *err);
 void spm_tables_free(spm_tables *t);
