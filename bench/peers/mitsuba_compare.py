@@ -493,6 +493,9 @@ def convert(sc, outdir, spp, seed, width=None):
             (name, dens) = mat['dielectric'][1]
             sp = sc.spectra[name]
             wl, v = clip_range(sp.wl, sp.v)
+            # extended by its end values over Mitsuba's 360-830 nm (the lights are dark there,
+            # but a zero extinction there makes volpath's distance sampling divide 0 by 0)
+            wl, v = [350.0] + wl + [850.0], [v[0]] + v + [v[-1]]
             shape['interior'] = {'type': 'homogeneous', 'albedo': 0.0,
                                  'sigma_t': irregular(wl, [x * dens for x in v])}
             scene['integrator']['type'] = 'volpath'
