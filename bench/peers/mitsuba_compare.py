@@ -493,11 +493,13 @@ def convert(sc, outdir, spp, seed, width=None):
             (name, dens) = mat['dielectric'][1]
             sp = sc.spectra[name]
             wl, v = clip_range(sp.wl, sp.v)
-            # extended by its end values over Mitsuba's 360-830 nm (the lights are dark there,
-            # but a zero extinction there makes volpath's distance sampling divide 0 by 0)
+            # extended by its end values over Mitsuba's 360-830 nm (the lights are dark
+            # there) and kept above 1e-6 per scene unit (a transmittance change below 1e-6
+            # over any scene's objects): a zero extinction makes volpath's distance
+            # sampling divide 0 by 0 (NaN pixels)
             wl, v = [350.0] + wl + [850.0], [v[0]] + v + [v[-1]]
             shape['interior'] = {'type': 'homogeneous', 'albedo': 0.0,
-                                 'sigma_t': irregular(wl, [x * dens for x in v])}
+                                 'sigma_t': irregular(wl, [max(x * dens, 1e-6) for x in v])}
             scene['integrator']['type'] = 'volpath'
         if mat['emit']:
             shape['emitter'] = {'type': 'area', 'radiance': radiance(sc, mat['emit'])}
