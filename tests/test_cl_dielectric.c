@@ -10,6 +10,8 @@
  *    T = (1 - R)^2 e^-a / (1 - R^2 e^-2a), a = sigma(lambda) d / cos_t, R the
  *    Fresnel reflectance at each path's camera angle, both in double here,
  *    within four standard errors of the paths' own spread;
+ *  - a rough absorbing slab in another unit (coordinates times 2^10 or 2^-10,
+ *    the density divided by the same) renders the same per-path XYZ;
  *  - the kernel's trace against the reference's, path by path, on a box with
  *    a smooth clear and a rough absorbing glass block (records, the vertex
  *    words, level bytes), and each mode's shade kernel against the
@@ -245,6 +247,70 @@ static void test_slab(void)
     cl_test_scene_close(&s);
 }
 
+/* The slab in another unit: every coordinate times 2^10 or 2^-10 and the
+ * density divided by it renders the same paths and the same per-path XYZ bit
+ * for bit on the reference (power-of-two scaling is exact, the hit test has
+ * no absolute length, and sigma d is the same product), as
+ * test_scale_invariance checks for Lambertian scenes. */
+static int slab_render(double k, const char *path, spm_path *paths, uint8_t *levels, float *xyz)
+{
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return 1;
+    fprintf(f, "image 16 16\ncamera position 0 %.17g %.17g direction 0 -1 0.3 fov 50\n"
+               "spectrum sky inline 380 0.5 550 1.0 780 2.0 end\n"
+               "spectrum tint inline 380 0.5 450 2.0 520 8.0 580 12.0 650 3.0 780 0.5 end\n"
+               "material glass dielectric ior %g absorb tint %.17g alpha 0.3\n"
+               "material floor reflect sky 0.5\n"
+               "quad glass %.17g 0 %.17g  %.17g 0 %.17g  %.17g 0 %.17g  %.17g 0 %.17g\n"
+               "quad glass %.17g %.17g %.17g  %.17g %.17g %.17g  %.17g %.17g %.17g  %.17g %.17g %.17g\n"
+               "quad floor %.17g %.17g %.17g  %.17g %.17g %.17g  %.17g %.17g %.17g  %.17g %.17g %.17g\n"
+               "background both sky 1\n",
+            k, 0.001 * k, SLAB_IOR, 1.0 / k, -10 * k, -10 * k, -10 * k, 10 * k, 10 * k, 10 * k,
+            10 * k, -10 * k, -10 * k, -SLAB_D * k, -10 * k, 10 * k, -SLAB_D * k, -10 * k, 10 * k,
+            -SLAB_D * k, 10 * k, -10 * k, -SLAB_D * k, 10 * k, -10 * k, -0.5 * k, -10 * k,
+            -10 * k, -0.5 * k, 10 * k, 10 * k, -0.5 * k, 10 * k, 10 * k, -0.5 * k, -10 * k);
+    fclose(f);
+    cl_test_scene s;
+    if (cl_test_scene_load(&s, path, 16, 16))
+        return 1;
+    spm_trace_params p = cl_test_params(&s, SEED, 0, 8);
+    spm_ref_trace(&s.geom, s.tables.materials, NULL, &p, paths, levels);
+    memset(levels, 0, (size_t)16 * 16 * 8);
+    spm_ref_shade(&s.tables, SPM_MODE_TRUTH, &p, 0, paths, levels, (size_t)16 * 16 * 8, xyz);
+    cl_test_scene_close(&s);
+    return 0;
+}
+
+static void test_slab_scale(void)
+{
+    size_t n = (size_t)16 * 16 * 8;
+    spm_path *paths = spm_xcalloc(n, sizeof *paths);
+    uint8_t *levels = spm_xcalloc(n, 1);
+    float *x1 = spm_xcalloc(3 * n, sizeof *x1), *xk = spm_xcalloc(3 * n, sizeof *xk);
+    size_t inside = 0;
+    if (slab_render(1.0, "glass_slab_1.scene", paths, levels, x1)) {
+        CHECK(0, "the scaled slab renders");
+    } else {
+        for (size_t i = 0; i < n; i++)
+            for (spm_u32 j = 0; j < paths[i].h.nvert; j++)
+                inside += SPM_EXT_DIEL(paths[i].x[j]) && paths[i].x[j].cos_lobe > 0.0f;
+        const double ks[] = {1.0 / 1024, 1024.0};
+        for (int a = 0; a < 2; a++) {
+            int rc = slab_render(ks[a], "glass_slab_k.scene", paths, levels, xk);
+            int same = !rc && !memcmp(x1, xk, 3 * n * sizeof *x1);
+            printf("slab at scale %g (density / %g): per-path XYZ %s (%zu segments inside)\n",
+                   ks[a], ks[a], same ? "identical" : "differs", inside);
+            CHECK(same, "slab at scale %g renders as at 1", ks[a]);
+        }
+        CHECK(inside > n / 4, "too few segments inside (%zu)", inside);
+    }
+    free(paths);
+    free(levels);
+    free(x1);
+    free(xk);
+}
+
 #define W 24
 #define H 24
 #define SPP 16
@@ -385,6 +451,7 @@ int main(void)
         return 1;
     test_sphere();
     test_slab();
+    test_slab_scale();
     test_box();
     TEST_END();
 }
