@@ -125,8 +125,28 @@ typedef struct {
     float cos_light;
     float hit_c;
 } spm_vertex_ext;
-/* the k colour and the hit emission of a record, SPM_NONE for none */
-#define SPM_EXT_K(x) (((x).ids + 0xFFFFu) & 0xFFFFu)
+/* The record's kind is bit 15 of ids: clear, a conductor's record (as above:
+ * its k colour in bits 0-14, so colour ids of scenes with vertex words stay
+ * below SPM_EXT_KIND - 1, host/spectral/tables.c checks); set, a dielectric's
+ * (SPM_MAT_DIELECTRIC), whose fields mean
+ *   ids        SPM_EXT_KIND | 1 + the emission colour the sampled ray hit
+ *              (high 16 bits, as above); bits 0-14 zero
+ *   cos_lobe   the length d (scene units) of the sampled ray's segment when
+ *              it runs inside the glass (0: outside, or it left the scene)
+ *   cos_light  0 (unused)
+ *   hit_c      as above
+ * and the spm_vertex's reflectance id is its absorption colour sigma
+ * (DENSITY * SPEC per scene unit; a zero colour for clear glass). Fresnel,
+ * the reflect/refract choice, GGX and MIS are colour-independent and sit in
+ * c and hit_c; shading it is
+ *   if e != NONE: L += P * E[e] * c;  P *= exp(-sigma * d);
+ *   if hit != NONE: L += P * E[hit] * hit_c
+ * (kernels/dielectric.clh, host/cpu/refcpu_dielectric.c). */
+#define SPM_EXT_KIND 0x8000u
+#define SPM_EXT_DIEL(x) (((x).ids & SPM_EXT_KIND) != 0u)
+/* the k colour and the hit emission of a record, SPM_NONE for none (a
+ * dielectric's k: none) */
+#define SPM_EXT_K(x) ((((x).ids & 0x7FFFu) + 0xFFFFu) & 0xFFFFu)
 #define SPM_EXT_HIT(x) ((((x).ids >> 16) + 0xFFFFu) & 0xFFFFu)
 #define SPM_EXT_IDS(k, hit) ((((k) + 1u) & 0xFFFFu) | (((hit) + 1u) & 0xFFFFu) << 16)
 
@@ -259,6 +279,7 @@ typedef struct {
 #define SPM_MAT_CONDUCTOR 1u    /* a metal: Fresnel of eta + i k, smooth or GGX-rough */
 #define SPM_MAT_FLUOR 2u        /* a diffuse fluorescent surface (re-radiation matrix) */
 #define SPM_MAT_DONALDSON 3u    /* the same from a measured re-radiation (Donaldson) matrix */
+#define SPM_MAT_DIELECTRIC 4u   /* glass: one index, smooth or GGX-rough, Beer-Lambert inside */
 #define SPM_MAT_COATED 5u       /* a Lambertian base under a smooth or GGX-rough dielectric coating */
 #define SPM_MAT_TYPES 8u        /* tags below this (materials.c checks) */
 #define SPM_EMIT_AREA 0u        /* a triangle emitting from its front face, uniformly */
@@ -268,6 +289,13 @@ typedef struct {
  * below SPM_COND_MIN_ALPHA become 0: a narrower GGX lobe's D overflows float) */
 #define SPM_COND_P_ALPHA 0
 #define SPM_COND_MIN_ALPHA 1e-3
+/* the dielectric's p[]: its index of refraction (inside over outside, the
+ * front face's side being outside) and GGX width (0: smooth; below
+ * SPM_COND_MIN_ALPHA, 0 as the conductor's) */
+#define SPM_DIEL_P_IOR 0
+#define SPM_DIEL_P_ALPHA 1
+/* (the scene material's only, for the pretest: the longest segment inside) */
+#define SPM_DIEL_P_LEN 2
 /* the coated type's p[] (host/scene/materials.c coated_fill): the coating's
  * GGX width (0: smooth; below SPM_COND_MIN_ALPHA smooth), its index of
  * refraction eta, the diffuse lobe's scalar factor 1 / (eta^2 (1 - Fdr_i))

@@ -13,12 +13,15 @@
 #include "spm_rng.h"
 #include "spm_kernel_args.h"
 #include "traverse.clh"
-/* the types with vertex words (spm_vertex_ext); the coated type's rough
- * coating takes the conductor's GGX terms */
-#if defined(SPM_WITH_CONDUCTOR) || defined(SPM_WITH_COATED)
-#define SPM_WITH_VERTEX_EXT
+/* the types with vertex words (spm_vertex_ext): the conductor, the
+ * dielectric and the coated type (the last two use the conductor's GGX) */
+#if defined(SPM_WITH_CONDUCTOR) || defined(SPM_WITH_DIELECTRIC) || defined(SPM_WITH_COATED)
+#define SPM_WITH_VEXT
 #define COND_TRACE
 #include "conductor.clh"
+#endif
+#ifdef SPM_WITH_DIELECTRIC
+#include "dielectric.clh"
 #endif
 #ifdef SPM_WITH_COATED
 #include "coated.clh"
@@ -58,15 +61,21 @@ inline uint vertex_lobe(spm_material m, uint seed, uint pixel, uint sample, uint
         *inv_mean = m.inv_mean;
         return m.refl;
 #endif
-#ifdef SPM_WITH_FLUOR
-    case SPM_MAT_FLUOR:
-    case SPM_MAT_DONALDSON: /* diffuse: its diagonal colour marks it for the shade stage */
+#ifdef SPM_WITH_DIELECTRIC
+    case SPM_MAT_DIELECTRIC: /* its absorption colour; R + T = 1: always survives */
         *mean = m.mean;
         *inv_mean = m.inv_mean;
         return m.refl;
 #endif
 #ifdef SPM_WITH_COATED
     case SPM_MAT_COATED: /* its lobe's colour and survival: the trace loop's (coated.clh) */
+        *mean = m.mean;
+        *inv_mean = m.inv_mean;
+        return m.refl;
+#endif
+#ifdef SPM_WITH_FLUOR
+    case SPM_MAT_FLUOR:
+    case SPM_MAT_DONALDSON: /* diffuse: its diagonal colour marks it for the shade stage */
         *mean = m.mean;
         *inv_mean = m.inv_mean;
         return m.refl;
@@ -102,12 +111,15 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
     uint sample = p.first_sample + gid % p.spp_per_pass;
     uint seed = p.seed;
     __global spm_vertex *vrec = &verts[gid]; /* vertex j at vrec[j * npaths] (spm_shared.h) */
-#ifdef SPM_WITH_VERTEX_EXT
+#ifdef SPM_WITH_VEXT
     /* the types' vertex words, slabs after the vertices' (SPM_VERTEX_EXT) */
     __global spm_vertex_ext *xrec = (__global spm_vertex_ext *)SPM_VERTEX_EXT(verts, npaths) + gid;
-    float cpdf = -1.0f; /* the last vertex's lobe density: < 0 none (not a conductor's or
-                           a coating's specular lobe), 0 a smooth lobe, else the rough
-                           lobe's, for MIS */
+    float cpdf = -1.0f; /* the last vertex's lobe density: < 0 none (not a conductor's,
+                           a dielectric's or a coating's specular lobe), 0 a delta (or a
+                           glass's refraction), else the rough lobe's, for MIS */
+#endif
+#ifdef SPM_WITH_DIELECTRIC
+    int din = 0; /* the last vertex's sampled ray runs inside its glass */
 #endif
 
     /* camera ray (spm_shared.h: spm_camera) */
@@ -164,8 +176,12 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             feel(lvlk, memit, 1u, SPM_SETBY_EMITTER, &level, &setby);
         }
 
-#ifdef SPM_WITH_VERTEX_EXT
-        /* emission the last vertex's conductor (or coating) lobe hit: counted there, with
+#ifdef SPM_WITH_DIELECTRIC
+        if (din) /* the segment's length inside: its absorption, in the shade stage */
+            xrec[(size_t)(j - 1u) * npaths].cos_lobe = t;
+#endif
+#ifdef SPM_WITH_VEXT
+        /* emission the last vertex's conductor, glass or coating lobe hit: counted there, with
          * its MIS weight against the light sample (smooth: 1) */
         if (cpdf >= 0.0f && memit != SPM_NONE) {
             float ce = dot3(back, n);
@@ -183,15 +199,23 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                 feel(lvlk, memit, 1u, SPM_SETBY_EMITTER, &level, &setby);
             }
         }
+        int cond = SPM_MAT_TAG(m) == SPM_MAT_CONDUCTOR;
+        float calpha = cond ? m.p[SPM_COND_P_ALPHA] : 0.0f;
+#ifdef SPM_WITH_DIELECTRIC
+        int diel = SPM_MAT_TAG(m) == SPM_MAT_DIELECTRIC;
+        float dalpha = diel ? m.p[SPM_DIEL_P_ALPHA] : 0.0f;
+        /* the relative index eta_t / eta_i: eta entering through the front face, 1 / eta leaving */
+        float deta = !diel ? 1.0f : dot3(back, n) > 0.0f ? m.p[SPM_DIEL_P_IOR] : 1.0f / m.p[SPM_DIEL_P_IOR];
+#else
+        const int diel = 0;
+        const float dalpha = 0.0f;
+#endif
         float3 cn = dot3(n, back) < 0.0f ? -n : n; /* the normal on the incoming side */
         float3 ctg = ld3(tr->t), cbt = cross3(cn, ctg);
         float3 wl = (float3)(dot3(back, ctg), dot3(back, cbt), dot3(back, cn)); /* wo in the frame */
         spm_vertex_ext xe = {0u, 0.0f, 0.0f, 0.0f};
-#endif
-#ifdef SPM_WITH_CONDUCTOR
-        int cond = SPM_MAT_TAG(m) == SPM_MAT_CONDUCTOR;
-        float calpha = cond ? m.p[SPM_COND_P_ALPHA] : 0.0f;
-        int nee = p.nemitters > 0 && !(cond && calpha == 0.0f); /* no light sample on a delta lobe */
+        /* no light sample on a delta lobe */
+        int nee = p.nemitters > 0 && !(cond && calpha == 0.0f) && !(diel && dalpha == 0.0f);
 #else
         int nee = p.nemitters > 0;
 #endif
@@ -275,6 +299,18 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                     xe.cos_light = ch;
                 } else
 #endif
+#ifdef SPM_WITH_DIELECTRIC
+                if (diel) {
+                    /* the rough lobe's reflection, F D G2 / (4 wo_z), times the power
+                     * heuristic against the lobe's density of reflecting there */
+                    float3 il = (float3)(dot3(ed, ctg), dot3(ed, cbt), dot3(ed, cn));
+                    float pb;
+                    float f = diel_eval(dalpha, deta, wl, il, &pb);
+                    float d2c = fmax(d2, SPM_D2_MIN_REL * et->area);
+                    float pl = emitters[k].pdf * d2c / (et->area * cos_e);
+                    wgt = emitters[k].inv_pdf * cos_e * et->area / d2c * (f * cond_power(pl, pb));
+                } else
+#endif
 #ifdef SPM_WITH_COATED
                 if (coat) {
                     float d2c = fmax(d2, SPM_D2_MIN_REL * et->area);
@@ -324,17 +360,18 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         __global spm_vertex *vx = &vrec[(size_t)j * npaths];
         vx->ids = (refl & 0xFFFFu) | (eid << 16);
         vx->c = c;
-#ifdef SPM_WITH_VERTEX_EXT
+#ifdef SPM_WITH_VEXT
         cpdf = -1.0f;
-#endif
-#ifdef SPM_WITH_CONDUCTOR
         if (cond) {
             xe.ids = SPM_EXT_IDS(m.col2, SPM_NONE);
             if (m.col2 != SPM_NONE)
                 feel(lvlk, m.col2, 1u, SPM_SETBY_REFLECTOR, &level, &setby);
         }
+#ifdef SPM_WITH_DIELECTRIC
+        din = 0;
+        if (diel)
+            xe.ids = SPM_EXT_KIND; /* no hit yet; the length inside comes with the next hit */
 #endif
-#ifdef SPM_WITH_VERTEX_EXT
         xrec[(size_t)j * npaths] = xe; /* every vertex: a zero record is a plain one */
 #endif
 
@@ -345,6 +382,50 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             break;
         }
         rrw *= minv;
+#ifdef SPM_WITH_DIELECTRIC
+        if (diel) {
+            /* the normal m: the surface's (smooth) or a visible normal (rough); reflect
+             * with probability F(wo.m), else refract. The weight f |cos_i| / pdf is 1
+             * for the smooth lobe, G2 / G1(wo) for the rough one, each times 1 / e^2
+             * when refracting (radiance is compressed into the denser medium) */
+            float3 mh = (float3)(0.0f, 0.0f, 1.0f);
+            float cm = wl.z;
+            if (dalpha > 0.0f) {
+                mh = cond_vndf(wl, dalpha,
+                               spm_rng(seed, pixel, sample, SPM_DIM_TYPE(j, SPM_DIM_DIEL_M_A)),
+                               spm_rng(seed, pixel, sample, SPM_DIM_TYPE(j, SPM_DIM_DIEL_M_B)));
+                cm = dot3(wl, mh);
+            }
+            if (!(cm > 0.0f)) { /* a normal facing away: the path ends */
+                hd.end = SPM_END_ABSORBED;
+                j++;
+                break;
+            }
+            float ct;
+            float f = diel_fresnel(cm, deta, &ct);
+            int rf = spm_rng(seed, pixel, sample, SPM_DIM_TYPE(j, SPM_DIM_DIEL_CHOICE)) < f;
+            float3 il = rf ? mh * (2.0f * cm) - wl : diel_refract(wl, mh, cm, deta, ct);
+            if (rf ? !(il.z > 0.0f) : !(il.z < 0.0f)) { /* the wrong side: the path ends */
+                hd.end = SPM_END_ABSORBED;
+                j++;
+                break;
+            }
+            if (!rf)
+                rrw *= 1.0f / (deta * deta);
+            cpdf = 0.0f;
+            if (dalpha > 0.0f) {
+                float lo = cond_lambda(dalpha, wl.z), li = cond_lambda(dalpha, fabs(il.z));
+                rrw *= (1.0f + lo) / (1.0f + lo + li);
+                if (rf)
+                    cpdf = f * cond_d(dalpha, mh.z) / ((1.0f + lo) * 4.0f * wl.z);
+            }
+            d = ctg * il.x + cbt * il.y + cn * il.z;
+            din = dot3(d, n) < 0.0f; /* into the back face's side: inside */
+            o = pos;
+            skip = (uint)hit;
+            continue;
+        }
+#endif
 #ifdef SPM_WITH_CONDUCTOR
         if (cond) {
             /* the lobe: the mirror direction, or about a visible normal m; its weight

@@ -58,14 +58,17 @@ static void check_sane(const char *name)
     for (int c = 0; c < s.ncolours; c++) {
         double mx = spm_spectrum_max(&s.colours[c].s);
         /* a conductor's eta and k are reflectance-kind colours that are not
-         * reflectances: unbounded (aluminium's k is near 7) */
-        int optical = 0;
-        for (int m = 0; m < s.nmaterials; m++)
+         * reflectances: unbounded (aluminium's k is near 7); so is a
+         * dielectric's absorption per scene unit, zero for clear glass */
+        int optical = 0, absorb = 0;
+        for (int m = 0; m < s.nmaterials; m++) {
             optical |= s.materials[m].type == SPM_MAT_CONDUCTOR &&
                        (s.materials[m].refl == c || s.materials[m].col2 == c);
-        int refl = s.colours[c].s.kind == SPM_KIND_REFLECTANCE && !optical;
-        CHECK(mx > 0 && (!refl || mx <= 1.0), "%s: colour %s max %g", name, s.colours[c].name,
-              mx);
+            absorb |= s.materials[m].type == SPM_MAT_DIELECTRIC && s.materials[m].col2 == c;
+        }
+        int refl = s.colours[c].s.kind == SPM_KIND_REFLECTANCE && !optical && !absorb;
+        CHECK((mx > 0 || (absorb && mx == 0)) && (!refl || mx <= 1.0), "%s: colour %s max %g",
+              name, s.colours[c].name, mx);
     }
     spm_scene_free(&s);
 }

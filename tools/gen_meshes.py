@@ -54,7 +54,8 @@ With --coated, the coated scenes (likewise `tri` statements):
 usage: gen_meshes.py OUTDIR [BIG_TRIANGLES]
        gen_meshes.py --scale SHAPE N OUT.ply OUT.scene   (prints the triangle count)
        gen_meshes.py --metals OUTDIR
-       gen_meshes.py --coated OUTDIR"""
+       gen_meshes.py --coated OUTDIR
+       gen_meshes.py --glass OUTDIR   (glass.scene, glass_deep.scene)"""
 import base64, json, math, os, struct, sys
 
 # cube [0,2]^3, faces as quads (a b c d) counter-clockwise seen from outside
@@ -710,7 +711,101 @@ def coated_scenes(out):
     return paths
 
 
+def closed_block(cx, y0, cz, half, height, deg):
+    """A closed block (glass needs an inside): block()'s top and sides lifted to
+    y0, and its bottom, 12 triangles, every front face outward."""
+    tris = [tuple((x, y + y0, z) for x, y, z in t) for t in block(cx, cz, half, height, deg)]
+    a = math.radians(deg)
+    lo = [(cx + half * (u * math.cos(a) - v * math.sin(a)), y0, cz + half * (u * math.sin(a) +
+           v * math.cos(a))) for u, v in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+    c = (cx, y0 + 0.5 * height, cz)
+    return tris + [outward(c, (lo[0], lo[1], lo[2])), outward(c, (lo[0], lo[2], lo[3]))]
+
+
+GLASS_HEAD = """# Glass: the Cornell box of cornell.scene (its walls, camera and equal-energy
+# light of luminance 1000) with dielectrics of index 1.5 in place of its two
+# boxes: at the back, a white (Lambertian) block behind a clear glass block
+# and a green, absorbing glass block (Beer-Lambert, 'absorb greenabs 12': a
+# transmittance exp(-12 greenabs(lambda) d) over d scene units, about 0.3 of
+# the red through its 0.11 width); in front, a smooth clear sphere (left) and
+# a rough one (GGX, alpha 0.2, right). Tessellated: the spheres are faceted
+# (72 triangles each). Objects float 1 mm above the floor so no glass face
+# touches another surface (docs/SCENE_FORMAT.md: dielectric). Written by
+# tools/gen_meshes.py --glass (do not edit the objects here: regenerate);
+# bench/peers/mitsuba_compare.py renders it with Mitsuba 3 as a check of truth.
+# Format: docs/SCENE_FORMAT.md.
+
+image 256 256
+spp 64
+camera position 0.278 0.275 -0.789  direction 0 0 1  fov 40
+
+spectrum white     file colorchecker_n_ohta.csv column white_9_5
+spectrum red       file colorchecker_n_ohta.csv column red
+spectrum green     file colorchecker_n_ohta.csv column green
+spectrum equal     equal
+spectrum greenabs  inline 380 1.0 450 0.7 500 0.1 540 0.02 580 0.1 630 0.8 700 1.0 780 1.0 end
+"""
+
+DEEP_HEAD = """# Deep-coloured glass - where rgb breaks on a dielectric. The Cornell box of
+# cornell.scene, walls ColorChecker white, equal-energy light, with two thick
+# glass blocks (index 1.5) of a filter glass that passes only a narrow band
+# around 600 nm and absorbs strongly elsewhere ('absorb notch 60': exp(-60 d)
+# outside the band over d scene units, e^-6 through the blocks' 0.1 width),
+# and a white block for comparison. Beer-Lambert is not linear in the
+# absorption: truth, ref, ml and mlc exponentiate it per wavelength, so the
+# band shines through orange; rgb exponentiates the absorption's mean over
+# each channel (exp(-d sigma_rgb)), and every channel's mean is dominated by
+# the absorbing part, so its glass comes out a dark brown-red: on the same
+# paths (96 px wide, 32 spp) rgb is 11.5 dE00 off truth at the 99th
+# percentile, where ml (the pretest picks 1 nm for this absorption) is 0.25.
+# The objects are written by tools/gen_meshes.py --glass. Format:
+# docs/SCENE_FORMAT.md.
+
+image 256 256
+spp 64
+camera position 0.278 0.275 -0.789  direction 0 0 1  fov 40
+
+spectrum white     file colorchecker_n_ohta.csv column white_9_5
+spectrum equal     equal
+spectrum notch     inline 380 1.0 585 1.0 592 0.0 608 0.0 615 1.0 780 1.0 end
+"""
+
+
+def glass_scenes(out):
+    """Writes glass.scene and glass_deep.scene into out; returns their paths."""
+    s = GLASS_HEAD + '\n'
+    s += ('material white     reflect white\nmaterial red       reflect red\n'
+          'material green     reflect green\nmaterial light     reflect white  emit equal 1000\n'
+          'material clear     dielectric ior 1.5\n'
+          'material greenglass dielectric ior 1.5 absorb greenabs 12\n'
+          'material rough     dielectric ior 1.5 alpha 0.2\n')
+    s += '\n' + ROOM % ('red', 'green')
+    s += '\n# at the back: a white block behind a clear block (left), a green glass block (right)\n'
+    s += tri_lines('white', block(0.16, 0.47, 0.05, 0.30, 30))
+    s += tri_lines('clear', closed_block(0.17, 0.001, 0.33, 0.055, 0.20, -20))
+    s += tri_lines('greenglass', closed_block(0.40, 0.001, 0.40, 0.055, 0.25, 25))
+    s += '\n# in front: a smooth clear sphere (left), a rough one (right)\n'
+    s += tri_lines('clear', uv_sphere((0.16, 0.071, 0.15), 0.07, 5, 9))
+    s += tri_lines('rough', uv_sphere((0.40, 0.071, 0.15), 0.07, 5, 9))
+    paths = [os.path.join(out, 'glass.scene'), os.path.join(out, 'glass_deep.scene')]
+    w(paths[0], s)
+    s = DEEP_HEAD + '\n'
+    s += ('material white     reflect white\nmaterial light     reflect white  emit equal 1000\n'
+          'material filter    dielectric ior 1.5 absorb notch 60\n')
+    s += '\n' + ROOM % ('white', 'white')
+    s += '\n# two filter-glass blocks (left, front right) and a white block (back right)\n'
+    s += tri_lines('filter', closed_block(0.17, 0.001, 0.30, 0.05, 0.25, 30))
+    s += tri_lines('filter', closed_block(0.36, 0.001, 0.18, 0.05, 0.12, -15))
+    s += tri_lines('white', block(0.40, 0.42, 0.06, 0.22, -20))
+    w(paths[1], s)
+    return paths
+
+
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == '--glass':
+        os.makedirs(sys.argv[2], exist_ok=True)
+        print('\n'.join(glass_scenes(sys.argv[2])))
+        return
     if len(sys.argv) == 3 and sys.argv[1] == '--coated':
         os.makedirs(sys.argv[2], exist_ok=True)
         print('\n'.join(coated_scenes(sys.argv[2])))

@@ -146,3 +146,19 @@ void spm_ref_cond_vertex(const spm_vertex *v, const spm_vertex_ext *x, const flo
         }
     }
 }
+
+/* GGX's pieces for the dielectric's lobe (refcpu_dielectric.c) */
+float spm_ref_ggx_lambda(float a, float z)
+{
+    return lambda(a, z);
+}
+
+float spm_ref_ggx_d(float a, float mz)
+{
+    return ggx_d(a, mz);
+}
+
+void spm_ref_ggx_vndf(const float wo[3], float a, float u1, float u2, float m[3])
+{
+    vndf(wo, a, u1, u2, m);
+}

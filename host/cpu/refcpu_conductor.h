@@ -42,4 +42,9 @@ float spm_ref_cond_fresnel(float eta, float k, float c);
 void spm_ref_cond_vertex(const spm_vertex *v, const spm_vertex_ext *x, const float *eta,
                          const float *k, const float *e, const float *hit, int n, int eye,
                          float *W, float *acc);
+/* GGX of width a in a vertex frame: Smith's Lambda at cosine z, D at m_z, a
+ * visible normal m for wo from two random numbers (the formulas above) */
+float spm_ref_ggx_lambda(float a, float z);
+float spm_ref_ggx_d(float a, float mz);
+void spm_ref_ggx_vndf(const float wo[3], float a, float u1, float u2, float m[3]);
 #endif

@@ -3,10 +3,12 @@
  * L = E_first c_first + A, with M_j x = R_j x lane by lane plus, at a
  * fluorescent vertex, the block's columns weighted by x. A conductor vertex
  * (spm_vertex_ext) applies the camera-first walk's rule (spm_ref_cond_vertex)
- * to A: A = F(cos_light) E_j c_j + F(cos_lobe) (E_hit hit_c + A). Plain scalar float
+ * to A: A = F(cos_light) E_j c_j + F(cos_lobe) (E_hit hit_c + A); a
+ * dielectric's A = E_j c_j + exp(-sigma d) (E_hit hit_c + A). Plain scalar float
  * loops, uncontracted sums in lane order (the kernel fuses them). */
 #include "refcpu.h"
 #include "refcpu_conductor.h"
+#include "refcpu_dielectric.h"
 #include <string.h>
 
 #define MAX_LANES (SPM_TRUTH_BINS + SPM_MAX_SPIKES)
@@ -42,6 +44,16 @@ void spm_ref_fluor_shade(const spm_path *path, const spm_shade_table *tab, int n
         const spm_vertex *v = &path->v[jj - 1];
         spm_u32 r = v->ids & 0xFFFFu, e = v->ids >> 16;
         const spm_vertex_ext *x = &path->x[jj - 1];
+        if (SPM_EXT_DIEL(*x)) { /* A = E_j c_j + exp(-sigma d) (E_hit hit_c + A) */
+            spm_u32 hit = SPM_EXT_HIT(*x);
+            for (int l = 0; l < n; l++) {
+                float in = A[l] + (hit != SPM_NONE ? rows[hit * st + (size_t)l] * x->hit_c : 0.0f);
+                A[l] = spm_ref_diel_absorb(rows[r * st + (size_t)l], x->cos_lobe) * in;
+                if (e != SPM_NONE)
+                    A[l] += rows[e * st + (size_t)l] * v->c;
+            }
+            continue;
+        }
         if (SPM_EXT_K(*x) != SPM_NONE) { /* the conductor's rule, on A */
             spm_u32 hit = SPM_EXT_HIT(*x);
             spm_ref_cond_vertex(v, x, &rows[r * st], &rows[SPM_EXT_K(*x) * st],

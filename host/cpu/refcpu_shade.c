@@ -6,6 +6,7 @@
 #include <math.h>
 #include "spm_rng.h"
 #include "refcpu_conductor.h"
+#include "refcpu_dielectric.h"
 
 #define MAX_LANES (SPM_TRUTH_BINS + SPM_MAX_SPIKES) /* mlc at level 0 */
 
@@ -45,6 +46,32 @@ static void conductor_vertex(const spm_path *path, spm_u32 j, const lanes *v, fl
                         1, P, L);
 }
 
+/* A dielectric vertex j (spm_shared.h spm_vertex_ext): its absorption sigma
+ * in the vertex's colour, the length inside in cos_lobe; per lane
+ *   L += P E[e] c;  P *= exp(-sigma d);  L += P E[hit] hit_c. */
+static void dielectric_vertex(const spm_path *path, spm_u32 j, const lanes *v, float *P, float *L)
+{
+    float S[MAX_LANES], X[MAX_LANES];
+    const spm_vertex *vx = &path->v[j];
+    const spm_vertex_ext *x = &path->x[j];
+    spm_u32 e = vx->ids >> 16, hit = SPM_EXT_HIT(*x);
+    if (e != SPM_NONE) {
+        fetch(v, e, X);
+        for (int l = 0; l < v->n; l++)
+            L[l] += P[l] * X[l] * vx->c;
+    }
+    if (x->cos_lobe > 0.0f) {
+        fetch(v, vx->ids & 0xFFFFu, S);
+        for (int l = 0; l < v->n; l++)
+            P[l] *= spm_ref_diel_absorb(S[l], x->cos_lobe);
+    }
+    if (hit != SPM_NONE) {
+        fetch(v, hit, X);
+        for (int l = 0; l < v->n; l++)
+            L[l] += P[l] * X[l] * x->hit_c;
+    }
+}
+
 /* P = 1; L = first_emit_c E[first]; per vertex P *= R, L += P E c (and at
  * a coated vertex L += P E[hit] hit_c); then the background. A black vertex (no reflectance colour) ends every later term. */
 static void shade_lanes(const spm_path *path, const lanes *v, float *L)
@@ -66,6 +93,10 @@ static void shade_lanes(const spm_path *path, const lanes *v, float *L)
         spm_u32 r = path->v[j].ids & 0xFFFFu, e = path->v[j].ids >> 16;
         if (r == SPM_NONE)
             return;
+        if (SPM_EXT_DIEL(path->x[j])) {
+            dielectric_vertex(path, j, v, P, L);
+            continue;
+        }
         if (SPM_EXT_K(path->x[j]) != SPM_NONE) {
             conductor_vertex(path, j, v, P, L);
             continue;

@@ -10,6 +10,7 @@
 #include "spm_rng.h"
 #include "refcpu_conductor.h"
 #include "refcpu_coated.h"
+#include "refcpu_dielectric.h"
 
 /* The level feeler: the finest (smallest) level among the colours met,
  * starting from the coarsest level in use; a colour lowers it only when
@@ -74,6 +75,10 @@ static spm_u32 vertex_lobe(const spm_material *m, const rng_key *k, int j, float
         *mean = m->mean;
         *inv_mean = m->inv_mean;
         return m->refl;
+    case SPM_MAT_DIELECTRIC: /* its absorption colour; R + T = 1: always survives */
+        *mean = m->mean;
+        *inv_mean = m->inv_mean;
+        return m->refl;
     case SPM_MAT_FLUOR:
     case SPM_MAT_DONALDSON: /* diffuse: its diagonal colour marks it for the shade stage */
         *mean = m->mean;
@@ -130,12 +135,13 @@ static const spm_emitter *pick_emitter(const spm_geometry *g, const rng_key *k, 
  *   (1 / pdf) * cos_e * area / max(d2, SPM_D2_MIN_REL * area) * |cos_i| / pi
  * or SPM_NONE (weight 0) when occluded, back-facing or on the other side. At a
  * rough conductor (cc) the factor after the distance is its lobe's
- * (spm_ref_cond_light), and *cos_h its Fresnel angle; at a coated vertex
- * (co) its chosen lobe's (spm_ref_coat_light). */
+ * (spm_ref_cond_light), and *cos_h its Fresnel angle; at a rough dielectric
+ * (cc and its relative index deta > 0) its reflection's (spm_ref_diel_light);
+ * at a coated vertex (co) its chosen lobe's (spm_ref_coat_light). */
 static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, const rng_key *k,
                               spm_u32 dim, const float x[3], spm_u32 hit, const float n[3],
-                              const float d[3], const spm_ref_cond *cc, const spm_ref_coat *co,
-                              float *c, float *cos_h)
+                              const float d[3], const spm_ref_cond *cc, float deta,
+                              const spm_ref_coat *co, float *c, float *cos_h)
 {
     *c = 0.0f;
     if (g->nemitters == 0)
@@ -164,7 +170,11 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
         return SPM_NONE; /* light and viewer on different sides: no transmission */
     float d2 = v3_dot(ev, ev), d2min = SPM_D2_MIN_REL * em->area;
     float w;
-    if (cc) {
+    if (cc && deta > 0.0f) {
+        float d2c = d2 > d2min ? d2 : d2min;
+        w = pe->inv_pdf * cos_e * em->area / d2c *
+            spm_ref_diel_light(cc, deta, l, pe->pdf, d2c, em->area, cos_e);
+    } else if (cc) {
         float d2c = d2 > d2min ? d2 : d2min;
         w = pe->inv_pdf * cos_e * em->area / d2c *
             spm_ref_cond_light(cc, l, pe->pdf, d2c, em->area, cos_e, cos_h);
@@ -250,8 +260,9 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
     *h = (spm_path_head){0, SPM_END_ABSORBED, SPM_NONE, 0.0f, SPM_NONE, 0.0f, 0, 0};
 
     float o[3], d[3], weight = 1.0f; /* product of 1 / mean over survived vertices */
-    float cpdf = -1.0f; /* the last vertex's conductor (or coating's specular) lobe density
-                           (< 0: none, 0: a delta) */
+    float cpdf = -1.0f; /* the last vertex's conductor, dielectric or coating's specular lobe
+                           density (< 0: none, 0: a delta or a refraction) */
+    int din = 0;        /* the last vertex's sampled ray runs inside its glass */
     for (int i = 0; i < 3; i++)
         o[i] = p->cam.eye[i];
     camera_ray(&p->cam, k.seed, k.pixel, k.sample, d);
@@ -277,13 +288,21 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
             h->first_emit_c = 1.0f;
             feel(&f, lvlk, memit, 1, SPM_SETBY_EMITTER);
         }
+        if (din && j > 0) /* the segment's length inside: its absorption, in the shade stage */
+            path->x[j - 1].cos_lobe = t;
         if (j > 0 && cpdf >= 0.0f && memit != SPM_NONE)
             lobe_hit(tri, m, d, t, g->light_pdf[hit], cpdf, weight, memit, &path->x[j - 1], &f,
                      lvlk);
         int cond = SPM_MAT_TAG(*m) == SPM_MAT_CONDUCTOR;
+        int diel = SPM_MAT_TAG(*m) == SPM_MAT_DIELECTRIC;
         spm_ref_cond cc;
+        float deta = 0.0f; /* a dielectric's relative index eta_t / eta_i */
         if (cond)
             spm_ref_cond_make(tri, d, m->p[SPM_COND_P_ALPHA], &cc);
+        if (diel) {
+            spm_ref_cond_make(tri, d, m->p[SPM_DIEL_P_ALPHA], &cc);
+            deta = spm_ref_diel_eta(tri, d, m->p[SPM_DIEL_P_IOR]);
+        }
         int coat = SPM_MAT_TAG(*m) == SPM_MAT_COATED;
         spm_ref_coat co;
         if (coat) /* its lobe first, from its own dimensions */
@@ -293,9 +312,10 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         spm_u32 dim = SPM_DIM_VERTEX(j);
         float c = 0.0f, cos_h = 0.0f;
         spm_u32 e = SPM_NONE;
-        if (!(cond && cc.alpha == 0.0f) && !(coat && co.spec && co.f.alpha == 0.0f))
-            e = sample_emitter(g, mats, &k, dim, x, (spm_u32)hit, tri->n, d, cond ? &cc : NULL,
-                               coat ? &co : NULL, &c, &cos_h); /* none on a delta lobe */
+        if (!((cond || diel) && cc.alpha == 0.0f) && !(coat && co.spec && co.f.alpha == 0.0f))
+            e = sample_emitter(g, mats, &k, dim, x, (spm_u32)hit, tri->n, d,
+                               cond || diel ? &cc : NULL, deta, coat ? &co : NULL, &c,
+                               &cos_h); /* none on a delta lobe */
         float mmean, minv;
         spm_u32 refl = vertex_lobe(m, &k, j, &mmean, &minv);
         if (coat) { /* the lobe's colour; survival q = min(1, w mean), weight w / q */
@@ -313,6 +333,9 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
             path->x[j].ids = SPM_EXT_IDS(m->col2, SPM_NONE);
             path->x[j].cos_light = cos_h;
         }
+        din = 0;
+        if (diel)
+            path->x[j].ids = SPM_EXT_KIND; /* the length inside comes with the next hit */
         h->nvert = (spm_u32)j + 1;
         if (refl != SPM_NONE)
             feel(&f, lvlk, refl, occurrences(path, j, refl), SPM_SETBY_REFLECTOR);
@@ -331,7 +354,23 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         }
         weight *= minv;
         float nd[3];
-        if (cond) {
+        if (diel) {
+            float wt, wg;
+            int ok = spm_ref_diel_lobe(&cc, deta, rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_DIEL_M_A)),
+                                       rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_DIEL_M_B)),
+                                       rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_DIEL_CHOICE)), nd, &wt, &wg,
+                                       &cpdf);
+            if (!ok) { /* the wrong side: the path ends */
+                cpdf = -1.0f;
+                h->end = SPM_END_ABSORBED;
+                break;
+            }
+            if (wt != 1.0f)
+                weight *= wt;
+            if (cc.alpha > 0.0f)
+                weight *= wg;
+            din = v3_dot(nd, tri->n) < 0.0f; /* into the back face's side: inside */
+        } else if (cond) {
             float lw;
             int up = spm_ref_cond_lobe(&cc, rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_COND_M_A)),
                                        rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_COND_M_B)), nd,

@@ -90,6 +90,66 @@ static int fluor_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
     return 0;
 }
 
+/* A dielectric (glass) of one index, smooth or GGX-rough (alpha, sampled by
+ * visible normals as the conductor's), absorbing inside by Beer-Lambert:
+ * transmittance exp(-sigma d) over a length d inside, sigma = DENSITY SPEC
+ * per scene unit ('absorb SPEC DENSITY', an optical colour: the scale is the
+ * density). Its vertex records sigma as its colour, so clear glass derives a
+ * zero one. Fresnel with one index is the same at every wavelength, so the
+ * reflect/refract choice and the weights are scalar (kernels/dielectric.clh).
+ * Russian roulette: the interface's scalar albedo, R + T = 1, so a glass
+ * vertex always survives (absorption is spectral and left to the shade
+ * stage; the record's depth bounds a path trapped by total internal
+ * reflection). */
+static void dielectric_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d)
+{
+    (void)sc;
+    d->refl = s->col2 >= 0 ? (spm_u32)s->col2 : SPM_NONE;
+    d->col2 = SPM_NONE;
+    d->mean = 1.0f;
+    d->inv_mean = 1.0f;
+    d->p[SPM_DIEL_P_IOR] = (float)s->p[SPM_DIEL_P_IOR];
+    d->p[SPM_DIEL_P_ALPHA] = s->p[SPM_DIEL_P_ALPHA] < SPM_COND_MIN_ALPHA
+                                 ? 0.0f
+                                 : (float)s->p[SPM_DIEL_P_ALPHA];
+}
+
+/* The longest straight segment inside the scene's objects of material m:
+ * the diagonal of its triangles' bounding box (a segment inside an object
+ * lies in its box), for the absorption's pretest. */
+static double dielectric_length(const spm_scene *sc, int m)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < sc->ntris; i++)
+        for (int v = 0; sc->tris[i].material == m && v < 3; v++)
+            for (int k = 0; k < 3; k++) {
+                lo[k] = fmin(lo[k], sc->tris[i].p[v][k]);
+                hi[k] = fmax(hi[k], sc->tris[i].p[v][k]);
+            }
+    double d2 = 0.0;
+    for (int k = 0; k < 3; k++)
+        d2 += hi[k] >= lo[k] ? (hi[k] - lo[k]) * (hi[k] - lo[k]) : 0.0;
+    return sqrt(d2);
+}
+
+static int dielectric_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
+{
+    if (!(s->p[SPM_DIEL_P_IOR] > 0.0)) {
+        spm_errorf(err, "material '%s': a dielectric needs 'ior N'", s->name);
+        return 1;
+    }
+    s->p[SPM_DIEL_P_LEN] = dielectric_length(sc, (int)(s - sc->materials));
+    if (s->col2 >= 0)
+        return 0;
+    sc->colours = spm_xrealloc(sc->colours, ((size_t)sc->ncolours + 2) * sizeof *sc->colours);
+    spm_colour *c = &sc->colours[sc->ncolours];
+    memset(c, 0, sizeof *c);
+    snprintf(c->name, sizeof c->name, "%.50s:clear", s->name);
+    spm_spectrum_constant(0.0, SPM_KIND_REFLECTANCE, &c->s);
+    s->col2 = sc->ncolours++;
+    return 0;
+}
+
 /* Coated (coated.h): a Lambertian base under a smooth or GGX-rough dielectric
  * coating, Mitsuba 3's plastic / roughplastic with nonlinear true. The vertex
  * records the derived colour D (col3, the diffuse lobe) or the derived white
@@ -218,6 +278,25 @@ const spm_mtype_desc spm_material_types[] = {
         .fill = fluor_fill,
         .derive = fluor_derive,
     },
+    [SPM_MAT_DIELECTRIC] = {
+        .keyword = "dielectric",
+        .tag = SPM_MAT_DIELECTRIC,
+        .help = "glass: 'dielectric ior N [absorb SPECTRUM DENSITY] [alpha A]' (index inside "
+                "the front face's side; Beer-Lambert exp(-DENSITY SPECTRUM d), d in scene units; "
+                "alpha: GGX width, 0 smooth)",
+        .params = {{.clause = "ior", .kind = SPM_MP_NUMBER, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
+                    .hi = 4.0, .what = "an index of refraction"},
+                   {.clause = "absorb", .kind = SPM_MP_OPTICAL, .slot = SPM_MSLOT_COL2,
+                    .what = "an absorption coefficient (spectrum and density per scene unit)"},
+                   {.clause = "alpha", .kind = SPM_MP_NUMBER, .slot = SPM_DIEL_P_ALPHA, .lo = 0.0,
+                    .hi = 1.0, .what = "a GGX width"}},
+        .nparams = 3,
+        .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
+        .rng_dims = 3, /* SPM_DIM_DIEL_M_A, SPM_DIM_DIEL_M_B, SPM_DIM_DIEL_CHOICE */
+        .define = "SPM_WITH_DIELECTRIC",
+        .fill = dielectric_fill,
+        .derive = dielectric_derive,
+    },
     [SPM_MAT_COATED] = {
         .keyword = "coated",
         .tag = SPM_MAT_COATED,
@@ -336,8 +415,8 @@ size_t spm_material_vertex_bytes(const spm_material *mats, int n)
 {
     int um[SPM_MAT_TYPES], ue[SPM_EMIT_TYPES];
     spm_material_types_used(mats, n, um, ue);
-    /* the types with words share the one spm_vertex_ext record: the most any
-     * of them declares */
+    /* the types that declare words share one record (spm_vertex_ext, its kind
+     * bit telling them apart): the widest's */
     size_t words = 0;
     for (int i = 0; i < spm_nmaterial_types; i++)
         if (um[i] && (size_t)spm_material_types[i].vertex_u32 > words)

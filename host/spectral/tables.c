@@ -123,7 +123,9 @@ static void fill_materials(const spm_scene *sc, spm_tables *t)
 
 /* The pretest over the scene's colours. A conductor's eta and k are no
  * reflectances: they are left out of the set, and get the levels of their
- * Fresnel (spm_conductor_pretest; a colour two conductors share, the finer).
+ * Fresnel (spm_conductor_pretest; a colour two conductors share, the finer);
+ * likewise a dielectric's absorption sigma, the levels of its transmittance
+ * over the lengths inside (spm_dielectric_pretest).
  * 1 when interrupted (*done: colours done). */
 static int pretest_colours(const spm_scene *sc, const spm_pretest_opts *po, spm_tables *t, int *done)
 {
@@ -135,6 +137,8 @@ static int pretest_colours(const spm_scene *sc, const spm_pretest_opts *po, spm_
                 optical[sc->materials[i].refl] = 1;
             if (sc->materials[i].col2 >= 0)
                 optical[sc->materials[i].col2] = 1;
+        } else if (sc->materials[i].type == SPM_MAT_DIELECTRIC && sc->materials[i].col2 >= 0) {
+            optical[sc->materials[i].col2] = 1;
         }
     const spm_spectrum **set = spm_xcalloc((size_t)n + 1, sizeof *set);
     int m = 0;
@@ -148,11 +152,17 @@ static int pretest_colours(const spm_scene *sc, const spm_pretest_opts *po, spm_
     int stopped = spm_stop_requested();
     for (int i = 0; i < sc->nmaterials && !stopped; i++) {
         const spm_scene_material *mt = &sc->materials[i];
-        if (mt->type != SPM_MAT_CONDUCTOR || mt->refl < 0 || mt->col2 < 0)
+        int diel = mt->type == SPM_MAT_DIELECTRIC && mt->col2 >= 0;
+        if (!diel && (mt->type != SPM_MAT_CONDUCTOR || mt->refl < 0 || mt->col2 < 0))
             continue;
         spm_pretest_result r;
-        spm_conductor_pretest(set, m, &sc->colours[mt->refl].s, &sc->colours[mt->col2].s, n + i, po, &r);
-        for (int j = 0; j < 2; j++) {
+        if (diel)
+            spm_dielectric_pretest(set, m, &sc->colours[mt->col2].s, mt->p[SPM_DIEL_P_LEN],
+                                   n + i, po, &r);
+        else
+            spm_conductor_pretest(set, m, &sc->colours[mt->refl].s, &sc->colours[mt->col2].s,
+                                  n + i, po, &r);
+        for (int j = diel; j < 2; j++) {
             int c = j ? mt->col2 : mt->refl;
             if (optical[c] == 1)
                 t->pretest[c] = r, optical[c] = 2; /* the first conductor that uses it */
@@ -181,6 +191,15 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
                    SPM_NONE - 1);
         return 1;
     }
+    for (int i = 0; i < sc->nmaterials; i++)
+        if (spm_material_types[sc->materials[i].type].vertex_u32 &&
+            sc->ncolours >= (int)SPM_EXT_KIND - 1) {
+            /* the vertex words keep a colour id in 15 bits (spm_vertex_ext) */
+            spm_errorf(err, "%s: too many colours for a %s (%d, at most %u)", sc->path,
+                       spm_material_types[sc->materials[i].type].keyword, sc->ncolours,
+                       SPM_EXT_KIND - 2);
+            return 1;
+        }
     if (spm_cmf_init(err))
         return 1;
     double white_rgb[3];

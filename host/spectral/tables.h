@@ -96,6 +96,14 @@ void spm_conductor_pretest(const spm_spectrum *const *set, int n, const spm_spec
 #define SPM_CONDUCTOR_NCOS 6
 extern const double spm_conductor_cosines[SPM_CONDUCTOR_NCOS];
 void spm_conductor_pretest_merge(spm_pretest_result *out, const spm_pretest_result *r, int first);
+/* A dielectric's pretest: its transmittance exp(-sigma d) as each level
+ * renders it (exp of the level's bin means of sigma) against exp of the 1 nm
+ * sigma, judged as a reflectance (spm_pretest_given) against set[0..n-1] at
+ * six lengths d from dmax / 32 to dmax, the worst kept
+ * (dielectric_pretest.c says why). */
+void spm_dielectric_pretest(const spm_spectrum *const *set, int n, const spm_spectrum *sigma,
+                            double dmax, int self, const spm_pretest_opts *o,
+                            spm_pretest_result *out);
 int spm_tables_build(const spm_scene *scene, const spm_pretest_opts *po, spm_tables *t,
                      spm_error *err);
 void spm_tables_free(spm_tables *t);
