@@ -206,16 +206,17 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         float dalpha = diel ? m.p[SPM_DIEL_P_ALPHA] : 0.0f;
         /* the relative index eta_t / eta_i: eta entering through the front face, 1 / eta leaving */
         float deta = !diel ? 1.0f : dot3(back, n) > 0.0f ? m.p[SPM_DIEL_P_IOR] : 1.0f / m.p[SPM_DIEL_P_IOR];
-#else
-        const int diel = 0;
-        const float dalpha = 0.0f;
 #endif
         float3 cn = dot3(n, back) < 0.0f ? -n : n; /* the normal on the incoming side */
         float3 ctg = ld3(tr->t), cbt = cross3(cn, ctg);
         float3 wl = (float3)(dot3(back, ctg), dot3(back, cbt), dot3(back, cn)); /* wo in the frame */
         spm_vertex_ext xe = {0u, 0.0f, 0.0f, 0.0f};
         /* no light sample on a delta lobe */
+#ifdef SPM_WITH_DIELECTRIC
         int nee = p.nemitters > 0 && !(cond && calpha == 0.0f) && !(diel && dalpha == 0.0f);
+#else
+        int nee = p.nemitters > 0 && !(cond && calpha == 0.0f);
+#endif
 #else
         int nee = p.nemitters > 0;
 #endif

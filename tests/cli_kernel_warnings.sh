@@ -37,6 +37,7 @@ sort -u "$T/variants" > "$T/programs"
 check "the list has the render's program" grep -q "^kernels/trace.cl kernels/shade.cl	" "$T/programs"
 check "the list has spectral output builds" grep -q "	.*-DSPM_SPEC_BINS=" "$T/programs"
 check "the list has conductor builds" grep -q "	.*-DSPM_WITH_CONDUCTOR" "$T/programs"
+check "the list has dielectric builds" grep -q "	.*-DSPM_WITH_DIELECTRIC" "$T/programs"
 check "the list has the ray replay's builds" test "$(grep -c "^kernels/rays.cl	" "$T/programs")" -eq 2
 check "the list has a program for every mode's kernel" test "$(grep -c "^kernels/trace.cl" "$T/programs")" -ge \
     "$("$BIN" modes | wc -l)"

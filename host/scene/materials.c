@@ -134,10 +134,7 @@ static double dielectric_length(const spm_scene *sc, int m)
 
 static int dielectric_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
 {
-    if (!(s->p[SPM_DIEL_P_IOR] > 0.0)) {
-        spm_errorf(err, "material '%s': a dielectric needs 'ior N'", s->name);
-        return 1;
-    }
+    (void)err; /* 'ior' is a required clause: the parser has checked it */
     s->p[SPM_DIEL_P_LEN] = dielectric_length(sc, (int)(s - sc->materials));
     if (s->col2 >= 0)
         return 0;
@@ -285,7 +282,7 @@ const spm_mtype_desc spm_material_types[] = {
                 "the front face's side; Beer-Lambert exp(-DENSITY SPECTRUM d), d in scene units; "
                 "alpha: GGX width, 0 smooth)",
         .params = {{.clause = "ior", .kind = SPM_MP_NUMBER, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
-                    .hi = 4.0, .what = "an index of refraction"},
+                    .hi = 4.0, .what = "an index of refraction", .required = 1},
                    {.clause = "absorb", .kind = SPM_MP_OPTICAL, .slot = SPM_MSLOT_COL2,
                     .what = "an absorption coefficient (spectrum and density per scene unit)"},
                    {.clause = "alpha", .kind = SPM_MP_NUMBER, .slot = SPM_DIEL_P_ALPHA, .lo = 0.0,

@@ -34,6 +34,7 @@ typedef struct {
     int slot;
     double lo, hi;        /* SPM_MP_NUMBER: the range */
     const char *what;     /* for messages: "a probability" */
+    int required;         /* a clause that must be given (the parser says so, file:line) */
 } spm_mparam;
 
 #define SPM_MTYPE_MAX_PARAMS 6

@@ -568,6 +568,12 @@ static int stmt_material(parser *p)
         if (spm_lex_next(&p->lx, p->err) || material_param(p, cl[k], &m))
             return 1;
     }
+    for (int k = 0; k < ncl; k++)
+        if (cl[k]->required && !have[k]) { /* a clause the type cannot do without */
+            spm_errorf(p->err, "%s: material '%s': %s needs '%s' (%s)", where, name,
+                       mt->keyword ? mt->keyword : "it", cl[k]->clause, cl[k]->what);
+            return 1;
+        }
     int idx = spm_sb_material_typed(&p->b, &m, where, p->err);
     if (idx < 0)
         return 1;
