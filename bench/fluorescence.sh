@@ -3,8 +3,9 @@
 # fluorescent scene, the shade stage at every level (ml with every colour
 # allowed down to level L: --threshold 1e6 --coarsest-level L puts every
 # path at L), then every mode that renders fluorescence as it runs, side by
-# side: shade seconds, whole render seconds and paths/s, the best of ROUNDS
-# runs taken in turns; and ml's and mlc's dE00 against truth of the same
+# side: shade and trace seconds, whole render seconds and paths/s, the best
+# of ROUNDS runs taken in turns (the trace stage, the same work in every mode,
+# bounds what a cheaper shade stage can buy); and ml's and mlc's dE00 against truth of the same
 # paths (same seed and spp: the representation's error, no noise).
 # Usage: bench/fluorescence.sh [SPECMIP] [SCENE] [WxH] [SPP] [ROUNDS]
 set -euo pipefail
@@ -31,14 +32,14 @@ for r in $(seq "$rounds"); do
       --json -o "$tmp/$name.exr" > "$tmp/$name.$r.json"
   done
 done
-printf '%-6s %10s %10s %12s %10s %8s\n' run shade_s render_s paths/s shade/L3 levels
+printf '%-6s %10s %10s %10s %12s %10s %8s\n' run shade_s trace_s render_s paths/s shade/L3 levels
 l3=$(for r in $(seq "$rounds"); do jq .shade_s "$tmp/L3.$r.json"; done | sort -g | head -1)
 for run in "${runs[@]}"; do
   name=${run%%:*}
-  best=$(for r in $(seq "$rounds"); do jq -r '"\(.shade_s) \(.wall_s) \(.paths_per_s)"' "$tmp/$name.$r.json"; done | sort -g | head -1)
-  read -r s wall pps <<< "$best"
+  best=$(for r in $(seq "$rounds"); do jq -r '"\(.shade_s) \(.trace_s) \(.wall_s) \(.paths_per_s)"' "$tmp/$name.$r.json"; done | sort -g | head -1)
+  read -r s trace wall pps <<< "$best"
   lv=$(jq -r '[.levels[]?.paths] | map(tostring) | join("/")' "$tmp/$name.1.json")
-  printf '%-6s %10.4f %10.4f %12.0f %10.1f %8s\n' "$name" "$s" "$wall" "$pps" \
+  printf '%-6s %10.4f %10.4f %10.4f %12.0f %10.1f %8s\n' "$name" "$s" "$trace" "$wall" "$pps" \
     "$(awk -v a="$s" -v b="$l3" 'BEGIN { print a / b }')" "${lv:--}"
 done
 for m in ml mlc rgb ref; do

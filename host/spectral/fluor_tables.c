@@ -186,11 +186,45 @@ static double level_error(const double *const M[SPM_NUM_LEVELS], const spm_spect
     return worst;
 }
 
+static int is_fluor(const spm_scene_material *m)
+{
+    return m->type == (int)SPM_MAT_FLUOR || m->type == (int)SPM_MAT_DONALDSON;
+}
+
+void spm_fluor_ingredients(const spm_scene *sc, unsigned char *ingr)
+{
+    int n = sc->ncolours;
+    memset(ingr, 0, (size_t)n);
+    for (int m = 0; m < sc->nmaterials; m++) {
+        const spm_scene_material *mt = &sc->materials[m];
+        const int c[3] = {mt->refl, mt->col2, mt->col3};
+        if (is_fluor(mt))
+            for (int j = 0; j < 3; j++)
+                if (c[j] >= 0 && c[j] < n)
+                    ingr[c[j]] = 1;
+    }
+    /* a colour another material, an emitter or a background also uses is on paths */
+    for (int m = 0; m < sc->nmaterials; m++) {
+        const spm_scene_material *mt = &sc->materials[m];
+        const int c[4] = {mt->refl, mt->col2, mt->col3, mt->emit};
+        for (int j = 0; j < 4; j++)
+            if (c[j] >= 0 && c[j] < n && (j == 3 || !is_fluor(mt)))
+                ingr[c[j]] = 0;
+    }
+    const int bg[2] = {sc->bg_up, sc->bg_down};
+    for (int j = 0; j < 2; j++)
+        if (bg[j] >= 0 && bg[j] < n)
+            ingr[bg[j]] = 0;
+}
+
 /* The contexts: every emission colour and background, and each times every
- * reflectance of the scene (the dye lit by light another surface reflected). */
+ * reflectance a path records (the dye lit by light another surface
+ * reflected; a dye's absorption and emission shapes are no such factor). */
 static int contexts(const spm_scene *sc, spm_spectrum **out)
 {
     int ne = 0, nr = 0, n = 0;
+    unsigned char *ingr = spm_xcalloc((size_t)sc->ncolours + 1, 1);
+    spm_fluor_ingredients(sc, ingr);
     for (int c = 0; c < sc->ncolours; c++)
         sc->colours[c].s.kind == SPM_KIND_EMISSION ? ne++ : nr++;
     spm_spectrum *x = spm_xcalloc((size_t)ne * (size_t)(nr + 1) + 1, sizeof *x);
@@ -199,11 +233,12 @@ static int contexts(const spm_scene *sc, spm_spectrum **out)
             continue;
         x[n++] = sc->colours[c].s;
         for (int r = 0; r < sc->ncolours; r++)
-            if (sc->colours[r].s.kind != SPM_KIND_EMISSION) {
+            if (sc->colours[r].s.kind != SPM_KIND_EMISSION && !ingr[r]) {
                 x[n] = sc->colours[c].s;
                 spm_spectrum_multiply(&x[n++], &sc->colours[r].s);
             }
     }
+    free(ingr);
     *out = x;
     return n;
 }

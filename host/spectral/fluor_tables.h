@@ -24,6 +24,12 @@ void spm_fluor_tables_fill(const spm_scene *sc, const spm_spectrum *d65, spm_tab
  * the worse of one and two). */
 void spm_fluor_pretest(const spm_scene *sc, const spm_pretest_opts *po, spm_tables *t,
                        uint8_t *lvlk);
+/* ingr[c] = 1 (c < sc->ncolours) for a colour only a fluorescent material
+ * takes as its SPEC, ABSORB or EMIT: no path records it (a fluorescent vertex
+ * records the diagonal, the matrix carries the rest), so it is no factor of
+ * the pretests' products. A colour a non-fluorescent material, an emitter or
+ * a background also uses is not one. */
+void spm_fluor_ingredients(const spm_scene *sc, unsigned char *ingr);
 /* The 3 x 3 re-radiation matrix of rgb mode for fluorescent material f, as
  * M[o][i] (fluorescent part only; the diagonal is the colour's RGB): the
  * matrix that maps the linear sRGB of three band lights, D65 over 380-490,

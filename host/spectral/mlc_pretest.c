@@ -105,14 +105,14 @@ static void errors(const ctx_t *cx, const vec_t pr, vec_t *pt, spm_metric metric
 
 /* Context C: s times 1..SPM_PRETEST_SEQ_OTHERS other reflectances (and a random light
  * when s is a reflectance), s at each level, the others at level 0. */
-static void sequences(const ctx_t *cx, int self, int is_light, const vec_t s_truth,
+static void sequences(const ctx_t *cx, int self, int seed, int is_light, const vec_t s_truth,
                       vec_t *s_test, const spm_pretest_opts *o, double worst[SPM_NUM_LEVELS],
                       unsigned char fail[SPM_NUM_LEVELS])
 {
     int others = cx->nrefl - (is_light ? 0 : 1);
     if (others <= 0)
         return;
-    uint64_t state = spm_pretest_seq_state(o, self);
+    uint64_t state = spm_pretest_seq_state(o, seed);
     for (int q = 0; q < o->nsequences; q++) {
         vec_t pr, f, pt[SPM_NUM_LEVELS];
         memcpy(pr, s_truth, sizeof pr);
@@ -142,8 +142,9 @@ static void sequences(const ctx_t *cx, int self, int is_light, const vec_t s_tru
     }
 }
 
-/* One factor s (truth s_truth, level l s_test[l]) in every context. */
-static void run_factor(const ctx_t *cx, int is_light, int self, const double *s_truth,
+/* One factor s (truth s_truth, level l s_test[l]) in every context; seed
+ * seeds its context C. */
+static void run_factor(const ctx_t *cx, int is_light, int self, int seed, const double *s_truth,
                        vec_t *s_test, const spm_pretest_opts *o, spm_pretest_result *res)
 {
     memset(res, 0, sizeof *res);
@@ -175,17 +176,18 @@ static void run_factor(const ctx_t *cx, int is_light, int self, const double *s_
     }
     memcpy(worst_ac, res->err_k[0], sizeof worst_ac);
     memcpy(fail_ac, fail_k[0], sizeof fail_ac);
-    sequences(cx, self, is_light, s_truth, s_test, o, worst_ac, fail_ac);
+    sequences(cx, self, seed, is_light, s_truth, s_test, o, worst_ac, fail_ac);
     spm_pretest_fold(fail_ac, fail_k, worst_ac, o->coarsest_level, res);
 }
 
-static void run_one(const ctx_t *cx, const spm_mlc_colour *c, int self, const spm_pretest_opts *o,
-                    spm_pretest_result *res)
+static void run_one(const ctx_t *cx, const spm_mlc_colour *c, int self, int seed,
+                    const spm_pretest_opts *o, spm_pretest_result *res)
 {
     vec_t s_test[SPM_NUM_LEVELS];
     for (int l = 0; l < SPM_NUM_LEVELS; l++)
         composite(c, cx->nlanes, l, s_test[l]);
-    run_factor(cx, c->full->kind == SPM_KIND_EMISSION, self, cx->truth[self], s_test, o, res);
+    run_factor(cx, c->full->kind == SPM_KIND_EMISSION, self, seed, cx->truth[self], s_test, o,
+               res);
 }
 
 /* A conductor of eta colour ce and k colour ck (self: its context C seed): at
@@ -211,7 +213,7 @@ static void run_conductor(const ctx_t *cx, const spm_mlc_colour *ce, const spm_m
                                   ? spm_conductor_fresnel(ve[l][i], vk[l][i], c)
                                   : 0.0;
         spm_pretest_result r;
-        run_factor(cx, 0, self, ft, ftest, o, &r);
+        run_factor(cx, 0, self, self, ft, ftest, o, &r);
         spm_conductor_pretest_merge(res, &r, a == 0);
     }
 }
@@ -242,18 +244,23 @@ int spm_mlc_pretest_run(const spm_mlc_colour *cols, int n, int nlanes,
     for (int i = 0; i < n; i++) {
         truth_of(&cols[i], cx->truth[i]);
         composite(&cols[i], nlanes, 0, cx->comp0[i]);
+        if (cols[i].no_factor)
+            continue;
         if (cols[i].full->kind == SPM_KIND_EMISSION)
             cx->lights[cx->nlights++] = i;
         else if (!optical[i])
             cx->refl[cx->nrefl++] = i;
     }
-    int i = 0;
+    /* context C seeded by the colour's place among the factors (as the general
+     * pretest: a colour that is no factor changes no other's sequences) */
+    int i = 0, skipped = 0;
     for (; i < n; i++) {
         spm_test_pause("pretest");
         if (spm_stop_requested())
             break;
+        int seed = cols[i].no_factor ? n + skipped++ : i - skipped;
         if (!optical[i])
-            run_one(cx, &cols[i], i, o, &results[i]);
+            run_one(cx, &cols[i], i, seed, o, &results[i]);
     }
     /* a colour two conductors share takes the finer level of the two */
     for (int j = 0; j < nconductors && i == n && !spm_stop_requested(); j++) {

@@ -11,6 +11,8 @@ typedef struct {
     const spm_spectrum *smooth;  /* the part sampled at each level (a reflectance: full) */
     const double *lane;          /* nlanes values: an emission's energy per lane (x nm), a
                                   * reflectance's value at each lane's wavelength */
+    int no_factor;               /* judged, but no factor of the others' products (a
+                                  * fluorescent dye's shapes: spm_fluor_ingredients) */
 } spm_mlc_colour;
 
 /* results[i] for cols[i], in the general pretest's terms (a conductor's eta

@@ -12,6 +12,7 @@
 #include "colour.h"
 #include "mlc_pretest.h"
 #include "spikes.h"
+#include "fluor_tables.h"
 
 #define MERGE_NM 1.0  /* spikes of different lights closer than this share a lane */
 
@@ -116,6 +117,8 @@ int spm_mlc_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_ta
     }
     double *lanes = spm_xcalloc((size_t)n * SPM_MAX_SPIKES + 1, sizeof *lanes);
     spm_mlc_colour *cols = spm_xcalloc((size_t)n + 1, sizeof *cols);
+    unsigned char *ingr = spm_xcalloc((size_t)n + 1, 1);
+    spm_fluor_ingredients(sc, ingr);
     for (int c = 0; c < n; c++) {
         double *lane = &lanes[(size_t)c * SPM_MAX_SPIKES];
         const spm_spectrum *in = &sc->colours[c].s;
@@ -125,7 +128,7 @@ int spm_mlc_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_ta
             for (int k = 0; k < t->nspikes; k++)
                 lane[k] = lane_mean(prof, k, lane_wl[k], in->nm1);
         fill_row(&smooth[c], lane, c, t);
-        cols[c] = (spm_mlc_colour){in, &smooth[c], lane};
+        cols[c] = (spm_mlc_colour){in, &smooth[c], lane, ingr[c]};
     }
     double lane_cmf[3][SPM_MAX_SPIKES];
     for (int i = 0; i < 3; i++)
@@ -144,6 +147,7 @@ int spm_mlc_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_ta
         for (int k = 0; k < SPM_PRETEST_KMAX; k++)
             t->mlc_lvlk[(size_t)c * SPM_PRETEST_KMAX + k] = (uint8_t)t->mlc_pretest[c].level_k[k];
     free(cols);
+    free(ingr);
     free(lanes);
     free(prof);
     free(light_of);

@@ -118,13 +118,15 @@ typedef struct {
     int nlights, nrefl;
 } set_t;
 
-static void split_set(const spm_spectrum *const *sp, int n, set_t *set)
+static void split_set(const spm_spectrum *const *sp, int n, const unsigned char *skip, set_t *set)
 {
     set->lights = spm_xcalloc((size_t)n + 1, sizeof *set->lights);
     set->refl = spm_xcalloc((size_t)n + 1, sizeof *set->refl);
     set->refl_index = spm_xcalloc((size_t)n + 1, sizeof *set->refl_index);
     set->nlights = set->nrefl = 0;
     for (int i = 0; i < n; i++) {
+        if (skip && skip[i])
+            continue; /* judged, but no factor of another's products */
         if (sp[i]->kind == SPM_KIND_EMISSION) {
             at_level(sp[i], 0, set->lights[set->nlights++]);
         } else {
@@ -141,13 +143,13 @@ static void split_set(const spm_spectrum *const *sp, int n, set_t *set)
 
 /* Context C: products of 1..SPM_PRETEST_SEQ_OTHERS other reflectances of the set,
  * times a random light (for a reflectance) or alone (the emission is s). */
-static double sequence_error(const set_t *set, int self, int is_light, const bins_t s0,
+static double sequence_error(const set_t *set, int self, int seed, int is_light, const bins_t s0,
                              const bins_t sl, const spm_pretest_opts *o)
 {
     int others = set->nrefl - (is_light ? 0 : 1);
     if (others <= 0)
         return 0.0;
-    uint64_t state = spm_pretest_seq_state(o, self);
+    uint64_t state = spm_pretest_seq_state(o, seed);
     double worst = 0.0;
     for (int q = 0; q < o->nsequences; q++) {
         bins_t f;
@@ -171,7 +173,7 @@ static double sequence_error(const set_t *set, int self, int is_light, const bin
 
 /* The contexts of a spectrum given at 1 nm (s0) and as each level renders it
  * (slv[l], held at 1 nm; slv[0] unused). */
-static void run_given(const double *s0, const bins_t *slv, int is_light, int self,
+static void run_given(const double *s0, const bins_t *slv, int is_light, int self, int seed,
                       const set_t *set, const spm_pretest_opts *o, spm_pretest_result *res)
 {
     double err_ac[SPM_NUM_LEVELS] = {0};
@@ -203,7 +205,7 @@ static void run_given(const double *s0, const bins_t *slv, int is_light, int sel
                 }
             }
         }
-        err_ac[l] = maxd(res->err_k[0][l], sequence_error(set, self, is_light, s0, sl, o));
+        err_ac[l] = maxd(res->err_k[0][l], sequence_error(set, self, seed, is_light, s0, sl, o));
     }
     /* a context fails a level whose error exceeds the threshold */
     unsigned char fail_ac[SPM_NUM_LEVELS], fail_k[SPM_PRETEST_KMAX][SPM_NUM_LEVELS];
@@ -239,14 +241,14 @@ void spm_pretest_fold(const unsigned char fail_ac[SPM_NUM_LEVELS],
     res->level = res->level_k[SPM_PRETEST_KMAX - 1];
 }
 
-static void run_one(const spm_spectrum *s, int self, const set_t *set, const spm_pretest_opts *o,
-                    spm_pretest_result *res)
+static void run_one(const spm_spectrum *s, int self, int seed, const set_t *set,
+                    const spm_pretest_opts *o, spm_pretest_result *res)
 {
     bins_t s0, slv[SPM_NUM_LEVELS];
     at_level(s, 0, s0);
     for (int l = 1; l < SPM_NUM_LEVELS; l++)
         at_level(s, l, slv[l]);
-    run_given(s0, slv, s->kind == SPM_KIND_EMISSION, self, set, o, res);
+    run_given(s0, slv, s->kind == SPM_KIND_EMISSION, self, seed, set, o, res);
 }
 
 void spm_pretest_given(const spm_spectrum *const *spectra, int n, const double *f0,
@@ -254,8 +256,8 @@ void spm_pretest_given(const spm_spectrum *const *spectra, int n, const double *
                        spm_pretest_result *res)
 {
     set_t set;
-    split_set(spectra, n, &set);
-    run_given(f0, fl, 0, self, &set, o, res);
+    split_set(spectra, n, NULL, &set);
+    run_given(f0, fl, 0, self, self, &set, o, res);
     free(set.lights);
     free(set.refl);
     free(set.refl_index);
@@ -264,14 +266,24 @@ void spm_pretest_given(const spm_spectrum *const *spectra, int n, const double *
 int spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
                     spm_pretest_result *results)
 {
+    return spm_pretest_run_skip(spectra, n, NULL, o, results);
+}
+
+int spm_pretest_run_skip(const spm_spectrum *const *spectra, int n, const unsigned char *skip,
+                         const spm_pretest_opts *o, spm_pretest_result *results)
+{
     set_t set;
-    split_set(spectra, n, &set);
-    int i = 0;
+    split_set(spectra, n, skip, &set);
+    /* context C's generator is seeded by a spectrum's place among the factors
+     * (a skipped one's after them all), so a skipped spectrum changes no other's
+     * sequences: the others' results are those of a run without it */
+    int i = 0, skipped = 0;
     for (; i < n; i++) {
         spm_test_pause("pretest");
         if (spm_stop_requested())
             break;
-        run_one(spectra[i], i, &set, o, &results[i]);
+        int seed = skip && skip[i] ? n + skipped++ : i - skipped;
+        run_one(spectra[i], i, seed, &set, o, &results[i]);
     }
     free(set.lights);
     free(set.refl);

@@ -56,6 +56,11 @@ double spm_pretest_xyz_error(const double ref[3], const double test[3], spm_metr
  * the run early, the results not reached left as they were. */
 int spm_pretest_run(const spm_spectrum *const *spectra, int n, const spm_pretest_opts *o,
                     spm_pretest_result *results);
+/* The same, but a spectrum i with skip[i] set is judged without being a factor
+ * of any product that judges the others (skip NULL: none): a fluorescent dye's
+ * absorption and emission shapes, which no path multiplies element-wise. */
+int spm_pretest_run_skip(const spm_spectrum *const *spectra, int n, const unsigned char *skip,
+                         const spm_pretest_opts *o, spm_pretest_result *results);
 /* A reflectance the renderer computes at each level rather than averaging
  * its 1 nm data (a conductor's Fresnel from each level's eta and k): f0 its
  * 1 nm values, fl[l] what level l renders, held at 1 nm (fl[0] unused),

@@ -140,13 +140,22 @@ static int pretest_colours(const spm_scene *sc, const spm_pretest_opts *po, spm_
         } else if (sc->materials[i].type == SPM_MAT_DIELECTRIC && sc->materials[i].col2 >= 0) {
             optical[sc->materials[i].col2] = 1;
         }
+    /* a dye's absorption and emission shapes are judged, but are no factor of
+     * the others' products (spm_fluor_ingredients) */
+    unsigned char *ingr = spm_xcalloc((size_t)n + 1, 1), *skip = spm_xcalloc((size_t)n + 1, 1);
+    spm_fluor_ingredients(sc, ingr);
     const spm_spectrum **set = spm_xcalloc((size_t)n + 1, sizeof *set);
-    int m = 0;
+    const spm_spectrum **factors = spm_xcalloc((size_t)n + 1, sizeof *factors);
+    int m = 0, nf = 0;
     for (int c = 0; c < n; c++)
-        if (!optical[c])
+        if (!optical[c]) {
+            skip[m] = ingr[c];
+            if (!ingr[c])
+                factors[nf++] = &sc->colours[c].s;
             at[m] = c, set[m++] = &sc->colours[c].s;
+        }
     spm_pretest_result *res = spm_xcalloc((size_t)m + 1, sizeof *res);
-    *done = spm_pretest_run(set, m, po, res);
+    *done = spm_pretest_run_skip(set, m, skip, po, res);
     for (int i = 0; i < m; i++)
         t->pretest[at[i]] = res[i];
     int stopped = spm_stop_requested();
@@ -157,10 +166,10 @@ static int pretest_colours(const spm_scene *sc, const spm_pretest_opts *po, spm_
             continue;
         spm_pretest_result r;
         if (diel)
-            spm_dielectric_pretest(set, m, &sc->colours[mt->col2].s, mt->p[SPM_DIEL_P_LEN],
+            spm_dielectric_pretest(factors, nf, &sc->colours[mt->col2].s, mt->p[SPM_DIEL_P_LEN],
                                    n + i, po, &r);
         else
-            spm_conductor_pretest(set, m, &sc->colours[mt->refl].s, &sc->colours[mt->col2].s,
+            spm_conductor_pretest(factors, nf, &sc->colours[mt->refl].s, &sc->colours[mt->col2].s,
                                   n + i, po, &r);
         for (int j = diel; j < 2; j++) {
             int c = j ? mt->col2 : mt->refl;
@@ -177,6 +186,9 @@ static int pretest_colours(const spm_scene *sc, const spm_pretest_opts *po, spm_
     }
     free(res);
     free(set);
+    free(factors);
+    free(ingr);
+    free(skip);
     free(optical);
     free(at);
     return stopped;
