@@ -118,6 +118,7 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
     gs.tris = NULL;
     gs.nodes = NULL;
     gs.wide = NULL; /* collapsed again from the nodes on unpacking */
+    gs.leaves = NULL;
     gs.emitters = NULL;
     gs.light_pdf = NULL;
     put(&w, &gs, sizeof gs);
@@ -155,6 +156,7 @@ int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *
     g->tris = get_array(&r, (size_t)ntris * sizeof *g->tris);
     g->nodes = get_array(&r, (size_t)nnodes * sizeof *g->nodes);
     g->wide = NULL;
+    g->leaves = NULL;
     g->emitters = get_array(&r, (size_t)nem * sizeof *g->emitters);
     g->light_pdf = get_array(&r, (size_t)ntris * sizeof *g->light_pdf);
     get(&r, t, sizeof *t);
