@@ -109,7 +109,10 @@ static void sequences(const ctx_t *cx, int self, int seed, int is_light, const v
                       vec_t *s_test, const spm_pretest_opts *o, double worst[SPM_NUM_LEVELS],
                       unsigned char fail[SPM_NUM_LEVELS])
 {
-    int others = cx->nrefl - (is_light ? 0 : 1);
+    int in_set = 0; /* a light or a conductor's Fresnel is none of the reflectances */
+    for (int r = 0; r < cx->nrefl; r++)
+        in_set |= cx->refl[r] == self;
+    int others = cx->nrefl - in_set;
     if (others <= 0)
         return;
     uint64_t state = spm_pretest_seq_state(o, seed);
