@@ -291,7 +291,7 @@ static void check_decode(void)
     spm_mesh_material mats[2] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}, .emission = {0, 0, 0}},
                                  {.name = "b", .diffuse = {1, 0, 0}, .emission = {0, 0, 0}}};
     spm_mesh_tri tris[2] = {{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1}, {{{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}, 0}};
-    spm_mesh_data d = {0, 2, 2, mats, tris, NULL}, out;
+    spm_mesh_data d = {0, 2, 2, mats, tris, NULL, NULL}, out;
     spm_error err;
     size_t n;
     unsigned char *buf = spm_mesh_encode(&d, &n);
@@ -310,7 +310,9 @@ static void check_decode(void)
                {16, 8, (uint64_t)1 << 40, "too many triangles"},
                {16, 8, 3, "a count that does not match the size"},
                {16, 8, 0, "no triangles"},
-               {24 + 2 * sizeof(spm_mesh_material) + offsetof(spm_mesh_tri, mat), 4, 2,
+               {24, 4, 2, "an unknown flag"},
+               {24, 4, SPM_MESH_WIRE_NORMALS, "normals announced but not sent"},
+               {SPM_MESH_WIRE_HEAD + 2 * sizeof(spm_mesh_material) + offsetof(spm_mesh_tri, mat), 4, 2,
                 "a material index out of range"}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         copy = spm_xmalloc(n);
@@ -373,7 +375,7 @@ static void check_build(void)
                             {{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, 1}, /* collinear */
                             {{{0, 0, 0}, {0, 0, 0}, {0, 1, 0}}, 1}, /* coincident */
                             {{{0, 0, 3}, {1, 0, 3}, {0, 1, 3}}, 1}};
-    spm_mesh_data d = {0, 3, 4, mats, tris, NULL};
+    spm_mesh_data d = {0, 3, 4, mats, tris, NULL, NULL};
     spm_error err;
     spm_quiet_warnings = 1;
 
@@ -422,7 +424,7 @@ static void check_build(void)
     identity(&o);
     spm_mesh_transform(scale, axis, 90, tr, o.m);
     o.material = x.grey;
-    spm_mesh_data one = {0, 3, 1, mats, tris, NULL};
+    spm_mesh_data one = {0, 3, 1, mats, tris, NULL, NULL};
     rc = spm_mesh_add(&x.b, &x.cache, &one, &o, "m", "t", &err);
     /* 1e-6: cos 90 degrees in double is 6e-17, times coordinates of 2 */
     CHECK(rc == 0 && fabsf(x.s.tris[0].p[0][0]) < 1e-6f && x.s.tris[0].p[0][1] == 2.0f &&
@@ -479,7 +481,7 @@ static void check_build(void)
     bs_close(&x);
 
     /* all degenerate: an error, not an empty mesh */
-    spm_mesh_data degen = {0, 3, 2, mats, tris + 1, NULL};
+    spm_mesh_data degen = {0, 3, 2, mats, tris + 1, NULL, NULL};
     bs_open(&x);
     identity(&o);
     rc = spm_mesh_add(&x.b, &x.cache, &degen, &o, "m", "t", &err);

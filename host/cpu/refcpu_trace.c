@@ -9,6 +9,7 @@
 #include "geometry_vec3.h"
 #include "spm_rng.h"
 #include "refcpu_conductor.h"
+#include "refcpu_shading.h"
 
 /* The level feeler: the finest (smallest) level among the colours met,
  * starting from the coarsest level in use; a colour lowers it only when
@@ -125,10 +126,13 @@ static const spm_emitter *pick_emitter(const spm_geometry *g, const rng_key *k, 
  *   (1 / pdf) * cos_e * area / max(d2, SPM_D2_MIN_REL * area) * |cos_i| / pi
  * or SPM_NONE (weight 0) when occluded, back-facing or on the other side. At a
  * rough conductor (cc) the factor after the distance is its lobe's
- * (spm_ref_cond_light), and *cos_h its Fresnel angle. */
+ * (spm_ref_cond_light), and *cos_h its Fresnel angle. At a smooth triangle
+ * (sn, its shading normal on the viewer's side) |cos_i| is the cosine to sn,
+ * and light below sn's horizon counts nothing (refcpu_shading.h). */
 static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, const rng_key *k,
                               spm_u32 dim, const float x[3], spm_u32 hit, const float n[3],
-                              const float d[3], const spm_ref_cond *cc, float *c, float *cos_h)
+                              const float d[3], const spm_ref_cond *cc, const float *sn, float *c,
+                              float *cos_h)
 {
     *c = 0.0f;
     if (g->nemitters == 0)
@@ -161,6 +165,11 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
         float d2c = d2 > d2min ? d2 : d2min;
         w = pe->inv_pdf * cos_e * em->area / d2c *
             spm_ref_cond_light(cc, l, pe->pdf, d2c, em->area, cos_e, cos_h);
+        if (sn && !(v3_dot(l, cc->n) > 0.0f))
+            w = 0.0f;
+    } else if (sn) {
+        float cs = v3_dot(l, sn);
+        w = pe->inv_pdf * cos_e * em->area / (d2 > d2min ? d2 : d2min) * fmaxf(cs, 0.0f) / SPM_PI_F;
     } else {
         w = pe->inv_pdf * cos_e * em->area / (d2 > d2min ? d2 : d2min) * fabsf(cos_i) / SPM_PI_F;
     }
@@ -170,21 +179,20 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
     return vertex_emission(&mats[em->material]);
 }
 
-/* Cosine-weighted direction about the normal turned to the incoming side
- * (MiniLight: x = cos(2 pi u) sqrt(v), y = sin(2 pi u) sqrt(v), z = sqrt(1 - v);
+/* Cosine-weighted direction about the normal n on the incoming side, tangent
+ * tg (MiniLight: x = cos(2 pi u) sqrt(v), y = sin(2 pi u) sqrt(v), z = sqrt(1 - v);
  * out = t x + (n x t) y + n z). */
-static void bounce(const spm_tri *t, const rng_key *k, spm_u32 dim, const float d[3], float out[3])
+static void bounce(const float n[3], const float tg[3], const rng_key *k, spm_u32 dim,
+                   float out[3])
 {
     float phi = 2.0f * SPM_PI_F * rnd(k, dim + SPM_DIM_DIR_A);
     float v = rnd(k, dim + SPM_DIM_DIR_B);
     float sr = sqrtf(v);
     float x = cosf(phi) * sr, y = sinf(phi) * sr, z = sqrtf(1.0f - v);
-    float n[3] = {t->n[0], t->n[1], t->n[2]}, c[3];
-    if (v3_dot(n, d) > 0.0f) /* MiniLight: dot(n, -d) < 0 flips n */
-        n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
-    v3_cross(c, n, t->t);
+    float c[3];
+    v3_cross(c, n, tg);
     for (int i = 0; i < 3; i++)
-        out[i] = t->t[i] * x + c[i] * y + n[i] * z;
+        out[i] = tg[i] * x + c[i] * y + n[i] * z;
 }
 
 /* Occurrences of reflectance colour r among vertices 0..j of the record. */
@@ -268,16 +276,32 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         if (j > 0 && cpdf >= 0.0f && memit != SPM_NONE)
             lobe_hit(tri, m, d, t, g->light_pdf[hit], cpdf, weight, memit, &path->x[j - 1], &f,
                      lvlk);
+        /* The hit's shading frame, the one place a type finds it: the normal
+         * sn on the viewer's side and tangent st every type shades with; gn,
+         * the geometric normal on the viewer's side (MiniLight: dot(n, -d) < 0
+         * flips n), decides which side a direction is on. A flat triangle's
+         * is gn and its own tangent (refcpu_shading.h). */
+        float gn[3] = {tri->n[0], tri->n[1], tri->n[2]}, sn[3], st[3];
+        if (v3_dot(gn, d) > 0.0f)
+            gn[0] = -gn[0], gn[1] = -gn[1], gn[2] = -gn[2];
+        int smooth = tri->vn != 0u;
+        if (smooth)
+            spm_ref_shading_frame(tri, &g->vnormals[9 * (size_t)(tri->vn - 1u)], o, d, gn, sn, st);
+        else
+            for (int i = 0; i < 3; i++)
+                sn[i] = gn[i], st[i] = tri->t[i];
         int cond = SPM_MAT_TAG(*m) == SPM_MAT_CONDUCTOR;
         spm_ref_cond cc;
-        if (cond)
+        if (cond && smooth)
+            spm_ref_cond_frame(sn, st, d, m->p[SPM_COND_P_ALPHA], &cc);
+        else if (cond)
             spm_ref_cond_make(tri, d, m->p[SPM_COND_P_ALPHA], &cc);
         spm_u32 dim = SPM_DIM_VERTEX(j);
         float c = 0.0f, cos_h = 0.0f;
         spm_u32 e = SPM_NONE;
         if (!(cond && cc.alpha == 0.0f)) /* no light sample on a delta lobe */
             e = sample_emitter(g, mats, &k, dim, x, (spm_u32)hit, tri->n, d, cond ? &cc : NULL,
-                               &c, &cos_h);
+                               smooth ? sn : NULL, &c, &cos_h);
         float mmean, minv;
         spm_u32 refl = vertex_lobe(m, &k, j, &mmean, &minv);
         spm_vertex *vx = &path->v[j];
@@ -321,7 +345,13 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
             if (cpdf > 0.0f)
                 weight *= lw;
         } else {
-            bounce(tri, &k, dim, d, nd);
+            bounce(sn, st, &k, dim, nd);
+        }
+        if (smooth && !(v3_dot(nd, gn) > 0.0f)) { /* under the geometric surface: ends */
+            if (cond)
+                path->x[j].cos_lobe = 0.0f;
+            h->end = SPM_END_ABSORBED;
+            break;
         }
         for (int i = 0; i < 3; i++)
             o[i] = x[i], d[i] = nd[i];

@@ -117,6 +117,7 @@ const spm_mtype_desc spm_material_types[] = {
         .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
         .rng_dims = 2, /* SPM_DIM_COND_M_A, SPM_DIM_COND_M_B */
         .define = "SPM_WITH_CONDUCTOR",
+        .smooth = 1, /* a faceted metal sphere shows its facets in every reflection */
         .fill = conductor_fill,
     },
     [SPM_MAT_FLUOR] = {

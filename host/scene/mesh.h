@@ -23,7 +23,8 @@
 #define SPM_MESH_MAX_MATERIALS 4096
 #define SPM_MESH_MAX_DEPTH 256 /* node hierarchy depth */
 
-/* What a file held that flat diffuse shading ignores: one warning each. */
+/* What a file held that the renderer ignores: one warning each (vertex
+ * normals only when no triangle of the statement shades smooth). */
 enum {
     SPM_MESH_IGN_NORMALS = 1 << 0,
     SPM_MESH_IGN_TEXCOORDS = 1 << 1,
@@ -62,14 +63,29 @@ typedef struct {
     uint32_t mat;              /* index into the file's materials */
 } spm_mesh_tri;
 
+/* A triangle's vertex normals in file coordinates (node transforms applied
+ * as normals transform, by the inverse transpose; not yet unit length), in
+ * the order of its spm_mesh_tri's vertices; all zero: the triangle has none. */
+typedef struct {
+    float n[3][3];
+} spm_mesh_normals;
+
 typedef struct {
     uint32_t ignored;          /* SPM_MESH_IGN_* bits */
     uint32_t nmats;
     uint64_t ntris;
     spm_mesh_material *mats;
     spm_mesh_tri *tris;
-    void *buf;                 /* owns mats and tris */
+    spm_mesh_normals *normals; /* per triangle, or NULL: the file has no vertex normals */
+    void *buf;                 /* owns mats, tris and normals */
 } spm_mesh_data;
+
+/* The child's answer on its pipe (mesh_wire.c): a header of this many bytes
+ * (magic, status, ignored, nmats, ntris as 64 bits, flags, a spare word),
+ * the materials, the triangles, and with SPM_MESH_WIRE_NORMALS in flags one
+ * spm_mesh_normals per triangle. */
+#define SPM_MESH_WIRE_HEAD 32
+#define SPM_MESH_WIRE_NORMALS 1u
 
 /* Imports `path` in a child process (a PLY with triangle strips: by
  * mesh_ply.c, in this process). Errors name `path` (and what Assimp said);
@@ -99,8 +115,14 @@ typedef struct {
     int material;
 } spm_mesh_bind;
 
+/* spm_mesh_opts.shading: the `smooth` and `flat` clauses. By default a
+ * triangle with vertex normals shades smooth when its material's type says so
+ * (materials.h spm_mtype_desc.smooth: not the diffuse types). */
+enum { SPM_MESH_SHADE_DEFAULT = 0, SPM_MESH_SHADE_SMOOTH = 1, SPM_MESH_SHADE_FLAT = 2 };
+
 typedef struct {
     int material;              /* scene material for unbound file materials, -1: lift RGB */
+    int shading;               /* SPM_MESH_SHADE_* */
     const spm_mesh_bind *binds;
     int nbinds;
     double m[3][4];            /* scene-from-file transform (x' = M x + t) */
