@@ -284,6 +284,43 @@ static void check_textured(const char *name, int mean_used, const char *tex_name
     spm_mesh_free(&d);
 }
 
+/* ---- vertex normals ---- */
+
+/* The sphere of gen_meshes.py (sphere_n.*): every vertex's normal is its
+ * position, so the imported normal, made unit, is unit(S^-2 p) for a file whose
+ * node scales the sphere by S (glTF: S = diag(1, 2, 1): the inverse transpose
+ * of S maps the normals, so n' = S^-1 n = S^-2 p'). A vertex's normal is
+ * written as the same floats as its position and S's entries are powers of
+ * two, so the expected normal is exact (measured: 0 in every format); the
+ * bound, 1e-5 rad, is a few float ulps of Assimp's float matrix products. */
+static void check_normals(const char *name, double sy)
+{
+    spm_mesh_data d;
+    spm_error err;
+    if (import(name, &d, &err)) {
+        CHECK(0, "%s: %s", name, err.msg);
+        return;
+    }
+    CHECK(d.normals != NULL, "%s: vertex normals imported", name);
+    CHECK(d.ntris == 224, "%s: 224 triangles (%llu)", name, (unsigned long long)d.ntris);
+    CHECK(!(d.ignored & SPM_MESH_IGN_NORMALS), "%s: normals not counted as ignored", name);
+    double worst = 0;
+    for (uint64_t t = 0; d.normals && t < d.ntris; t++)
+        for (int v = 0; v < 3; v++) {
+            const float *p = d.tris[t].p[v], *n = d.normals[t].n[v];
+            double w[3] = {p[0], p[1] / (sy * sy), p[2]}, dot = 0, cr[3];
+            for (int i = 0; i < 3; i++)
+                dot += w[i] * n[i];
+            cr[0] = w[1] * n[2] - w[2] * n[1];
+            cr[1] = w[2] * n[0] - w[0] * n[2];
+            cr[2] = w[0] * n[1] - w[1] * n[0];
+            worst = fmax(worst, atan2(sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]), dot));
+        }
+    printf("%s: worst normal angle %.3g rad\n", name, worst);
+    CHECK(worst < 1e-5, "%s: normals off by %.3g rad", name, worst);
+    spm_mesh_free(&d);
+}
+
 /* ---- the answer's decoder ---- */
 
 static void check_decode(void)
@@ -364,6 +401,76 @@ static void identity(spm_mesh_opts *o)
     memset(o, 0, sizeof *o);
     o->material = -1;
     spm_mesh_transform(one, axis, 0, zero, o->m);
+}
+
+/* The statement's transform maps vertex normals by its inverse transpose and
+ * a mirror's reversed winding takes them along; they are stored unit length,
+ * turned to the front face; `smooth` makes a diffuse mesh smooth, which by
+ * default (and with `flat`) it is not. */
+static void check_build_normals(void)
+{
+    spm_mesh_material mats[1] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}}};
+    spm_mesh_tri tris[1] = {{{{1, 0, 0}, {1, 1, 0}, {1, 0, 1}}, 0}}; /* front face +x */
+    spm_mesh_normals nrm[1] = {{{{1, 1, 0}, {1, 0, 0}, {1, 0, 1}}}};
+    spm_mesh_data d = {0, 1, 1, mats, tris, nrm, NULL};
+    spm_error err;
+    spm_quiet_warnings = 1;
+    struct {
+        double s[3];
+        int shading, expect;
+        float want[9]; /* before normalising */
+    } cases[] = {
+        {{1, 3, 1}, SPM_MESH_SHADE_SMOOTH, 1, {1, 1.0f / 3, 0, 1, 0, 0, 1, 0, 1}},
+        {{-1, 1, 1}, SPM_MESH_SHADE_SMOOTH, 1, {-1, 1, 0, -1, 0, 1, -1, 0, 0}}, /* v1, v2 swapped */
+        {{1, 1, 1}, SPM_MESH_SHADE_DEFAULT, 0, {0}},
+        {{1, 1, 1}, SPM_MESH_SHADE_FLAT, 0, {0}}};
+    for (int c = 0; c < 4; c++) {
+        bscene x;
+        bs_open(&x);
+        spm_mesh_opts o;
+        identity(&o);
+        spm_mesh_scale(o.m, cases[c].s);
+        o.material = x.grey;
+        o.shading = cases[c].shading;
+        int rc = spm_mesh_add(&x.b, &x.cache, &d, &o, "m", "t", &err);
+        CHECK(rc == 0 && x.s.ntris == 1, "case %d loads", c);
+        CHECK((x.s.nvnormals == 1) == cases[c].expect && (x.s.tris[0].vn != 0) == cases[c].expect,
+              "case %d: %s", c, cases[c].expect ? "smooth" : "flat");
+        double worst = 0;
+        for (int v = 0; v < 3 && cases[c].expect && x.s.nvnormals == 1; v++) {
+            const float *w = &cases[c].want[3 * v], *n = &x.s.vnormals[0][3 * v];
+            double lw = sqrt((double)w[0] * w[0] + (double)w[1] * w[1] + (double)w[2] * w[2]);
+            for (int i = 0; i < 3; i++)
+                worst = fmax(worst, fabs(n[i] - w[i] / lw));
+        }
+        /* float normals of double arithmetic: a few ulps */
+        CHECK(worst < 1e-6, "case %d: normals off by %.3g", c, worst);
+        bs_close(&x);
+    }
+    /* normals against the winding: turned to the front face */
+    spm_mesh_normals back[1] = {{{{-1, 0, 0}, {-1, 0, 0}, {-1, 0, 0}}}};
+    spm_mesh_data db = {0, 1, 1, mats, tris, back, NULL};
+    bscene x;
+    bs_open(&x);
+    spm_mesh_opts o;
+    identity(&o);
+    o.material = x.grey;
+    o.shading = SPM_MESH_SHADE_SMOOTH;
+    int rc = spm_mesh_add(&x.b, &x.cache, &db, &o, "m", "t", &err);
+    CHECK(rc == 0 && x.s.nvnormals == 1 && x.s.vnormals[0][0] == 1.0f && x.s.vnormals[0][3] == 1.0f &&
+              x.s.vnormals[0][6] == 1.0f,
+          "normals against the winding are turned to the front face");
+    bs_close(&x);
+    /* a zero normal: that triangle is flat */
+    spm_mesh_normals zero[1] = {{{{1, 0, 0}, {0, 0, 0}, {1, 0, 0}}}};
+    spm_mesh_data dz = {0, 1, 1, mats, tris, zero, NULL};
+    bs_open(&x);
+    identity(&o);
+    o.material = x.grey;
+    o.shading = SPM_MESH_SHADE_SMOOTH;
+    rc = spm_mesh_add(&x.b, &x.cache, &dz, &o, "m", "t", &err);
+    CHECK(rc == 0 && x.s.nvnormals == 0 && x.s.tris[0].vn == 0, "a zero vertex normal: flat");
+    bs_close(&x);
 }
 
 static void check_build(void)
@@ -520,6 +627,20 @@ int main(void)
     check_textured("notex.obj", 0, "nosuch.png");
 
     check_strips();
+    check_normals("sphere_n.obj", 1);
+    check_normals("sphere_n.ply", 1);
+    check_normals("sphere_n_strips.ply", 1);
+    check_normals("sphere_n.gltf", 2);
+    {
+        spm_mesh_data d;
+        spm_error err;
+        CHECK(import("cube.obj", &d, &err) == 0 && d.normals == NULL,
+              "a file without vertex normals has none");
+        spm_mesh_free(&d);
+        CHECK(import("cube_ascii.stl", &d, &err) == 0 && d.normals == NULL,
+              "STL's facet normals are no vertex normals");
+        spm_mesh_free(&d);
+    }
     static const char glb[] = "glTF\x02\0\0\0\xff\xff\xff\xff not json";
     write_file("garbage.glb", glb, sizeof glb - 1);
     check_fails("garbage.glb", "Assimp");
@@ -546,6 +667,7 @@ int main(void)
 
     check_decode();
     check_build();
+    check_build_normals();
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0)
         fprintf(stderr, "could not remove %s\n", dir);
