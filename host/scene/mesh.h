@@ -51,7 +51,31 @@ typedef struct {
     float texture_mean[3];     /* its mean linear colour (SPM_MESH_TEX_MEAN) */
     char texture_name[96];     /* as the file names it, or "embedded image N" */
     char texture_why[128];     /* why it was not read (SPM_MESH_TEX_UNREAD) */
+    /* What the file says beyond the diffuse colour (mesh_pbr.c maps it):
+     * SPM_MESH_HAS_* bits for the values the file gave, and the values. */
+    int32_t format;            /* SPM_MESH_FMT_*: whose conventions the values follow */
+    uint32_t has;
+    float metallic, roughness; /* glTF metallicFactor, roughnessFactor */
+    float specular[3];         /* OBJ Ks */
+    float shininess;           /* OBJ Ns */
+    float ior;                 /* OBJ Ni, glTF KHR_materials_ior */
+    float transmission;        /* glTF KHR_materials_transmission */
+    float thickness;           /* glTF KHR_materials_volume thicknessFactor */
+    float atten_dist;          /* its attenuationDistance */
+    float atten_colour[3];     /* its attenuationColor */
+    float opacity;             /* OBJ d (1 - Tr), glTF alpha */
 } spm_mesh_material;
+enum { SPM_MESH_FMT_OTHER = 0, SPM_MESH_FMT_GLTF = 1, SPM_MESH_FMT_OBJ = 2 };
+enum {
+    SPM_MESH_HAS_METALLIC = 1 << 0,
+    SPM_MESH_HAS_ROUGHNESS = 1 << 1,
+    SPM_MESH_HAS_SPECULAR = 1 << 2,
+    SPM_MESH_HAS_SHININESS = 1 << 3,
+    SPM_MESH_HAS_IOR = 1 << 4,
+    SPM_MESH_HAS_TRANSMISSION = 1 << 5,
+    SPM_MESH_HAS_VOLUME = 1 << 6,
+    SPM_MESH_HAS_OPACITY = 1 << 7
+};
 /* spm_mesh_material.texture: none; diffuse is the factor times the
  * texture's mean; the texture could not be read, diffuse is the factor */
 enum { SPM_MESH_TEX_NONE = 0, SPM_MESH_TEX_MEAN = 1, SPM_MESH_TEX_UNREAD = 2 };
@@ -108,6 +132,18 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
 /* The same answer made from data (used by the child, and by tests and the
  * fuzz harness): a malloc'd buffer and its size in *size. */
 void *spm_mesh_encode(const spm_mesh_data *d, size_t *size);
+
+/* The scene material a lifted file material maps to (mesh_pbr.c, the table
+ * in docs/SCENE_FORMAT.md): a conductor for a glTF metal (metallic >= 0.5)
+ * or an OBJ material with a black Kd and a coloured Ks, else the diffuse
+ * colour; properties without a target type yet get a warning naming the
+ * material (`where`). r and e are the lifted reflectance and emission
+ * colours. Returns the material index or -1 with err filled. */
+int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int r, int e,
+                          const char *where, spm_error *err);
+/* A conductor whose normal-incidence reflectance is the reflectance spectrum
+ * f0 (Gulbrandsen 2014 per wavelength, edge tint g = f0): its eta and k. */
+void spm_mesh_gulbrandsen(const spm_spectrum *f0, spm_spectrum *eta, spm_spectrum *k);
 
 /* A file material bound to a scene material. */
 typedef struct {

@@ -138,9 +138,7 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
         int e = r < -1 ? -2 : rgb_colour(b, cache, m->emission, SPM_KIND_EMISSION, mwhere, err);
         if (e < -1)
             return 1;
-        char name[SPM_NAME_MAX];
-        snprintf(name, sizeof name, "%.63s", m->name[0] ? m->name : "mesh");
-        map[i] = spm_sb_material(b, name, r, e, mwhere, err);
+        map[i] = spm_mesh_map_material(b, m, r, e, mwhere, err);
         if (map[i] < 0)
             return 1;
     }

@@ -196,6 +196,9 @@ static int walk_node(walk *k, const struct aiNode *n, const affine parent, int d
     return 0;
 }
 
+static int file_mentions(const char *path, const char *needle);
+static int ends_with_ci(const char *s, const char *suffix);
+
 static int has_colour(const struct aiMaterial *m, const char *key, unsigned type, unsigned idx,
                       float out[3])
 {
@@ -235,11 +238,36 @@ static void material(const struct aiScene *sc, const char *path, const struct ai
             for (int i = 0; i < 3; i++)
                 out->emission[i] *= strength;
     }
-    float spec[3], f;
-    if ((has_colour(m, AI_MATKEY_COLOR_SPECULAR, spec) && (spec[0] > 0 || spec[1] > 0 || spec[2] > 0)) ||
-        (aiGetMaterialFloatArray(m, AI_MATKEY_METALLIC_FACTOR, &f, NULL) == aiReturn_SUCCESS && f > 0))
-        *ignored |= SPM_MESH_IGN_GLOSSY;
-    if (aiGetMaterialFloatArray(m, AI_MATKEY_OPACITY, &f, NULL) == aiReturn_SUCCESS && f < 1)
+    /* what mesh_pbr.c maps, each as the format means it (Assimp 5.2 fills
+     * the metallic-roughness keys for glTF only, and Ks, Ns for OBJ) */
+    int gltf = ends_with_ci(path, ".gltf") || ends_with_ci(path, ".glb"), obj = ends_with_ci(path, ".obj");
+    out->format = gltf ? SPM_MESH_FMT_GLTF : obj ? SPM_MESH_FMT_OBJ : SPM_MESH_FMT_OTHER;
+#define GETF(key, field, bit) \
+    if (aiGetMaterialFloatArray(m, key, &out->field, NULL) == aiReturn_SUCCESS) out->has |= bit;
+    if (gltf) {
+        GETF(AI_MATKEY_METALLIC_FACTOR, metallic, SPM_MESH_HAS_METALLIC)
+        GETF(AI_MATKEY_ROUGHNESS_FACTOR, roughness, SPM_MESH_HAS_ROUGHNESS)
+        GETF(AI_MATKEY_TRANSMISSION_FACTOR, transmission, SPM_MESH_HAS_TRANSMISSION)
+        GETF(AI_MATKEY_VOLUME_THICKNESS_FACTOR, thickness, SPM_MESH_HAS_VOLUME)
+        GETF(AI_MATKEY_VOLUME_ATTENUATION_DISTANCE, atten_dist, SPM_MESH_HAS_VOLUME)
+        if (has_colour(m, AI_MATKEY_VOLUME_ATTENUATION_COLOR, out->atten_colour))
+            out->has |= SPM_MESH_HAS_VOLUME;
+        /* Assimp gives every glTF material an index: only KHR_materials_ior's counts */
+        static int ior_ext = -1; /* one file per child: looked for once */
+        if (ior_ext < 0)
+            ior_ext = file_mentions(path, "KHR_materials_ior");
+        if (ior_ext)
+            GETF(AI_MATKEY_REFRACTI, ior, SPM_MESH_HAS_IOR)
+    }
+    if (obj) {
+        if (has_colour(m, AI_MATKEY_COLOR_SPECULAR, out->specular))
+            out->has |= SPM_MESH_HAS_SPECULAR;
+        GETF(AI_MATKEY_SHININESS, shininess, SPM_MESH_HAS_SHININESS)
+        GETF(AI_MATKEY_REFRACTI, ior, SPM_MESH_HAS_IOR)
+    }
+    GETF(AI_MATKEY_OPACITY, opacity, SPM_MESH_HAS_OPACITY)
+#undef GETF
+    if (out->has & SPM_MESH_HAS_OPACITY && out->opacity < 1)
         *ignored |= SPM_MESH_IGN_OPACITY;
     for (int type = 1; type <= AI_TEXTURE_TYPE_MAX; type++)
         if (aiGetMaterialTextureCount(m, (enum aiTextureType)type) > 0 &&
