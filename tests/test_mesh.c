@@ -4,6 +4,8 @@
  * answer is checked before use; binding, the statement's transform, mirroring
  * and degenerate filtering. */
 #include "mesh.h"
+#include "materials.h"
+#include "rgb2spec.h"
 #include "testutil.h"
 #include <math.h>
 #include <stdlib.h>
@@ -319,6 +321,93 @@ static void check_normals(const char *name, double sy)
     printf("%s: worst normal angle %.3g rad\n", name, worst);
     CHECK(worst < 1e-5, "%s: normals off by %.3g rad", name, worst);
     spm_mesh_free(&d);
+}
+
+/* ---- materials of mesh files (mesh_pbr.c) ---- */
+
+static const spm_scene_material *find_mat(const spm_scene *s, const char *name)
+{
+    for (int i = 0; i < s->nmaterials; i++)
+        if (!strcmp(s->materials[i].name, name))
+            return &s->materials[i];
+    return NULL;
+}
+
+/* A conductor's normal-incidence reflectance, the exact Fresnel of its eta
+ * and k per 1 nm bin, against the file's F0: ΔE00 under D65 between that
+ * reflectance and the RGB. The lift of the RGB to a spectrum is a fit
+ * (rgb2spec.c) and F0 is clamped to 0.999 per bin (mesh_pbr.c): measured
+ * ΔE00 1.6e-6 (gold, 1 0.78 0.34), 1e-6 (steel), 2.5e-6 (copper's Ks);
+ * bound 0.01, far below a visible difference (1). */
+static void check_f0(const spm_scene *s, const spm_scene_material *m, const double rgb[3],
+                     double alpha, const char *what)
+{
+    CHECK(m && m->type == SPM_MAT_CONDUCTOR, "%s: a conductor", what);
+    if (!m || m->type != SPM_MAT_CONDUCTOR)
+        return;
+    CHECK(fabs(m->p[SPM_COND_P_ALPHA] - alpha) < 1e-6, "%s: alpha %g, not %g", what,
+          m->p[SPM_COND_P_ALPHA], alpha);
+    spm_spectrum f;
+    f.kind = SPM_KIND_REFLECTANCE;
+    for (int i = 0; i < SPM_TRUTH_BINS; i++)
+        f.nm1[i] = spm_conductor_fresnel(s->colours[m->refl].s.nm1[i], s->colours[m->col2].s.nm1[i],
+                                         1.0);
+    double de = spm_rgb2spec_delta_e(&f, rgb);
+    printf("%s: normal-incidence reflectance vs F0 (%g %g %g): ΔE00 %.3g\n", what, rgb[0], rgb[1],
+           rgb[2], de);
+    CHECK(de < 0.01, "%s: F0 off by ΔE00 %.3g", what, de);
+}
+
+static void check_pbr(void)
+{
+    const char *files[2] = {"metal.gltf", "metal.obj"};
+    for (int fi = 0; fi < 2; fi++) {
+        spm_mesh_data d;
+        spm_error err;
+        if (import(files[fi], &d, &err)) {
+            CHECK(0, "%s: %s", files[fi], err.msg);
+            continue;
+        }
+        char path[512];
+        snprintf(path, sizeof path, "%s/%s", dir, files[fi]);
+        spm_mesh_obj_mtl_check(path, "t", &d);
+        spm_scene s;
+        spm_scene_builder b;
+        spm_mesh_cache cache;
+        spm_sb_init(&b, &s, "<test>");
+        spm_mesh_cache_init(&cache);
+        spm_mesh_opts o;
+        memset(&o, 0, sizeof o);
+        o.material = -1;
+        spm_mesh_identity(o.m);
+        int rc = spm_mesh_add(&b, &cache, &d, &o, files[fi], "t", &err);
+        CHECK(rc == 0, "%s maps: %s", files[fi], rc ? err.msg : "");
+        if (fi == 0 && !rc) {
+            const double gold[3] = {1.0, 0.78, 0.34}, steel[3] = {0.56, 0.57, 0.58};
+            check_f0(&s, find_mat(&s, "gold"), gold, 0.0, "glTF gold (metallic 1, roughness 0)");
+            check_f0(&s, find_mat(&s, "steel"), steel, 0.25, "glTF steel (roughness 0.5: alpha 0.25)");
+            const spm_scene_material *h = find_mat(&s, "half"), *g = find_mat(&s, "glass");
+            CHECK(h && h->type == SPM_MAT_LAMBERT, "glTF metallic 0.3: diffuse (below 0.5)");
+            CHECK(g && g->type == SPM_MAT_LAMBERT, "glTF transmission: diffuse until 'dielectric'");
+        }
+        if (fi == 1 && !rc) {
+            const double cu[3] = {0.95, 0.64, 0.54};
+            check_f0(&s, find_mat(&s, "copper"), cu, sqrt(2.0 / 202.0),
+                     "MTL copper (Kd 0, Ks, Ns 200)");
+            const spm_scene_material *p = find_mat(&s, "paint");
+            CHECK(p && p->type == SPM_MAT_LAMBERT, "MTL Kd with Ks: diffuse until 'coated'");
+        }
+        spm_mesh_cache_free(&cache);
+        spm_sb_done(&b, 0);
+        spm_mesh_free(&d);
+    }
+    /* Gulbrandsen's n, k at a grey F0 of 0.5: ((n-1)^2 + k^2) / ((n+1)^2 + k^2) = 0.5 */
+    spm_spectrum f0, eta, k;
+    spm_spectrum_constant(0.5, SPM_KIND_REFLECTANCE, &f0);
+    spm_mesh_gulbrandsen(&f0, &eta, &k);
+    double n = eta.nm1[0], kk = k.nm1[0];
+    CHECK(fabs(((n - 1) * (n - 1) + kk * kk) / ((n + 1) * (n + 1) + kk * kk) - 0.5) < 1e-12,
+          "Gulbrandsen's n %g, k %g give F0 0.5", n, kk);
 }
 
 /* ---- the answer's decoder ---- */
@@ -668,6 +757,7 @@ int main(void)
     check_decode();
     check_build();
     check_build_normals();
+    check_pbr();
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0)
         fprintf(stderr, "could not remove %s\n", dir);

@@ -29,6 +29,11 @@ statement reads, plus the expected triangles as text:
                         vertex normals (vn; nx ny nz; NORMAL), each its vertex's
                         position; the glTF's node scales it by (1, 2, 1), so its
                         normals must come out as (x, y / 4, z) of its positions
+  metal.gltf            a quad per material: 'gold' metallic 1, base colour (1, 0.78,
+                        0.34), roughness 0; 'steel' metallic 1, roughness 0.5; 'half'
+                        metallic 0.3; 'glass' transmission 1 and ior 1.5
+  metal.obj + .mtl      'copper' Kd 0, Ks (0.95 0.64 0.54), Ns 200; 'paint' Kd (0.5 0.1
+                        0.1), Ks 0.04, Ns 50
   tilt.obj              a 20 x 20 quad at z = 0 facing +z whose vertex normals all
                         lean 60 degrees towards +x (a shading normal far from the
                         geometric one)
@@ -359,6 +364,30 @@ def sphere_n(rings=8, segs=16):
             tris += [(a, b, c), (a, c, d)]
         tris.append((ring(rings - 1, j), len(verts) - 1, ring(rings - 1, j + 1)))
     return verts, tris
+
+
+def metal_meshes(out):
+    quads = []
+    for i in range(4):
+        quads += [(2 * i, 0, 0), (2 * i + 1, 0, 0), (2 * i + 1, 1, 0), (2 * i, 1, 0)]
+    mats = [{'name': 'gold', 'pbrMetallicRoughness': {'baseColorFactor': [1.0, 0.78, 0.34, 1.0],
+                                                      'metallicFactor': 1.0, 'roughnessFactor': 0.0}},
+            {'name': 'steel', 'pbrMetallicRoughness': {'baseColorFactor': [0.56, 0.57, 0.58, 1.0],
+                                                       'metallicFactor': 1.0, 'roughnessFactor': 0.5}},
+            {'name': 'half', 'pbrMetallicRoughness': {'baseColorFactor': [0.5, 0.5, 0.5, 1.0],
+                                                      'metallicFactor': 0.3}},
+            {'name': 'glass', 'pbrMetallicRoughness': {'baseColorFactor': [1, 1, 1, 1.0],
+                                                       'metallicFactor': 0.0, 'roughnessFactor': 0.0},
+             'extensions': {'KHR_materials_transmission': {'transmissionFactor': 1.0},
+                            'KHR_materials_ior': {'ior': 1.5}}}]
+    prims = [([4 * i, 4 * i + 1, 4 * i + 2, 4 * i, 4 * i + 2, 4 * i + 3], i) for i in range(4)]
+    doc, buf = gltf_doc(quads, prims, [{'mesh': 0}], [0], mats)
+    doc['extensionsUsed'] = ['KHR_materials_transmission', 'KHR_materials_ior']
+    write_gltf(os.path.join(out, 'metal.gltf'), doc, buf)
+    w(os.path.join(out, 'metal.mtl'), 'newmtl copper\nKd 0 0 0\nKs 0.95 0.64 0.54\nNs 200\n'
+      'illum 3\n\nnewmtl paint\nKd 0.5 0.1 0.1\nKs 0.04 0.04 0.04\nNs 50\nillum 2\n')
+    w(os.path.join(out, 'metal.obj'), 'mtllib metal.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n'
+      'v 2 0 0\nv 3 0 0\nv 3 1 0\nv 2 1 0\nusemtl copper\nf 1 2 3 4\nusemtl paint\nf 5 6 7 8\n')
 
 
 def smooth_meshes(out):
@@ -732,6 +761,7 @@ def main():
     textured(out)
     grid(out)
     smooth_meshes(out)
+    metal_meshes(out)
     write_tris(os.path.join(out, 'cube.tris'), [[V[i] for i in t[:3]] for t in TRIS])
     if len(sys.argv) > 2:
         print(big(out, int(sys.argv[2])))

@@ -84,7 +84,7 @@ int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int 
     (n += (size_t)snprintf(todo + n, n < sizeof todo ? sizeof todo - n : 0, __VA_ARGS__))
     snprintf(name, sizeof name, "%.63s", m->name[0] ? m->name : "mesh");
     int out = -2;
-    static int said_layer;
+    static int said_layer[3]; /* per format */
     if (m->format == SPM_MESH_FMT_GLTF) {
         /* metallic >= 0.5: a conductor of F0 = base colour, alpha = roughness^2
          * (glTF's defaults: metallic 1, roughness 1) */
@@ -96,7 +96,7 @@ int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int 
                  metallic >= 0.5 ? "1" : "0");
         if (metallic >= 0.5)
             out = metal(b, m, m->diffuse, rough * rough, e, where, err);
-        else if (!said_layer++) /* nearly every glTF material: once per run */
+        else if (!said_layer[m->format]++) /* nearly every glTF material: once per run */
             TODO("%sthe specular layer of a non-metal (F0 0.04, alpha %g: planned as 'coated'; "
                  "said once per run)", n ? "; " : "", rough * rough);
         if (m->has & SPM_MESH_HAS_TRANSMISSION && m->transmission > 0)
@@ -115,7 +115,7 @@ int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int 
         double alpha = sqrt(2.0 / (ns + 2.0));
         if (ks && !nonblack(m->diffuse, 1e-3f))
             out = metal(b, m, m->specular, alpha, e, where, err);
-        else if (ks && !said_layer++) /* most MTL files have one: once per run */
+        else if (ks && !said_layer[m->format]++) /* most MTL files have one: once per run */
             TODO("Ks %g %g %g, Ns %g (a specular layer over Kd: planned as 'coated'; said once "
                  "per run)", m->specular[0], m->specular[1], m->specular[2], ns);
         if (m->has & SPM_MESH_HAS_IOR && m->ior != 1 && ks)
