@@ -17,7 +17,9 @@
  * lvlk: the level feeler's table, a level per colour c and k, the times a path
  * meets c: lvlk[c * SPM_PRETEST_KMAX + k - 1] (host/spectral/tables.h).
  * light_pdf: per triangle its probability of being picked as the light
- * (spm_geometry.light_pdf; 0: not an emitter), for MIS at a rough lobe. */
+ * (spm_geometry.light_pdf; 0: not an emitter), for MIS at a rough lobe.
+ * vnormals: the smooth triangles' vertex normals (spm_tri.vn; a placeholder
+ * in a scene without them, never read). */
 #define SPM_TRACE_ARGS(X, S)                                            \
     X(__global const spm_tri *, cl_mem, tris) S                         \
     X(__global const spm_bvh4_node *, cl_mem, nodes) S                  \
@@ -25,6 +27,7 @@
     X(__global const spm_material *, cl_mem, mats) S                    \
     X(__global const uchar *, cl_mem, lvlk) S                           \
     X(__global const float *, cl_mem, light_pdf) S                      \
+    X(__global const float *, cl_mem, vnormals) S                       \
     X(const spm_trace_params, spm_trace_params, p) S                    \
     X(uint, spm_u32, init_level) S                                      \
     X(uint, spm_u32, npaths) S                                          \

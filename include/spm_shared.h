@@ -218,7 +218,12 @@ SPM_INLINE spm_path_head spm_dev_head_unpack(const spm_dev_head *d)
 /* ---- geometry ------------------------------------------------------------ */
 /* Triangle: its three vertices as the scene gave them, then MiniLight's
  * shading data: unit normal normalise((v1 - v0) x (v2 - v0)), unit tangent
- * normalise(v1 - v0), area. The watertight test reads the vertices only, and
+ * normalise(v1 - v0), area; vn says whether it shades smooth: 0 flat (every
+ * triangle of a scene without vertex normals), k > 0 its three unit vertex
+ * normals (n0, n1, n2, oriented to the front face's side) are the nine
+ * floats at 9 (k - 1) of the scene's vertex-normal array (spm_geometry
+ * vnormals; the trace stage's vnormals buffer, only in scenes that have them,
+ * whose kernels are built with SPM_WITH_SMOOTH). The watertight test reads the vertices only, and
  * needs them bit for bit: a neighbour's shared vertex must be the same floats
  * (v0 + (v1 - v0) is not v1). Each vertex starts a row of four floats (the
  * rows' fourth floats hold the area and the material), so what the test reads
@@ -230,7 +235,7 @@ typedef struct {
     float v1[3];
     spm_u32 material;
     float v2[3];
-    spm_u32 pad;
+    spm_u32 vn;
     float n[3];
     float t[3];
 } spm_tri;
@@ -455,5 +460,12 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
  * within a thousandth of the triangle's size of the point. */
 #define SPM_D2_MIN_REL 1e-6f
 #define SPM_PI_F 3.14159265358979323846f
+
+/* Smooth shading (kernels/shading.clh, host/cpu/refcpu_shading.c): where the
+ * mirror reflection of the viewer about the interpolated normal falls below
+ * the geometric surface, the reflection is lifted to this cosine above it
+ * and the shading normal bent to the half vector (Keller et al. 2017). A
+ * cosine, so the same in every scene unit. */
+#define SPM_SMOOTH_LIFT 0.01f
 
 #endif

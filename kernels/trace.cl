@@ -25,6 +25,8 @@
 #endif
 #ifdef SPM_WITH_COATED
 #include "coated.clh"
+#ifdef SPM_WITH_SMOOTH
+#include "shading.clh"
 #endif
 
 /* Level feeler: one colour met; lvlk[c * KMAX + min(k, KMAX) - 1] (k = occurrence count). */
@@ -167,6 +169,18 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         float3 pos = o + d * t;
         float3 n = ld3(tr->n);
         float3 back = -d;
+#ifdef SPM_WITH_SMOOTH
+        /* The hit's shading frame, the one place a type finds it: the shading
+         * normal sn (on the viewer's side) and tangent stg every type shades
+         * with; gn, the geometric normal on the viewer's side, decides which
+         * side a direction is on (kernels/shading.clh). A flat triangle's is
+         * gn and its own tangent, as without smooth shading. */
+        float3 gn = dot3(n, back) < 0.0f ? -n : n;
+        int smooth = tr->vn != 0u;
+        float3 sn = gn, stg = ld3(tr->t);
+        if (smooth)
+            shading_frame(tr, vnormals + 9u * (tr->vn - 1u), o, d, back, gn, &sn, &stg);
+#endif
 
         /* local emission, first vertex only, front face (either face when twosided) */
         uint memit = vertex_emission(m);
@@ -207,8 +221,12 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         /* the relative index eta_t / eta_i: eta entering through the front face, 1 / eta leaving */
         float deta = !diel ? 1.0f : dot3(back, n) > 0.0f ? m.p[SPM_DIEL_P_IOR] : 1.0f / m.p[SPM_DIEL_P_IOR];
 #endif
+#ifdef SPM_WITH_SMOOTH
+        float3 cn = sn, ctg = stg, cbt = cross3(cn, ctg); /* the shading frame */
+#else
         float3 cn = dot3(n, back) < 0.0f ? -n : n; /* the normal on the incoming side */
         float3 ctg = ld3(tr->t), cbt = cross3(cn, ctg);
+#endif
         float3 wl = (float3)(dot3(back, ctg), dot3(back, cbt), dot3(back, cn)); /* wo in the frame */
         spm_vertex_ext xe = {0u, 0.0f, 0.0f, 0.0f};
         /* no light sample on a delta lobe */
@@ -298,6 +316,10 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                     float pl = emitters[k].pdf * d2c / (et->area * cos_e);
                     wgt = emitters[k].inv_pdf * cos_e * et->area / d2c * (f * cond_power(pl, pb));
                     xe.cos_light = ch;
+#ifdef SPM_WITH_SMOOTH
+                    if (!(il.z > 0.0f)) /* below the shading horizon: nothing */
+                        wgt = 0.0f;
+#endif
                 } else
 #endif
 #ifdef SPM_WITH_DIELECTRIC
@@ -329,8 +351,14 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                     wgt = emitters[k].inv_pdf * cos_e * et->area / d2c * lw;
                 } else
 #endif
+#ifdef SPM_WITH_SMOOTH
+                /* the cosine to the shading normal (flat: |cos_i|), none below its horizon */
+                wgt = emitters[k].inv_pdf * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
+                      fmax(dot3(ed, sn), 0.0f) / SPM_PI_F;
+#else
                 wgt = emitters[k].inv_pdf * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
                       fabs(cos_i) / SPM_PI_F;
+#endif
                 if (wgt > 0.0f) {
                     eid = vertex_emission(em);
                     c = wgt * rrw;
@@ -452,6 +480,13 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                 cpdf = cond_d(calpha, mh.z) / ((1.0f + lo) * 4.0f * wl.z);
                 d = ctg * il.x + cbt * il.y + cn * il.z;
             }
+#ifdef SPM_WITH_SMOOTH
+            if (smooth && !(dot3(d, gn) > 0.0f)) { /* under the geometric surface: ends */
+                hd.end = SPM_END_ABSORBED;
+                j++;
+                break;
+            }
+#endif
             xrec[(size_t)j * npaths].cos_lobe = cl;
             o = pos;
             skip = (uint)hit;
@@ -477,9 +512,20 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         if (coat) /* the diffuse lobe's transmission out through the coating */
             rrw *= 1.0f - coat_fresnel(ceta, z);
 #endif
+#ifdef SPM_WITH_SMOOTH
+        float3 nn = sn, tg = stg;
+#else
         float3 nn = dot3(n, back) < 0.0f ? -n : n;
         float3 tg = ld3(tr->t);
+#endif
         d = tg * x + cross3(nn, tg) * y + nn * z;
+#ifdef SPM_WITH_SMOOTH
+        if (smooth && !(dot3(d, gn) > 0.0f)) { /* under the geometric surface: ends */
+            hd.end = SPM_END_ABSORBED;
+            j++;
+            break;
+        }
+#endif
         o = pos;
         skip = (uint)hit;
     }

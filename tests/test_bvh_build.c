@@ -15,7 +15,7 @@ static double rnd(void)
     return (double)(rng_state >> 11) * (1.0 / 9007199254740992.0);
 }
 
-/* Triangles as the builder reads them (its vertices); pad holds the input index
+/* Triangles as the builder reads them (its vertices); vn holds the input index
  * so the reordering can be followed. */
 static spm_geometry make_geom(int n)
 {
@@ -37,7 +37,7 @@ static void set_tri(spm_geometry *g, int i, const double a[3], const double b[3]
         t->v2[k] = (float)c[k];
     }
     t->material = 0;
-    t->pad = (spm_u32)i;
+    t->vn = (spm_u32)i;
 }
 
 static spm_geometry soup(int n)
@@ -170,7 +170,7 @@ static void check_tree(const spm_geometry *g, const char *name)
     int unseen = 0;
     for (int i = 0; i < n; i++) {
         unseen += !seen_slot[i];
-        if (g->tris[i].pad < (spm_u32)n && !seen_id[g->tris[i].pad]++)
+        if (g->tris[i].vn < (spm_u32)n && !seen_id[g->tris[i].vn]++)
             continue;
         twice++;
     }

@@ -4,6 +4,8 @@
  * answer is checked before use; binding, the statement's transform, mirroring
  * and degenerate filtering. */
 #include "mesh.h"
+#include "materials.h"
+#include "rgb2spec.h"
 #include "testutil.h"
 #include <math.h>
 #include <stdlib.h>
@@ -284,6 +286,130 @@ static void check_textured(const char *name, int mean_used, const char *tex_name
     spm_mesh_free(&d);
 }
 
+/* ---- vertex normals ---- */
+
+/* The sphere of gen_meshes.py (sphere_n.*): every vertex's normal is its
+ * position, so the imported normal, made unit, is unit(S^-2 p) for a file whose
+ * node scales the sphere by S (glTF: S = diag(1, 2, 1): the inverse transpose
+ * of S maps the normals, so n' = S^-1 n = S^-2 p'). A vertex's normal is
+ * written as the same floats as its position and S's entries are powers of
+ * two, so the expected normal is exact (measured: 0 in every format); the
+ * bound, 1e-5 rad, is a few float ulps of Assimp's float matrix products. */
+static void check_normals(const char *name, double sy)
+{
+    spm_mesh_data d;
+    spm_error err;
+    if (import(name, &d, &err)) {
+        CHECK(0, "%s: %s", name, err.msg);
+        return;
+    }
+    CHECK(d.normals != NULL, "%s: vertex normals imported", name);
+    CHECK(d.ntris == 224, "%s: 224 triangles (%llu)", name, (unsigned long long)d.ntris);
+    CHECK(!(d.ignored & SPM_MESH_IGN_NORMALS), "%s: normals not counted as ignored", name);
+    double worst = 0;
+    for (uint64_t t = 0; d.normals && t < d.ntris; t++)
+        for (int v = 0; v < 3; v++) {
+            const float *p = d.tris[t].p[v], *n = d.normals[t].n[v];
+            double w[3] = {p[0], p[1] / (sy * sy), p[2]}, dot = 0, cr[3];
+            for (int i = 0; i < 3; i++)
+                dot += w[i] * n[i];
+            cr[0] = w[1] * n[2] - w[2] * n[1];
+            cr[1] = w[2] * n[0] - w[0] * n[2];
+            cr[2] = w[0] * n[1] - w[1] * n[0];
+            worst = fmax(worst, atan2(sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]), dot));
+        }
+    printf("%s: worst normal angle %.3g rad\n", name, worst);
+    CHECK(worst < 1e-5, "%s: normals off by %.3g rad", name, worst);
+    spm_mesh_free(&d);
+}
+
+/* ---- materials of mesh files (mesh_pbr.c) ---- */
+
+static const spm_scene_material *find_mat(const spm_scene *s, const char *name)
+{
+    for (int i = 0; i < s->nmaterials; i++)
+        if (!strcmp(s->materials[i].name, name))
+            return &s->materials[i];
+    return NULL;
+}
+
+/* A conductor's normal-incidence reflectance, the exact Fresnel of its eta
+ * and k per 1 nm bin, against the file's F0: ΔE00 under D65 between that
+ * reflectance and the RGB. The lift of the RGB to a spectrum is a fit
+ * (rgb2spec.c) and F0 is clamped to 0.999 per bin (mesh_pbr.c): measured
+ * ΔE00 1.6e-6 (gold, 1 0.78 0.34), 1e-6 (steel), 2.5e-6 (copper's Ks);
+ * bound 0.01, far below a visible difference (1). */
+static void check_f0(const spm_scene *s, const spm_scene_material *m, const double rgb[3],
+                     double alpha, const char *what)
+{
+    CHECK(m && m->type == SPM_MAT_CONDUCTOR, "%s: a conductor", what);
+    if (!m || m->type != SPM_MAT_CONDUCTOR)
+        return;
+    CHECK(fabs(m->p[SPM_COND_P_ALPHA] - alpha) < 1e-6, "%s: alpha %g, not %g", what,
+          m->p[SPM_COND_P_ALPHA], alpha);
+    spm_spectrum f;
+    f.kind = SPM_KIND_REFLECTANCE;
+    for (int i = 0; i < SPM_TRUTH_BINS; i++)
+        f.nm1[i] = spm_conductor_fresnel(s->colours[m->refl].s.nm1[i], s->colours[m->col2].s.nm1[i],
+                                         1.0);
+    double de = spm_rgb2spec_delta_e(&f, rgb);
+    printf("%s: normal-incidence reflectance vs F0 (%g %g %g): ΔE00 %.3g\n", what, rgb[0], rgb[1],
+           rgb[2], de);
+    CHECK(de < 0.01, "%s: F0 off by ΔE00 %.3g", what, de);
+}
+
+static void check_pbr(void)
+{
+    const char *files[2] = {"metal.gltf", "metal.obj"};
+    for (int fi = 0; fi < 2; fi++) {
+        spm_mesh_data d;
+        spm_error err;
+        if (import(files[fi], &d, &err)) {
+            CHECK(0, "%s: %s", files[fi], err.msg);
+            continue;
+        }
+        char path[512];
+        snprintf(path, sizeof path, "%s/%s", dir, files[fi]);
+        spm_mesh_obj_mtl_check(path, "t", &d);
+        spm_scene s;
+        spm_scene_builder b;
+        spm_mesh_cache cache;
+        spm_sb_init(&b, &s, "<test>");
+        spm_mesh_cache_init(&cache);
+        spm_mesh_opts o;
+        memset(&o, 0, sizeof o);
+        o.material = -1;
+        spm_mesh_identity(o.m);
+        int rc = spm_mesh_add(&b, &cache, &d, &o, files[fi], "t", &err);
+        CHECK(rc == 0, "%s maps: %s", files[fi], rc ? err.msg : "");
+        if (fi == 0 && !rc) {
+            const double gold[3] = {1.0, 0.78, 0.34}, steel[3] = {0.56, 0.57, 0.58};
+            check_f0(&s, find_mat(&s, "gold"), gold, 0.0, "glTF gold (metallic 1, roughness 0)");
+            check_f0(&s, find_mat(&s, "steel"), steel, 0.25, "glTF steel (roughness 0.5: alpha 0.25)");
+            const spm_scene_material *h = find_mat(&s, "half"), *g = find_mat(&s, "glass");
+            CHECK(h && h->type == SPM_MAT_LAMBERT, "glTF metallic 0.3: diffuse (below 0.5)");
+            CHECK(g && g->type == SPM_MAT_LAMBERT, "glTF transmission: diffuse until 'dielectric'");
+        }
+        if (fi == 1 && !rc) {
+            const double cu[3] = {0.95, 0.64, 0.54};
+            check_f0(&s, find_mat(&s, "copper"), cu, sqrt(2.0 / 202.0),
+                     "MTL copper (Kd 0, Ks, Ns 200)");
+            const spm_scene_material *p = find_mat(&s, "paint");
+            CHECK(p && p->type == SPM_MAT_LAMBERT, "MTL Kd with Ks: diffuse until 'coated'");
+        }
+        spm_mesh_cache_free(&cache);
+        spm_sb_done(&b, 0);
+        spm_mesh_free(&d);
+    }
+    /* Gulbrandsen's n, k at a grey F0 of 0.5: ((n-1)^2 + k^2) / ((n+1)^2 + k^2) = 0.5 */
+    spm_spectrum f0, eta, k;
+    spm_spectrum_constant(0.5, SPM_KIND_REFLECTANCE, &f0);
+    spm_mesh_gulbrandsen(&f0, &eta, &k);
+    double n = eta.nm1[0], kk = k.nm1[0];
+    CHECK(fabs(((n - 1) * (n - 1) + kk * kk) / ((n + 1) * (n + 1) + kk * kk) - 0.5) < 1e-12,
+          "Gulbrandsen's n %g, k %g give F0 0.5", n, kk);
+}
+
 /* ---- the answer's decoder ---- */
 
 static void check_decode(void)
@@ -291,7 +417,7 @@ static void check_decode(void)
     spm_mesh_material mats[2] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}, .emission = {0, 0, 0}},
                                  {.name = "b", .diffuse = {1, 0, 0}, .emission = {0, 0, 0}}};
     spm_mesh_tri tris[2] = {{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1}, {{{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}, 0}};
-    spm_mesh_data d = {0, 2, 2, mats, tris, NULL}, out;
+    spm_mesh_data d = {0, 2, 2, mats, tris, NULL, NULL}, out;
     spm_error err;
     size_t n;
     unsigned char *buf = spm_mesh_encode(&d, &n);
@@ -310,7 +436,9 @@ static void check_decode(void)
                {16, 8, (uint64_t)1 << 40, "too many triangles"},
                {16, 8, 3, "a count that does not match the size"},
                {16, 8, 0, "no triangles"},
-               {24 + 2 * sizeof(spm_mesh_material) + offsetof(spm_mesh_tri, mat), 4, 2,
+               {24, 4, 2, "an unknown flag"},
+               {24, 4, SPM_MESH_WIRE_NORMALS, "normals announced but not sent"},
+               {SPM_MESH_WIRE_HEAD + 2 * sizeof(spm_mesh_material) + offsetof(spm_mesh_tri, mat), 4, 2,
                 "a material index out of range"}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         copy = spm_xmalloc(n);
@@ -364,6 +492,76 @@ static void identity(spm_mesh_opts *o)
     spm_mesh_transform(one, axis, 0, zero, o->m);
 }
 
+/* The statement's transform maps vertex normals by its inverse transpose and
+ * a mirror's reversed winding takes them along; they are stored unit length,
+ * turned to the front face; `smooth` makes a diffuse mesh smooth, which by
+ * default (and with `flat`) it is not. */
+static void check_build_normals(void)
+{
+    spm_mesh_material mats[1] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}}};
+    spm_mesh_tri tris[1] = {{{{1, 0, 0}, {1, 1, 0}, {1, 0, 1}}, 0}}; /* front face +x */
+    spm_mesh_normals nrm[1] = {{{{1, 1, 0}, {1, 0, 0}, {1, 0, 1}}}};
+    spm_mesh_data d = {0, 1, 1, mats, tris, nrm, NULL};
+    spm_error err;
+    spm_quiet_warnings = 1;
+    struct {
+        double s[3];
+        int shading, expect;
+        float want[9]; /* before normalising */
+    } cases[] = {
+        {{1, 3, 1}, SPM_MESH_SHADE_SMOOTH, 1, {1, 1.0f / 3, 0, 1, 0, 0, 1, 0, 1}},
+        {{-1, 1, 1}, SPM_MESH_SHADE_SMOOTH, 1, {-1, 1, 0, -1, 0, 1, -1, 0, 0}}, /* v1, v2 swapped */
+        {{1, 1, 1}, SPM_MESH_SHADE_DEFAULT, 0, {0}},
+        {{1, 1, 1}, SPM_MESH_SHADE_FLAT, 0, {0}}};
+    for (int c = 0; c < 4; c++) {
+        bscene x;
+        bs_open(&x);
+        spm_mesh_opts o;
+        identity(&o);
+        spm_mesh_scale(o.m, cases[c].s);
+        o.material = x.grey;
+        o.shading = cases[c].shading;
+        int rc = spm_mesh_add(&x.b, &x.cache, &d, &o, "m", "t", &err);
+        CHECK(rc == 0 && x.s.ntris == 1, "case %d loads", c);
+        CHECK((x.s.nvnormals == 1) == cases[c].expect && (x.s.tris[0].vn != 0) == cases[c].expect,
+              "case %d: %s", c, cases[c].expect ? "smooth" : "flat");
+        double worst = 0;
+        for (int v = 0; v < 3 && cases[c].expect && x.s.nvnormals == 1; v++) {
+            const float *w = &cases[c].want[3 * v], *n = &x.s.vnormals[0][3 * v];
+            double lw = sqrt((double)w[0] * w[0] + (double)w[1] * w[1] + (double)w[2] * w[2]);
+            for (int i = 0; i < 3; i++)
+                worst = fmax(worst, fabs(n[i] - w[i] / lw));
+        }
+        /* float normals of double arithmetic: a few ulps */
+        CHECK(worst < 1e-6, "case %d: normals off by %.3g", c, worst);
+        bs_close(&x);
+    }
+    /* normals against the winding: turned to the front face */
+    spm_mesh_normals back[1] = {{{{-1, 0, 0}, {-1, 0, 0}, {-1, 0, 0}}}};
+    spm_mesh_data db = {0, 1, 1, mats, tris, back, NULL};
+    bscene x;
+    bs_open(&x);
+    spm_mesh_opts o;
+    identity(&o);
+    o.material = x.grey;
+    o.shading = SPM_MESH_SHADE_SMOOTH;
+    int rc = spm_mesh_add(&x.b, &x.cache, &db, &o, "m", "t", &err);
+    CHECK(rc == 0 && x.s.nvnormals == 1 && x.s.vnormals[0][0] == 1.0f && x.s.vnormals[0][3] == 1.0f &&
+              x.s.vnormals[0][6] == 1.0f,
+          "normals against the winding are turned to the front face");
+    bs_close(&x);
+    /* a zero normal: that triangle is flat */
+    spm_mesh_normals zero[1] = {{{{1, 0, 0}, {0, 0, 0}, {1, 0, 0}}}};
+    spm_mesh_data dz = {0, 1, 1, mats, tris, zero, NULL};
+    bs_open(&x);
+    identity(&o);
+    o.material = x.grey;
+    o.shading = SPM_MESH_SHADE_SMOOTH;
+    rc = spm_mesh_add(&x.b, &x.cache, &dz, &o, "m", "t", &err);
+    CHECK(rc == 0 && x.s.nvnormals == 0 && x.s.tris[0].vn == 0, "a zero vertex normal: flat");
+    bs_close(&x);
+}
+
 static void check_build(void)
 {
     spm_mesh_material mats[3] = {{.name = "a", .diffuse = {0.8f, 0.2f, 0.1f}, .emission = {0, 0, 0}},
@@ -373,7 +571,7 @@ static void check_build(void)
                             {{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, 1}, /* collinear */
                             {{{0, 0, 0}, {0, 0, 0}, {0, 1, 0}}, 1}, /* coincident */
                             {{{0, 0, 3}, {1, 0, 3}, {0, 1, 3}}, 1}};
-    spm_mesh_data d = {0, 3, 4, mats, tris, NULL};
+    spm_mesh_data d = {0, 3, 4, mats, tris, NULL, NULL};
     spm_error err;
     spm_quiet_warnings = 1;
 
@@ -422,7 +620,7 @@ static void check_build(void)
     identity(&o);
     spm_mesh_transform(scale, axis, 90, tr, o.m);
     o.material = x.grey;
-    spm_mesh_data one = {0, 3, 1, mats, tris, NULL};
+    spm_mesh_data one = {0, 3, 1, mats, tris, NULL, NULL};
     rc = spm_mesh_add(&x.b, &x.cache, &one, &o, "m", "t", &err);
     /* 1e-6: cos 90 degrees in double is 6e-17, times coordinates of 2 */
     CHECK(rc == 0 && fabsf(x.s.tris[0].p[0][0]) < 1e-6f && x.s.tris[0].p[0][1] == 2.0f &&
@@ -479,7 +677,7 @@ static void check_build(void)
     bs_close(&x);
 
     /* all degenerate: an error, not an empty mesh */
-    spm_mesh_data degen = {0, 3, 2, mats, tris + 1, NULL};
+    spm_mesh_data degen = {0, 3, 2, mats, tris + 1, NULL, NULL};
     bs_open(&x);
     identity(&o);
     rc = spm_mesh_add(&x.b, &x.cache, &degen, &o, "m", "t", &err);
@@ -518,6 +716,20 @@ int main(void)
     check_textured("notex.obj", 0, "nosuch.png");
 
     check_strips();
+    check_normals("sphere_n.obj", 1);
+    check_normals("sphere_n.ply", 1);
+    check_normals("sphere_n_strips.ply", 1);
+    check_normals("sphere_n.gltf", 2);
+    {
+        spm_mesh_data d;
+        spm_error err;
+        CHECK(import("cube.obj", &d, &err) == 0 && d.normals == NULL,
+              "a file without vertex normals has none");
+        spm_mesh_free(&d);
+        CHECK(import("cube_ascii.stl", &d, &err) == 0 && d.normals == NULL,
+              "STL's facet normals are no vertex normals");
+        spm_mesh_free(&d);
+    }
     static const char glb[] = "glTF\x02\0\0\0\xff\xff\xff\xff not json";
     write_file("garbage.glb", glb, sizeof glb - 1);
     check_fails("garbage.glb", "Assimp");
@@ -544,6 +756,8 @@ int main(void)
 
     check_decode();
     check_build();
+    check_build_normals();
+    check_pbr();
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0)
         fprintf(stderr, "could not remove %s\n", dir);

@@ -24,6 +24,26 @@ statement reads, plus the expected triangles as text:
                         (a translation; a rotation and translation under a scaled
                         parent; a mirror)
   quad_emit.gltf        one emissive quad facing -z (towards a camera on -z)
+  sphere_n.obj/.ply/.gltf, sphere_n_strips.ply
+                        a unit sphere (8 rings of 16 segments, 224 triangles) with
+                        vertex normals (vn; nx ny nz; NORMAL), each its vertex's
+                        position; the glTF's node scales it by (1, 2, 1), so its
+                        normals must come out as (x, y / 4, z) of its positions
+  metal.gltf            a quad per material: 'gold' metallic 1, base colour (1, 0.78,
+                        0.34), roughness 0; 'steel' metallic 1, roughness 0.5; 'half'
+                        metallic 0.3; 'glass' transmission 1 and ior 1.5
+  metal.obj + .mtl      'copper' Kd 0, Ks (0.95 0.64 0.54), Ns 200; 'paint' Kd (0.5 0.1
+                        0.1), Ks 0.04, Ns 50
+  tilt.obj              a 20 x 20 quad at z = 0 facing +z whose vertex normals all
+                        lean 60 degrees towards +x (a shading normal far from the
+                        geometric one)
+  smooth_box.scene      the conductor test box with a smooth conductor sphere and a
+                        smooth diffuse sphere (sphere_n.obj, sphere_n.ply)
+  leak_KIND.scene, leak_lit_KIND.scene
+                        tilt.obj (KIND: diffuse with `smooth`, a rough or a smooth
+                        conductor) seen from the front, a white wall behind it
+                        (leak: lit by a light behind the quad: nothing may reach the
+                        camera; leak_lit: the light in front of the quad instead)
   big.ply + (N given)   a procedural binary PLY of about N triangles (a bumpy sphere)
   big.scene             with N: the Cornell box (scenes/cornell.scene) with big.ply in it
   big_text.scene        the same box and sphere, the sphere as `tri` statements
@@ -330,6 +350,112 @@ def gltf(out):
             'pbrMetallicRoughness': {'baseColorFactor': [0, 0, 0, 1], 'metallicFactor': 0.0}}]
     doc, buf = gltf_doc(quad, [([0, 1, 2, 0, 2, 3], 0)], [{'mesh': 0}], [0], mat)
     write_gltf(os.path.join(out, 'quad_emit.gltf'), doc, buf)
+
+
+def sphere_n(rings=8, segs=16):
+    """A unit sphere: vertices (poles single), triangles counter-clockwise
+    seen from outside; a vertex's normal is its position."""
+    verts = [(0.0, 1.0, 0.0)]
+    for i in range(1, rings):
+        th = math.pi * i / rings
+        for j in range(segs):
+            ph = 2 * math.pi * j / segs
+            verts.append((math.sin(th) * math.cos(ph), math.cos(th), -math.sin(th) * math.sin(ph)))
+    verts.append((0.0, -1.0, 0.0))
+    def ring(i, j):
+        return 1 + (i - 1) * segs + j % segs
+    tris = []
+    for j in range(segs):
+        tris.append((0, ring(1, j), ring(1, j + 1)))
+        for i in range(1, rings - 1):
+            a, b, c, d = ring(i, j), ring(i + 1, j), ring(i + 1, j + 1), ring(i, j + 1)
+            tris += [(a, b, c), (a, c, d)]
+        tris.append((ring(rings - 1, j), len(verts) - 1, ring(rings - 1, j + 1)))
+    return verts, tris
+
+
+def metal_meshes(out):
+    quads = []
+    for i in range(4):
+        quads += [(2 * i, 0, 0), (2 * i + 1, 0, 0), (2 * i + 1, 1, 0), (2 * i, 1, 0)]
+    mats = [{'name': 'gold', 'pbrMetallicRoughness': {'baseColorFactor': [1.0, 0.78, 0.34, 1.0],
+                                                      'metallicFactor': 1.0, 'roughnessFactor': 0.0}},
+            {'name': 'steel', 'pbrMetallicRoughness': {'baseColorFactor': [0.56, 0.57, 0.58, 1.0],
+                                                       'metallicFactor': 1.0, 'roughnessFactor': 0.5}},
+            {'name': 'half', 'pbrMetallicRoughness': {'baseColorFactor': [0.5, 0.5, 0.5, 1.0],
+                                                      'metallicFactor': 0.3}},
+            {'name': 'glass', 'pbrMetallicRoughness': {'baseColorFactor': [1, 1, 1, 1.0],
+                                                       'metallicFactor': 0.0, 'roughnessFactor': 0.0},
+             'extensions': {'KHR_materials_transmission': {'transmissionFactor': 1.0},
+                            'KHR_materials_ior': {'ior': 1.5}}}]
+    prims = [([4 * i, 4 * i + 1, 4 * i + 2, 4 * i, 4 * i + 2, 4 * i + 3], i) for i in range(4)]
+    doc, buf = gltf_doc(quads, prims, [{'mesh': 0}], [0], mats)
+    doc['extensionsUsed'] = ['KHR_materials_transmission', 'KHR_materials_ior']
+    write_gltf(os.path.join(out, 'metal.gltf'), doc, buf)
+    w(os.path.join(out, 'metal.mtl'), 'newmtl copper\nKd 0 0 0\nKs 0.95 0.64 0.54\nNs 200\n'
+      'illum 3\n\nnewmtl paint\nKd 0.5 0.1 0.1\nKs 0.04 0.04 0.04\nNs 50\nillum 2\n')
+    w(os.path.join(out, 'metal.obj'), 'mtllib metal.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n'
+      'v 2 0 0\nv 3 0 0\nv 3 1 0\nv 2 1 0\nusemtl copper\nf 1 2 3 4\nusemtl paint\nf 5 6 7 8\n')
+
+
+def smooth_meshes(out):
+    verts, tris = sphere_n()
+    mtl = 'newmtl shiny\nKd 0.5 0.5 0.5\n'
+    w(os.path.join(out, 'sphere_n.mtl'), mtl)
+    s = 'mtllib sphere_n.mtl\n' + ''.join('v %r %r %r\n' % v for v in verts)
+    s += ''.join('vn %r %r %r\n' % v for v in verts) + 'usemtl shiny\n'
+    s += ''.join('f %d//%d %d//%d %d//%d\n' % (a + 1, a + 1, b + 1, b + 1, c + 1, c + 1)
+                 for a, b, c in tris)
+    w(os.path.join(out, 'sphere_n.obj'), s)
+    hdr = ('ply\nformat ascii 1.0\ncomment generated by tools/gen_meshes.py\n'
+           'element vertex %d\nproperty float x\nproperty float y\nproperty float z\n'
+           'property float nx\nproperty float ny\nproperty float nz\n' % len(verts))
+    vs = ''.join('%r %r %r %r %r %r\n' % (v + v) for v in verts)
+    w(os.path.join(out, 'sphere_n.ply'), hdr + 'element face %d\n'
+      'property list uchar int vertex_indices\nend_header\n' % len(tris) + vs +
+      ''.join('3 %d %d %d\n' % t for t in tris))
+    # the same triangles as one-triangle strips (specmip's own PLY reader)
+    w(os.path.join(out, 'sphere_n_strips.ply'), hdr + 'element tristrips 1\n'
+      'property list int int vertex_indices\nend_header\n' + vs +
+      '%d %s\n' % (4 * len(tris) - 1, ' -1 '.join('%d %d %d' % t for t in tris)))
+    # glTF: positions and normals, under a node scaled by (1, 2, 1)
+    doc, buf = gltf_doc(verts, [([i for t in tris for i in t], 0)], [{'mesh': 0, 'scale': [1, 2, 1]}],
+                        [0], [{'name': 'shiny', 'pbrMetallicRoughness': {
+                            'baseColorFactor': [0.5, 0.5, 0.5, 1.0], 'metallicFactor': 0.0}}])
+    nrm = b''.join(struct.pack('<3f', *v) for v in verts)
+    doc['bufferViews'].append({'buffer': 0, 'byteOffset': len(buf), 'byteLength': len(nrm)})
+    doc['accessors'].append({'bufferView': len(doc['bufferViews']) - 1, 'componentType': 5126,
+                             'count': len(verts), 'type': 'VEC3'})
+    doc['meshes'][0]['primitives'][0]['attributes']['NORMAL'] = len(doc['accessors']) - 1
+    buf += nrm
+    doc['buffers'][0]['byteLength'] = len(buf)
+    write_gltf(os.path.join(out, 'sphere_n.gltf'), doc, buf)
+    # the leaning quad: normals 60 degrees from +z towards +x
+    n = (math.sin(math.pi / 3), 0.0, math.cos(math.pi / 3))
+    s = ''.join('v %g %g 0\n' % p for p in ((-10, -10), (10, -10), (10, 10), (-10, 10)))
+    s += 'vn %r %r %r\nf 1//1 2//1 3//1\nf 1//1 3//1 4//1\n' % n
+    w(os.path.join(out, 'tilt.obj'), s)
+    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'tests', 'data',
+                           'scenes', 'conductor_box.scene')) as f:
+        box = f.read()
+    box += ('\n# a smooth conductor sphere (left, mirror) and a smooth diffuse one (right)\n'
+            'mesh sphere_n.obj material tall_box scale 0.08 translate 0.17 0.5 0.2\n'
+            'mesh sphere_n.ply material white smooth scale 0.07 translate 0.38 0.35 0.12\n')
+    w(os.path.join(out, 'smooth_box.scene'), box)
+    leak = ('# tilt.obj (smooth, its normals lean 60 degrees) seen from its front face;\n'
+            '# behind it a white wall, lit by a light between the two (facing the wall)\n'
+            'image 16 16\ncamera position 0 0 5  direction 0 0 -1  fov 30\n'
+            'spectrum white inline 380 0.8 780 0.8 end\nspectrum e inline 380 1 780 1 end\n'
+            'material wall reflect white\nmaterial light emit e 100\n'
+            'material mirror conductor e e\nmaterial rough conductor e e alpha 0.3\n'
+            'quad wall -20 -20 -2  20 -20 -2  20 20 -2  -20 20 -2\n')
+    light_back = 'quad light -1 -1 -1  -1 1 -1  1 1 -1  1 -1 -1\n'  # faces -z: the wall
+    light_front = 'quad light 2 -1 3  2 1 3  4 1 3  4 -1 3\n'      # faces -z: the quad
+    for name, light in (('leak', light_back), ('leak_lit', light_front)):
+        for kind, mat, clause in (('diffuse', 'wall', 'smooth'), ('rough', 'rough', ''),
+                                  ('mirror', 'mirror', '')):
+            sc = leak + light + 'mesh tilt.obj material %s %s\n' % (mat, clause)
+            w(os.path.join(out, '%s_%s.scene' % (name, kind)), sc)
 
 
 def big(out, n):
@@ -827,6 +953,8 @@ def main():
     gltf(out)
     textured(out)
     grid(out)
+    smooth_meshes(out)
+    metal_meshes(out)
     write_tris(os.path.join(out, 'cube.tris'), [[V[i] for i in t[:3]] for t in TRIS])
     if len(sys.argv) > 2:
         print(big(out, int(sys.argv[2])))

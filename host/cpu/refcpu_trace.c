@@ -11,6 +11,7 @@
 #include "refcpu_conductor.h"
 #include "refcpu_coated.h"
 #include "refcpu_dielectric.h"
+#include "refcpu_shading.h"
 
 /* The level feeler: the finest (smallest) level among the colours met,
  * starting from the coarsest level in use; a colour lowers it only when
@@ -137,11 +138,13 @@ static const spm_emitter *pick_emitter(const spm_geometry *g, const rng_key *k, 
  * rough conductor (cc) the factor after the distance is its lobe's
  * (spm_ref_cond_light), and *cos_h its Fresnel angle; at a rough dielectric
  * (cc and its relative index deta > 0) its reflection's (spm_ref_diel_light);
- * at a coated vertex (co) its chosen lobe's (spm_ref_coat_light). */
+ * at a coated vertex (co) its chosen lobe's (spm_ref_coat_light). At a smooth
+ * triangle (sn, its shading normal on the viewer's side) |cos_i| is the cosine
+ * to sn, and light below sn's horizon counts nothing (refcpu_shading.h). */
 static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, const rng_key *k,
                               spm_u32 dim, const float x[3], spm_u32 hit, const float n[3],
                               const float d[3], const spm_ref_cond *cc, float deta,
-                              const spm_ref_coat *co, float *c, float *cos_h)
+                              const spm_ref_coat *co, const float *sn, float *c, float *cos_h)
 {
     *c = 0.0f;
     if (g->nemitters == 0)
@@ -178,10 +181,15 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
         float d2c = d2 > d2min ? d2 : d2min;
         w = pe->inv_pdf * cos_e * em->area / d2c *
             spm_ref_cond_light(cc, l, pe->pdf, d2c, em->area, cos_e, cos_h);
+        if (sn && !(v3_dot(l, cc->n) > 0.0f))
+            w = 0.0f;
     } else if (co) {
         float d2c = d2 > d2min ? d2 : d2min;
         w = pe->inv_pdf * cos_e * em->area / d2c *
             spm_ref_coat_light(co, l, cos_i, pe->pdf, d2c, em->area, cos_e);
+    } else if (sn) {
+        float cs = v3_dot(l, sn);
+        w = pe->inv_pdf * cos_e * em->area / (d2 > d2min ? d2 : d2min) * fmaxf(cs, 0.0f) / SPM_PI_F;
     } else {
         w = pe->inv_pdf * cos_e * em->area / (d2 > d2min ? d2 : d2min) * fabsf(cos_i) / SPM_PI_F;
     }
@@ -191,21 +199,20 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
     return vertex_emission(&mats[em->material]);
 }
 
-/* Cosine-weighted direction about the normal turned to the incoming side
- * (MiniLight: x = cos(2 pi u) sqrt(v), y = sin(2 pi u) sqrt(v), z = sqrt(1 - v);
+/* Cosine-weighted direction about the normal n on the incoming side, tangent
+ * tg (MiniLight: x = cos(2 pi u) sqrt(v), y = sin(2 pi u) sqrt(v), z = sqrt(1 - v);
  * out = t x + (n x t) y + n z). */
-static void bounce(const spm_tri *t, const rng_key *k, spm_u32 dim, const float d[3], float out[3])
+static void bounce(const float n[3], const float tg[3], const rng_key *k, spm_u32 dim,
+                   float out[3])
 {
     float phi = 2.0f * SPM_PI_F * rnd(k, dim + SPM_DIM_DIR_A);
     float v = rnd(k, dim + SPM_DIM_DIR_B);
     float sr = sqrtf(v);
     float x = cosf(phi) * sr, y = sinf(phi) * sr, z = sqrtf(1.0f - v);
-    float n[3] = {t->n[0], t->n[1], t->n[2]}, c[3];
-    if (v3_dot(n, d) > 0.0f) /* MiniLight: dot(n, -d) < 0 flips n */
-        n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
-    v3_cross(c, n, t->t);
+    float c[3];
+    v3_cross(c, n, tg);
     for (int i = 0; i < 3; i++)
-        out[i] = t->t[i] * x + c[i] * y + n[i] * z;
+        out[i] = tg[i] * x + c[i] * y + n[i] * z;
 }
 
 /* Occurrences of reflectance colour r among vertices 0..j of the record. */
@@ -293,11 +300,27 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         if (j > 0 && cpdf >= 0.0f && memit != SPM_NONE)
             lobe_hit(tri, m, d, t, g->light_pdf[hit], cpdf, weight, memit, &path->x[j - 1], &f,
                      lvlk);
+        /* The hit's shading frame, the one place a type finds it: the normal
+         * sn on the viewer's side and tangent st every type shades with; gn,
+         * the geometric normal on the viewer's side (MiniLight: dot(n, -d) < 0
+         * flips n), decides which side a direction is on. A flat triangle's
+         * is gn and its own tangent (refcpu_shading.h). */
+        float gn[3] = {tri->n[0], tri->n[1], tri->n[2]}, sn[3], st[3];
+        if (v3_dot(gn, d) > 0.0f)
+            gn[0] = -gn[0], gn[1] = -gn[1], gn[2] = -gn[2];
+        int smooth = tri->vn != 0u;
+        if (smooth)
+            spm_ref_shading_frame(tri, &g->vnormals[9 * (size_t)(tri->vn - 1u)], o, d, gn, sn, st);
+        else
+            for (int i = 0; i < 3; i++)
+                sn[i] = gn[i], st[i] = tri->t[i];
         int cond = SPM_MAT_TAG(*m) == SPM_MAT_CONDUCTOR;
         int diel = SPM_MAT_TAG(*m) == SPM_MAT_DIELECTRIC;
         spm_ref_cond cc;
         float deta = 0.0f; /* a dielectric's relative index eta_t / eta_i */
-        if (cond)
+        if (cond && smooth)
+            spm_ref_cond_frame(sn, st, d, m->p[SPM_COND_P_ALPHA], &cc);
+        else if (cond)
             spm_ref_cond_make(tri, d, m->p[SPM_COND_P_ALPHA], &cc);
         if (diel) {
             spm_ref_cond_make(tri, d, m->p[SPM_DIEL_P_ALPHA], &cc);
@@ -314,8 +337,8 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         spm_u32 e = SPM_NONE;
         if (!((cond || diel) && cc.alpha == 0.0f) && !(coat && co.spec && co.f.alpha == 0.0f))
             e = sample_emitter(g, mats, &k, dim, x, (spm_u32)hit, tri->n, d,
-                               cond || diel ? &cc : NULL, deta, coat ? &co : NULL, &c,
-                               &cos_h); /* none on a delta lobe */
+                               cond || diel ? &cc : NULL, deta, coat ? &co : NULL,
+                               smooth ? sn : NULL, &c, &cos_h); /* none on a delta lobe */
         float mmean, minv;
         spm_u32 refl = vertex_lobe(m, &k, j, &mmean, &minv);
         if (coat) { /* the lobe's colour; survival q = min(1, w mean), weight w / q */
@@ -388,10 +411,16 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
                 nd[i] = co.dir[i];
             cpdf = co.pdf;
         } else {
-            bounce(tri, &k, dim, d, nd);
+            bounce(sn, st, &k, dim, nd);
             if (coat) /* the diffuse lobe's transmission out: 1 - F(cos_i), cos_i = sqrt(1 - v) */
                 weight *= 1.0f - spm_ref_coat_fresnel(co.eta,
                                                       sqrtf(1.0f - rnd(&k, dim + SPM_DIM_DIR_B)));
+        }
+        if (smooth && !(v3_dot(nd, gn) > 0.0f)) { /* under the geometric surface: ends */
+            if (cond)
+                path->x[j].cos_lobe = 0.0f;
+            h->end = SPM_END_ABSORBED;
+            break;
         }
         for (int i = 0; i < 3; i++)
             o[i] = x[i], d[i] = nd[i];

@@ -65,6 +65,7 @@ static int make_tri(const spm_scene *sc, const spm_scene_tri *st, spm_tri *t, sp
     }
     t->area = (float)(0.5 * len);
     t->material = (spm_u32)st->material;
+    t->vn = st->vn > 0 && st->vn <= sc->nvnormals ? (spm_u32)st->vn : 0u;
     return 0;
 }
 
@@ -162,6 +163,11 @@ static int build(spm_scene *owned, const spm_scene *scene, spm_geometry *g, spm_
             return 1;
         }
     }
+    g->nvn = scene->nvnormals;
+    if (g->nvn) { /* the smooth triangles' normals, indexed by vn: the BVH's order does not move them */
+        g->vnormals = spm_xmalloc((size_t)g->nvn * 9 * sizeof *g->vnormals);
+        memcpy(g->vnormals, scene->vnormals, (size_t)g->nvn * 9 * sizeof *g->vnormals);
+    }
     if (owned) { /* the scene's copy is not needed again: not held through the BVH build */
         free(owned->tris);
         owned->tris = NULL;
@@ -194,6 +200,7 @@ void spm_geometry_free(spm_geometry *g)
     free(g->wide);
     free(g->emitters);
     free(g->light_pdf);
+    free(g->vnormals);
     memset(g, 0, sizeof *g);
 }
 

@@ -28,6 +28,8 @@ typedef struct {
     int nemitters;
     int emit_power;         /* 1: picked by power (spm_emitter); 0: uniformly (equal powers) */
     float *light_pdf;       /* per triangle: its probability of being picked as the light (0: none) */
+    float *vnormals;        /* nine floats per smooth triangle (spm_tri.vn), NULL when none */
+    int nvn;                /* smooth triangles: 0 in a scene without vertex normals */
     spm_camera cam;
     spm_bvh_stats bvh;
 } spm_geometry;

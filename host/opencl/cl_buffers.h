@@ -30,6 +30,7 @@
     X(nodes, "BVH", g->wide_bytes, g->wide)                                        \
     X(emitters, "emitters", (size_t)g->nemitters * sizeof(spm_emitter), g->emitters) \
     X(light_pdf, "light pdfs", (size_t)g->ntris * sizeof(float), g->light_pdf)      \
+    X(vnormals, "vertex normals", (size_t)g->nvn * 9 * sizeof(float), g->vnormals)  \
     X(mats, "materials", (size_t)t->nmaterials * sizeof(spm_material), t->materials) \
     X(lvlk, "level table", (size_t)t->ncolours * SPM_PRETEST_KMAX, lvlk)
 #endif

@@ -93,6 +93,9 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     used_slots(p);
     int nd = spm_material_defines(t->materials, t->nmaterials, p->type_defines,
                                   sizeof p->type_defines);
+    if (g->nvn && nd < (int)sizeof p->type_defines) /* smooth triangles: kernels/shading.clh */
+        nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
+                       "-DSPM_WITH_SMOOTH ");
     if (t->nfluor && nd < (int)sizeof p->type_defines) /* where the shade stage finds them */
         snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
                  "-DSPM_FLUOR_FIRST=%du -DSPM_FLUOR_NCOL=%du ", t->fluor_first, t->ncolours);

@@ -241,6 +241,7 @@ const spm_mtype_desc spm_material_types[] = {
         .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
         .rng_dims = 2, /* SPM_DIM_COND_M_A, SPM_DIM_COND_M_B */
         .define = "SPM_WITH_CONDUCTOR",
+        .smooth = 1, /* a faceted metal sphere shows its facets in every reflection */
         .fill = conductor_fill,
     },
     [SPM_MAT_FLUOR] = {
@@ -291,6 +292,7 @@ const spm_mtype_desc spm_material_types[] = {
         .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
         .rng_dims = 3, /* SPM_DIM_DIEL_M_A, SPM_DIM_DIEL_M_B, SPM_DIM_DIEL_CHOICE */
         .define = "SPM_WITH_DIELECTRIC",
+        .smooth = -1, /* its trace code takes the geometric frame: always flat */
         .fill = dielectric_fill,
         .derive = dielectric_derive,
     },
@@ -310,6 +312,7 @@ const spm_mtype_desc spm_material_types[] = {
         .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
         .rng_dims = 3, /* SPM_DIM_COAT_LOBE, SPM_DIM_COAT_M_A, SPM_DIM_COAT_M_B */
         .define = "SPM_WITH_COATED",
+        .smooth = -1, /* its trace code takes the geometric frame: always flat */
         .fill = coated_fill,
         .derive = coated_derive,
     },

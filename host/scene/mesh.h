@@ -23,7 +23,8 @@
 #define SPM_MESH_MAX_MATERIALS 4096
 #define SPM_MESH_MAX_DEPTH 256 /* node hierarchy depth */
 
-/* What a file held that flat diffuse shading ignores: one warning each. */
+/* What a file held that the renderer ignores: one warning each (vertex
+ * normals only when no triangle of the statement shades smooth). */
 enum {
     SPM_MESH_IGN_NORMALS = 1 << 0,
     SPM_MESH_IGN_TEXCOORDS = 1 << 1,
@@ -50,7 +51,31 @@ typedef struct {
     float texture_mean[3];     /* its mean linear colour (SPM_MESH_TEX_MEAN) */
     char texture_name[96];     /* as the file names it, or "embedded image N" */
     char texture_why[128];     /* why it was not read (SPM_MESH_TEX_UNREAD) */
+    /* What the file says beyond the diffuse colour (mesh_pbr.c maps it):
+     * SPM_MESH_HAS_* bits for the values the file gave, and the values. */
+    int32_t format;            /* SPM_MESH_FMT_*: whose conventions the values follow */
+    uint32_t has;
+    float metallic, roughness; /* glTF metallicFactor, roughnessFactor */
+    float specular[3];         /* OBJ Ks */
+    float shininess;           /* OBJ Ns */
+    float ior;                 /* OBJ Ni, glTF KHR_materials_ior */
+    float transmission;        /* glTF KHR_materials_transmission */
+    float thickness;           /* glTF KHR_materials_volume thicknessFactor */
+    float atten_dist;          /* its attenuationDistance */
+    float atten_colour[3];     /* its attenuationColor */
+    float opacity;             /* OBJ d (1 - Tr), glTF alpha */
 } spm_mesh_material;
+enum { SPM_MESH_FMT_OTHER = 0, SPM_MESH_FMT_GLTF = 1, SPM_MESH_FMT_OBJ = 2 };
+enum {
+    SPM_MESH_HAS_METALLIC = 1 << 0,
+    SPM_MESH_HAS_ROUGHNESS = 1 << 1,
+    SPM_MESH_HAS_SPECULAR = 1 << 2,
+    SPM_MESH_HAS_SHININESS = 1 << 3,
+    SPM_MESH_HAS_IOR = 1 << 4,
+    SPM_MESH_HAS_TRANSMISSION = 1 << 5,
+    SPM_MESH_HAS_VOLUME = 1 << 6,
+    SPM_MESH_HAS_OPACITY = 1 << 7
+};
 /* spm_mesh_material.texture: none; diffuse is the factor times the
  * texture's mean; the texture could not be read, diffuse is the factor */
 enum { SPM_MESH_TEX_NONE = 0, SPM_MESH_TEX_MEAN = 1, SPM_MESH_TEX_UNREAD = 2 };
@@ -62,14 +87,29 @@ typedef struct {
     uint32_t mat;              /* index into the file's materials */
 } spm_mesh_tri;
 
+/* A triangle's vertex normals in file coordinates (node transforms applied
+ * as normals transform, by the inverse transpose; not yet unit length), in
+ * the order of its spm_mesh_tri's vertices; all zero: the triangle has none. */
+typedef struct {
+    float n[3][3];
+} spm_mesh_normals;
+
 typedef struct {
     uint32_t ignored;          /* SPM_MESH_IGN_* bits */
     uint32_t nmats;
     uint64_t ntris;
     spm_mesh_material *mats;
     spm_mesh_tri *tris;
-    void *buf;                 /* owns mats and tris */
+    spm_mesh_normals *normals; /* per triangle, or NULL: the file has no vertex normals */
+    void *buf;                 /* owns mats, tris and normals */
 } spm_mesh_data;
+
+/* The child's answer on its pipe (mesh_wire.c): a header of this many bytes
+ * (magic, status, ignored, nmats, ntris as 64 bits, flags, a spare word),
+ * the materials, the triangles, and with SPM_MESH_WIRE_NORMALS in flags one
+ * spm_mesh_normals per triangle. */
+#define SPM_MESH_WIRE_HEAD 32
+#define SPM_MESH_WIRE_NORMALS 1u
 
 /* Imports `path` in a child process (a PLY with triangle strips: by
  * mesh_ply.c, in this process). Errors name `path` (and what Assimp said);
@@ -93,14 +133,32 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
  * fuzz harness): a malloc'd buffer and its size in *size. */
 void *spm_mesh_encode(const spm_mesh_data *d, size_t *size);
 
+/* The scene material a lifted file material maps to (mesh_pbr.c, the table
+ * in docs/SCENE_FORMAT.md): a conductor for a glTF metal (metallic >= 0.5)
+ * or an OBJ material with a black Kd and a coloured Ks, else the diffuse
+ * colour; properties without a target type yet get a warning naming the
+ * material (`where`). r and e are the lifted reflectance and emission
+ * colours. Returns the material index or -1 with err filled. */
+int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int r, int e,
+                          const char *where, spm_error *err);
+/* A conductor whose normal-incidence reflectance is the reflectance spectrum
+ * f0 (Gulbrandsen 2014 per wavelength, edge tint g = f0): its eta and k. */
+void spm_mesh_gulbrandsen(const spm_spectrum *f0, spm_spectrum *eta, spm_spectrum *k);
+
 /* A file material bound to a scene material. */
 typedef struct {
     char file_mat[SPM_NAME_MAX];
     int material;
 } spm_mesh_bind;
 
+/* spm_mesh_opts.shading: the `smooth` and `flat` clauses. By default a
+ * triangle with vertex normals shades smooth when its material's type says so
+ * (materials.h spm_mtype_desc.smooth: not the diffuse types). */
+enum { SPM_MESH_SHADE_DEFAULT = 0, SPM_MESH_SHADE_SMOOTH = 1, SPM_MESH_SHADE_FLAT = 2 };
+
 typedef struct {
     int material;              /* scene material for unbound file materials, -1: lift RGB */
+    int shading;               /* SPM_MESH_SHADE_* */
     const spm_mesh_bind *binds;
     int nbinds;
     double m[3][4];            /* scene-from-file transform (x' = M x + t) */

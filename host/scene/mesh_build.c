@@ -4,6 +4,7 @@
 #include "mesh.h"
 #include "interrupt.h"
 #include "mesh_texture.h"
+#include "materials.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -137,13 +138,62 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
         int e = r < -1 ? -2 : rgb_colour(b, cache, m->emission, SPM_KIND_EMISSION, mwhere, err);
         if (e < -1)
             return 1;
-        char name[SPM_NAME_MAX];
-        snprintf(name, sizeof name, "%.63s", m->name[0] ? m->name : "mesh");
-        map[i] = spm_sb_material(b, name, r, e, mwhere, err);
+        map[i] = spm_mesh_map_material(b, m, r, e, mwhere, err);
         if (map[i] < 0)
             return 1;
     }
     return 0;
+}
+
+/* The normals' map of the statement's transform x' = M x + t: the inverse
+ * transpose of M, cofactor(M) / det(M). */
+static void normal_matrix(const double m[3][4], double det, double out[3][3])
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+            out[i][j] = (m[i1][j1] * m[i2][j2] - m[i1][j2] * m[i2][j1]) / det;
+        }
+}
+
+/* A triangle's vertex normals in scene coordinates, unit length and
+ * oriented to its front face (the side of (p1 - p0) x (p2 - p0)): all three
+ * are turned when their sum points to the back, as a file may wind its faces
+ * against its normals. q[v] is the file's normal of scene vertex v. Returns 0
+ * (flat) when one is zero or not finite, or their sum is perpendicular to the
+ * face. */
+static int tri_normals(const double nm[3][3], const float *q[3], const double p[3][3],
+                       float out[9])
+{
+    double n[3][3], sum[3] = {0, 0, 0}, e1[3], e2[3], g[3];
+    for (int v = 0; v < 3; v++) {
+        double len = 0;
+        for (int i = 0; i < 3; i++) {
+            n[v][i] = nm[i][0] * q[v][0] + nm[i][1] * q[v][1] + nm[i][2] * q[v][2];
+            len += n[v][i] * n[v][i];
+        }
+        len = sqrt(len);
+        if (!(len > 0) || !isfinite(len))
+            return 0;
+        for (int i = 0; i < 3; i++) {
+            n[v][i] /= len;
+            sum[i] += n[v][i];
+        }
+    }
+    for (int i = 0; i < 3; i++) {
+        e1[i] = p[1][i] - p[0][i];
+        e2[i] = p[2][i] - p[0][i];
+    }
+    g[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    g[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    g[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double side = g[0] * sum[0] + g[1] * sum[1] + g[2] * sum[2];
+    if (!(side != 0) || !isfinite(side))
+        return 0;
+    for (int v = 0; v < 3; v++)
+        for (int i = 0; i < 3; i++)
+            out[3 * v + i] = (float)(side < 0 ? -n[v][i] : n[v][i]);
+    return 1;
 }
 
 /* The statement's triangles, for the set-up's hints (scene_hints.h). */
@@ -181,7 +231,9 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
                  m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
                  m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
     int flip = det < 0; /* a mirror keeps each face's front side */
-    uint64_t skipped = 0, kept = 0;
+    double nm[3][3];
+    normal_matrix(m, det, nm);
+    uint64_t skipped = 0, kept = 0, smooth = 0, unusable = 0;
     double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     int rc = 0, first = b->s->ntris;
     for (uint64_t t = 0; t < d->ntris && !rc; t++) {
@@ -224,6 +276,25 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
             break;
         }
         kept++;
+        /* smooth: the file's normals, if `smooth` or the material's type says so, unless `flat` */
+        const spm_mesh_normals *sn = d->normals ? &d->normals[t] : NULL;
+        int tsmooth = spm_material_types[b->s->materials[map[src->mat]].type].smooth;
+        int want = sn && o->shading != SPM_MESH_SHADE_FLAT && tsmooth >= 0 &&
+                   (o->shading == SPM_MESH_SHADE_SMOOTH || tsmooth);
+        if (want && (sn->n[0][0] != 0 || sn->n[0][1] != 0 || sn->n[0][2] != 0 ||
+                     sn->n[1][0] != 0 || sn->n[1][1] != 0 || sn->n[1][2] != 0 ||
+                     sn->n[2][0] != 0 || sn->n[2][1] != 0 || sn->n[2][2] != 0)) {
+            const float *q[3];
+            for (int v = 0; v < 3; v++)
+                q[v] = sn->n[flip && v ? 3 - v : v];
+            float vn[9];
+            if (tri_normals(nm, q, p, vn)) {
+                spm_sb_tri_normals(b, vn);
+                smooth++;
+            } else {
+                unusable++;
+            }
+        }
         for (int v = 0; v < 3; v++)
             for (int i = 0; i < 3; i++) {
                 lo[i] = fmin(lo[i], f[v][i]);
@@ -242,13 +313,23 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
         spm_warnf("%s: %s: %llu degenerate triangle%s skipped (zero area: vertices that "
                   "coincide or lie on one line)", where, file, (unsigned long long)skipped,
                   skipped == 1 ? "" : "s");
+    if (unusable)
+        spm_warnf("%s: %s: %llu triangle%s shade flat: a vertex normal is zero or not a finite "
+                  "number, or the three are perpendicular to the face", where, file,
+                  (unsigned long long)unusable, unusable == 1 ? "" : "s");
     /* once per run and feature: nearly every model has vertex normals */
     static uint32_t said;
+    uint32_t ignored = d->ignored;
+    if (d->normals && !smooth && !unusable && o->shading != SPM_MESH_SHADE_FLAT)
+        ignored |= SPM_MESH_IGN_NORMALS;
     for (int bit = 0; bit < SPM_MESH_IGN_COUNT; bit++)
-        if (d->ignored & ~said & (1u << bit))
-            spm_warnf("%s: %s: %s ignored (shading is flat and diffuse; said once per run)",
-                      where, file, spm_mesh_ignored_name(bit));
-    said |= d->ignored;
+        if (ignored & ~said & (1u << bit))
+            spm_warnf("%s: %s: %s ignored (%s; said once per run)", where, file,
+                      spm_mesh_ignored_name(bit),
+                      bit == 0 ? "diffuse materials shade flat unless the mesh statement says "
+                                 "'smooth'"
+                               : "not rendered");
+    said |= ignored;
     record_mesh(b->s, file, where, first, lo, hi);
     if (!spm_quiet_warnings)
         fprintf(stderr, "specmip: %s: %s: %llu triangles, bounding box (%g %g %g) to (%g %g %g)\n",

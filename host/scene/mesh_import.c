@@ -4,7 +4,8 @@
  * on the pipe, polling for a stop request, and treats a crash or a limit hit
  * as an error in the file. Options: triangulate only; joining identical
  * vertices would cost about a second and 380 MB per million triangles and
- * flat shading does not need it. */
+ * nothing needs it (smooth shading takes the file's own vertex normals, per
+ * triangle). */
 #define _GNU_SOURCE /* memmem */
 #include "mesh.h"
 #include "interrupt.h"
@@ -75,7 +76,7 @@ static void w_put(writer *w, const void *p, size_t n)
 
 static void child_fail(writer *w, const char *msg)
 {
-    uint32_t h[6] = {0x4d4d5053u, 1, 0, 0, 0, 0};
+    uint32_t h[SPM_MESH_WIRE_HEAD / 4] = {0x4d4d5053u, 1};
     w_put(w, h, sizeof h);
     w_put(w, msg, strlen(msg));
     w_flush(w);
@@ -104,11 +105,23 @@ static double affine_det(const affine m)
            m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
 }
 
+/* The normals' map of x' = M x + t: the inverse transpose of M,
+ * cofactor(M) / det(M) (row-major 3x3). */
+static void normal_matrix(const affine m, double out[3][3])
+{
+    double det = affine_det(m), inv = det != 0.0 ? 1.0 / det : 0.0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+            out[i][j] = (m[i1][j1] * m[i2][j2] - m[i1][j2] * m[i2][j1]) * inv;
+        }
+}
+
 typedef struct {
     const struct aiScene *sc;
     writer *w;
     uint64_t count;    /* triangles so far */
-    int emit;          /* 0: count only, 1: write */
+    int emit;          /* 0: count only, 1: write the triangles, 2: their vertex normals */
     uint32_t ignored;
     int stl;
     unsigned char *used; /* per material: a triangle uses it */
@@ -134,6 +147,19 @@ static int mesh_tris(walk *k, const struct aiMesh *m, const affine x)
                 child_fail(k->w, "a face refers to a vertex the file does not have");
         if (!k->emit)
             continue;
+        if (k->emit == 2) { /* zero where the mesh has none */
+            spm_mesh_normals nt;
+            memset(&nt, 0, sizeof nt);
+            double nm[3][3];
+            normal_matrix(x, nm);
+            for (int v = 0; v < 3 && m->mNormals && !k->stl; v++) {
+                const struct aiVector3D *q = &m->mNormals[face->mIndices[flip && v ? 3 - v : v]];
+                for (int i = 0; i < 3; i++)
+                    nt.n[v][i] = (float)(nm[i][0] * q->x + nm[i][1] * q->y + nm[i][2] * q->z);
+            }
+            w_put(k->w, &nt, sizeof nt);
+            continue;
+        }
         spm_mesh_tri t;
         for (int v = 0; v < 3; v++) {
             unsigned idx = face->mIndices[flip && v ? 3 - v : v];
@@ -169,6 +195,9 @@ static int walk_node(walk *k, const struct aiNode *n, const affine parent, int d
             return 1;
     return 0;
 }
+
+static int file_mentions(const char *path, const char *needle);
+static int ends_with_ci(const char *s, const char *suffix);
 
 static int has_colour(const struct aiMaterial *m, const char *key, unsigned type, unsigned idx,
                       float out[3])
@@ -209,11 +238,36 @@ static void material(const struct aiScene *sc, const char *path, const struct ai
             for (int i = 0; i < 3; i++)
                 out->emission[i] *= strength;
     }
-    float spec[3], f;
-    if ((has_colour(m, AI_MATKEY_COLOR_SPECULAR, spec) && (spec[0] > 0 || spec[1] > 0 || spec[2] > 0)) ||
-        (aiGetMaterialFloatArray(m, AI_MATKEY_METALLIC_FACTOR, &f, NULL) == aiReturn_SUCCESS && f > 0))
-        *ignored |= SPM_MESH_IGN_GLOSSY;
-    if (aiGetMaterialFloatArray(m, AI_MATKEY_OPACITY, &f, NULL) == aiReturn_SUCCESS && f < 1)
+    /* what mesh_pbr.c maps, each as the format means it (Assimp 5.2 fills
+     * the metallic-roughness keys for glTF only, and Ks, Ns for OBJ) */
+    int gltf = ends_with_ci(path, ".gltf") || ends_with_ci(path, ".glb"), obj = ends_with_ci(path, ".obj");
+    out->format = gltf ? SPM_MESH_FMT_GLTF : obj ? SPM_MESH_FMT_OBJ : SPM_MESH_FMT_OTHER;
+#define GETF(key, field, bit) \
+    if (aiGetMaterialFloatArray(m, key, &out->field, NULL) == aiReturn_SUCCESS) out->has |= bit;
+    if (gltf) {
+        GETF(AI_MATKEY_METALLIC_FACTOR, metallic, SPM_MESH_HAS_METALLIC)
+        GETF(AI_MATKEY_ROUGHNESS_FACTOR, roughness, SPM_MESH_HAS_ROUGHNESS)
+        GETF(AI_MATKEY_TRANSMISSION_FACTOR, transmission, SPM_MESH_HAS_TRANSMISSION)
+        GETF(AI_MATKEY_VOLUME_THICKNESS_FACTOR, thickness, SPM_MESH_HAS_VOLUME)
+        GETF(AI_MATKEY_VOLUME_ATTENUATION_DISTANCE, atten_dist, SPM_MESH_HAS_VOLUME)
+        if (has_colour(m, AI_MATKEY_VOLUME_ATTENUATION_COLOR, out->atten_colour))
+            out->has |= SPM_MESH_HAS_VOLUME;
+        /* Assimp gives every glTF material an index: only KHR_materials_ior's counts */
+        static int ior_ext = -1; /* one file per child: looked for once */
+        if (ior_ext < 0)
+            ior_ext = file_mentions(path, "KHR_materials_ior");
+        if (ior_ext)
+            GETF(AI_MATKEY_REFRACTI, ior, SPM_MESH_HAS_IOR)
+    }
+    if (obj) {
+        if (has_colour(m, AI_MATKEY_COLOR_SPECULAR, out->specular))
+            out->has |= SPM_MESH_HAS_SPECULAR;
+        GETF(AI_MATKEY_SHININESS, shininess, SPM_MESH_HAS_SHININESS)
+        GETF(AI_MATKEY_REFRACTI, ior, SPM_MESH_HAS_IOR)
+    }
+    GETF(AI_MATKEY_OPACITY, opacity, SPM_MESH_HAS_OPACITY)
+#undef GETF
+    if (out->has & SPM_MESH_HAS_OPACITY && out->opacity < 1)
         *ignored |= SPM_MESH_IGN_OPACITY;
     for (int type = 1; type <= AI_TEXTURE_TYPE_MAX; type++)
         if (aiGetMaterialTextureCount(m, (enum aiTextureType)type) > 0 &&
@@ -326,11 +380,10 @@ static void child_main(const char *path, int fd, pid_t parent)
         if (k.used[i])
             k.ignored |= ign;
     }
+    int normals = 0; /* STL's facet normals are no vertex normals: left out */
     for (unsigned i = 0; i < sc->mNumMeshes; i++) {
         const struct aiMesh *m = sc->mMeshes[i];
-        /* STL always carries facet normals: not worth a warning */
-        if (m->mNormals && !k.stl)
-            k.ignored |= SPM_MESH_IGN_NORMALS;
+        normals |= m->mNormals && !k.stl;
         if (m->mTextureCoords[0])
             k.ignored |= SPM_MESH_IGN_TEXCOORDS;
         if (m->mColors[0])
@@ -357,7 +410,8 @@ static void child_main(const char *path, int fd, pid_t parent)
         k.ignored |= SPM_MESH_IGN_LIGHTS;
     if (sc->mNumAnimations)
         k.ignored |= SPM_MESH_IGN_ANIMATION;
-    uint32_t h[6] = {0x4d4d5053u, 0, k.ignored, sc->mNumMaterials, 0, 0};
+    uint32_t h[SPM_MESH_WIRE_HEAD / 4] = {0x4d4d5053u, 0, k.ignored, sc->mNumMaterials, 0, 0,
+                                          normals ? SPM_MESH_WIRE_NORMALS : 0u, 0};
     uint64_t n = k.count;
     memcpy(&h[4], &n, sizeof n);
     w_put(&w, h, sizeof h);
@@ -365,6 +419,11 @@ static void child_main(const char *path, int fd, pid_t parent)
     k.emit = 1;
     k.count = 0;
     walk_node(&k, sc->mRootNode, id, 0);
+    if (normals) { /* the same walk again, the same triangles in the same order */
+        k.emit = 2;
+        k.count = 0;
+        walk_node(&k, sc->mRootNode, id, 0);
+    }
     w_flush(&w);
     _exit(w.failed ? 3 : 0);
 }
@@ -419,7 +478,7 @@ int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err)
     close(fds[1]);
     spm_test_pause("mesh");
     /* the header first: it says how much follows, so memory is allocated once */
-    unsigned char head[24];
+    unsigned char head[SPM_MESH_WIRE_HEAD];
     size_t have = 0, want = sizeof head, max_err = sizeof head + 1024;
     unsigned char *buf = NULL;
     int rc = 0, eof = 0;
@@ -465,16 +524,18 @@ int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err)
         }
         have += (size_t)k;
         if (!buf && have == sizeof head) {
-            uint32_t status, nmats;
+            uint32_t status, nmats, flags;
             uint64_t ntris;
             memcpy(&status, head + 4, 4);
             memcpy(&nmats, head + 12, 4);
             memcpy(&ntris, head + 16, 8);
+            memcpy(&flags, head + 24, 4);
             if (status != 0)
                 want = max_err;
             else if (nmats <= SPM_MESH_MAX_MATERIALS && ntris <= SPM_SCENE_MAX_TRIS)
                 want = sizeof head + nmats * sizeof(spm_mesh_material) +
-                       ntris * sizeof(spm_mesh_tri);
+                       ntris * sizeof(spm_mesh_tri) +
+                       (flags & SPM_MESH_WIRE_NORMALS ? ntris * sizeof(spm_mesh_normals) : 0);
             buf = spm_xmalloc(want > sizeof head ? want : sizeof head);
             memcpy(buf, head, sizeof head);
         }

@@ -306,9 +306,11 @@ static int parse_header(reader *r, ply_header *h)
 /* ---- the elements ------------------------------------------------------------ */
 
 typedef struct {
-    float *v;            /* xyz per vertex */
+    float *v;            /* xyz per vertex, then with normals nx ny nz (6 floats a vertex) */
+    int vstride;         /* floats per vertex: 3, or 6 with normals */
     uint64_t nv, capv;
     spm_mesh_tri *t;
+    spm_mesh_normals *tn; /* per triangle when the vertices have normals */
     uint64_t nt, capt;
     uint32_t ignored;
     int have_vertices;
@@ -331,10 +333,15 @@ static int add_tri(reader *r, ply_mesh *m, const double idx[3])
     if (m->nt == m->capt) {
         m->capt = m->capt ? 2 * m->capt : 1024;
         m->t = spm_xrealloc(m->t, m->capt * sizeof *m->t);
+        if (m->vstride == 6)
+            m->tn = spm_xrealloc(m->tn, m->capt * sizeof *m->tn);
     }
+    if (m->vstride == 6)
+        for (int k = 0; k < 3; k++)
+            memcpy(m->tn[m->nt].n[k], &m->v[6 * (uint64_t)idx[k] + 3], sizeof m->tn->n[k]);
     spm_mesh_tri *t = &m->t[m->nt++];
     for (int k = 0; k < 3; k++)
-        memcpy(t->p[k], &m->v[3 * (uint64_t)idx[k]], sizeof t->p[k]);
+        memcpy(t->p[k], &m->v[(uint64_t)m->vstride * (uint64_t)idx[k]], sizeof t->p[k]);
     t->mat = 0;
     return 0;
 }
@@ -415,7 +422,7 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
 {
     int is_v = !strcmp(e->name, "vertex");
     int is_f = !strcmp(e->name, "face"), is_s = !strcmp(e->name, "tristrips");
-    int xyz[3] = {-1, -1, -1}, list = -1;
+    int xyz[3] = {-1, -1, -1}, nxyz[3] = {-1, -1, -1}, list = -1;
     r->e = e;
     r->item = 0;
     if (is_v) {
@@ -431,8 +438,15 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
                 return 1;
             }
         }
-        if (find_prop(e, "nx") >= 0)
-            m->ignored |= SPM_MESH_IGN_NORMALS;
+        /* vertex normals: scalar nx, ny and nz, all three */
+        int nk = 0;
+        for (int k = 0; k < 3; k++) {
+            nxyz[k] = find_prop(e, (const char *[]){"nx", "ny", "nz"}[k]);
+            nk += nxyz[k] >= 0 && e->props[nxyz[k]].count_type == P_NONE;
+        }
+        if (nk < 3)
+            nxyz[0] = nxyz[1] = nxyz[2] = -1;
+        m->vstride = nk == 3 ? 6 : 3;
         if (find_prop(e, "red") >= 0 || find_prop(e, "diffuse_red") >= 0)
             m->ignored |= SPM_MESH_IGN_COLOURS;
         if (find_prop(e, "u") >= 0 || find_prop(e, "s") >= 0 || find_prop(e, "texture_u") >= 0)
@@ -463,15 +477,18 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
             if (k == list) {
                 if (read_indices(r, m, p, is_s))
                     return 1;
-            } else if (is_v && (k == xyz[0] || k == xyz[1] || k == xyz[2])) {
+            } else if (is_v && (k == xyz[0] || k == xyz[1] || k == xyz[2] || k == nxyz[0] ||
+                                k == nxyz[1] || k == nxyz[2])) {
                 double v;
                 if (value(r, p->type, &v))
                     return 1;
                 if (m->nv == m->capv) {
                     m->capv = m->capv ? 2 * m->capv : 1024;
-                    m->v = spm_xrealloc(m->v, m->capv * 3 * sizeof *m->v);
+                    m->v = spm_xrealloc(m->v, m->capv * (uint64_t)m->vstride * sizeof *m->v);
                 }
-                m->v[3 * m->nv + (k == xyz[0] ? 0 : k == xyz[1] ? 1 : 2)] = (float)v;
+                int c = k == xyz[0] ? 0 : k == xyz[1] ? 1 : k == xyz[2] ? 2
+                        : k == nxyz[0] ? 3 : k == nxyz[1] ? 4 : 5;
+                m->v[(uint64_t)m->vstride * m->nv + (uint64_t)c] = (float)v;
             } else if (skip_prop(r, p)) {
                 return 1;
             }
@@ -513,7 +530,7 @@ int spm_ply_read(const char *path, spm_mesh_data *out, spm_error *err)
     if (!rc) {
         spm_mesh_material mat;
         memset(&mat, 0, sizeof mat);
-        spm_mesh_data d = {m.ignored, 1, m.nt, &mat, m.t, NULL};
+        spm_mesh_data d = {m.ignored, 1, m.nt, &mat, m.t, m.vstride == 6 ? m.tn : NULL, NULL};
         size_t size;
         void *buf = spm_mesh_encode(&d, &size);
         rc = spm_mesh_decode(buf, size, path, out, err); /* no triangles: its error */
@@ -522,6 +539,7 @@ int spm_ply_read(const char *path, spm_mesh_data *out, spm_error *err)
     }
     free(m.v);
     free(m.t);
+    free(m.tn);
     return rc;
 }
 

@@ -10,18 +10,24 @@
 typedef struct {
     uint32_t magic, status, ignored, nmats;
     uint64_t ntris;
+    uint32_t flags, spare; /* SPM_MESH_WIRE_NORMALS */
 } wire_header;
+_Static_assert(sizeof(wire_header) == SPM_MESH_WIRE_HEAD, "mesh.h's header size");
 
 void *spm_mesh_encode(const spm_mesh_data *d, size_t *size)
 {
-    wire_header h = {WIRE_MAGIC, 0, d->ignored, d->nmats, d->ntris};
-    size_t n = sizeof h + d->nmats * sizeof *d->mats + d->ntris * sizeof *d->tris;
+    wire_header h = {WIRE_MAGIC, 0, d->ignored, d->nmats, d->ntris,
+                     d->normals ? SPM_MESH_WIRE_NORMALS : 0u, 0};
+    size_t nn = d->normals ? d->ntris * sizeof *d->normals : 0;
+    size_t n = sizeof h + d->nmats * sizeof *d->mats + d->ntris * sizeof *d->tris + nn;
     unsigned char *buf = spm_xmalloc(n);
     memcpy(buf, &h, sizeof h);
     if (d->nmats)
         memcpy(buf + sizeof h, d->mats, d->nmats * sizeof *d->mats);
     if (d->ntris)
         memcpy(buf + sizeof h + d->nmats * sizeof *d->mats, d->tris, d->ntris * sizeof *d->tris);
+    if (nn)
+        memcpy(buf + n - nn, d->normals, nn);
     *size = n;
     return buf;
 }
@@ -65,8 +71,10 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
         spm_errorf(err, "%s: more than %d triangles", path, SPM_SCENE_MAX_TRIS);
         return 1;
     }
-    size_t want = sizeof h + h.nmats * sizeof(spm_mesh_material) + h.ntris * sizeof(spm_mesh_tri);
-    if (size != want || (h.ntris > 0 && h.nmats == 0)) {
+    int has_n = (h.flags & SPM_MESH_WIRE_NORMALS) != 0;
+    size_t want = sizeof h + h.nmats * sizeof(spm_mesh_material) + h.ntris * sizeof(spm_mesh_tri) +
+                  (has_n ? h.ntris * sizeof(spm_mesh_normals) : 0);
+    if (size != want || (h.ntris > 0 && h.nmats == 0) || (h.flags & ~SPM_MESH_WIRE_NORMALS)) {
         spm_errorf(err, "%s: the importer returned %zu bytes where %zu were due", path, size,
                    want);
         return 1;
@@ -92,6 +100,7 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
     out->ntris = h.ntris;
     out->mats = mats;
     out->tris = tris;
+    out->normals = has_n ? (spm_mesh_normals *)(tris + h.ntris) : NULL;
     out->buf = buf;
     return 0;
 }

@@ -33,6 +33,7 @@ typedef struct {
     float p[3][3];
     int material;
     int line;  /* source line, for messages */
+    int vn;    /* 0: flat; k > 0: smooth, its vertex normals are vnormals[k - 1] */
 } spm_scene_tri;
 
 /* The triangles a mesh statement added, tris[first, first + n), and their
@@ -56,6 +57,10 @@ typedef struct {
     int nmaterials;
     spm_scene_tri *tris;
     int ntris;
+    /* per smooth triangle (spm_scene_tri.vn), its unit vertex normals n0, n1,
+     * n2 (in its vertices' order, oriented to its front face's side) */
+    float (*vnormals)[9];
+    int nvnormals;
     int bg_up;           /* colour for a ray escaping upward (+y), -1 none */
     int bg_down;         /* for one escaping downward, -1 none */
     spm_scene_mesh *meshes; /* one per mesh statement, in the file's order */

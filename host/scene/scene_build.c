@@ -17,6 +17,7 @@ void spm_scene_free(spm_scene *s)
     free(s->colours);
     free(s->materials);
     free(s->tris);
+    free(s->vnormals);
     free(s->meshes);
     free(s->rerad);
     memset(s, 0, sizeof *s);
@@ -207,6 +208,17 @@ int spm_sb_tri(spm_scene_builder *b, const double p[3][3], int material, int lin
     t.line = line;
     s->tris = reserve(s->tris, s->ntris, &b->cap_tris, sizeof *s->tris);
     s->tris[s->ntris++] = t;
+    return 0;
+}
+
+int spm_sb_tri_normals(spm_scene_builder *b, const float n[9])
+{
+    spm_scene *s = b->s;
+    if (s->ntris < 1 || s->tris[s->ntris - 1].vn)
+        return 1;
+    s->vnormals = reserve(s->vnormals, s->nvnormals, &b->cap_vnormals, sizeof *s->vnormals);
+    memcpy(s->vnormals[s->nvnormals++], n, sizeof *s->vnormals);
+    s->tris[s->ntris - 1].vn = s->nvnormals;
     return 0;
 }
 

@@ -30,7 +30,7 @@
 
 typedef struct {
     spm_scene *s;
-    int cap_colours, cap_materials, cap_tris;
+    int cap_colours, cap_materials, cap_tris, cap_vnormals;
     spm_names colour_index;    /* colour content key -> index (sharing) */
     spm_names material_index;  /* "refl emit" -> index (sharing) */
 } spm_scene_builder;
@@ -59,6 +59,11 @@ int spm_sb_material_typed(spm_scene_builder *b, const spm_scene_material *proto,
  * coordinates and too many triangles are errors. */
 int spm_sb_tri(spm_scene_builder *b, const double p[3][3], int material, int line,
                const char *where, spm_error *err);
+/* Makes the last triangle appended smooth: its unit vertex normals n0, n1,
+ * n2 (nine floats, its vertices' order, oriented to its front face's side;
+ * the mesh statement checks them). Returns 1 when there is no triangle or it
+ * has normals already. */
+int spm_sb_tri_normals(spm_scene_builder *b, const float n[9]);
 /* Whether a triangle (float vertices, as the renderer sees them) is
  * degenerate: zero area, or so thin that it has no usable normal. */
 int spm_sb_degenerate(const float p[3][3]);

@@ -739,9 +739,9 @@ static int mesh_path(parser *p, const char *file, const char *fwhere, char *path
     return 1;
 }
 
-/* mesh FILE [material NAME] [bind FILE_MATERIAL NAME]... [scale S | scale SX SY SZ]...
- * [rotate AX AY AZ DEGREES]... [translate X Y Z]...: clauses in any order, the
- * transforms applied in the order written. */
+/* mesh FILE [material NAME] [bind FILE_MATERIAL NAME]... [smooth | flat]
+ * [scale S | scale SX SY SZ]... [rotate AX AY AZ DEGREES]... [translate X Y Z]...:
+ * clauses in any order, the transforms applied in the order written. */
 static int stmt_mesh(parser *p)
 {
     char where[600], fwhere[600], file[SPM_TOK_MAX], path[2048];
@@ -759,12 +759,20 @@ static int stmt_mesh(parser *p)
             rc = mesh_bind(p, &binds, &nbinds);
             continue;
         }
+        int sh = spm_lex_is(&p->lx, "smooth") ? SPM_MESH_SHADE_SMOOTH
+                 : spm_lex_is(&p->lx, "flat") ? SPM_MESH_SHADE_FLAT : 0;
+        if (sh && !o.shading) {
+            o.shading = sh;
+            rc = spm_lex_next(&p->lx, p->err);
+            continue;
+        }
         int k = spm_lex_is(&p->lx, "scale") ? 1 : spm_lex_is(&p->lx, "rotate") ? 2
                 : spm_lex_is(&p->lx, "translate") ? 3
                 : spm_lex_is(&p->lx, "material") && !have_material ? 0 : -1;
         if (k < 0) {
-            rc = spm_lex_expected(&p->lx, p->err, "'material' (once), 'bind', 'scale', "
-                                                  "'rotate' or 'translate'");
+            rc = spm_lex_expected(&p->lx, p->err, "'material' (once), 'bind', 'smooth' or "
+                                                  "'flat' (once), 'scale', 'rotate' or "
+                                                  "'translate'");
             break;
         }
         have_material |= k == 0;

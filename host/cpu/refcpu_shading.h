@@ -1,0 +1,20 @@
+/* The CPU reference's smooth shading (kernels/shading.clh has the kernels'
+ * own, in the same operation order): the shading frame of a hit on a
+ * triangle with vertex normals (spm_tri.vn), and a conductor's frame made
+ * from it. The rule against leaks is kernels/shading.clh's. */
+#ifndef SPM_REFCPU_SHADING_H
+#define SPM_REFCPU_SHADING_H
+#include "spm_shared.h"
+#include "refcpu_conductor.h"
+
+/* The shading normal sn (the viewer's side, bent so that the viewer's mirror
+ * reflection stays above the geometric surface) and a unit tangent st
+ * perpendicular to it, at the hit of ray o + t d on tr, whose vertex normals
+ * are vn (nine floats), gn the geometric normal on the viewer's side. */
+void spm_ref_shading_frame(const spm_tri *tr, const float vn[9], const float o[3],
+                           const float d[3], const float gn[3], float sn[3], float st[3]);
+/* A conductor vertex's frame from a normal on the viewer's side n and a unit
+ * tangent t perpendicular to it (spm_ref_cond_make's, for a shading frame). */
+void spm_ref_cond_frame(const float n[3], const float t[3], const float d[3], float alpha,
+                        spm_ref_cond *c);
+#endif
