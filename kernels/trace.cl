@@ -25,6 +25,7 @@
 #endif
 #ifdef SPM_WITH_COATED
 #include "coated.clh"
+#endif
 #ifdef SPM_WITH_SMOOTH
 #include "shading.clh"
 #endif
