@@ -257,15 +257,14 @@ typedef struct {
 /* The kernels' BVH: 4-wide nodes collapsed from the BVH2 above
  * (host/geometry/bvh_wide.c), the children's boxes as slabs of four floats
  * (structure of arrays) so one work-item tests all four with float4
- * arithmetic. One device buffer holds the wide nodes (node 0 the root), then
- * the leaves (spm_leaf4). child[i] is an interior node's index (< 2^31), or
- * a leaf, SPM_WIDE_LEAF | unit << 2 | (count - 1): the leaf spm_leaf4 at
- * byte 16 * unit of that buffer, count <= 4 triangles, or SPM_WIDE_EMPTY for
- * an unused slot (its box is never read). 112 bytes a node. */
+ * arithmetic. child[i] is an interior node's index (< 2^31), or a leaf,
+ * SPM_WIDE_LEAF | first << 2 | (count - 1): triangles [first, first + count)
+ * of the reordered triangle array, count <= 4, or SPM_WIDE_EMPTY for an
+ * unused slot (its box is never read). Node 0 is the root. 112 bytes. */
 #define SPM_WIDE 4
 #define SPM_WIDE_LEAF 0x80000000u
 #define SPM_WIDE_EMPTY 0xFFFFFFFFu
-#define SPM_WIDE_MAX_UNITS 0x1FFFFFFF /* a leaf's 16-byte unit fits in 29 bits (8 GB) */
+#define SPM_WIDE_MAX_TRIS 0x1FFFFFFF /* a leaf's first triangle fits in 29 bits */
 /* The traversal stack: a node pushes at most SPM_WIDE - 1 entries more than it
  * pops, and the wide tree is no deeper than the BVH2 (SPM_BVH_STACK). */
 #define SPM_WIDE_STACK ((SPM_WIDE - 1) * SPM_BVH_STACK + 1)
@@ -275,20 +274,6 @@ typedef struct {
     float bmin_z[SPM_WIDE], bmax_z[SPM_WIDE];
     spm_u32 child[SPM_WIDE];
 } spm_bvh4_node;
-
-/* A wide leaf: triangles [first, first + count) of the reordered triangle
- * array (count in the child code), their vertices copied bit for bit as
- * slabs of four floats, one lane per triangle: v[3 k + c][j] is component c
- * (x, y, z) of vertex k (v0, v1, v2) of triangle first + j, so the
- * watertight test reads the four triangles' same coordinate as one float4.
- * Lanes past count repeat the last triangle (tested, never reported).
- * 160 bytes, ten 16-byte units. */
-typedef struct {
-    float v[9][SPM_WIDE];
-    spm_u32 first, pad[3];
-} spm_leaf4;
-#define SPM_WIDE_NODE_UNITS 7 /* sizeof(spm_bvh4_node) / 16 */
-#define SPM_WIDE_LEAF_UNITS 10 /* sizeof(spm_leaf4) / 16 */
 
 /* Material and emitter types: the tag of each, one descriptor per tag in
  * host/scene/materials.c (scene keyword and clauses, colours, record fields,

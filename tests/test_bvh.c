@@ -3,7 +3,6 @@
  * hard (grazing shared edges, through shared vertices, in a wall's plane,
  * leaving a surface, axis-parallel). */
 #include <float.h>
-#include <string.h>
 #include "geometry_vec3.h"
 #include "geomtest_scene.h"
 #include "testutil.h"
@@ -262,64 +261,6 @@ static void ray_battery(const spm_geometry *g, int per_kind, unsigned seed, cons
     }
 }
 
-/* The kernels' wide tree (bvh_wide.c): its leaves partition the triangle
- * array into ranges of 1 to 4, each leaf's lanes hold its triangles'
- * vertices bit for bit (lanes past the count the last one's), each child's
- * box holds its leaf's triangles, and on a mesh of >= 64 triangles there
- * are fewer wide leaves than BVH2 leaves (subtrees were collapsed). */
-static void check_wide(const spm_geometry *g, const char *name)
-{
-    int *seen = calloc((size_t)g->ntris, sizeof *seen);
-    int bad = 0, bigleaf = 0, nleaf = 0;
-    const spm_u32 leaf0 = (spm_u32)g->nwide * SPM_WIDE_NODE_UNITS;
-    bad |= (const void *)g->leaves != (const void *)(g->wide + g->nwide) ||
-           g->wide_bytes != g->nwide * sizeof(spm_bvh4_node) + g->nleaves * sizeof(spm_leaf4);
-    for (int k = 0; k < g->nwide && !bad; k++)
-        for (int i = 0; i < SPM_WIDE && !bad; i++) {
-            const spm_bvh4_node *n = &g->wide[k];
-            spm_u32 c = n->child[i];
-            if (c == SPM_WIDE_EMPTY)
-                continue;
-            if (!(c & SPM_WIDE_LEAF)) {
-                bad |= c <= (spm_u32)k || c >= (spm_u32)g->nwide;
-                continue;
-            }
-            spm_u32 unit = (c & ~SPM_WIDE_LEAF) >> 2, cnt = (c & 3u) + 1u;
-            bad |= unit < leaf0 || (unit - leaf0) % SPM_WIDE_LEAF_UNITS != 0 ||
-                   (unit - leaf0) / SPM_WIDE_LEAF_UNITS >= (spm_u32)g->nleaves;
-            if (bad)
-                break;
-            const spm_leaf4 *l = &g->leaves[(unit - leaf0) / SPM_WIDE_LEAF_UNITS];
-            bad |= l->first + cnt > (spm_u32)g->ntris;
-            nleaf++;
-            bigleaf += cnt > 2;
-            float lo[3] = {n->bmin_x[i], n->bmin_y[i], n->bmin_z[i]};
-            float hi[3] = {n->bmax_x[i], n->bmax_y[i], n->bmax_z[i]};
-            for (spm_u32 j = 0; j < SPM_WIDE && !bad; j++) {
-                const spm_tri *t = &g->tris[l->first + (j < cnt ? j : cnt - 1)];
-                if (j < cnt)
-                    seen[l->first + j]++;
-                for (int v = 0; v < 3; v++) {
-                    const float *p = v == 0 ? t->v0 : v == 1 ? t->v1 : t->v2;
-                    bad |= !box_inside(p, p, lo, hi);
-                    for (int a = 0; a < 3; a++)
-                        bad |= memcmp(&l->v[3 * v + a][j], &p[a], sizeof(float)) != 0;
-                }
-            }
-        }
-    int once = 1;
-    for (int i = 0; i < g->ntris; i++)
-        once &= seen[i] == 1;
-    CHECK(!bad && once && nleaf == g->nleaves,
-          "%s: wide tree (bad %d, every triangle in one leaf %d, leaves %d of %d)", name, bad, once,
-          nleaf, g->nleaves);
-    if (g->ntris >= 64)
-        CHECK(g->nleaves < g->bvh.leaves && bigleaf > 0,
-              "%s: %d wide leaves (%d of more than 2 triangles) for %d BVH2 leaves", name,
-              g->nleaves, bigleaf, g->bvh.leaves);
-    free(seen);
-}
-
 static void build_and_compare(spm_scene *s, int per_kind, unsigned seed, const char *name)
 {
     spm_geometry g;
@@ -329,7 +270,6 @@ static void build_and_compare(spm_scene *s, int per_kind, unsigned seed, const c
     if (rc)
         return;
     check_structure(&g, name);
-    check_wide(&g, name);
     ray_battery(&g, per_kind, seed, name);
     spm_geometry_free(&g);
 }

@@ -39,10 +39,8 @@ int main(void)
     spm_tables t;
     memset(&g, 0, sizeof g);
     memset(&t, 0, sizeof t);
-    g.ntris = 100000; /* a large scene: 100k triangles, a 4-wide node per 10 */
-    g.nwide = 10000; /* and a leaf per 3.5 triangles */
-    g.nleaves = 28600;
-    g.wide_bytes = g.nwide * sizeof(spm_bvh4_node) + g.nleaves * sizeof(spm_leaf4);
+    g.ntris = 100000; /* a large scene: 100k triangles, a 4-wide node per 3 */
+    g.nwide = 33000;
     g.nemitters = 100;
     t.ncolours = 300;
     t.nmaterials = 300;
@@ -61,7 +59,7 @@ int main(void)
     /* everything else (per path a header, a level byte, two indices, XYZ, a
      * batch-image entry; the scene) is counted on top */
     size_t per_path_rest = sizeof(spm_dev_head) + 1 + 2 * sizeof(spm_u32) + 6 * sizeof(float);
-    size_t scene = g.ntris * sizeof(spm_tri) + g.wide_bytes;
+    size_t scene = g.ntris * sizeof(spm_tri) + g.nwide * sizeof(spm_bvh4_node);
     CHECK(f.total >= f.largest + f.batch_paths * per_path_rest + scene, "total %zu", f.total);
     CHECK(spm_cl_footprint_check(&pocl, &f, 1920, 1080, npix, &err) == 0, "%s", err.msg);
 

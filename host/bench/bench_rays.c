@@ -284,7 +284,7 @@ int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, 
     int bad = spm_cl_build(&c, files, 1, spm_rays_program_defines[0], &prog, err) ||
           (stats && spm_cl_build(&c, files, 1, spm_rays_program_defines[1], &sprog, err));
     a.tris = buffer(&c, CL_MEM_READ_ONLY, (size_t)g->ntris * sizeof *g->tris, g->tris, err, &bad);
-    a.nodes = buffer(&c, CL_MEM_READ_ONLY, g->wide_bytes, g->wide, err,
+    a.nodes = buffer(&c, CL_MEM_READ_ONLY, (size_t)g->nwide * sizeof *g->wide, g->wide, err,
                  &bad);
     a.rays = buffer(&c, CL_MEM_READ_ONLY, rs->n * sizeof *rs->rays, rs->rays, err, &bad);
     a.hits = buffer(&c, CL_MEM_READ_WRITE, rs->n * sizeof *hits, NULL, err, &bad);

@@ -19,11 +19,8 @@ typedef struct {
     int ntris;
     spm_bvh_node *nodes;
     int nnodes;
-    spm_bvh4_node *wide;    /* the kernels' tree, collapsed from nodes (bvh_wide.c): */
-    int nwide;              /* its nodes, */
-    spm_leaf4 *leaves;      /* then its leaves in the same allocation (wide + nwide), */
-    int nleaves;
-    size_t wide_bytes;      /* the device buffer: nodes and leaves */
+    spm_bvh4_node *wide;    /* the kernels' tree, collapsed from nodes (bvh_wide.c) */
+    int nwide;
     spm_emitter *emitters;  /* triangles with emission and area > 0, and their pick table */
     int nemitters;
     int emit_power;         /* 1: picked by power (spm_emitter); 0: uniformly (equal powers) */
@@ -73,9 +70,8 @@ int spm_bvh_build(spm_geometry *g, spm_error *err);
  * cores, at most 16. */
 int spm_bvh_build_threads(spm_geometry *g, int nthreads, spm_error *err);
 int spm_bvh_default_threads(void);
-/* Builds g->wide and g->leaves from g->nodes (4-wide; the BVH2's subtrees of
- * at most 4 triangles become one leaf where the SAH prefers it; the BVH2's
- * boxes; called by spm_bvh_build_threads). nwide == 0 when nnodes == 0. */
+/* Builds g->wide from g->nodes (4-wide, the same leaves and boxes; called by
+ * spm_bvh_build_threads). nwide == 0 when nnodes == 0. */
 int spm_bvh_wide_build(spm_geometry *g, spm_error *err);
 /* The SAH cost (spm_bvh_stats) of nodes[0, nnodes) and their leaf count. */
 double spm_bvh_sah_cost(const spm_bvh_node *nodes, int nnodes, int *leaves);

@@ -118,7 +118,6 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
     gs.tris = NULL;
     gs.nodes = NULL;
     gs.wide = NULL; /* collapsed again from the nodes on unpacking */
-    gs.leaves = NULL;
     gs.emitters = NULL;
     gs.light_pdf = NULL;
     gs.vnormals = NULL;
@@ -158,7 +157,6 @@ int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *
     g->tris = get_array(&r, (size_t)ntris * sizeof *g->tris);
     g->nodes = get_array(&r, (size_t)nnodes * sizeof *g->nodes);
     g->wide = NULL;
-    g->leaves = NULL;
     g->emitters = get_array(&r, (size_t)nem * sizeof *g->emitters);
     g->light_pdf = get_array(&r, (size_t)ntris * sizeof *g->light_pdf);
     g->vnormals = get_array(&r, (size_t)nvn * 9 * sizeof *g->vnormals);

@@ -27,7 +27,7 @@
  * (spm_tables) and lvlk (the mode's level table) are in scope. */
 #define SPM_CL_SCENE_BUFFERS(X)                                                     \
     X(tris, "triangles", (size_t)g->ntris * sizeof(spm_tri), g->tris)              \
-    X(nodes, "BVH", g->wide_bytes, g->wide)                                        \
+    X(nodes, "BVH", (size_t)g->nwide * sizeof(spm_bvh4_node), g->wide)             \
     X(emitters, "emitters", (size_t)g->nemitters * sizeof(spm_emitter), g->emitters) \
     X(light_pdf, "light pdfs", (size_t)g->ntris * sizeof(float), g->light_pdf)      \
     X(vnormals, "vertex normals", (size_t)g->nvn * 9 * sizeof(float), g->vnormals)  \
