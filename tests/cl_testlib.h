@@ -130,4 +130,27 @@ static inline int cl_test_path_differs(const spm_path *a, const spm_path *b)
             return 1;
     return 0;
 }
+
+/* Shaded XYZ of n paths, got against ref: each component's difference
+ * relative to the largest of its path's reference components (absolute where
+ * the reference is all zero). Returns how many exceed rel, *worst the largest
+ * difference. */
+static inline size_t cl_test_shade_diff(const float *ref, const float *got, size_t n, double rel,
+                                        double *worst)
+{
+    size_t bad = 0;
+    *worst = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        double big = 0.0;
+        for (int c = 0; c < 3; c++)
+            big = fmax(big, fabs(ref[3 * i + c]));
+        for (int c = 0; c < 3; c++) {
+            double e = big > 0.0 ? fabs(got[3 * i + c] - ref[3 * i + c]) / big
+                                 : fabs(got[3 * i + c]);
+            *worst = fmax(*worst, e);
+            bad += !(e <= rel);
+        }
+    }
+    return bad;
+}
 #endif

@@ -379,18 +379,7 @@ static void test_box(void)
         int rc = spm_cl_shade(r, 0, SPP, cp, cl, got, &err);
         CHECK(rc == 0, "%s: spm_cl_shade: %s", name, err.msg);
         double worst = 0.0;
-        size_t bad = 0;
-        for (size_t i = 0; !rc && i < n; i++) {
-            double big = 0.0;
-            for (int c = 0; c < 3; c++)
-                big = fmax(big, fabs(ref[3 * i + c]));
-            for (int c = 0; c < 3; c++) {
-                double e = big > 0.0 ? fabs(got[3 * i + c] - ref[3 * i + c]) / big
-                                     : fabs(got[3 * i + c]);
-                worst = fmax(worst, e);
-                bad += !(e <= SHADE_REL);
-            }
-        }
+        size_t bad = rc ? 0 : cl_test_shade_diff(ref, got, n, SHADE_REL, &worst);
         printf("box shade %-5s: worst %.3g relative\n", name, worst);
         CHECK(bad == 0, "%s: %zu components beyond %g (worst %.3g)", name, bad, SHADE_REL, worst);
         spm_cl_destroy(r);
