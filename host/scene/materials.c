@@ -403,7 +403,7 @@ int spm_material_defines(const spm_material *mats, int n, char *buf, size_t size
     spm_material_types_used(mats, n, um, ue);
     buf[0] = '\0';
     for (int i = 0; i < spm_nmaterial_types; i++)
-        if (um[i] && spm_material_types[i].define && len < (int)size)
+        if (um[i] && len < (int)size)
             len += snprintf(buf + len, size - (size_t)len, "-D%s ", spm_material_types[i].define);
     for (int i = 0; i < spm_nemitter_types; i++)
         if (ue[i] && len < (int)size)
