@@ -77,7 +77,9 @@ assert sorted(st) == sorted(keys), st
 assert all(st[k] >= 0 for k in keys), st
 # total is the sum of the six stages, printed to 6 decimals each (7 roundings)
 assert abs(sum(st[k] for k in keys[:-1]) - st["total_s"]) < 1e-5, st
-assert st["render_s"] == d["wall_s"] or abs(st["render_s"] - d["wall_s"]) < 1e-3, st
+# the render stage encloses the run's own wall time (its set-up and joins
+# around it take what the machine's load makes them: no bound above)
+assert st["render_s"] >= d["wall_s"] - 1e-6 and d["wall_s"] > 0, (st, d["wall_s"])
 # the stages line (a warning may come first: another test compiling into the
 # shared kernel cache during this render makes it say so)
 stages = [l for l in text.split("\n") if l.startswith("stages")]
