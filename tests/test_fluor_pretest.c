@@ -74,7 +74,8 @@ int main(void)
     spm_pretest_result *own = calloc((size_t)n, sizeof *own), *mlc = calloc((size_t)n, sizeof *mlc);
     spm_pretest_result *with = calloc((size_t)n, sizeof *with);
     spm_pretest_run(set, ns, &po, own);
-    spm_mlc_pretest_run(cols, ns, 0, (const double (*)[SPM_MAX_SPIKES])lane_cmf, NULL, 0, &po, mlc);
+    spm_mlc_pretest_run(cols, ns, 0, (const double (*)[SPM_MAX_SPIKES])lane_cmf, NULL, 0, NULL,
+                        NULL, 0, &po, mlc);
     spm_pretest_run(all, n, &po, with); /* the shapes as factors too */
     for (int i = 0; i < ns; i++) {
         const char *name = sc.colours[at[i]].name;

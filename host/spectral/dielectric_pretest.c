@@ -12,8 +12,8 @@
  * value. Paths that cross the glass several times multiply their segments'
  * transmittances: the pretest's occurrence counts (context B: f^k) judge
  * those, as the level feeler counts the glass's vertices. */
-static const double fractions[] = {1.0 / 32, 1.0 / 16, 1.0 / 8, 1.0 / 4, 1.0 / 2, 1.0};
-#define NLEN ((int)(sizeof fractions / sizeof fractions[0]))
+const double spm_dielectric_fractions[SPM_DIELECTRIC_NLEN] = {1.0 / 32, 1.0 / 16, 1.0 / 8,
+                                                             1.0 / 4,  1.0 / 2,  1.0};
 
 static void merge(spm_pretest_result *out, const spm_pretest_result *r, int first)
 {
@@ -40,8 +40,8 @@ void spm_dielectric_pretest(const spm_spectrum *const *set, int n, const spm_spe
     double f0[SPM_TRUTH_BINS];
     for (int l = 0; l < SPM_NUM_LEVELS; l++)
         spm_spectrum_level(sigma, l, sl[l]);
-    for (int a = 0; a < NLEN; a++) {
-        double d = fractions[a] * dmax;
+    for (int a = 0; a < SPM_DIELECTRIC_NLEN; a++) {
+        double d = spm_dielectric_fractions[a] * dmax;
         /* truth: exp(-sigma d) of the 1 nm sigma; level l: of the level's bin
          * means (what the shade stage computes), held at 1 nm */
         for (int b = 0; b < SPM_TRUTH_BINS; b++)

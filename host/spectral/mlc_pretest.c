@@ -9,12 +9,16 @@
  * judged by its Fresnel as the shade stage computes it, F per 1 nm value or
  * bin and per lane from that value's or lane's eta and k, against F of the
  * 1 nm eta and k, at the conductor pretest's cosines (conductor_pretest.c),
- * the worst kept. */
+ * the worst kept. A dielectric's absorption sigma likewise: by its
+ * transmittance exp(-sigma d) per 1 nm value or bin and per lane, as the
+ * shade stage computes it from sigma's row, against exp of the 1 nm sigma,
+ * at the dielectric pretest's lengths (dielectric_pretest.c). */
 #include "mlc_pretest.h"
 #include "colour.h"
 #include "interrupt.h"
 #include "materials.h"
 #include "tables.h"
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -221,9 +225,48 @@ static void run_conductor(const ctx_t *cx, const spm_mlc_colour *ce, const spm_m
     }
 }
 
+/* A dielectric of absorption colour cs and longest segment inside dmax: at
+ * each length d, truth exp(-sigma d) per 1 nm value; level l exp of sigma's
+ * level-l composite value by value (the smooth bins held at 1 nm, then the
+ * lanes: the shade stage's exp per lane of the lane's sigma). */
+static void run_dielectric(const ctx_t *cx, const spm_mlc_colour *cs, double dmax, int self,
+                           const spm_pretest_opts *o, spm_pretest_result *res)
+{
+    vec_t ft, vs[SPM_NUM_LEVELS], ftest[SPM_NUM_LEVELS];
+    for (int l = 0; l < SPM_NUM_LEVELS; l++)
+        composite(cs, cx->nlanes, l, vs[l]);
+    for (int a = 0; a < SPM_DIELECTRIC_NLEN; a++) {
+        double d = spm_dielectric_fractions[a] * dmax;
+        for (int i = 0; i < V; i++)
+            ft[i] = i < SPM_TRUTH_BINS ? exp(-cs->full->nm1[i] * d) : 0.0;
+        for (int l = 0; l < SPM_NUM_LEVELS; l++)
+            for (int i = 0; i < V; i++)
+                ftest[l][i] = i < SPM_TRUTH_BINS + cx->nlanes ? exp(-vs[l][i] * d) : 0.0;
+        spm_pretest_result r;
+        run_factor(cx, 0, self, self, ft, ftest, o, &r);
+        spm_conductor_pretest_merge(res, &r, a == 0);
+    }
+}
+
+/* An optical colour c's result r: the first that uses it takes r, a later one
+ * the finer level of the two. */
+static void optical_result(unsigned char *optical, int c, const spm_pretest_result *r,
+                           spm_pretest_result *results)
+{
+    if (optical[c] == 1) {
+        results[c] = *r, optical[c] = 2;
+        return;
+    }
+    for (int k = 0; k < SPM_PRETEST_KMAX; k++)
+        results[c].level_k[k] = r->level_k[k] < results[c].level_k[k] ? r->level_k[k]
+                                                                       : results[c].level_k[k];
+    results[c].level = r->level < results[c].level ? r->level : results[c].level;
+}
+
 int spm_mlc_pretest_run(const spm_mlc_colour *cols, int n, int nlanes,
                         const double lane_cmf[3][SPM_MAX_SPIKES], const int (*conductors)[2],
-                        int nconductors, const spm_pretest_opts *o, spm_pretest_result *results)
+                        int nconductors, const int *dielectrics, const double *diel_len,
+                        int ndielectrics, const spm_pretest_opts *o, spm_pretest_result *results)
 {
     ctx_t *cx = spm_xcalloc(1, sizeof *cx);
     cx->n = n;
@@ -240,10 +283,13 @@ int spm_mlc_pretest_run(const spm_mlc_colour *cols, int n, int nlanes,
     cx->comp0 = spm_xcalloc((size_t)n + 1, sizeof *cx->comp0);
     cx->lights = spm_xcalloc((size_t)n + 1, sizeof *cx->lights);
     cx->refl = spm_xcalloc((size_t)n + 1, sizeof *cx->refl);
-    /* optical[c]: 1 for a conductor's eta or k, 2 once a conductor's result is in */
+    /* optical[c]: 1 for a conductor's eta or k or a dielectric's sigma, 2 once
+     * a result is in */
     unsigned char *optical = spm_xcalloc((size_t)n + 1, 1);
     for (int j = 0; j < nconductors; j++)
         optical[conductors[j][0]] = optical[conductors[j][1]] = 1;
+    for (int j = 0; j < ndielectrics; j++)
+        optical[dielectrics[j]] = 1;
     for (int i = 0; i < n; i++) {
         truth_of(&cols[i], cx->truth[i]);
         composite(&cols[i], nlanes, 0, cx->comp0[i]);
@@ -265,21 +311,17 @@ int spm_mlc_pretest_run(const spm_mlc_colour *cols, int n, int nlanes,
         if (!optical[i])
             run_one(cx, &cols[i], i, seed, o, &results[i]);
     }
-    /* a colour two conductors share takes the finer level of the two */
+    /* a colour two materials share takes the finer level of the two */
     for (int j = 0; j < nconductors && i == n && !spm_stop_requested(); j++) {
         spm_pretest_result r;
         run_conductor(cx, &cols[conductors[j][0]], &cols[conductors[j][1]], n + j, o, &r);
-        for (int q = 0; q < 2; q++) {
-            int c = conductors[j][q];
-            if (optical[c] == 1) {
-                results[c] = r, optical[c] = 2;
-                continue;
-            }
-            for (int k = 0; k < SPM_PRETEST_KMAX; k++)
-                results[c].level_k[k] = r.level_k[k] < results[c].level_k[k] ? r.level_k[k]
-                                                                             : results[c].level_k[k];
-            results[c].level = r.level < results[c].level ? r.level : results[c].level;
-        }
+        for (int q = 0; q < 2; q++)
+            optical_result(optical, conductors[j][q], &r, results);
+    }
+    for (int j = 0; j < ndielectrics && i == n && !spm_stop_requested(); j++) {
+        spm_pretest_result r;
+        run_dielectric(cx, &cols[dielectrics[j]], diel_len[j], n + nconductors + j, o, &r);
+        optical_result(optical, dielectrics[j], &r, results);
     }
     free(optical);
     free(cx->truth);

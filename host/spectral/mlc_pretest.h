@@ -17,7 +17,9 @@ typedef struct {
 
 /* results[i] for cols[i], in the general pretest's terms (a conductor's eta
  * and k, conductors[j][0] and [1], are left out of the products and take
- * their pair's Fresnel's result, mlc_pretest.c): err[l] and err_k[k-1][l]
+ * their pair's Fresnel's result; a dielectric's absorption sigma,
+ * dielectrics[j], whose longest segment inside is diel_len[j], likewise
+ * takes its transmittance's, mlc_pretest.c): err[l] and err_k[k-1][l]
  * (l = 0 included: the representation's own floor) are ΔE of products with
  * colour i in composite form at level l, the other factors in composite form at
  * level 0, against the same products of 1 nm truth spectra; contexts A, B
@@ -26,5 +28,6 @@ typedef struct {
  * Returns the number of colours done (fewer when interrupted). */
 int spm_mlc_pretest_run(const spm_mlc_colour *cols, int n, int nlanes,
                         const double lane_cmf[3][SPM_MAX_SPIKES], const int (*conductors)[2],
-                        int nconductors, const spm_pretest_opts *o, spm_pretest_result *results);
+                        int nconductors, const int *dielectrics, const double *diel_len,
+                        int ndielectrics, const spm_pretest_opts *o, spm_pretest_result *results);
 #endif

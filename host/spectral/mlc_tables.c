@@ -135,14 +135,20 @@ int spm_mlc_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_ta
         for (int k = 0; k < SPM_MAX_SPIKES; k++)
             lane_cmf[i][k] = t->spike_cmf[i][k];
     int(*cond)[2] = spm_xcalloc((size_t)sc->nmaterials + 1, sizeof *cond), ncond = 0;
+    int *diel = spm_xcalloc((size_t)sc->nmaterials + 1, sizeof *diel), ndiel = 0;
+    double *diel_len = spm_xcalloc((size_t)sc->nmaterials + 1, sizeof *diel_len);
     for (int m = 0; m < sc->nmaterials; m++) {
         const spm_scene_material *mt = &sc->materials[m];
         if (mt->type == SPM_MAT_CONDUCTOR && mt->refl >= 0 && mt->col2 >= 0)
             cond[ncond][0] = mt->refl, cond[ncond++][1] = mt->col2;
+        if (mt->type == SPM_MAT_DIELECTRIC && mt->col2 >= 0) /* col2: sigma */
+            diel_len[ndiel] = mt->p[SPM_DIEL_P_LEN], diel[ndiel++] = mt->col2;
     }
-    spm_mlc_pretest_run(cols, n, t->nspikes, lane_cmf, (const int(*)[2])cond, ncond, po,
-                        t->mlc_pretest);
+    spm_mlc_pretest_run(cols, n, t->nspikes, lane_cmf, (const int(*)[2])cond, ncond, diel,
+                        diel_len, ndiel, po, t->mlc_pretest);
     free(cond);
+    free(diel);
+    free(diel_len);
     for (int c = 0; c < n; c++)
         for (int k = 0; k < SPM_PRETEST_KMAX; k++)
             t->mlc_lvlk[(size_t)c * SPM_PRETEST_KMAX + k] = (uint8_t)t->mlc_pretest[c].level_k[k];

@@ -104,6 +104,10 @@ void spm_conductor_pretest_merge(spm_pretest_result *out, const spm_pretest_resu
 void spm_dielectric_pretest(const spm_spectrum *const *set, int n, const spm_spectrum *sigma,
                             double dmax, int self, const spm_pretest_opts *o,
                             spm_pretest_result *out);
+/* The lengths a dielectric's transmittance is judged at (both pretests), as
+ * fractions of the longest segment inside. */
+#define SPM_DIELECTRIC_NLEN 6
+extern const double spm_dielectric_fractions[SPM_DIELECTRIC_NLEN];
 int spm_tables_build(const spm_scene *scene, const spm_pretest_opts *po, spm_tables *t,
                      spm_error *err);
 void spm_tables_free(spm_tables *t);
