@@ -34,6 +34,18 @@ statement reads, plus the expected triangles as text:
                         metallic 0.3; 'glass' transmission 1 and ior 1.5
   metal.obj + .mtl      'copper' Kd 0, Ks (0.95 0.64 0.54), Ns 200; 'paint' Kd (0.5 0.1
                         0.1), Ks 0.04, Ns 50
+  pbr.gltf              a quad per material (docs/SCENE_FORMAT.md's mesh-material rows):
+                        'solid' transmission 1, ior 1.33, roughness 0.3, a volume
+                        (thickness 0.5, attenuation colour (0.9 0.5 0.2) at distance 2);
+                        'thin' transmission 1, roughness 0, no volume; 'part'
+                        transmission 0.7, roughness 0.1; 'low' transmission 0.3, base (0.3 0.6 0.3);
+                        'plastic' base (0.2 0.4 0.8), roughness 0.6, ior 1.7
+  pbr.obj + .mtl        'paint' Kd (0.5 0.1 0.1), Ks 0.04, Ns 50, Ni 1.6; 'glass' Kd 0,
+                        Ks 1, Ns 1000, Ni 1.45, illum 7; 'veil' Kd 0.5, d 0.5
+  pbr_spheres.gltf      two unit spheres at x = -1.2 and 1.2 (224 triangles each):
+                        'amber' transmission 1, ior 1.5, roughness 0, a volume
+                        (attenuation colour (0.9 0.6 0.2) at distance 1); 'paint'
+                        base (0.7 0.15 0.1), roughness 0.3
   tilt.obj              a 20 x 20 quad at z = 0 facing +z whose vertex normals all
                         lean 60 degrees towards +x (a shading normal far from the
                         geometric one)
@@ -927,6 +939,56 @@ def glass_scenes(out):
     return paths
 
 
+def pbr_meshes(out):
+    quads = []
+    for i in range(5):
+        quads += [(2 * i, 0, 0), (2 * i + 1, 0, 0), (2 * i + 1, 1, 0), (2 * i, 1, 0)]
+    def glass(name, t, rough, base=(1, 1, 1), ext=None):
+        m = {'name': name, 'pbrMetallicRoughness': {'baseColorFactor': list(base) + [1.0],
+                                                    'metallicFactor': 0.0, 'roughnessFactor': rough},
+             'extensions': {'KHR_materials_transmission': {'transmissionFactor': t}}}
+        m['extensions'].update(ext or {})
+        return m
+    mats = [glass('solid', 1.0, 0.3, ext={'KHR_materials_ior': {'ior': 1.33},
+                                           'KHR_materials_volume': {
+                                               'thicknessFactor': 0.5,
+                                               'attenuationColor': [0.9, 0.5, 0.2],
+                                               'attenuationDistance': 2.0}}),
+            glass('thin', 1.0, 0.0),
+            glass('part', 0.7, 0.1),
+            glass('low', 0.3, 0.0, base=(0.3, 0.6, 0.3)),
+            {'name': 'plastic', 'pbrMetallicRoughness': {'baseColorFactor': [0.2, 0.4, 0.8, 1.0],
+                                                         'metallicFactor': 0.0,
+                                                         'roughnessFactor': 0.6},
+             'extensions': {'KHR_materials_ior': {'ior': 1.7}}}]
+    prims = [([4 * i, 4 * i + 1, 4 * i + 2, 4 * i, 4 * i + 2, 4 * i + 3], i) for i in range(5)]
+    doc, buf = gltf_doc(quads, prims, [{'mesh': 0}], [0], mats)
+    doc['extensionsUsed'] = ['KHR_materials_transmission', 'KHR_materials_ior',
+                             'KHR_materials_volume']
+    write_gltf(os.path.join(out, 'pbr.gltf'), doc, buf)
+    w(os.path.join(out, 'pbr.mtl'), 'newmtl paint\nKd 0.5 0.1 0.1\nKs 0.04 0.04 0.04\nNs 50\n'
+      'Ni 1.6\nillum 2\n\nnewmtl glass\nKd 0 0 0\nKs 1 1 1\nNs 1000\nNi 1.45\nillum 7\n\n'
+      'newmtl veil\nKd 0.5 0.5 0.5\nd 0.5\nillum 1\n')
+    w(os.path.join(out, 'pbr.obj'), 'mtllib pbr.mtl\n' +
+      ''.join('v %d 0 0\nv %d 0 0\nv %d 1 0\nv %d 1 0\n' % (2 * i, 2 * i + 1, 2 * i + 1, 2 * i)
+              for i in range(3)) +
+      ''.join('usemtl %s\nf %d %d %d %d\n' % (m, 4 * i + 1, 4 * i + 2, 4 * i + 3, 4 * i + 4)
+              for i, m in enumerate(('paint', 'glass', 'veil'))))
+    verts, tris = sphere_n()
+    pos = [(x - 1.2, y, z) for x, y, z in verts] + [(x + 1.2, y, z) for x, y, z in verts]
+    nv = len(verts)
+    prims = [([i for t in tris for i in t], 0), ([i + nv for t in tris for i in t], 1)]
+    mats = [glass('amber', 1.0, 0.0, ext={'KHR_materials_volume': {
+                'thicknessFactor': 2.0, 'attenuationColor': [0.9, 0.6, 0.2],
+                'attenuationDistance': 1.0}}),
+            {'name': 'paint', 'pbrMetallicRoughness': {'baseColorFactor': [0.7, 0.15, 0.1, 1.0],
+                                                       'metallicFactor': 0.0,
+                                                       'roughnessFactor': 0.3}}]
+    doc, buf = gltf_doc(pos, prims, [{'mesh': 0}], [0], mats)
+    doc['extensionsUsed'] = ['KHR_materials_transmission', 'KHR_materials_volume']
+    write_gltf(os.path.join(out, 'pbr_spheres.gltf'), doc, buf)
+
+
 def main():
     if len(sys.argv) == 3 and sys.argv[1] == '--glass':
         os.makedirs(sys.argv[2], exist_ok=True)
@@ -955,6 +1017,7 @@ def main():
     grid(out)
     smooth_meshes(out)
     metal_meshes(out)
+    pbr_meshes(out)
     write_tris(os.path.join(out, 'cube.tris'), [[V[i] for i in t[:3]] for t in TRIS])
     if len(sys.argv) > 2:
         print(big(out, int(sys.argv[2])))

@@ -74,7 +74,8 @@ enum {
     SPM_MESH_HAS_IOR = 1 << 4,
     SPM_MESH_HAS_TRANSMISSION = 1 << 5,
     SPM_MESH_HAS_VOLUME = 1 << 6,
-    SPM_MESH_HAS_OPACITY = 1 << 7
+    SPM_MESH_HAS_OPACITY = 1 << 7,
+    SPM_MESH_HAS_REFRACT = 1 << 8  /* OBJ illum 6 or 7 (refraction on), from the MTL file */
 };
 /* spm_mesh_material.texture: none; diffuse is the factor times the
  * texture's mean; the texture could not be read, diffuse is the factor */
@@ -119,7 +120,8 @@ int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err);
 
 /* For an OBJ (by its extension): a warning naming each `mtllib` file that is
  * not beside it, and every material that no MTL file found defines loses its
- * name, so the rule for a mesh without materials applies to those triangles
+ * name, so the rule for a mesh without materials applies to those triangles;
+ * a material whose `illum` is 6 or 7 gets SPM_MESH_HAS_REFRACT
  * (mesh_obj_mtl.c). `where` is the statement's file:line. */
 void spm_mesh_obj_mtl_check(const char *obj, const char *where, spm_mesh_data *d);
 void spm_mesh_free(spm_mesh_data *d);
@@ -134,13 +136,16 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
 void *spm_mesh_encode(const spm_mesh_data *d, size_t *size);
 
 /* The scene material a lifted file material maps to (mesh_pbr.c, the table
- * in docs/SCENE_FORMAT.md): a conductor for a glTF metal (metallic >= 0.5)
- * or an OBJ material with a black Kd and a coloured Ks, else the diffuse
- * colour; properties without a target type yet get a warning naming the
- * material (`where`). r and e are the lifted reflectance and emission
- * colours. Returns the material index or -1 with err filled. */
+ * in docs/SCENE_FORMAT.md): for glTF a conductor (metallic >= 0.5), a
+ * dielectric (transmission >= 0.5) or a coated base colour; for OBJ a
+ * dielectric (illum 6 or 7), a conductor (black Kd, coloured Ks), a coated
+ * Kd (coloured Ks) or the diffuse colour; what has no target gets a warning
+ * naming the material (`where`). r and e are the lifted reflectance and
+ * emission colours; scale is the statement's length scale, cbrt |det M|
+ * (a glTF attenuation distance becomes scene units by it). Returns the
+ * material index or -1 with err filled. */
 int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int r, int e,
-                          const char *where, spm_error *err);
+                          double scale, const char *where, spm_error *err);
 /* A conductor whose normal-incidence reflectance is the reflectance spectrum
  * f0 (Gulbrandsen 2014 per wavelength, edge tint g = f0): its eta and k. */
 void spm_mesh_gulbrandsen(const spm_spectrum *f0, spm_spectrum *eta, spm_spectrum *k);

@@ -84,6 +84,14 @@ static int rgb_colour(spm_scene_builder *b, spm_mesh_cache *cache, const float r
     return spm_sb_rgb_colour(b, &cache->rgb, rgb, kind, where, err);
 }
 
+/* The determinant of the transform's 3x3 part. */
+static double det3(const double m[3][4])
+{
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
 /* The scene material of each file material that a triangle uses (-1 unused). */
 static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_data *d,
                           const spm_mesh_opts *o, const char *file, const char *where,
@@ -113,6 +121,9 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
             return 1;
         }
     }
+    /* the statement's length scale: cbrt |det M| (a uniform scale's factor; of
+     * a non-uniform one, the mean by volume) */
+    double scale = cbrt(fabs(det3(o->m)));
     for (uint32_t i = 0; i < d->nmats; i++) {
         if (map[i] != -1)
             continue;
@@ -138,7 +149,7 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
         int e = r < -1 ? -2 : rgb_colour(b, cache, m->emission, SPM_KIND_EMISSION, mwhere, err);
         if (e < -1)
             return 1;
-        map[i] = spm_mesh_map_material(b, m, r, e, mwhere, err);
+        map[i] = spm_mesh_map_material(b, m, r, e, scale, mwhere, err);
         if (map[i] < 0)
             return 1;
     }
@@ -227,9 +238,7 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
         return 1;
     }
     const double (*m)[4] = o->m;
-    double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-                 m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-                 m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    double det = det3(m);
     int flip = det < 0; /* a mirror keeps each face's front side */
     double nm[3][3];
     normal_matrix(m, det, nm);

@@ -3,7 +3,9 @@
  * file would render as a grey model. Here the `mtllib` lines are read, each
  * file looked for beside the OBJ, and a material that no MTL found defines
  * loses its name: the rule of a mesh without materials applies to it (a
- * `material` clause or a `bind` gives it one, else the load fails). */
+ * `material` clause or a `bind` gives it one, else the load fails). The
+ * same reading marks the materials whose `illum` turns refraction on, which
+ * Assimp does not pass on (SPM_MESH_HAS_REFRACT, mapped by mesh_pbr.c). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,27 +15,39 @@
 
 #define MAX_LIBS 16
 
-/* The `newmtl` names of an existing MTL file, appended to *names (one per
- * line); 0 if the file cannot be opened. */
-static int mtl_names(const char *path, char **names, size_t *len, size_t *cap)
+typedef struct {
+    char *s;       /* names, one per line */
+    size_t len, cap;
+} name_list;
+
+static void add_name(name_list *l, const char *name)
+{
+    size_t n = strlen(name);
+    if (l->len + n + 2 > l->cap) {
+        l->cap = (l->cap + n + 2) * 2;
+        l->s = spm_xrealloc(l->s, l->cap);
+    }
+    memcpy(l->s + l->len, name, n);
+    l->s[l->len + n] = '\n';
+    l->len += n + 1;
+    l->s[l->len] = '\0';
+}
+
+/* The `newmtl` names of an existing MTL file, appended to *names, and those
+ * whose `illum` is 6 or 7 (refraction on; Assimp 5.2 does not pass illum
+ * on) to *refract; 0 if the file cannot be opened. */
+static int mtl_names(const char *path, name_list *names, name_list *refract)
 {
     FILE *f = fopen(path, "r");
     if (!f)
         return 0;
-    char line[512];
+    char line[512], name[SPM_NAME_MAX] = "";
+    int illum;
     while (fgets(line, sizeof line, f)) {
-        char name[SPM_NAME_MAX];
-        if (sscanf(line, " newmtl %63s", name) == 1) {
-            size_t n = strlen(name);
-            if (*len + n + 2 > *cap) {
-                *cap = (*cap + n + 2) * 2;
-                *names = spm_xrealloc(*names, *cap);
-            }
-            memcpy(*names + *len, name, n);
-            (*names)[*len + n] = '\n';
-            *len += n + 1;
-            (*names)[*len] = '\0';
-        }
+        if (sscanf(line, " newmtl %63s", name) == 1)
+            add_name(names, name);
+        else if (name[0] && sscanf(line, " illum %d", &illum) == 1 && (illum == 6 || illum == 7))
+            add_name(refract, name);
     }
     fclose(f);
     return 1;
@@ -61,8 +75,9 @@ void spm_mesh_obj_mtl_check(const char *obj, const char *where, spm_mesh_data *d
         return;
     const char *slash = strrchr(obj, '/');
     int dirlen = slash ? (int)(slash - obj + 1) : 0;
-    char *names = NULL, missing[512] = "";
-    size_t len = 0, cap = 0, nmiss = 0;
+    name_list names = {NULL, 0, 0}, refract = {NULL, 0, 0};
+    char missing[512] = "";
+    size_t nmiss = 0;
     int nlibs = 0;
     char line[1024];
     while (fgets(line, sizeof line, f) && nlibs < MAX_LIBS) {
@@ -72,18 +87,21 @@ void spm_mesh_obj_mtl_check(const char *obj, const char *where, spm_mesh_data *d
              tok = strtok(NULL, " \t\r\n"), nlibs++) {
             char path[4096];
             snprintf(path, sizeof path, "%.*s%s", dirlen, obj, tok);
-            if (!mtl_names(path, &names, &len, &cap) && nmiss < sizeof missing - 80) {
+            if (!mtl_names(path, &names, &refract) && nmiss < sizeof missing - 80) {
                 snprintf(missing + nmiss, sizeof missing - nmiss, "%s'%s'", nmiss ? ", " : "", tok);
                 nmiss = strlen(missing);
             }
         }
     }
     fclose(f);
+    for (uint32_t i = 0; i < d->nmats; i++)
+        if (d->mats[i].name[0] && listed(refract.s, d->mats[i].name))
+            d->mats[i].has |= SPM_MESH_HAS_REFRACT;
     if (missing[0]) {
         char lost[400] = "";
         size_t n = 0;
         for (uint32_t i = 0; i < d->nmats; i++)
-            if (d->mats[i].name[0] && !listed(names, d->mats[i].name)) {
+            if (d->mats[i].name[0] && !listed(names.s, d->mats[i].name)) {
                 if (n < sizeof lost - 80) {
                     snprintf(lost + n, sizeof lost - n, "%s'%s'", n ? ", " : "", d->mats[i].name);
                     n = strlen(lost);
@@ -94,5 +112,6 @@ void spm_mesh_obj_mtl_check(const char *obj, const char *where, spm_mesh_data *d
                   n ? "without it these have no material: " : "no material depends on it",
                   n ? lost : "");
     }
-    free(names);
+    free(names.s);
+    free(refract.s);
 }

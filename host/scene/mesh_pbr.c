@@ -1,8 +1,8 @@
 /* A mesh file's material, beyond its diffuse colour, mapped to a scene
  * material: the table of docs/SCENE_FORMAT.md ("Materials of mesh files"),
- * one row per source property, implemented for the targets that exist
- * (diffuse, conductor); the rows whose target types are planned (dielectric,
- * coated) warn, naming the file and the material. */
+ * one row per source property (conductor, dielectric, coated or diffuse);
+ * what has no target (textures aside: mesh_texture.c) is warned about,
+ * naming the file and the material. */
 #include "mesh.h"
 #include "materials.h"
 #include "rgb2spec.h"
@@ -75,54 +75,158 @@ static int metal(spm_scene_builder *b, const spm_mesh_material *m, const float r
     return spm_sb_material_typed(b, &proto, where, err);
 }
 
-int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int r, int e,
-                          const char *where, spm_error *err)
+/* Indices outside the types' range [1, 4] (materials.c) are clamped. */
+static double clamp_ior(double ior)
 {
-    char name[SPM_NAME_MAX], todo[400] = "";
+    return ior < 1.0 ? 1.0 : ior > 4.0 ? 4.0 : ior;
+}
+
+/* An MTL's Ni where it is more than 1, else 1.5: Assimp gives every OBJ
+ * material Ni 1 when the file has none, and exporters write 1 for "unset";
+ * an index of 1 would make the coating or the glass vanish. */
+static double mtl_ior(const spm_mesh_material *m)
+{
+    return m->has & SPM_MESH_HAS_IOR && m->ior > 1.0f ? clamp_ior(m->ior) : 1.5;
+}
+
+static double clamp_alpha(double alpha)
+{
+    return alpha < SPM_COND_MIN_ALPHA ? 0.0 : alpha > 1 ? 1 : alpha;
+}
+
+/* The darkest attenuation colour value taken: sigma = -ln(c) / d is infinite
+ * at c = 0; at 1e-4 the glass passes 1e-4 of the light per distance d, black
+ * to the eye after d, and sigma stays finite. */
+#define ATTEN_C_MIN 1e-4
+
+/* A coated material: the lifted base colour r under a coating of index ior
+ * and width alpha, emitting e. */
+static int coated(spm_scene_builder *b, const spm_mesh_material *m, int r, double ior,
+                  double alpha, int e, const char *where, spm_error *err)
+{
+    spm_scene_material proto;
+    memset(&proto, 0, sizeof proto);
+    snprintf(proto.name, sizeof proto.name, "%.63s", m->name[0] ? m->name : "mesh");
+    proto.type = SPM_MAT_COATED;
+    proto.etype = SPM_EMIT_AREA;
+    proto.refl = r;
+    proto.col2 = proto.col3 = proto.diag = -1;
+    proto.emit = e;
+    proto.p[SPM_COAT_P_ETA] = clamp_ior(ior);
+    proto.p[SPM_COAT_P_ALPHA] = clamp_alpha(alpha);
+    return spm_sb_material_typed(b, &proto, where, err);
+}
+
+/* A dielectric of index ior and width alpha, emitting e, absorbing with
+ * sigma(lambda) = -ln(c(lambda)) / dist, c the lifted linear-sRGB colour
+ * atten (clamped to [ATTEN_C_MIN, 1]), when atten is non-NULL. */
+static int glass(spm_scene_builder *b, const spm_mesh_material *m, double ior, double alpha,
+                 const float *atten, double dist, int e, const char *where, spm_error *err)
+{
+    spm_scene_material proto;
+    memset(&proto, 0, sizeof proto);
+    snprintf(proto.name, sizeof proto.name, "%.63s", m->name[0] ? m->name : "mesh");
+    proto.type = SPM_MAT_DIELECTRIC;
+    proto.etype = SPM_EMIT_AREA;
+    proto.refl = proto.col2 = proto.col3 = proto.diag = -1;
+    proto.emit = e;
+    proto.p[SPM_DIEL_P_IOR] = clamp_ior(ior);
+    proto.p[SPM_DIEL_P_ALPHA] = clamp_alpha(alpha);
+    if (atten) {
+        double c[3];
+        for (int i = 0; i < 3; i++)
+            c[i] = atten[i] < ATTEN_C_MIN ? ATTEN_C_MIN : atten[i] > 1 ? 1 : atten[i];
+        spm_spectrum cs, sigma;
+        spm_error inner;
+        if (spm_rgb_to_reflectance(c, &cs, NULL, &inner)) {
+            spm_errorf(err, "%s: %s", where, inner.msg);
+            return -1;
+        }
+        /* an optical colour as loaded constants are: extended by end values */
+        sigma.kind = SPM_KIND_REFLECTANCE;
+        for (int i = 0; i < SPM_TRUTH_BINS; i++)
+            sigma.nm1[i] = -log(cs.nm1[i] < ATTEN_C_MIN ? ATTEN_C_MIN
+                                : cs.nm1[i] > 1 ? 1 : cs.nm1[i]) / dist;
+        char name[SPM_NAME_MAX];
+        snprintf(name, sizeof name, "absorb(%.5g,%.5g,%.5g)/%.5g", c[0], c[1], c[2], dist);
+        proto.col2 = spm_sb_colour(b, name, &sigma, where, err);
+        if (proto.col2 < 0)
+            return -1;
+    }
+    return spm_sb_material_typed(b, &proto, where, err);
+}
+
+int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int r, int e,
+                          double scale, const char *where, spm_error *err)
+{
+    char name[SPM_NAME_MAX], todo[600] = "";
     size_t n = 0;
 #define TODO(...) \
     (n += (size_t)snprintf(todo + n, n < sizeof todo ? sizeof todo - n : 0, __VA_ARGS__))
+#define SEP (n ? "; " : "")
     snprintf(name, sizeof name, "%.63s", m->name[0] ? m->name : "mesh");
     int out = -2;
-    static int said_layer[3]; /* per format */
     if (m->format == SPM_MESH_FMT_GLTF) {
-        /* metallic >= 0.5: a conductor of F0 = base colour, alpha = roughness^2
-         * (glTF's defaults: metallic 1, roughness 1) */
+        /* glTF's defaults: metallic 1, roughness 1, ior 1.5, no transmission */
         double metallic = m->has & SPM_MESH_HAS_METALLIC ? m->metallic : 1.0;
         double rough = m->has & SPM_MESH_HAS_ROUGHNESS ? m->roughness : 1.0;
         rough = rough < 0 ? 0 : rough > 1 ? 1 : rough;
+        double alpha = rough * rough;
+        double ior = m->has & SPM_MESH_HAS_IOR ? m->ior : 1.5;
+        double t = m->has & SPM_MESH_HAS_TRANSMISSION ? m->transmission : 0.0;
+        if (m->has & SPM_MESH_HAS_IOR && (ior < 1.0 || ior > 4.0))
+            TODO("%sior %g (taken as %g: the types' range is 1 to 4)", SEP, ior, clamp_ior(ior));
         if (metallic > 0 && metallic < 1)
-            TODO("%smetallic %g (taken as %s: the threshold is 0.5)", n ? "; " : "", metallic,
+            TODO("%smetallic %g (taken as %s: the threshold is 0.5)", SEP, metallic,
                  metallic >= 0.5 ? "1" : "0");
-        if (metallic >= 0.5)
-            out = metal(b, m, m->diffuse, rough * rough, e, where, err);
-        else if (!said_layer[m->format]++) /* nearly every glTF material: once per run */
-            TODO("%sthe specular layer of a non-metal (F0 0.04, alpha %g: planned as 'coated'; "
-                 "said once per run)", n ? "; " : "", rough * rough);
-        if (m->has & SPM_MESH_HAS_TRANSMISSION && m->transmission > 0)
-            TODO("%stransmission %g (KHR_materials_transmission: planned as 'dielectric')",
-                 n ? "; " : "", m->transmission);
-        if (m->has & SPM_MESH_HAS_IOR)
-            TODO("%sior %g (KHR_materials_ior: planned for 'dielectric' and 'coated')",
-                 n ? "; " : "", m->ior);
-        if (m->has & SPM_MESH_HAS_VOLUME)
-            TODO("%sa volume (KHR_materials_volume: planned as 'dielectric' 'absorb')",
-                 n ? "; " : "");
+        if (metallic >= 0.5) {
+            /* a conductor of F0 = base colour, alpha = roughness^2; transmission
+             * and ior are the dielectric part's, which a metal has not */
+            if (t > 0)
+                TODO("%stransmission %g (not on a metal)", SEP, t);
+            out = metal(b, m, m->diffuse, alpha, e, where, err);
+        } else if (t >= 0.5) {
+            if (t < 1)
+                TODO("%stransmission %g (taken as 1: the threshold is 0.5)", SEP, t);
+            /* a volume: thicknessFactor > 0 (0: thin-walled); its attenuation
+             * distance is in glTF world units (node transforms applied, as
+             * the triangles here), so the statement's scale makes it scene
+             * units; 0 or none: Assimp's and glTF's "infinite", no absorption */
+            int volume = m->has & SPM_MESH_HAS_VOLUME && m->thickness > 0;
+            double dist = m->atten_dist * scale;
+            int absorbs = volume && m->atten_dist > 0 && isfinite(dist) && dist > 0 &&
+                          (m->atten_colour[0] < 1 || m->atten_colour[1] < 1 ||
+                           m->atten_colour[2] < 1);
+            if (!volume)
+                TODO("%sthin-walled (no KHR_materials_volume thickness: taken as solid glass)",
+                     SEP);
+            out = glass(b, m, ior, alpha, absorbs ? m->atten_colour : NULL, dist, e, where, err);
+        } else {
+            if (t > 0)
+                TODO("%stransmission %g (taken as 0: the threshold is 0.5)", SEP, t);
+            /* glTF's dielectric BRDF: a specular layer of index ior over the
+             * base colour */
+            out = coated(b, m, r, ior, alpha, e, where, err);
+        }
+        if (m->has & SPM_MESH_HAS_VOLUME && metallic < 0.5 && t < 0.5 && m->thickness > 0)
+            TODO("%sa volume without transmission (not rendered)", SEP);
     } else if (m->format == SPM_MESH_FMT_OBJ) {
         int ks = m->has & SPM_MESH_HAS_SPECULAR && nonblack(m->specular, 0.0f);
         /* Ns a Phong exponent: alpha = sqrt(2 / (Ns + 2)) (Walter et al. 2007) */
         double ns = m->has & SPM_MESH_HAS_SHININESS && m->shininess > 0 ? m->shininess : 0;
         double alpha = sqrt(2.0 / (ns + 2.0));
-        if (ks && !nonblack(m->diffuse, 1e-3f))
+        if (m->has & SPM_MESH_HAS_REFRACT) /* illum 6 or 7: refraction on */
+            out = glass(b, m, mtl_ior(m), alpha, NULL, 1.0, e, where, err);
+        else if (ks && !nonblack(m->diffuse, 1e-3f))
             out = metal(b, m, m->specular, alpha, e, where, err);
-        else if (ks && !said_layer[m->format]++) /* most MTL files have one: once per run */
-            TODO("Ks %g %g %g, Ns %g (a specular layer over Kd: planned as 'coated'; said once "
-                 "per run)", m->specular[0], m->specular[1], m->specular[2], ns);
-        if (m->has & SPM_MESH_HAS_IOR && m->ior != 1 && ks)
-            TODO("%sNi %g (planned for 'dielectric' and 'coated')", n ? "; " : "", m->ior);
+        else if (ks)
+            out = coated(b, m, r, mtl_ior(m), alpha, e, where, err);
     }
+    if (m->has & SPM_MESH_HAS_OPACITY && m->opacity < 1)
+        TODO("%sopacity %g (cut-outs are not rendered: opaque)", SEP, m->opacity);
     if (n)
-        spm_warnf("%s: not rendered yet: %s", where, todo);
+        spm_warnf("%s: not rendered as the file says: %s", where, todo);
+#undef SEP
 #undef TODO
     if (out == -1)
         return -1;
