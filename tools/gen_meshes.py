@@ -41,7 +41,7 @@ statement reads, plus the expected triangles as text:
                         smooth diffuse sphere (sphere_n.obj, sphere_n.ply)
   leak_KIND.scene, leak_lit_KIND.scene
                         tilt.obj (KIND: diffuse with `smooth`, a rough or a smooth
-                        conductor) seen from the front, a white wall behind it
+                        conductor, a smooth or a rough coating) seen from the front, a white wall behind it
                         (leak: lit by a light behind the quad: nothing may reach the
                         camera; leak_lit: the light in front of the quad instead)
   smooth_glass_box.scene
@@ -75,7 +75,7 @@ scene is one self-contained file):
   copper_sodium.scene   copper under a low-pressure sodium lamp (the failure scene)
 
 With --materials, scenes/materials.scene and the mesh it places five times,
-materials_sphere.ply (a unit sphere of 16 rings of 32 segments, 960 triangles,
+materials_sphere.ply (a unit sphere of 12 rings of 24 segments, 528 triangles,
 ASCII PLY with its vertex normals, each its vertex's position).
 
 With --coated, the coated scenes (likewise `tri` statements):
@@ -495,12 +495,15 @@ def smooth_meshes(out):
             'spectrum white inline 380 0.8 780 0.8 end\nspectrum e inline 380 1 780 1 end\n'
             'material wall reflect white\nmaterial light emit e 100\n'
             'material mirror conductor e e\nmaterial rough conductor e e alpha 0.3\n'
+            'material paint coated reflect white ior 1.5\n'
+            'material satin coated reflect white ior 1.5 alpha 0.3\n'
             'quad wall -20 -20 -2  20 -20 -2  20 20 -2  -20 20 -2\n')
     light_back = 'quad light -1 -1 -1  -1 1 -1  1 1 -1  1 -1 -1\n'  # faces -z: the wall
     light_front = 'quad light 2 -1 3  2 1 3  4 1 3  4 -1 3\n'      # faces -z: the quad
     for name, light in (('leak', light_back), ('leak_lit', light_front)):
         for kind, mat, clause in (('diffuse', 'wall', 'smooth'), ('rough', 'rough', ''),
-                                  ('mirror', 'mirror', '')):
+                                  ('mirror', 'mirror', ''), ('paint', 'paint', ''),
+                                  ('satin', 'satin', '')):
             sc = leak + light + 'mesh tilt.obj material %s %s\n' % (mat, clause)
             w(os.path.join(out, '%s_%s.scene' % (name, kind)), sc)
 
@@ -980,7 +983,7 @@ MATERIALS_HEAD = """# Materials: the Cornell box of cornell.scene (its walls, ca
 # spectra/metal_Au_*) and a red plastic coating (right, index 1.5); in front,
 # clear glass (left), green absorbing glass (middle, 'absorb greenabs 12' as
 # in glass.scene) and rough glass (right, GGX alpha 0.2), all of index 1.5.
-# Each sphere is materials_sphere.ply (960 triangles with vertex normals) scaled
+# Each sphere is materials_sphere.ply (528 triangles with vertex normals) scaled
 # and placed by its mesh statement; conductors, glass and coatings shade a
 # mesh's vertex normals by default (docs/SCENE_FORMAT.md). They float 1 mm
 # above the floor so no glass face touches another surface. Written by
@@ -1005,7 +1008,7 @@ spectrum greenabs  inline 380 1.0 450 0.7 500 0.1 540 0.02 580 0.1 630 0.8 700 1
 def materials_scene(out):
     """Writes materials.scene and materials_sphere.ply into out; returns their paths."""
     paths = [os.path.join(out, 'materials.scene'), os.path.join(out, 'materials_sphere.ply')]
-    write_sphere_ply(paths[1], 16, 32)
+    write_sphere_ply(paths[1], 12, 24)
     s = MATERIALS_HEAD + '\n'
     s += ('material white     reflect white\nmaterial red       reflect red\n'
           'material green     reflect green\nmaterial light     reflect white  emit equal 1000\n'
