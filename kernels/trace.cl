@@ -333,6 +333,10 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                     float d2c = fmax(d2, SPM_D2_MIN_REL * et->area);
                     float pl = emitters[k].pdf * d2c / (et->area * cos_e);
                     wgt = emitters[k].inv_pdf * cos_e * et->area / d2c * (f * cond_power(pl, pb));
+#ifdef SPM_WITH_SMOOTH
+                    if (!(il.z > 0.0f)) /* below the shading horizon: nothing */
+                        wgt = 0.0f;
+#endif
                 } else
 #endif
 #ifdef SPM_WITH_COATED
@@ -345,8 +349,16 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                         float f = cond_eval(kalpha, wl, il, &pb, &ch);
                         float pl = emitters[k].pdf * d2c / (et->area * cos_e);
                         lw = coat_fresnel(ceta, ch) * (f * cond_power(pl, pb)) / cps;
+#ifdef SPM_WITH_SMOOTH
+                        if (!(il.z > 0.0f)) /* below the shading horizon: nothing */
+                            lw = 0.0f;
+#endif
                     } else { /* diffuse: |cos_i| / pi (1 - F(|cos_i|)) times its weight */
+#ifdef SPM_WITH_SMOOTH
+                        float ci = fmax(dot3(ed, sn), 0.0f); /* the cosine to sn (flat: |cos_i|) */
+#else
                         float ci = fabs(cos_i);
+#endif
                         lw = ci / SPM_PI_F * (1.0f - coat_fresnel(ceta, ci)) * cw;
                     }
                     wgt = emitters[k].inv_pdf * cos_e * et->area / d2c * lw;
@@ -450,6 +462,15 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                     cpdf = f * cond_d(dalpha, mh.z) / ((1.0f + lo) * 4.0f * wl.z);
             }
             d = ctg * il.x + cbt * il.y + cn * il.z;
+#ifdef SPM_WITH_SMOOTH
+            /* a reflection on the viewer's side of the geometric surface, a
+             * refraction on the other, or the path ends */
+            if (smooth && (rf ? !(dot3(d, gn) > 0.0f) : !(dot3(d, gn) < 0.0f))) {
+                hd.end = SPM_END_ABSORBED;
+                j++;
+                break;
+            }
+#endif
             din = dot3(d, n) < 0.0f; /* into the back face's side: inside */
             o = pos;
             skip = (uint)hit;
@@ -498,6 +519,13 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         if (coat && cspec) { /* the specular lobe's direction; its hit counted at the next vertex */
             cpdf = kpdf;
             d = kdir;
+#ifdef SPM_WITH_SMOOTH
+            if (smooth && !(dot3(d, gn) > 0.0f)) { /* under the geometric surface: ends */
+                hd.end = SPM_END_ABSORBED;
+                j++;
+                break;
+            }
+#endif
             o = pos;
             skip = (uint)hit;
             continue;

@@ -2,9 +2,15 @@
 """Renders a specmip scene with Mitsuba 3 (scalar_spectral) and compares it with specmip.
 
 The scene (docs/SCENE_FORMAT.md) is converted, not approximated:
-  - geometry: `tri` and `quad` as written, `mesh` files (PLY or OBJ, `material` clause only)
-    with their transform clauses composed in the order written; every shape flat-shaded
-    (Mitsuba's face_normals), front faces as specmip's (b - a) x (c - a);
+  - geometry: `tri` and `quad` as written, `mesh` files (PLY or OBJ, `material` and
+    `smooth`/`flat` clauses) with their transform clauses composed in the order written;
+    flat-shaded (Mitsuba's face_normals) where specmip shades flat, front faces as specmip's
+    (b - a) x (c - a); a mesh file with vertex normals whose material is a conductor,
+    dielectric or coated one (or any under `smooth`, not under `flat`) shades smooth in
+    specmip (docs/SCENE_FORMAT.md), and in Mitsuba with the file's vertex normals (its
+    default, face_normals false). Mitsuba's shading-normal rule is its own (no bend, no
+    rejection; its dielectric takes inside from the shading normal's side), so the two
+    differ where a shading normal leans far from its facet: a coarse mesh's silhouette;
   - Lambertian materials: `twosided` `diffuse` with the spectral reflectance (specmip's
     surfaces reflect on both faces), the data's samples inside 380-780 nm, extended by the end
     values as specmip extends a reflectance;
@@ -350,10 +356,14 @@ def parse_mesh(t, where, sdir):
     if os.path.splitext(f)[1].lower() not in ('.ply', '.obj'):
         raise SceneError('%s: only PLY and OBJ meshes are converted' % where)
     mat, m, k = None, [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]], 2
+    shading = None
     while k < len(t):
         c = t[k]
         if c == 'material':
             mat, k = t[k + 1], k + 2
+            continue
+        if c in ('smooth', 'flat'):
+            shading, k = c, k + 1
             continue
         if c == 'scale':
             vals = t[k + 1:k + 4]
@@ -374,7 +384,33 @@ def parse_mesh(t, where, sdir):
         m = mat_mul(step, m)  # applied in the order written: m <- T m
     if mat is None:
         raise SceneError('%s: a converted mesh needs its material clause' % where)
-    return (f, mat, m)
+    return (f, mat, m, shading)
+
+
+def has_normals(path):
+    """Whether a PLY's vertices carry nx ny nz, or an OBJ has vn lines and faces using them."""
+    with open(path, 'rb') as f:
+        if path.lower().endswith('.ply'):
+            head = b''
+            for line in f:
+                head += line
+                if line.strip() == b'end_header':
+                    break
+            return b'property float nx' in head or b'property double nx' in head
+        data = f.read()
+        return b'\nvn ' in data and b'/' in data  # f v//vn or v/vt/vn
+
+
+def shades_smooth(sc, mesh):
+    """specmip's rule (host/scene/mesh_build.c): the file's normals, when its material's
+    type shades smooth by default (conductor, dielectric, coated) or the mesh says `smooth`,
+    unless it says `flat`."""
+    f, mat, _, shading = mesh
+    if shading == 'flat' or not has_normals(f):
+        return False
+    m = sc.materials.get(mat, {})
+    return shading == 'smooth' or bool(m.get('conductor') or m.get('dielectric') or
+                                        m.get('coated'))
 
 
 # ---------------------------------------------------------------- conversion
@@ -512,19 +548,19 @@ def convert(sc, outdir, spp, seed, width=None):
     by_mat = {}
     for m, t in sc.tris:
         by_mat.setdefault(m, []).append(t)
-    shapes = [(m, {'type': 'ply', 'filename': os.path.join(outdir, 'tris_%s.ply' % m)})
-              for m in by_mat]
+    shapes = [(m, {'type': 'ply', 'filename': os.path.join(outdir, 'tris_%s.ply' % m),
+                   'face_normals': True}) for m in by_mat]
     for m, tris in by_mat.items():
         write_ply(os.path.join(outdir, 'tris_%s.ply' % m), tris)
-    for f, m, mat in sc.meshes:
+    for mesh in sc.meshes:
+        f, m, mat, _ = mesh
         kind = 'ply' if f.lower().endswith('.ply') else 'obj'
-        shapes.append((m, {'type': kind, 'filename': f,
-                           'to_world': mi.ScalarTransform4f(mat)}))
+        shapes.append((m, {'type': kind, 'filename': f, 'to_world': mi.ScalarTransform4f(mat),
+                           'face_normals': not shades_smooth(sc, mesh)}))
     for k, (m, shape) in enumerate(shapes):
         if m not in sc.materials:
             raise SceneError('unknown material %s' % m)
         mat = sc.materials[m]
-        shape['face_normals'] = True
         shape['bsdf'] = bsdf(sc, mat)
         if mat['dielectric'] and mat['dielectric'][1]:
             # Beer-Lambert inside: a purely absorbing homogeneous medium (albedo 0) of

@@ -17,10 +17,10 @@ float spm_ref_coat_fresnel(float eta, float cin)
     return 0.5f * (rs * rs + rp * rp);
 }
 
-void spm_ref_coat_make(const spm_tri *tri, const float d[3], const spm_material *m, float u_lobe,
-                       float u1, float u2, spm_ref_coat *c)
+void spm_ref_coat_make(const spm_ref_cond *f, const spm_material *m, float u_lobe, float u1,
+                       float u2, spm_ref_coat *c)
 {
-    spm_ref_cond_make(tri, d, m->p[SPM_COAT_P_ALPHA], &c->f);
+    c->f = *f;
     c->eta = m->p[SPM_COAT_P_ETA];
     float fo = spm_ref_coat_fresnel(c->eta, c->f.wo[2]);
     /* ps = Fo s / (Fo s + (1 - Fo)(1 - s)), 1 when both terms are 0 */

@@ -20,12 +20,15 @@ typedef struct {
     float dir[3];
 } spm_ref_coat;
 
-/* The vertex reached along d on tri, its lobe chosen with u_lobe and the
- * rough lobe's normal drawn from u1, u2 (SPM_DIM_COAT_*). */
-void spm_ref_coat_make(const spm_tri *tri, const float d[3], const spm_material *m, float u_lobe,
-                       float u1, float u2, spm_ref_coat *c);
+/* The vertex of frame f (spm_ref_cond_make's, the geometric one, or
+ * spm_ref_cond_frame's, a shading frame; its alpha the coating's), its lobe
+ * chosen with u_lobe and the rough lobe's normal drawn from u1, u2
+ * (SPM_DIM_COAT_*). */
+void spm_ref_coat_make(const spm_ref_cond *f, const spm_material *m, float u_lobe, float u1,
+                       float u2, spm_ref_coat *c);
 /* The light sample towards unit l, the factor after the distance (the
- * Lambertian's |cos_i| / pi): diffuse |cos_i| / pi (1 - F(|cos_i|)) w;
+ * Lambertian's |cos_i| / pi; cos_i the cosine to the frame's normal or, flat,
+ * to the triangle's): diffuse |cos_i| / pi (1 - F(|cos_i|)) w;
  * rough specular F(wo.h) D G2 / (4 wo_z) / ps times the power heuristic
  * (pick_pdf, d2c, area, cos_e as spm_ref_cond_light). */
 float spm_ref_coat_light(const spm_ref_coat *c, const float l[3], float cos_i, float pick_pdf,

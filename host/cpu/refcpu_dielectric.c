@@ -78,7 +78,7 @@ int spm_ref_diel_lobe(const spm_ref_cond *c, float e, float u1, float u2, float 
     }
     for (int i = 0; i < 3; i++)
         out[i] = c->t[i] * wi[0] + c->b[i] * wi[1] + c->n[i] * wi[2];
-    return 1;
+    return rf ? 1 : 2;
 }
 
 float spm_ref_diel_absorb(float sigma, float d)

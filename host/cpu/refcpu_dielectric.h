@@ -22,7 +22,8 @@ float spm_ref_diel_light(const spm_ref_cond *c, float e, const float l[3], float
                          float d2c, float area, float cos_e);
 /* The lobe: the normal (the surface's, or a visible one from u1, u2), then
  * reflection if uc < F(wo.m), else refraction, into out (world). Returns 0
- * when the direction lands on the wrong side (the path ends), else 1 with
+ * when the direction lands on the wrong side of the frame's normal (the path
+ * ends), else 1 (reflected) or 2 (refracted) with
  * *w_t the refraction's radiance factor 1 / e^2 (1 when reflecting), *w_g the
  * rough lobe's G2 / G1(wo) (1 smooth), *pdf the density of a reflection for
  * MIS (F times the visible normals'; 0 for the smooth lobe and a refraction). */

@@ -177,6 +177,8 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
         float d2c = d2 > d2min ? d2 : d2min;
         w = pe->inv_pdf * cos_e * em->area / d2c *
             spm_ref_diel_light(cc, deta, l, pe->pdf, d2c, em->area, cos_e);
+        if (sn && !(v3_dot(l, cc->n) > 0.0f))
+            w = 0.0f;
     } else if (cc) {
         float d2c = d2 > d2min ? d2 : d2min;
         w = pe->inv_pdf * cos_e * em->area / d2c *
@@ -185,8 +187,11 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
             w = 0.0f;
     } else if (co) {
         float d2c = d2 > d2min ? d2 : d2min;
+        float ci = sn ? fmaxf(v3_dot(l, sn), 0.0f) : cos_i;
         w = pe->inv_pdf * cos_e * em->area / d2c *
-            spm_ref_coat_light(co, l, cos_i, pe->pdf, d2c, em->area, cos_e);
+            spm_ref_coat_light(co, l, ci, pe->pdf, d2c, em->area, cos_e);
+        if (sn && co->spec && !(v3_dot(l, co->f.n) > 0.0f))
+            w = 0.0f;
     } else if (sn) {
         float cs = v3_dot(l, sn);
         w = pe->inv_pdf * cos_e * em->area / (d2 > d2min ? d2 : d2min) * fmaxf(cs, 0.0f) / SPM_PI_F;
@@ -322,16 +327,25 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
             spm_ref_cond_frame(sn, st, d, m->p[SPM_COND_P_ALPHA], &cc);
         else if (cond)
             spm_ref_cond_make(tri, d, m->p[SPM_COND_P_ALPHA], &cc);
-        if (diel) {
-            spm_ref_cond_make(tri, d, m->p[SPM_DIEL_P_ALPHA], &cc);
+        if (diel) { /* the shading frame's lobes; inside or outside by the winding */
+            if (smooth)
+                spm_ref_cond_frame(sn, st, d, m->p[SPM_DIEL_P_ALPHA], &cc);
+            else
+                spm_ref_cond_make(tri, d, m->p[SPM_DIEL_P_ALPHA], &cc);
             deta = spm_ref_diel_eta(tri, d, m->p[SPM_DIEL_P_IOR]);
         }
         int coat = SPM_MAT_TAG(*m) == SPM_MAT_COATED;
         spm_ref_coat co;
-        if (coat) /* its lobe first, from its own dimensions */
-            spm_ref_coat_make(tri, d, m, rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_COAT_LOBE)),
+        if (coat) { /* its lobe first, from its own dimensions */
+            spm_ref_cond cf;
+            if (smooth)
+                spm_ref_cond_frame(sn, st, d, m->p[SPM_COAT_P_ALPHA], &cf);
+            else
+                spm_ref_cond_make(tri, d, m->p[SPM_COAT_P_ALPHA], &cf);
+            spm_ref_coat_make(&cf, m, rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_COAT_LOBE)),
                               rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_COAT_M_A)),
                               rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_COAT_M_B)), &co);
+        }
         spm_u32 dim = SPM_DIM_VERTEX(j);
         float c = 0.0f, cos_h = 0.0f;
         spm_u32 e = SPM_NONE;
@@ -377,6 +391,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         }
         weight *= minv;
         float nd[3];
+        int refracted = 0; /* a dielectric's refraction: to the other side */
         if (diel) {
             float wt, wg;
             int ok = spm_ref_diel_lobe(&cc, deta, rnd(&k, SPM_DIM_TYPE(j, SPM_DIM_DIEL_M_A)),
@@ -388,6 +403,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
                 h->end = SPM_END_ABSORBED;
                 break;
             }
+            refracted = ok == 2;
             if (wt != 1.0f)
                 weight *= wt;
             if (cc.alpha > 0.0f)
@@ -416,7 +432,9 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
                 weight *= 1.0f - spm_ref_coat_fresnel(co.eta,
                                                       sqrtf(1.0f - rnd(&k, dim + SPM_DIM_DIR_B)));
         }
-        if (smooth && !(v3_dot(nd, gn) > 0.0f)) { /* under the geometric surface: ends */
+        /* a direction on the other side of the geometric surface than of the
+         * shading one (a reflection under it, a refraction over it): ends */
+        if (smooth && (refracted ? !(v3_dot(nd, gn) < 0.0f) : !(v3_dot(nd, gn) > 0.0f))) {
             if (cond)
                 path->x[j].cos_lobe = 0.0f;
             h->end = SPM_END_ABSORBED;

@@ -292,7 +292,7 @@ const spm_mtype_desc spm_material_types[] = {
         .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
         .rng_dims = 3, /* SPM_DIM_DIEL_M_A, SPM_DIM_DIEL_M_B, SPM_DIM_DIEL_CHOICE */
         .define = "SPM_WITH_DIELECTRIC",
-        .smooth = -1, /* its trace code takes the geometric frame: always flat */
+        .smooth = 1, /* a faceted glass sphere shows its facets in every refraction */
         .fill = dielectric_fill,
         .derive = dielectric_derive,
     },
@@ -312,7 +312,7 @@ const spm_mtype_desc spm_material_types[] = {
         .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
         .rng_dims = 3, /* SPM_DIM_COAT_LOBE, SPM_DIM_COAT_M_A, SPM_DIM_COAT_M_B */
         .define = "SPM_WITH_COATED",
-        .smooth = -1, /* its trace code takes the geometric frame: always flat */
+        .smooth = 1, /* a faceted glossy sphere shows its facets in its highlight */
         .fill = coated_fill,
         .derive = coated_derive,
     },

@@ -50,10 +50,10 @@ typedef struct {
     int rng_dims;         /* dimensions it draws per vertex: SPM_DIM_TYPE(j, 0 .. rng_dims-1) for a
                              material type, SPM_DIM_EMIT_TYPE(j, ...) for an emitter type */
     const char *define;   /* the kernel -D that compiles its code in */
-    /* 1: a mesh triangle of this type with vertex normals shades smooth by
-     * default (kernels/shading.clh); 0 (the diffuse types): only under the
-     * mesh statement's `smooth`; -1 (glass, coatings: their lobes read the
-     * geometric frame as yet): never */
+    /* 1 (conductors, glass, coatings): a mesh triangle of this type with
+     * vertex normals shades smooth by default (kernels/shading.clh); 0 (the
+     * diffuse types): only under the mesh statement's `smooth`; -1: never
+     * (a type whose lobes read the geometric frame) */
     int smooth;
     /* The device material's type-specific part (mean, inv_mean, p[]) from the
      * scene material; colour ids and tags are already set. */
