@@ -933,7 +933,7 @@ PRISM_HEAD = """# Prism: the camera looks through a prism of Schott N-BK7 (apex 
 # caustic is needed. The front face is square to the view (the rays enter
 # undeviated); the back face bends each wavelength its own way (n from 1.525
 # at 450 nm to 1.515 at 650 nm), so the white slit is seen as a spectrum
-# spread over about 14 pixels, blue farthest from the straight line (towards
+# spread over about 11 pixels, blue farthest from the straight line (towards
 # the prism's base). A path commits to one wavelength at the first glass
 # face (docs/METHODS.md "Dispersion"), so every pixel sees its colour. No
 # other light and no background. tests/cli_dispersion.sh checks the image
@@ -941,14 +941,14 @@ PRISM_HEAD = """# Prism: the camera looks through a prism of Schott N-BK7 (apex 
 # tools/gen_meshes.py --dispersion (do not edit the objects here: regenerate).
 # Format: docs/SCENE_FORMAT.md.
 
-image 320 12
+image 256 16
 spp 256
 camera position 0 0 0  direction 0 0 1  fov 10
 
 spectrum equal  equal
 
 material bk7   dielectric glass N-BK7
-material slit  reflect equal 0  emit equal 100
+material slit  emit equal 100
 """
 
 SPHERE_HEAD = """# An N-SF11 sphere in a room: the Cornell box of cornell.scene (its walls,
@@ -957,7 +957,7 @@ SPHERE_HEAD = """# An N-SF11 sphere in a room: the Cornell box of cornell.scene 
 # 420 nm to 1.770 at 700 nm), in front of a white block. Its refraction
 # fringes the edges of what is seen through it, and the light it focuses
 # onto the floor (a caustic, reached by paths that hit the lamp through the
-# glass) is split into colours. Tessellated (a 16 x 32 UV sphere). Objects
+# glass) is split into colours. Tessellated (an 8 x 12 UV sphere: 168 facets). Objects
 # float 1 mm above the floor so no glass face touches another surface.
 # Written by tools/gen_meshes.py --dispersion (do not edit the objects here:
 # regenerate). Format: docs/SCENE_FORMAT.md.
@@ -1035,7 +1035,7 @@ def dispersion_scenes(out):
     s = SPHERE_HEAD + '\n' + ROOM % ('red', 'green') + '\n# at the back: a white block\n'
     s += tri_lines('white', block(0.36, 0.40, 0.07, 0.30, 25))
     s += '\n# in front: the N-SF11 sphere\n'
-    s += tri_lines('sf11', uv_sphere((0.24, 0.111, 0.22), 0.11, 16, 32))
+    s += tri_lines('sf11', uv_sphere((0.24, 0.111, 0.22), 0.11, 8, 12))
     w(paths[1], s)
     return paths
 

@@ -478,7 +478,12 @@ static int index_param(parser *p, const spm_mparam *pa, spm_scene_material *m)
         nd = sell ? spm_disp_sellmeier(c, c + 3, SPM_DISP_REF_NM) : spm_disp_cauchy(c[0], c[1], SPM_DISP_REF_NM);
     }
     for (int b = 0; b < SPM_TRUTH_BINS; b++)
-        if (!(n[b] >= pa->lo && n[b] <= pa->hi)) {
+        if (isnan(n[b])) {
+            spm_errorf(p->err, "%s: '%s' gives no real index at %g nm (n^2 <= 0, or a pole inside "
+                               "%d-%d nm)", where, cl, spm_disp_bin_nm(b), SPM_LAMBDA_MIN,
+                       SPM_LAMBDA_MAX);
+            return 1;
+        } else if (!(n[b] >= pa->lo && n[b] <= pa->hi)) {
             spm_errorf(p->err, "%s: '%s' gives an index of %g at %g nm, outside %g..%g", where, cl,
                        n[b], spm_disp_bin_nm(b), pa->lo, pa->hi);
             return 1;
