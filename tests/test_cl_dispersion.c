@@ -22,7 +22,9 @@
 /* The shade kernels fuse and reorder (test_cl_shade); a committed path's one
  * lane is walked without contraction but with OpenCL's exp and the kernel's
  * own Fresnel (3-4 ulp): bound 1e-4 relative to the path's largest
- * component, as test_cl_dielectric's (measured worst: printed below). */
+ * component, as test_cl_dielectric's. Measured: 1.3e-6 over every path
+ * (truth's 400-lane sums), 0 on the committed paths (clear glass and
+ * Lambertian walls: products and sums in the same order, no exp). */
 #define SHADE_REL 1e-4
 
 static size_t committed(const spm_path *p, spm_u32 *bin, float *iw)
