@@ -19,7 +19,9 @@
  * light_pdf: per triangle its probability of being picked as the light
  * (spm_geometry.light_pdf; 0: not an emitter), for MIS at a rough lobe.
  * vnormals: the smooth triangles' vertex normals (spm_tri.vn; a placeholder
- * in a scene without them, never read). */
+ * in a scene without them, never read).
+ * disp: the dispersive glasses' index tables (spm_geometry disp; a
+ * placeholder in a scene without them). */
 #define SPM_TRACE_ARGS(X, S)                                            \
     X(__global const spm_tri *, cl_mem, tris) S                         \
     X(__global const spm_bvh4_node *, cl_mem, nodes) S                  \
@@ -28,6 +30,7 @@
     X(__global const uchar *, cl_mem, lvlk) S                           \
     X(__global const float *, cl_mem, light_pdf) S                      \
     X(__global const float *, cl_mem, vnormals) S                       \
+    X(__global const float *, cl_mem, disp) S                           \
     X(const spm_trace_params, spm_trace_params, p) S                    \
     X(uint, spm_u32, init_level) S                                      \
     X(uint, spm_u32, npaths) S                                          \
@@ -72,6 +75,13 @@
 #define SPM_SHADE_SPEC_ARGS(X, S)                                       \
     X(__global const uint *, cl_mem, smap) S                            \
     X(__global const float *, cl_mem, sfac)
+
+/* ...followed, in a scene with dispersive glass (-DSPM_WITH_DISPERSION), by
+ * the 1 nm rows of every colour and truth's XYZ weights (modes.h
+ * spm_shade_table nm1, nm1_w), which a committed path is shaded from. */
+#define SPM_SHADE_DISP_ARGS(X, S)                                       \
+    X(__global const float *, cl_mem, dtab) S                           \
+    X(__global const float *, cl_mem, dcmf)
 
 /* spm_accumulate (kernels/shade.cl): per pixel of the batch (npix) the sum of
  * its spp samples' records (XYZ, and the bins of spectral records), in

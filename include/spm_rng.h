@@ -50,10 +50,12 @@
 #define SPM_DIM_COAT_M_A 1u
 #define SPM_DIM_COAT_M_B 2u
 /* the dielectric's: its rough lobe's visible normal, then the choice
- * between reflection and refraction (by the Fresnel reflectance) */
+ * between reflection and refraction (by the Fresnel reflectance); at a
+ * path's first dispersive vertex, the wavelength it commits to */
 #define SPM_DIM_DIEL_M_A 0u
 #define SPM_DIM_DIEL_M_B 1u
 #define SPM_DIM_DIEL_CHOICE 2u
+#define SPM_DIM_DIEL_LAMBDA 3u
 
 /* "lowbias32" integer mixer (Wellons): full avalanche, cheap. Its steps on x
  * of any unsigned 32-bit integer type (the kernels also mix 16 keys at once). */

@@ -141,8 +141,15 @@ typedef struct {
  * c and hit_c; shading it is
  *   if e != NONE: L += P * E[e] * c;  P *= exp(-sigma * d);
  *   if hit != NONE: L += P * E[hit] * hit_c
- * (kernels/dielectric.clh, host/cpu/refcpu_dielectric.c). */
+ * (kernels/dielectric.clh, host/cpu/refcpu_dielectric.c).
+ * At a path's first dispersive vertex (a dielectric with an index table,
+ * SPM_DIEL_P_DISP) the trace stage commits the path to one 1 nm bin b: bits
+ * 0-14 of ids hold 1 + b (SPM_EXT_LAMBDA) and cos_light 1 / pdf of b; every
+ * other record has 0 there. The shade stage shades such a path as one lane,
+ * bin b of the 1 nm data, in every mode (docs/METHODS.md "Dispersion"). */
 #define SPM_EXT_KIND 0x8000u
+/* the committed bin of a dielectric record, SPM_NONE for none */
+#define SPM_EXT_LAMBDA(x) ((((x).ids & 0x7FFFu) + 0xFFFFu) & 0xFFFFu)
 #define SPM_EXT_DIEL(x) (((x).ids & SPM_EXT_KIND) != 0u)
 /* the k colour and the hit emission of a record, SPM_NONE for none (a
  * dielectric's k: none) */
@@ -301,6 +308,12 @@ typedef struct {
 #define SPM_DIEL_P_ALPHA 1
 /* (the scene material's only, for the pretest: the longest segment inside) */
 #define SPM_DIEL_P_LEN 2
+/* 1 + the material's row of the index table (spm_geometry disp: n at the
+ * centre of each 1 nm bin), 0 for one index; a dispersive material's
+ * SPM_DIEL_P_IOR holds n at the d-line (SPM_DISP_REF_NM), which a mode whose
+ * lanes are no wavelengths (rgb) traces with */
+#define SPM_DIEL_P_DISP 3
+#define SPM_DISP_REF_NM 587.5618 /* helium d-line: the catalogues' n_d */
 /* the coated type's p[] (host/scene/materials.c coated_fill): the coating's
  * GGX width (0: smooth; below SPM_COND_MIN_ALPHA smooth), its index of
  * refraction eta, the diffuse lobe's scalar factor 1 / (eta^2 (1 - Fdr_i))
@@ -351,6 +364,8 @@ typedef struct {
     spm_u32 spp_per_pass;  /* samples per pixel in one pass */
     spm_u32 first_sample;  /* sample index of this pass's first sample */
     spm_u32 emit_power;    /* 1: emitters picked by power (spm_emitter cdf); 0: uniformly */
+    spm_u32 disperse;      /* 1: a path commits to a wavelength at its first dispersive
+                              vertex (SPM_EXT_LAMBDA); 0: dispersive glass takes n_d */
 } spm_trace_params;
 
 /* Light selection (next-event estimation). Emitter triangle i of the emitter

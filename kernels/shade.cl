@@ -31,6 +31,56 @@
 #define HSUM8(v) HSUM4((v).lo + (v).hi)
 #define HSUM16(v) HSUM8((v).lo + (v).hi)
 
+#ifdef SPM_WITH_DISPERSION
+#ifdef SPM_WITH_CONDUCTOR
+COND_FRESNEL_FN(float, cond_fresnel1)
+#endif
+/* A path committed to 1 nm bin b (spm_shared.h SPM_EXT_LAMBDA): the record
+ * walked as one lane, every colour's value in bin b of the 1 nm rows t
+ * (ncolours x SPM_TRUTH_BINS), by the same rules as shade_body.clh's
+ * vertices (plain, conductor, dielectric, coated hit; fluorescence never
+ * meets dispersion, materials.c refuses the pair). Returns L at b. */
+inline float disp_walk(spm_dev_head h, __global const spm_vertex *vp,
+                       __global const spm_vertex_ext *xp, uint npaths, __global const float *t)
+{
+#pragma OPENCL FP_CONTRACT OFF /* rounds as the CPU reference */
+    uint fe = h.colours & 0xFFFFu, nv = h.nvert_end & 0xFFFFu;
+    float P = 1.0f, L = fe != SPM_NONE ? t[(size_t)fe * SPM_TRUTH_BINS] * h.first_emit_c : 0.0f;
+    for (uint j = 0; j < nv; j++) {
+        spm_vertex v = vp[(size_t)j * npaths];
+        spm_vertex_ext x = xp[(size_t)j * npaths];
+        uint r = v.ids & 0xFFFFu, e = v.ids >> 16, hc = SPM_EXT_HIT(x);
+        if (r == SPM_NONE)
+            return L;
+        if (SPM_EXT_DIEL(x)) {
+            if (e != SPM_NONE)
+                L += P * t[(size_t)e * SPM_TRUTH_BINS] * v.c;
+            if (x.cos_lobe > 0.0f)
+                P *= exp(-t[(size_t)r * SPM_TRUTH_BINS] * x.cos_lobe);
+        } else
+#ifdef SPM_WITH_CONDUCTOR
+        if (SPM_EXT_K(x) != SPM_NONE) {
+            float eta = t[(size_t)r * SPM_TRUTH_BINS], k = t[(size_t)SPM_EXT_K(x) * SPM_TRUTH_BINS];
+            if (e != SPM_NONE)
+                L += P * cond_fresnel1(eta, k, x.cos_light) * t[(size_t)e * SPM_TRUTH_BINS] * v.c;
+            P *= cond_fresnel1(eta, k, x.cos_lobe);
+        } else
+#endif
+        {
+            P *= t[(size_t)r * SPM_TRUTH_BINS];
+            if (e != SPM_NONE)
+                L += P * t[(size_t)e * SPM_TRUTH_BINS] * v.c;
+        }
+        if (hc != SPM_NONE)
+            L += P * t[(size_t)hc * SPM_TRUTH_BINS] * x.hit_c;
+    }
+    uint bg = h.colours >> 16;
+    if (bg != SPM_NONE)
+        L += P * t[(size_t)bg * SPM_TRUTH_BINS] * h.bg_c;
+    return L;
+}
+#endif
+
 #ifdef SPM_SHADE_L0_NV
 #define SB_NAME spm_shade_l0
 #define SB_W 16

@@ -124,6 +124,9 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 #ifdef SPM_WITH_DIELECTRIC
     int din = 0; /* the last vertex's sampled ray runs inside its glass */
 #endif
+#ifdef SPM_WITH_DISPERSION
+    uint lam = SPM_NONE; /* the 1 nm bin the path committed to (none yet) */
+#endif
 
     /* camera ray (spm_shared.h: spm_camera) */
     uint px = pixel % (uint)p.cam.width, py = pixel / (uint)p.cam.width;
@@ -219,8 +222,24 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 #ifdef SPM_WITH_DIELECTRIC
         int diel = SPM_MAT_TAG(m) == SPM_MAT_DIELECTRIC;
         float dalpha = diel ? m.p[SPM_DIEL_P_ALPHA] : 0.0f;
+#ifdef SPM_WITH_DISPERSION
+        /* a dispersive glass: n of the path's committed bin, the first such vertex
+         * drawing it (rgb: n_d, p.disperse 0) */
+        float dior = m.p[SPM_DIEL_P_IOR];
+        uint drow = diel && p.disperse ? (uint)m.p[SPM_DIEL_P_DISP] : 0u;
+        int dcommit = 0;
+        if (drow) {
+            if (lam == SPM_NONE) {
+                lam = disp_bin(spm_rng_u32(seed, pixel, sample, SPM_DIM_TYPE(j, SPM_DIM_DIEL_LAMBDA)));
+                dcommit = 1;
+            }
+            dior = disp[(drow - 1u) * SPM_TRUTH_BINS + lam];
+        }
+        float deta = !diel ? 1.0f : dot3(back, n) > 0.0f ? dior : 1.0f / dior;
+#else
         /* the relative index eta_t / eta_i: eta entering through the front face, 1 / eta leaving */
         float deta = !diel ? 1.0f : dot3(back, n) > 0.0f ? m.p[SPM_DIEL_P_IOR] : 1.0f / m.p[SPM_DIEL_P_IOR];
+#endif
 #endif
 #ifdef SPM_WITH_SMOOTH
         float3 cn = sn, ctg = stg, cbt = cross3(cn, ctg); /* the shading frame */
@@ -413,6 +432,12 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         din = 0;
         if (diel)
             xe.ids = SPM_EXT_KIND; /* no hit yet; the length inside comes with the next hit */
+#ifdef SPM_WITH_DISPERSION
+        if (dcommit) { /* the committed bin and 1 / its pdf (spm_shared.h SPM_EXT_LAMBDA) */
+            xe.ids |= lam + 1u;
+            xe.cos_light = (float)SPM_TRUTH_BINS;
+        }
+#endif
 #endif
         xrec[(size_t)j * npaths] = xe; /* every vertex: a zero record is a plain one */
 #endif

@@ -101,7 +101,8 @@ usage: gen_meshes.py OUTDIR [BIG_TRIANGLES]
        gen_meshes.py --metals OUTDIR
        gen_meshes.py --coated OUTDIR
        gen_meshes.py --glass OUTDIR   (glass.scene, glass_deep.scene)
-       gen_meshes.py --materials OUTDIR   (materials.scene, materials_sphere.ply)"""
+       gen_meshes.py --materials OUTDIR   (materials.scene, materials_sphere.ply)
+       gen_meshes.py --dispersion OUTDIR   (prism.scene, sf11_sphere.scene)"""
 import base64, json, math, os, struct, sys
 
 # cube [0,2]^3, faces as quads (a b c d) counter-clockwise seen from outside
@@ -1090,7 +1091,123 @@ def materials_scene(out):
     return paths
 
 
+PRISM_HEAD = """# Prism: the camera looks through a prism of Schott N-BK7 (apex angle 35
+# degrees) at a thin slit of light behind it - eye, prism, light, so no
+# caustic is needed. The front face is square to the view (the rays enter
+# undeviated); the back face bends each wavelength its own way (n from 1.525
+# at 450 nm to 1.515 at 650 nm), so the white slit is seen as a spectrum
+# spread over about 11 pixels, blue farthest from the straight line (towards
+# the prism's base). A path commits to one wavelength at the first glass
+# face (docs/METHODS.md "Dispersion"), so every pixel sees its colour. No
+# other light and no background. tests/cli_dispersion.sh checks the image
+# position of 450, 550 and 650 nm against Snell's law. Written by
+# tools/gen_meshes.py --dispersion (do not edit the objects here: regenerate).
+# Format: docs/SCENE_FORMAT.md.
+
+image 256 16
+spp 256
+camera position 0 0 0  direction 0 0 1  fov 10
+
+spectrum equal  equal
+
+material bk7   dielectric glass N-BK7
+material slit  emit equal 100
+"""
+
+SPHERE_HEAD = """# An N-SF11 sphere in a room: the Cornell box of cornell.scene (its walls,
+# camera and equal-energy light of luminance 1000) with a smooth sphere of
+# Schott N-SF11, a dense flint (n_d 1.785, Abbe number 25.7: n from 1.822 at
+# 420 nm to 1.770 at 700 nm), in front of a white block. Its refraction
+# fringes the edges of what is seen through it, and the light it focuses
+# onto the floor (a caustic, reached by paths that hit the lamp through the
+# glass) is split into colours. Tessellated (an 8 x 12 UV sphere: 168 facets). Objects
+# float 1 mm above the floor so no glass face touches another surface.
+# Written by tools/gen_meshes.py --dispersion (do not edit the objects here:
+# regenerate). Format: docs/SCENE_FORMAT.md.
+
+image 256 256
+spp 64
+camera position 0.278 0.275 -0.789  direction 0 0 1  fov 40
+
+spectrum white     file colorchecker_n_ohta.csv column white_9_5
+spectrum red       file colorchecker_n_ohta.csv column red
+spectrum green     file colorchecker_n_ohta.csv column green
+spectrum equal     equal
+
+material white     reflect white
+material red       reflect red
+material green     reflect green
+material light     reflect white  emit equal 1000
+material sf11      dielectric glass N-SF11
+"""
+
+# the prism's geometry (tests/cli_dispersion.sh reads it back from the scene)
+PRISM_APEX = 35.0
+PRISM_Z, PRISM_HALF, PRISM_H = 1.0, 0.3, 0.5
+SLIT_DIST, SLIT_HALF = 10.0, 0.002
+
+
+def prism_tris():
+    """The prism, axis along y: the front face z = PRISM_Z (x from -half to
+    half), the back face at PRISM_APEX degrees to it (thickest at -x, the
+    base), a side face at x = -half; outward-facing triangles."""
+    a = math.radians(PRISM_APEX)
+    p1 = (-PRISM_HALF, PRISM_Z)
+    p2 = (PRISM_HALF, PRISM_Z)
+    p3 = (-PRISM_HALF, PRISM_Z + 2 * PRISM_HALF * math.tan(a))
+    c = ((p1[0] + p2[0] + p3[0]) / 3, 0.0, (p1[1] + p2[1] + p3[1]) / 3)
+    lo = [(x, -PRISM_H, z) for x, z in (p1, p2, p3)]
+    hi = [(x, PRISM_H, z) for x, z in (p1, p2, p3)]
+    tris = [(lo[0], lo[1], lo[2]), (hi[0], hi[1], hi[2])]
+    for k in range(3):
+        j = (k + 1) % 3
+        tris += [(lo[k], lo[j], hi[j]), (lo[k], hi[j], hi[k])]
+    return [outward(c, t) for t in tris]
+
+
+def slit_quad():
+    """A vertical slit SLIT_DIST behind the back face's exit, along the ray
+    that leaves it at 550 nm for the straight view, facing that ray."""
+    a = math.radians(PRISM_APEX)
+    n = 1.518522  # N-BK7 near 550 nm: only where the slit stands, not a check
+    t = math.asin(n * math.sin(a))
+    d = (math.sin(a - t), math.cos(a - t))  # the exit direction (x, z)
+    zx = PRISM_Z + PRISM_HALF * math.tan(a)  # the back face at x = 0
+    cx, cz = SLIT_DIST * d[0], zx + SLIT_DIST * d[1]
+    u = (d[1], -d[0])  # across the slit
+    h = 1.0
+    q = [(cx - SLIT_HALF * u[0], -h, cz - SLIT_HALF * u[1]), (cx + SLIT_HALF * u[0], -h, cz + SLIT_HALF * u[1]),
+         (cx + SLIT_HALF * u[0], h, cz + SLIT_HALF * u[1]), (cx - SLIT_HALF * u[0], h, cz - SLIT_HALF * u[1])]
+    # front face towards the prism: (b - a) x (c - a) along -d
+    e1 = [q[1][k] - q[0][k] for k in range(3)]
+    e2 = [q[2][k] - q[0][k] for k in range(3)]
+    nz = e1[0] * e2[1] - e1[1] * e2[0]
+    nx = e1[1] * e2[2] - e1[2] * e2[1]
+    if nx * d[0] + nz * d[1] > 0:
+        q = [q[0], q[3], q[2], q[1]]
+    return q
+
+
+def dispersion_scenes(out):
+    paths = [os.path.join(out, 'prism.scene'), os.path.join(out, 'sf11_sphere.scene')]
+    q = slit_quad()
+    s = PRISM_HEAD + '\n# the prism\n' + tri_lines('bk7', prism_tris())
+    s += '\n# the slit, facing the prism\nquad slit  %s\n' % '  '.join(
+        ' '.join('%.6f' % x for x in v) for v in q)
+    w(paths[0], s)
+    s = SPHERE_HEAD + '\n' + ROOM % ('red', 'green') + '\n# at the back: a white block\n'
+    s += tri_lines('white', block(0.36, 0.40, 0.07, 0.30, 25))
+    s += '\n# in front: the N-SF11 sphere\n'
+    s += tri_lines('sf11', uv_sphere((0.24, 0.111, 0.22), 0.11, 8, 12))
+    w(paths[1], s)
+    return paths
+
+
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == '--dispersion':
+        os.makedirs(sys.argv[2], exist_ok=True)
+        print('\n'.join(dispersion_scenes(sys.argv[2])))
+        return
     if len(sys.argv) == 3 and sys.argv[1] == '--materials':
         os.makedirs(sys.argv[2], exist_ok=True)
         print('\n'.join(materials_scene(sys.argv[2])))

@@ -1,6 +1,7 @@
 /* The CPU reference's dielectric (refcpu_dielectric.h). */
 #include "refcpu_dielectric.h"
 #include <math.h>
+#include <stdint.h>
 #include "geometry_vec3.h"
 
 float spm_ref_diel_fresnel(float ci, float e, float *ct_out)
@@ -84,4 +85,9 @@ int spm_ref_diel_lobe(const spm_ref_cond *c, float e, float u1, float u2, float 
 float spm_ref_diel_absorb(float sigma, float d)
 {
     return d > 0.0f ? expf(-sigma * d) : 1.0f;
+}
+
+spm_u32 spm_ref_disp_bin(spm_u32 h)
+{
+    return (spm_u32)(((uint64_t)h * SPM_TRUTH_BINS) >> 32);
 }

@@ -30,5 +30,8 @@ float spm_ref_diel_light(const spm_ref_cond *c, float e, const float l[3], float
 int spm_ref_diel_lobe(const spm_ref_cond *c, float e, float u1, float u2, float uc, float out[3],
                       float *w_t, float *w_g, float *pdf);
 /* The transmittance exp(-sigma d) of a length d inside (1 for d <= 0). */
+/* The 1 nm bin a path commits to at its first dispersive vertex from the 32
+ * bits h of its key: floor(h 400 / 2^32) (pdf 1 / 400, uniform). */
+spm_u32 spm_ref_disp_bin(spm_u32 h);
 float spm_ref_diel_absorb(float sigma, float d);
 #endif

@@ -204,6 +204,39 @@ static void lanes_to_bins(const spm_spec_map *map, const path_lanes *pl, int per
     }
 }
 
+/* A path committed to a wavelength (spm_shared.h SPM_EXT_LAMBDA, at its
+ * first dispersive vertex): shaded as one lane, its 1 nm bin b of every
+ * colour (tab->nm1), in every mode; XYZ truth's weights at b times 1 / pdf,
+ * and (ch > 3) the spectral bin holding b its share of that bin's mean.
+ * Returns 0 for a path that did not commit. */
+static int committed(const spm_path *path, const spm_shade_table *tab, int ch, float *out)
+{
+    spm_u32 b = SPM_NONE;
+    float iw = 0.0f;
+    for (spm_u32 j = 0; j < path->h.nvert && b == SPM_NONE; j++)
+        if (SPM_EXT_DIEL(path->x[j]) && SPM_EXT_LAMBDA(path->x[j]) != SPM_NONE) {
+            b = SPM_EXT_LAMBDA(path->x[j]);
+            iw = path->x[j].cos_light;
+        }
+    if (b == SPM_NONE)
+        return 0;
+    int idx = (int)b;
+    float w[3], L;
+    for (int c = 0; c < 3; c++)
+        w[c] = tab->nm1_w[(size_t)c * SPM_TRUTH_BINS + b];
+    lanes v = {tab->nm1, SPM_TRUTH_BINS, 1, &idx, {&w[0], &w[1], &w[2]}, NULL};
+    shade_lanes(path, &v, &L);
+    L *= iw;
+    lanes_to_xyz(&v, &L, out);
+    if (ch > 3) {
+        int nb = ch - 3, wb = SPM_TRUTH_BINS / nb;
+        for (int k = 0; k < nb; k++)
+            out[3 + k] = 0.0f;
+        out[3 + (int)b / wb] = L / (float)wb;
+    }
+    return 1;
+}
+
 void spm_ref_shade_tables(const spm_mode_desc *m, const spm_shade_table *tabs,
                           const spm_trace_params *p, size_t first, const spm_path *paths,
                           const uint8_t *levels, size_t n, float *xyz)
@@ -222,6 +255,9 @@ void spm_ref_shade_spectral(const spm_mode_desc *m, const spm_shade_table *tabs,
     float L[MAX_LANES];
     path_lanes pl;
     for (size_t i = 0; i < n; i++) {
+        float *out = &rec[(size_t)ch * i];
+        if (tabs[0].nm1 && committed(&paths[i], &tabs[0], ch, out))
+            continue;
         lanes v = lv[spm_mode_slot(m, levels[i])];
         if (m->per_path) {
             spm_u32 pixel, sample;
@@ -229,7 +265,6 @@ void spm_ref_shade_spectral(const spm_mode_desc *m, const spm_shade_table *tabs,
             v = hero_path(&tabs[0], spm_rng(p->seed, pixel, sample, SPM_DIM_HERO), &pl);
         }
         shade_lanes(&paths[i], &v, L);
-        float *out = &rec[(size_t)ch * i];
         lanes_to_xyz(&v, L, out);
         if (ch > 3)
             lanes_to_bins(&maps[spm_mode_slot(m, levels[i])], &pl, m->per_path, ch - 3, L,

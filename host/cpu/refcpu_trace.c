@@ -275,6 +275,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
     float cpdf = -1.0f; /* the last vertex's conductor, dielectric or coating's specular lobe
                            density (< 0: none, 0: a delta or a refraction) */
     int din = 0;        /* the last vertex's sampled ray runs inside its glass */
+    spm_u32 lam = SPM_NONE; /* the 1 nm bin the path committed to (none yet) */
     for (int i = 0; i < 3; i++)
         o[i] = p->cam.eye[i];
     camera_ray(&p->cam, k.seed, k.pixel, k.sample, d);
@@ -327,12 +328,25 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
             spm_ref_cond_frame(sn, st, d, m->p[SPM_COND_P_ALPHA], &cc);
         else if (cond)
             spm_ref_cond_make(tri, d, m->p[SPM_COND_P_ALPHA], &cc);
+        int dcommit = 0; /* this vertex commits the path to a wavelength */
         if (diel) { /* the shading frame's lobes; inside or outside by the winding */
+            /* a dispersive glass: n of the path's committed bin, the first such vertex
+             * drawing it (p->disperse 0, rgb: n_d) */
+            float ior = m->p[SPM_DIEL_P_IOR];
+            spm_u32 row = p->disperse ? (spm_u32)m->p[SPM_DIEL_P_DISP] : 0u;
+            if (row) {
+                if (lam == SPM_NONE) {
+                    lam = spm_ref_disp_bin(
+                        spm_rng_u32(k.seed, k.pixel, k.sample, SPM_DIM_TYPE(j, SPM_DIM_DIEL_LAMBDA)));
+                    dcommit = 1;
+                }
+                ior = g->disp[(size_t)(row - 1u) * SPM_TRUTH_BINS + lam];
+            }
             if (smooth)
                 spm_ref_cond_frame(sn, st, d, m->p[SPM_DIEL_P_ALPHA], &cc);
             else
                 spm_ref_cond_make(tri, d, m->p[SPM_DIEL_P_ALPHA], &cc);
-            deta = spm_ref_diel_eta(tri, d, m->p[SPM_DIEL_P_IOR]);
+            deta = spm_ref_diel_eta(tri, d, ior);
         }
         int coat = SPM_MAT_TAG(*m) == SPM_MAT_COATED;
         spm_ref_coat co;
@@ -373,6 +387,10 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         din = 0;
         if (diel)
             path->x[j].ids = SPM_EXT_KIND; /* the length inside comes with the next hit */
+        if (dcommit) { /* the committed bin and 1 / its pdf (spm_shared.h SPM_EXT_LAMBDA) */
+            path->x[j].ids |= lam + 1u;
+            path->x[j].cos_light = (float)SPM_TRUTH_BINS;
+        }
         h->nvert = (spm_u32)j + 1;
         if (refl != SPM_NONE)
             feel(&f, lvlk, refl, occurrences(path, j, refl), SPM_SETBY_REFLECTOR);

@@ -168,6 +168,12 @@ static int build(spm_scene *owned, const spm_scene *scene, spm_geometry *g, spm_
         g->vnormals = spm_xmalloc((size_t)g->nvn * 9 * sizeof *g->vnormals);
         memcpy(g->vnormals, scene->vnormals, (size_t)g->nvn * 9 * sizeof *g->vnormals);
     }
+    g->ndisp = scene->ndisp;
+    if (g->ndisp) { /* the trace stage's n(lambda) of each dispersive glass */
+        g->disp = spm_xmalloc((size_t)g->ndisp * SPM_TRUTH_BINS * sizeof *g->disp);
+        for (size_t i = 0; i < (size_t)g->ndisp * SPM_TRUTH_BINS; i++)
+            g->disp[i] = (float)scene->disp[i];
+    }
     if (owned) { /* the scene's copy is not needed again: not held through the BVH build */
         free(owned->tris);
         owned->tris = NULL;
@@ -201,6 +207,7 @@ void spm_geometry_free(spm_geometry *g)
     free(g->emitters);
     free(g->light_pdf);
     free(g->vnormals);
+    free(g->disp);
     memset(g, 0, sizeof *g);
 }
 

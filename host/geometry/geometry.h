@@ -27,6 +27,8 @@ typedef struct {
     float *light_pdf;       /* per triangle: its probability of being picked as the light (0: none) */
     float *vnormals;        /* nine floats per smooth triangle (spm_tri.vn), NULL when none */
     int nvn;                /* smooth triangles: 0 in a scene without vertex normals */
+    float *disp;            /* the dispersive glasses' index tables (scene.h disp), NULL when none */
+    int ndisp;              /* their count: 0 in a scene without dispersive glass */
     spm_camera cam;
     spm_bvh_stats bvh;
 } spm_geometry;

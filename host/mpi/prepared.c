@@ -121,12 +121,14 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
     gs.emitters = NULL;
     gs.light_pdf = NULL;
     gs.vnormals = NULL;
+    gs.disp = NULL;
     put(&w, &gs, sizeof gs);
     put_array(&w, g->tris, (size_t)g->ntris * sizeof *g->tris);
     put_array(&w, g->nodes, (size_t)g->nnodes * sizeof *g->nodes);
     put_array(&w, g->emitters, (size_t)g->nemitters * sizeof *g->emitters);
     put_array(&w, g->light_pdf, (size_t)g->ntris * sizeof *g->light_pdf);
     put_array(&w, g->vnormals, (size_t)g->nvn * 9 * sizeof *g->vnormals);
+    put_array(&w, g->disp, (size_t)g->ndisp * SPM_TRUTH_BINS * sizeof *g->disp);
     spm_tables ts = *t, *clr = &ts;
     SPM_TABLES_ARRAYS(CLEAR_A, CLEAR_L)
     put(&w, &ts, sizeof ts);
@@ -151,8 +153,8 @@ int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *
     }
     *info = h.info;
     get(&r, g, sizeof *g);
-    int ntris = g->ntris, nnodes = g->nnodes, nem = g->nemitters, nvn = g->nvn;
-    if (ntris < 0 || nnodes < 0 || nem < 0 || nvn < 0)
+    int ntris = g->ntris, nnodes = g->nnodes, nem = g->nemitters, nvn = g->nvn, ndisp = g->ndisp;
+    if (ntris < 0 || nnodes < 0 || nem < 0 || nvn < 0 || ndisp < 0)
         r.bad = 1;
     g->tris = get_array(&r, (size_t)ntris * sizeof *g->tris);
     g->nodes = get_array(&r, (size_t)nnodes * sizeof *g->nodes);
@@ -160,6 +162,7 @@ int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *
     g->emitters = get_array(&r, (size_t)nem * sizeof *g->emitters);
     g->light_pdf = get_array(&r, (size_t)ntris * sizeof *g->light_pdf);
     g->vnormals = get_array(&r, (size_t)nvn * 9 * sizeof *g->vnormals);
+    g->disp = get_array(&r, (size_t)ndisp * SPM_TRUTH_BINS * sizeof *g->disp);
     get(&r, t, sizeof *t);
     spm_tables *clr = t; /* no address from another process */
     SPM_TABLES_ARRAYS(CLEAR_A, CLEAR_L)

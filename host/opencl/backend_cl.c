@@ -14,6 +14,7 @@ int spm_cl_create_plan(int device, const spm_render_plan *plan, spm_cl_renderer 
     r->mode = plan->mode;
     r->npix = plan->npix;
     r->pix_ch = plan->pix_ch;
+    r->ndisp = plan->geom->ndisp;
     r->vertex_bytes = plan->vertex_bytes;
     r->batch_paths = spm_plan_batch_paths(SPM_CL_BATCH_PATHS, r->pix_ch, r->vertex_bytes);
     r->run_pass = spm_clr_render_pass;

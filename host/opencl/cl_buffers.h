@@ -24,13 +24,20 @@
 
 /* Per scene, read-only, copied from the host:
  * X(field, what, bytes, contents), evaluated where g (spm_geometry), t
- * (spm_tables) and lvlk (the mode's level table) are in scope. */
+ * (spm_tables) and lvlk (the mode's level table) are in scope. dtab and dcmf:
+ * the 1 nm rows and weights a committed path shades from (modes.h nm1), only
+ * in a scene with dispersive glass. */
 #define SPM_CL_SCENE_BUFFERS(X)                                                     \
     X(tris, "triangles", (size_t)g->ntris * sizeof(spm_tri), g->tris)              \
     X(nodes, "BVH", (size_t)g->nwide * sizeof(spm_bvh4_node), g->wide)             \
     X(emitters, "emitters", (size_t)g->nemitters * sizeof(spm_emitter), g->emitters) \
     X(light_pdf, "light pdfs", (size_t)g->ntris * sizeof(float), g->light_pdf)      \
     X(vnormals, "vertex normals", (size_t)g->nvn * 9 * sizeof(float), g->vnormals)  \
+    X(disp, "dispersive indices", (size_t)g->ndisp * SPM_TRUTH_BINS * sizeof(float), g->disp) \
+    X(dtab, "1 nm colour table", g->ndisp ? (size_t)t->ncolours * SPM_TRUTH_BINS * sizeof(float) : 0, \
+      t->truth)                                                                     \
+    X(dcmf, "1 nm XYZ weights", g->ndisp ? 3 * SPM_TRUTH_BINS * sizeof(float) : 0,  \
+      &t->cmf_truth[0][0])                                                          \
     X(mats, "materials", (size_t)t->nmaterials * sizeof(spm_material), t->materials) \
     X(lvlk, "level table", (size_t)t->ncolours * SPM_PRETEST_KMAX, lvlk)
 #endif

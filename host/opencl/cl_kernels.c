@@ -9,6 +9,7 @@ typedef struct { SPM_TRACE_ARGS(ARG_FIELD, ) } trace_args;
 typedef struct { SPM_SHADE_ARGS(ARG_FIELD, ) } shade_args;
 typedef struct { SPM_SHADE_PATH_ARGS(ARG_FIELD, ) } shade_path_args;
 typedef struct { SPM_SHADE_SPEC_ARGS(ARG_FIELD, ) } shade_spec_args;
+typedef struct { SPM_SHADE_DISP_ARGS(ARG_FIELD, ) } shade_disp_args;
 typedef struct { SPM_ACCUM_ARGS(ARG_FIELD, ) } accum_args;
 
 static size_t round_up(size_t n)
@@ -41,6 +42,7 @@ DEFINE_SETTER(set_trace_args, trace_args, SPM_TRACE_ARGS)
 DEFINE_SETTER(set_shade_args, shade_args, SPM_SHADE_ARGS)
 DEFINE_SETTER(set_shade_path_args, shade_path_args, SPM_SHADE_PATH_ARGS)
 DEFINE_SETTER(set_shade_spec_args, shade_spec_args, SPM_SHADE_SPEC_ARGS)
+DEFINE_SETTER(set_shade_disp_args, shade_disp_args, SPM_SHADE_DISP_ARGS)
 DEFINE_SETTER(set_accum_args, accum_args, SPM_ACCUM_ARGS)
 
 static int enqueue(spm_cl_renderer *r, cl_kernel k, const char *name, size_t offset, size_t n,
@@ -58,7 +60,7 @@ int spm_clr_run_trace(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_erro
     r->params.first_sample = b->first_sample;
     r->params.spp_per_pass = b->spp;
     trace_args a = {r->tris,  r->nodes, r->emitters,     r->mats, r->lvlk, r->light_pdf, r->vnormals,
-                    r->params, r->init_level, (spm_u32)b->n, r->heads, r->verts,
+                    r->disp, r->params, r->init_level, (spm_u32)b->n, r->heads, r->verts,
                     r->levels, r->counters, b->first_pixel};
     cl_uint i = 0;
     return set_trace_args(r->k_trace, "spm_trace", &a, &i, err) ||
@@ -90,10 +92,12 @@ int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOT
         shade_path_args pa = {r->extra, r->params.seed, spm_divisor_make(b->spp), b->first_sample,
                               b->first_pixel};
         shade_spec_args sa = {r->smap[s], r->sfac[s]};
+        shade_disp_args da = {r->dtab, r->dcmf};
         cl_uint i = 0;
         int rc = set_shade_args(r->k_shade[s], r->kname[s], &a, &i, err) ||
                  (r->mode->per_path && set_shade_path_args(r->k_shade[s], r->kname[s], &pa, &i, err)) ||
-                 (r->pix_ch > 3 && set_shade_spec_args(r->k_shade[s], r->kname[s], &sa, &i, err));
+                 (r->pix_ch > 3 && set_shade_spec_args(r->k_shade[s], r->kname[s], &sa, &i, err)) ||
+                 (r->ndisp && set_shade_disp_args(r->k_shade[s], r->kname[s], &da, &i, err));
         if (rc || enqueue(r, r->k_shade[s], r->kname[s], 0, b->launch, &ev[s], err))
             return 1;
     }

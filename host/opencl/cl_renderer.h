@@ -37,6 +37,7 @@ struct spm_cl_renderer {
     int pix_ch;                          /* floats a path record holds (render_plan.h) */
     size_t vertex_bytes;                 /* bytes of a path vertex's record (render_plan.h) */
     cl_mem smap[NSLOTS], sfac[NSLOTS];   /* spectral records: lanes to bins (pix_ch > 3) */
+    int ndisp; /* dispersive glasses: the shade kernels take SPM_SHADE_DISP_ARGS */
 #define SCENE_FIELD(field, what, bytes, host) cl_mem field;
     SPM_CL_SCENE_BUFFERS(SCENE_FIELD)
 #undef SCENE_FIELD

@@ -96,6 +96,12 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     if (g->nvn && nd < (int)sizeof p->type_defines) /* smooth triangles: kernels/shading.clh */
         nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
                        "-DSPM_WITH_SMOOTH ");
+    /* dispersive glass: committed paths, in both stages (docs/METHODS.md "Dispersion");
+     * a mode whose lanes are no wavelengths traces it at n_d and commits none */
+    tp->disperse = g->ndisp && !p->mode->one_index;
+    if (g->ndisp && nd < (int)sizeof p->type_defines)
+        nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
+                       "-DSPM_WITH_DISPERSION ");
     if (t->nfluor && nd < (int)sizeof p->type_defines) /* where the shade stage finds them */
         snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
                  "-DSPM_FLUOR_FIRST=%du -DSPM_FLUOR_NCOL=%du ", t->fluor_first, t->ncolours);

@@ -109,6 +109,7 @@ static void dielectric_fill(const spm_scene *sc, const spm_scene_material *s, sp
     d->mean = 1.0f;
     d->inv_mean = 1.0f;
     d->p[SPM_DIEL_P_IOR] = (float)s->p[SPM_DIEL_P_IOR];
+    d->p[SPM_DIEL_P_DISP] = (float)s->p[SPM_DIEL_P_DISP];
     d->p[SPM_DIEL_P_ALPHA] = s->p[SPM_DIEL_P_ALPHA] < SPM_COND_MIN_ALPHA
                                  ? 0.0f
                                  : (float)s->p[SPM_DIEL_P_ALPHA];
@@ -132,9 +133,20 @@ static double dielectric_length(const spm_scene *sc, int m)
     return sqrt(d2);
 }
 
+/* A dispersive glass (an index table, SPM_DIEL_P_DISP) refuses fluorescent
+ * materials in its scene: their light-end walk carries every lane, and a
+ * committed path has one (docs/METHODS.md "Dispersion"). */
 static int dielectric_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
 {
-    (void)err; /* 'ior' is a required clause: the parser has checked it */
+    /* an index is a required clause: the parser has checked it */
+    for (int i = 0; s->p[SPM_DIEL_P_DISP] > 0.0 && i < sc->nmaterials; i++)
+        if (sc->materials[i].type == (int)SPM_MAT_FLUOR ||
+            sc->materials[i].type == (int)SPM_MAT_DONALDSON) {
+            spm_errorf(err, "material '%s' (dispersive dielectric) and material '%s' "
+                            "(fluorescent): a scene cannot have both yet",
+                       s->name, sc->materials[i].name);
+            return 1;
+        }
     s->p[SPM_DIEL_P_LEN] = dielectric_length(sc, (int)(s - sc->materials));
     if (s->col2 >= 0)
         return 0;
@@ -279,18 +291,26 @@ const spm_mtype_desc spm_material_types[] = {
     [SPM_MAT_DIELECTRIC] = {
         .keyword = "dielectric",
         .tag = SPM_MAT_DIELECTRIC,
-        .help = "glass: 'dielectric ior N [absorb SPECTRUM DENSITY] [alpha A]' (index inside "
-                "the front face's side; Beer-Lambert exp(-DENSITY SPECTRUM d), d in scene units; "
-                "alpha: GGX width, 0 smooth)",
-        .params = {{.clause = "ior", .kind = SPM_MP_NUMBER, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
-                    .hi = 4.0, .what = "an index of refraction", .required = 1},
+        .help = "glass: 'dielectric IOR [absorb SPECTRUM DENSITY] [alpha A]', IOR one of 'ior N', "
+                "'ior SPECTRUM' (n per wavelength), 'sellmeier B1 B2 B3 C1 C2 C3' (um, um^2), "
+                "'cauchy A B' (B in um^2), 'glass NAME' (N-BK7, N-SF11: Schott's catalogue) "
+                "(index inside the front face's side; Beer-Lambert exp(-DENSITY SPECTRUM d), d in "
+                "scene units; alpha: GGX width, 0 smooth)",
+        .params = {{.clause = "ior", .kind = SPM_MP_INDEX, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
+                    .hi = 4.0, .what = "an index of refraction", .required = 1, .group = 1},
+                   {.clause = "sellmeier", .kind = SPM_MP_INDEX, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
+                    .hi = 4.0, .what = "an index of refraction", .required = 1, .group = 1},
+                   {.clause = "cauchy", .kind = SPM_MP_INDEX, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
+                    .hi = 4.0, .what = "an index of refraction", .required = 1, .group = 1},
+                   {.clause = "glass", .kind = SPM_MP_INDEX, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
+                    .hi = 4.0, .what = "an index of refraction", .required = 1, .group = 1},
                    {.clause = "absorb", .kind = SPM_MP_OPTICAL, .slot = SPM_MSLOT_COL2,
                     .what = "an absorption coefficient (spectrum and density per scene unit)"},
                    {.clause = "alpha", .kind = SPM_MP_NUMBER, .slot = SPM_DIEL_P_ALPHA, .lo = 0.0,
                     .hi = 1.0, .what = "a GGX width"}},
-        .nparams = 3,
+        .nparams = 6,
         .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
-        .rng_dims = 3, /* SPM_DIM_DIEL_M_A, SPM_DIM_DIEL_M_B, SPM_DIM_DIEL_CHOICE */
+        .rng_dims = 4, /* SPM_DIM_DIEL_M_A, SPM_DIM_DIEL_M_B, SPM_DIM_DIEL_CHOICE, SPM_DIM_DIEL_LAMBDA */
         .define = "SPM_WITH_DIELECTRIC",
         .smooth = 1, /* a faceted glass sphere shows its facets in every refraction */
         .fill = dielectric_fill,

@@ -20,7 +20,11 @@ typedef enum {
                            index in the scene's matrices into p[slot] */
     SPM_MP_SHAPE,       /* a spectrum name alone (no scale), kept as its shape: its peak
                            scaled to 1, a reflectance-kind colour into slot 2 col2 or 3 col3 */
-    SPM_MP_OPTICAL      /* an optical constant (eta, k): a colour not bounded by 1, slot 0 or 2 */
+    SPM_MP_OPTICAL,     /* an optical constant (eta, k): a colour not bounded by 1, slot 0 or 2 */
+    SPM_MP_INDEX        /* an index of refraction as its clause gives it (dispersion.h): 'ior'
+                           a number or a spectrum name, 'sellmeier' six numbers, 'cauchy' two,
+                           'glass' a catalogue name; n_d into p[slot], a dispersive index's
+                           table into the scene's (p[SPM_DIEL_P_DISP] 1 + its row) */
 } spm_mparam_kind;
 
 #define SPM_MSLOT_REFL 0
@@ -35,6 +39,8 @@ typedef struct {
     double lo, hi;        /* SPM_MP_NUMBER: the range */
     const char *what;     /* for messages: "a probability" */
     int required;         /* a clause that must be given (the parser says so, file:line) */
+    int group;            /* > 0: the clauses of one group are alternatives (one of them at
+                             most; a required one is given when any of them is) */
 } spm_mparam;
 
 #define SPM_MTYPE_MAX_PARAMS 6

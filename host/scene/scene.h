@@ -69,6 +69,11 @@ typedef struct {
      * at 1 nm, SPM_TRUTH_BINS^2 doubles each as M[o][i] (host/scene/fluor.h). */
     double *rerad;
     int nrerad;
+    /* Dispersive glasses (dispersion.h): ndisp index tables of SPM_TRUTH_BINS
+     * doubles, n at the centre of each 1 nm bin; material p[SPM_DIEL_P_DISP]
+     * is 1 + its row. */
+    double *disp;
+    int ndisp;
 } spm_scene;
 
 /* Load a scene file: MiniLight .ml.txt (first line "#MiniLight") or the

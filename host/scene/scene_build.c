@@ -20,6 +20,7 @@ void spm_scene_free(spm_scene *s)
     free(s->vnormals);
     free(s->meshes);
     free(s->rerad);
+    free(s->disp);
     memset(s, 0, sizeof *s);
     s->bg_up = s->bg_down = -1;
 }

@@ -9,6 +9,7 @@
 #include "mesh.h"
 #include "interrupt.h"
 #include "materials.h"
+#include "dispersion.h"
 #include "fluor.h"
 #include <math.h>
 #include <stdlib.h>
@@ -390,6 +391,111 @@ static int stmt_camera(parser *p)
     return spm_lex_end_of_statement(&p->lx, p->err);
 }
 
+/* An index of refraction (materials.h SPM_MP_INDEX), by its clause: 'ior'
+ * a number or a spectrum name of n per wavelength, 'sellmeier B1 B2 B3 C1
+ * C2 C3', 'cauchy A B', 'glass NAME' (dispersion.h). n_d goes into p[slot];
+ * an index that varies gets a row of the scene's index table (n at each 1 nm
+ * bin's centre; a spectrum's bin means), p[SPM_DIEL_P_DISP] = 1 + the row.
+ * An 'ior SPECTRUM' whose values are all equal is that one number, as
+ * 'ior N' (the same image, bit for bit). */
+static int index_param(parser *p, const spm_mparam *pa, spm_scene_material *m)
+{
+    char where[600];
+    where_now(p, where, sizeof where);
+    double n[SPM_TRUTH_BINS], nd = 0.0;
+    const char *cl = pa->clause;
+    if (!strcmp(cl, "ior") && spm_lex_is_number(&p->lx)) {
+        double v;
+        if (spm_lex_number(&p->lx, pa->what, pa->lo, pa->hi, &v, p->err))
+            return 1;
+        m->p[pa->slot] = v;
+        return 0;
+    }
+    if (!strcmp(cl, "ior")) {
+        char name[SPM_NAME_MAX];
+        if (spm_lex_name(&p->lx, "a number or a spectrum name", name, sizeof name, p->err))
+            return 1;
+        int id = spm_names_get(&p->spectra, name);
+        if (id < 0) {
+            spm_errorf(p->err, "%s: unknown spectrum '%s' (define it with 'spectrum %s ...' first)",
+                       where, name, name);
+            return 1;
+        }
+        /* extended by its end values, as an optical constant */
+        const spm_spectrum *sp = use_spectrum(p, id, SPM_KIND_REFLECTANCE, where);
+        if (!sp)
+            return 1;
+        const spec_def *d = &p->defs[id];
+        int constant = 1;
+        if (d->type == DEF_INLINE) /* its own numbers, not their bin means */
+            for (size_t i = 1; i < d->n; i++)
+                constant = constant && d->val[i] == d->val[0];
+        else
+            for (int b = 1; b < SPM_TRUTH_BINS; b++)
+                constant = constant && sp->nm1[b] == sp->nm1[0];
+        for (int b = 0; b < SPM_TRUTH_BINS; b++)
+            n[b] = sp->nm1[b];
+        if (constant)
+            n[0] = d->type == DEF_INLINE ? d->val[0] : sp->nm1[0];
+        for (int b = 0; b < SPM_TRUTH_BINS; b++)
+            if (!(n[b] >= pa->lo && n[b] <= pa->hi)) {
+                spm_errorf(p->err, "%s: spectrum '%s' as %s: %g at %g nm is outside %g..%g", where,
+                           name, pa->what, n[b], spm_disp_bin_nm(b), pa->lo, pa->hi);
+                return 1;
+            }
+        if (constant) {
+            m->p[pa->slot] = n[0];
+            return 0;
+        }
+        nd = n[(int)SPM_DISP_REF_NM - SPM_LAMBDA_MIN]; /* the bin holding the d-line */
+    } else if (!strcmp(cl, "glass")) {
+        char name[SPM_NAME_MAX], list[256];
+        if (spm_lex_name(&p->lx, "a glass name", name, sizeof name, p->err))
+            return 1;
+        const spm_glass *g = spm_glass_find(name);
+        if (!g) {
+            spm_errorf(p->err, "%s: unknown glass '%s' (the catalogue has %s)", where, name,
+                       spm_glass_list(list, sizeof list));
+            return 1;
+        }
+        for (int b = 0; b < SPM_TRUTH_BINS; b++)
+            n[b] = spm_disp_sellmeier(g->b, g->c, spm_disp_bin_nm(b));
+        nd = spm_disp_sellmeier(g->b, g->c, SPM_DISP_REF_NM);
+    } else {
+        int sell = !strcmp(cl, "sellmeier"), k = sell ? 6 : 2;
+        double c[6];
+        static const char *what[2][6] = {
+            {"Cauchy's A", "Cauchy's B (um^2)"},
+            {"Sellmeier's B1", "Sellmeier's B2", "Sellmeier's B3", "Sellmeier's C1 (um^2)",
+             "Sellmeier's C2 (um^2)", "Sellmeier's C3 (um^2)"}};
+        for (int i = 0; i < k; i++)
+            if (spm_lex_number(&p->lx, what[sell][i], sell ? 0.0 : i ? -1.0 : 1.0,
+                               sell ? 1e4 : i ? 1.0 : 4.0, &c[i], p->err))
+                return 1;
+        for (int b = 0; b < SPM_TRUTH_BINS; b++)
+            n[b] = sell ? spm_disp_sellmeier(c, c + 3, spm_disp_bin_nm(b))
+                        : spm_disp_cauchy(c[0], c[1], spm_disp_bin_nm(b));
+        nd = sell ? spm_disp_sellmeier(c, c + 3, SPM_DISP_REF_NM) : spm_disp_cauchy(c[0], c[1], SPM_DISP_REF_NM);
+    }
+    for (int b = 0; b < SPM_TRUTH_BINS; b++)
+        if (isnan(n[b])) {
+            spm_errorf(p->err, "%s: '%s' gives no real index at %g nm (n^2 <= 0, or a pole inside "
+                               "%d-%d nm)", where, cl, spm_disp_bin_nm(b), SPM_LAMBDA_MIN,
+                       SPM_LAMBDA_MAX);
+            return 1;
+        } else if (!(n[b] >= pa->lo && n[b] <= pa->hi)) {
+            spm_errorf(p->err, "%s: '%s' gives an index of %g at %g nm, outside %g..%g", where, cl,
+                       n[b], spm_disp_bin_nm(b), pa->lo, pa->hi);
+            return 1;
+        }
+    spm_scene *s = p->b.s;
+    s->disp = spm_xrealloc(s->disp, (size_t)(s->ndisp + 1) * SPM_TRUTH_BINS * sizeof *s->disp);
+    memcpy(s->disp + (size_t)s->ndisp * SPM_TRUTH_BINS, n, sizeof n);
+    m->p[SPM_DIEL_P_DISP] = ++s->ndisp;
+    m->p[pa->slot] = nd;
+    return 0;
+}
+
 /* One parameter of a material or emitter type, as its descriptor says. */
 /* A re-radiation matrix file (materials.h SPM_MP_FILE): found as a spectrum
  * file is, its diagonal a colour into refl, its fluorescent part appended to
@@ -429,6 +535,8 @@ static int material_param(parser *p, const spm_mparam *pa, spm_scene_material *m
 {
     if (pa->kind == SPM_MP_FILE)
         return matrix_param(p, pa, m);
+    if (pa->kind == SPM_MP_INDEX)
+        return index_param(p, pa, m);
     if (pa->kind == SPM_MP_FLAG) {
         m->flags |= 1u << pa->slot;
         return 0;
@@ -560,6 +668,14 @@ static int stmt_material(parser *p)
         }
         if (k == ncl || have[k] || (ctag[k] != SPM_EMIT_TYPES && emitter && (int)ctag[k] != m.etype))
             return spm_lex_expected(&p->lx, p->err, expected);
+        for (int a = 0; a < ncl; a++)
+            if (cl[k]->group && have[a] && cl[a]->group == cl[k]->group) {
+                char at[600];
+                where_now(p, at, sizeof at);
+                spm_errorf(p->err, "%s: material '%s': '%s' and '%s' both give %s (one of them)",
+                           at, name, cl[a]->clause, cl[k]->clause, cl[k]->what);
+                return 1;
+            }
         have[k] = 1;
         if (ctag[k] != SPM_EMIT_TYPES) {
             m.etype = (int)ctag[k];
@@ -568,12 +684,23 @@ static int stmt_material(parser *p)
         if (spm_lex_next(&p->lx, p->err) || material_param(p, cl[k], &m))
             return 1;
     }
-    for (int k = 0; k < ncl; k++)
-        if (cl[k]->required && !have[k]) { /* a clause the type cannot do without */
-            spm_errorf(p->err, "%s: material '%s': %s needs '%s' (%s)", where, name,
-                       mt->keyword ? mt->keyword : "it", cl[k]->clause, cl[k]->what);
+    for (int k = 0; k < ncl; k++) {
+        int given = have[k];
+        char alts[256] = "";
+        for (int a = 0, n = 0; cl[k]->group && a < ncl; a++)
+            if (cl[a]->group == cl[k]->group) {
+                given |= have[a];
+                n += snprintf(alts + n, sizeof alts - (size_t)n, "%s'%s'", n ? " or " : "",
+                              cl[a]->clause);
+            }
+        if (cl[k]->required && !given) { /* a clause the type cannot do without */
+            if (!alts[0])
+                snprintf(alts, sizeof alts, "'%s'", cl[k]->clause);
+            spm_errorf(p->err, "%s: material '%s': %s needs %s (%s)", where, name,
+                       mt->keyword ? mt->keyword : "it", alts, cl[k]->what);
             return 1;
         }
+    }
     int idx = spm_sb_material_typed(&p->b, &m, where, p->err);
     if (idx < 0)
         return 1;

@@ -226,7 +226,7 @@ const spm_mode_desc spm_modes[SPM_MODE_COUNT] = {
                        .layout = hero_layout, .fill = hero_fill, .spec_nm = {5, 0}},
     [SPM_MODE_RGB] = {.id = SPM_MODE_RGB, .name = "rgb", .help = "three components (linear sRGB)",
                       .kernel = "spm_shade_rgb", .define = "SPM_SHADE_RGB", .layout = rgb_layout,
-                      .fill = rgb_fill},
+                      .fill = rgb_fill, .one_index = 1},
 };
 
 const spm_mode_desc *spm_mode(int id)
@@ -327,6 +327,10 @@ void spm_shade_table_build(const spm_mode_desc *m, const spm_tables *t, int slot
     if (o->nextra)
         o->extra = spm_xcalloc(o->nextra, sizeof *o->extra);
     m->fill(t, level, o);
+    if (t->ndisp) {
+        o->nm1 = t->truth;
+        o->nm1_w = &t->cmf_truth[0][0];
+    }
 }
 
 void spm_shade_table_free(spm_shade_table *tab)

@@ -45,6 +45,11 @@ typedef struct {
     float *rows;    /* ncolours x stride, then the fluorescence blocks */
     float *w;       /* 3 x stride, or NULL */
     float *extra;   /* nextra floats, or NULL */
+    /* A scene with dispersive glass (tables.h ndisp): the 1 nm rows of every
+     * colour (ncolours x SPM_TRUTH_BINS) and truth's XYZ weights (3 x
+     * SPM_TRUTH_BINS), the tables' own (not owned), from which every mode
+     * shades a path committed to one wavelength; NULL otherwise. */
+    const float *nm1, *nm1_w;
 } spm_shade_table;
 
 /* A spectral image's bins from one shade table's lanes (spectral output):
@@ -94,6 +99,9 @@ struct spm_mode_desc {
      * none: each lane goes to the bin holding its wavelength, divided by its
      * density, the lane count and the bin width (kernel and reference). */
     int spec_nm[2];
+    /* Its lanes are no wavelengths (rgb): a dispersive glass is traced at its
+     * n_d and no path commits to a wavelength (docs/METHODS.md "Dispersion"). */
+    int one_index;
     void (*spec_map)(const spm_tables *t, int level, int nm, spm_spec_map *out);
 };
 

@@ -119,6 +119,7 @@ static void fill_materials(const spm_scene *sc, spm_tables *t)
         spm_material_fill(sc, &sc->materials[m], &t->materials[m]); /* by its descriptors */
     t->bg_up = sc->bg_up >= 0 ? (spm_u32)sc->bg_up : SPM_NONE;
     t->bg_down = sc->bg_down >= 0 ? (spm_u32)sc->bg_down : SPM_NONE;
+    t->ndisp = sc->ndisp;
 }
 
 /* The pretest over the scene's colours. A conductor's eta and k are no

@@ -50,6 +50,9 @@ typedef struct {
     /* Fluorescent materials (fluor_tables.h): their diagonal colours are
      * colours fluor_first .. fluor_first + nfluor - 1, the last ones. */
     int nfluor, fluor_first;
+    /* Dispersive glasses (the scene's ndisp): their paths shade from the 1 nm
+     * rows (modes.h spm_shade_table nm1) */
+    int ndisp;
     /* lvl[l]: ncolours x SPM_LEVEL_BINS(l), bin means (lvl[0]: truth's)
      * truth: ncolours x SPM_TRUTH_BINS
      * rgb: ncolours x 4: linear sRGB (reflectance D65-referred, white = 1)
