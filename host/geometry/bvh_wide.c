@@ -30,9 +30,14 @@ static double half_area(const spm_bvh_node *n)
  * larger one by the four-lane test (LANE_COST, its vector arithmetic and
  * the lane-by-lane bookkeeping after it); a subtree kept apart costs its
  * children's area-weighted costs plus SLOT_COST for the wide-node slot it
- * takes. Chosen with callgrind's trace-stage instruction counts on the box
- * scenes and rays/s on the 1M meshes (docs/ARCHITECTURE.md, "Wide BVH"). */
-#define LANE_COST 1.5
+ * takes. Trace-stage instructions on cornell (callgrind, 16x16 at 16 spp, ml,
+ * the scalar-only wide traversal of the BVH2's leaves took 15.94 M): LANE_COST 1.5 merges
+ * its perpendicular wall and block quads into six leaves of 3 and 4, 17.87 M
+ * (+12 %: closest-hit rays lose the culling of separate flat boxes); 1.8 to
+ * 2.2 merge only its two pairs of coplanar quads, 16.33 M (+2.4 %); no merging
+ * at all, 17.22 M (+8 %: this traversal with only scalar leaves). A 1M mesh
+ * at 2.0 puts 70 % of its triangles in leaves of 3 or 4. */
+#define LANE_COST 2.0
 #define SLOT_COST 0.3
 
 typedef struct {
@@ -169,3 +174,4 @@ int spm_bvh_wide_build(spm_geometry *g, spm_error *err)
     g->wide = spm_xrealloc(w, (size_t)g->nwide * sizeof *w);
     return 0;
 }
+
