@@ -264,10 +264,12 @@ typedef struct {
 /* The kernels' BVH: 4-wide nodes collapsed from the BVH2 above
  * (host/geometry/bvh_wide.c), the children's boxes as slabs of four floats
  * (structure of arrays) so one work-item tests all four with float4
- * arithmetic. child[i] is an interior node's index (< 2^31), or a leaf,
+ * arithmetic. child[i] is an interior node's slot (< 2^31), or a leaf,
  * SPM_WIDE_LEAF | first << 2 | (count - 1): triangles [first, first + count)
- * of the reordered triangle array, count <= 4, or SPM_WIDE_EMPTY for an
- * unused slot (its box is never read). Node 0 is the root. 112 bytes. */
+ * of the reordered triangle array, count <= 4 (a BVH2 subtree of up to four
+ * triangles), or SPM_WIDE_EMPTY for an unused slot (its box is never read).
+ * Slot 0 is the root; the slots from 1 on hold the leaves' triangle planes
+ * (SPM_LEAF_PLANES), the other nodes follow them. 112 bytes a slot. */
 #define SPM_WIDE 4
 #define SPM_WIDE_LEAF 0x80000000u
 #define SPM_WIDE_EMPTY 0xFFFFFFFFu
@@ -281,6 +283,18 @@ typedef struct {
     float bmin_z[SPM_WIDE], bmax_z[SPM_WIDE];
     spm_u32 child[SPM_WIDE];
 } spm_bvh4_node;
+
+/* SPM_LEAF_PLANES: the vertices of every leaf's triangles as nine planes
+ * (3 * vertex + axis, vertex 0..2, axis x, y, z) of count floats each,
+ * lane l for triangle first + l, from float 9 * first of the planes (the
+ * floats from slot 1 on): a leaf is 36 * count contiguous bytes and one
+ * unaligned four-float load per plane gives the four-lane test its lanes
+ * (those past count read the next plane, and are masked). Three floats of
+ * padding after the last leaf keep those loads in the buffer. Leaves of at
+ * most SPM_LEAF_SCALAR triangles are tested one triangle at a time: with
+ * fewer lanes in use the scalar test takes fewer instructions. */
+#define SPM_LEAF_PLANES_FLOATS(ntris) (9 * (ntris) + 3)
+#define SPM_LEAF_SCALAR 2
 
 /* Material and emitter types: the tag of each, one descriptor per tag in
  * host/scene/materials.c (scene keyword and clauses, colours, record fields,

@@ -214,9 +214,26 @@ static int wide_depth(const spm_geometry *g, spm_u32 k)
     return d + 1;
 }
 
+/* Leaves of the wide tree below node k holding more than SPM_LEAF_SCALAR
+ * triangles (those the four-lane test takes). */
+static int lane_leaves(const spm_geometry *g, spm_u32 k)
+{
+    int n = 0;
+    for (int i = 0; i < SPM_WIDE; i++) {
+        spm_u32 c = g->wide[k].child[i];
+        if (c == SPM_WIDE_EMPTY)
+            continue;
+        if (c & SPM_WIDE_LEAF)
+            n += (c & 3u) + 1u > SPM_LEAF_SCALAR;
+        else
+            n += lane_leaves(g, c);
+    }
+    return n;
+}
+
 /* Random rays from around the scene towards points on its triangles, and
- * some that miss everything. */
-static void degenerate_case(spm_scene *s, const char *what, int min_depth)
+ * some that miss everything; min_lane: leaves for the four-lane test it must have. */
+static void degenerate_case_lanes(spm_scene *s, const char *what, int min_depth, int min_lane)
 {
     spm_geometry g;
     build(s, &g, what);
@@ -238,8 +255,15 @@ static void degenerate_case(spm_scene *s, const char *what, int min_depth)
     CHECK(nhit > n / 4 && nhit < (size_t)n, "%s: %zu of %d rays hit", what, nhit, n);
     int depth = g.nwide ? wide_depth(&g, 0) : 0;
     CHECK(depth >= min_depth, "%s: wide tree %d levels deep, want >= %d", what, depth, min_depth);
+    int lanes = g.nwide ? lane_leaves(&g, 0) : 0;
+    CHECK(lanes >= min_lane, "%s: %d leaves of 3 or 4 triangles, want >= %d", what, lanes, min_lane);
     free(rs.rays);
     spm_geometry_free(&g);
+}
+
+static void degenerate_case(spm_scene *s, const char *what, int min_depth)
+{
+    degenerate_case_lanes(s, what, min_depth, 0);
 }
 
 static void test_degenerate(void)
@@ -262,7 +286,23 @@ static void test_degenerate(void)
     for (int k = 0; k < 41; k++, x *= 0.5f)
         ts_tri(&s, m, (float[]){x, 0, 0}, (float[]){x * 1.5f, 0, x * 0.3f},
                (float[]){x, x * 0.4f, 0});
-    degenerate_case(&s, "deep tree, 41 triangles", 8);
+    degenerate_case(&s, "deep tree, 41 triangles", 7); /* 3 BVH2 levels a node, the last 4 a leaf */
+    ts_free(&s);
+
+    /* a gently bumpy 16 x 16 grid of quads: neighbours' boxes overlap, so the
+     * SAH merges them into leaves of 3 and 4 and the rays exercise every lane
+     * of the four-lane test (a lane left out fails the brute-force check) */
+    ts_init(&s);
+    m = ts_material(&s, ts_colour(&s, SPM_KIND_REFLECTANCE, 0.5), -1);
+    for (int i = 0; i < 16; i++)
+        for (int j = 0; j < 16; j++) {
+            float x0 = -2 + i * 0.25f, x1 = x0 + 0.25f, y0 = -2 + j * 0.25f, y1 = y0 + 0.25f;
+            float z00 = 0.1f * sinf(3 * x0) * cosf(2 * y0), z10 = 0.1f * sinf(3 * x1) * cosf(2 * y0);
+            float z01 = 0.1f * sinf(3 * x0) * cosf(2 * y1), z11 = 0.1f * sinf(3 * x1) * cosf(2 * y1);
+            ts_tri(&s, m, (float[]){x0, y0, z00}, (float[]){x1, y0, z10}, (float[]){x1, y1, z11});
+            ts_tri(&s, m, (float[]){x0, y0, z00}, (float[]){x1, y1, z11}, (float[]){x0, y1, z01});
+        }
+    degenerate_case_lanes(&s, "bumpy grid, 512 triangles", 3, 32);
     ts_free(&s);
 }
 
