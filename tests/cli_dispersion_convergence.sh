@@ -19,8 +19,9 @@
 # weighted by 0.5 + b/400 (b the 1 nm bin) instead of 1: r = 1.34 +- 0.20,
 # 13 standard errors off. Lower N does not separate them: at N = 64 the
 # same broken build gives 3.83 +- 0.34 on the whole image's MSE (the bias
-# hides under the noise), and the profile's MSE at 16 spp is heavy-tailed
-# (the slit's rare bright paths), so a few seeds' mean falls short of it.
+# hides under the noise), and at N = 16 the MSE is heavy-tailed (the
+# slit's rare bright paths): a few seeds' mean falls short of its
+# expectation, r 3.39 +- 0.20 on a sound build.
 # hero renders the prism as truth does (every path seen commits; a
 # committed path is one lane in hero too), both are checked.
 # usage: bash tests/cli_dispersion_convergence.sh /path/to/specmip
