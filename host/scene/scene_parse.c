@@ -411,6 +411,13 @@ static int index_param(parser *p, const spm_mparam *pa, spm_scene_material *m)
         m->p[pa->slot] = v;
         return 0;
     }
+    if (pa->kind == SPM_MP_EMIT_NUMBER) {
+        double v;
+        if (spm_lex_number(&p->lx, pa->what, pa->lo, pa->hi, &v, p->err))
+            return 1;
+        m->ep[pa->slot] = v;
+        return 0;
+    }
     if (!strcmp(cl, "ior")) {
         char name[SPM_NAME_MAX];
         if (spm_lex_name(&p->lx, "a number or a spectrum name", name, sizeof name, p->err))
