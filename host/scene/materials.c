@@ -1,4 +1,5 @@
-/* The material and emitter type descriptors (materials.h). */
+/* The material and emitter type descriptors (materials.h): the entries of
+ * include/spm_types.h, and the fill and derive functions they name. */
 #include "materials.h"
 #include <stdio.h>
 #include <math.h>

@@ -1,5 +1,7 @@
-/* Material and emitter types as descriptors, one per tag (spm_shared.h
- * SPM_MAT_*, SPM_EMIT_*), the way host/spectral/modes.c describes modes: the
+/* Material and emitter types as descriptors, one per tag, both from the one
+ * list of types (include/spm_types.h: an entry's name is its tag SPM_MAT_*,
+ * SPM_EMIT_*, its fields the descriptor), the way host/spectral/modes.c
+ * describes modes: the
  * scene parser reads a type's clauses from its descriptor, the tables fill the
  * device material with its `fill`, the render plan compiles in the kernel code
  * of the types a scene uses (`define`) and sizes the path record by their
