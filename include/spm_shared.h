@@ -296,21 +296,32 @@ typedef struct {
 #define SPM_LEAF_PLANES_FLOATS(ntris) (9 * (ntris) + 3)
 #define SPM_LEAF_SCALAR 2
 
-/* Material and emitter types: the tag of each, one descriptor per tag in
- * host/scene/materials.c (scene keyword and clauses, colours, record fields,
- * random-number dimensions, the kernel define that compiles its code in).
- * Each backend dispatches on the tag once per stage (a switch: trace.cl's
- * vertex_lobe / vertex_emission, refcpu_trace.c's likewise). */
-#define SPM_MAT_LAMBERT 0u      /* MiniLight's diffuse reflector */
-#define SPM_MAT_CONDUCTOR 1u    /* a metal: Fresnel of eta + i k, smooth or GGX-rough */
-#define SPM_MAT_FLUOR 2u        /* a diffuse fluorescent surface (re-radiation matrix) */
-#define SPM_MAT_DONALDSON 3u    /* the same from a measured re-radiation (Donaldson) matrix */
-#define SPM_MAT_DIELECTRIC 4u   /* glass: one index, smooth or GGX-rough, Beer-Lambert inside */
-#define SPM_MAT_COATED 5u       /* a Lambertian base under a smooth or GGX-rough dielectric coating */
+/* Material and emitter types: their tags SPM_MAT_NAME, SPM_EMIT_NAME, one
+ * per entry of spm_types.h in its order (the same entries are the
+ * descriptors, host/scene/materials.c: scene keyword and clauses, colours,
+ * record fields, random-number dimensions, the kernel define that compiles
+ * its code in). Each backend dispatches on the tag once per stage (a switch:
+ * trace.cl's vertex_lobe / vertex_emission, refcpu_trace.c's likewise). */
+#define SPM_MATERIAL_TYPE(name, ...) SPM_MAT_##name,
+#define SPM_EMITTER_TYPE(name, ...)
+enum spm_material_tag {
+#include "spm_types.h"
+    SPM_MAT_NTYPES
+};
+#undef SPM_MATERIAL_TYPE
+#undef SPM_EMITTER_TYPE
+#define SPM_MATERIAL_TYPE(name, ...)
+#define SPM_EMITTER_TYPE(name, ...) SPM_EMIT_##name,
+enum spm_emitter_tag {
+#include "spm_types.h"
+    SPM_EMIT_NTYPES
+};
+#undef SPM_MATERIAL_TYPE
+#undef SPM_EMITTER_TYPE
 #define SPM_MAT_TYPES 8u        /* tags below this (materials.c checks) */
-#define SPM_EMIT_AREA 0u        /* a triangle emitting from its front face, uniformly */
 #define SPM_EMIT_TYPES 8u
 #define SPM_MAT_PARAMS 4        /* a type's own floats per material */
+#define SPM_EMIT_PARAMS 1       /* its emitter type's own floats */
 /* the conductor's p[]: its GGX width alpha (0: the smooth lobe; host widths
  * below SPM_COND_MIN_ALPHA become 0: a narrower GGX lobe's D overflows float) */
 #define SPM_COND_P_ALPHA 0
@@ -347,6 +358,7 @@ typedef struct {
     spm_u32 type;      /* material tag (low 16 bits) | emitter tag << 16 */
     spm_u32 col2;      /* a type's second colour id (SPM_NONE: none) */
     float p[SPM_MAT_PARAMS]; /* a type's parameters (0 when unused) */
+    float ep[SPM_EMIT_PARAMS]; /* its emitter type's parameters (0 when unused) */
 } spm_material;
 #define SPM_MAT_TAG(m) ((m).type & 0xFFFFu)
 #define SPM_EMIT_TAG(m) (((m).type >> 16) & 0x7FFFu)

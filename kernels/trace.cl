@@ -90,16 +90,21 @@ inline uint vertex_lobe(spm_material m, uint seed, uint pixel, uint sample, uint
     }
 }
 
-/* The emission colour of an emitter's material (next-event estimation and a
- * first hit). */
-inline uint vertex_emission(spm_material m)
+/* The emission of an emitter's material towards a direction at cosine
+ * cos_e > 0 to its emitting face's normal (next-event estimation, a first
+ * hit, a lobe's hit): its colour, and *scale, the factor its radiance there
+ * takes (its emission profile; 1 for every direction of a uniform one). */
+inline uint vertex_emission(spm_material m, float cos_e, float *scale)
 {
+    (void)cos_e;
     switch (SPM_EMIT_TAG(m)) {
 #ifdef SPM_WITH_AREA
     case SPM_EMIT_AREA:
+        *scale = 1.0f;
         return m.emit;
 #endif
     default:
+        *scale = 0.0f;
         return SPM_NONE;
     }
 }
@@ -187,10 +192,13 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 #endif
 
         /* local emission, first vertex only, front face (either face when twosided) */
-        uint memit = vertex_emission(m);
+        float ecos = dot3(back, n), escale;
+        if (m.type & SPM_EMIT_TWOSIDED)
+            ecos = fabs(ecos);
+        uint memit = vertex_emission(m, ecos, &escale);
         if (j == 0 && memit != SPM_NONE && (dot3(back, n) > 0.0f || (m.type & SPM_EMIT_TWOSIDED))) {
             hd.first_emit = memit;
-            hd.first_emit_c = 1.0f;
+            hd.first_emit_c = escale;
             feel(lvlk, memit, 1u, SPM_SETBY_EMITTER, &level, &setby);
         }
 
@@ -202,9 +210,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         /* emission the last vertex's conductor, glass or coating lobe hit: counted there, with
          * its MIS weight against the light sample (smooth: 1) */
         if (cpdf >= 0.0f && memit != SPM_NONE) {
-            float ce = dot3(back, n);
-            if (m.type & SPM_EMIT_TWOSIDED)
-                ce = fabs(ce);
+            float ce = ecos;
             if (ce > 0.0f) {
                 float wm = 1.0f;
                 if (cpdf > 0.0f) {
@@ -213,7 +219,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                 }
                 __global spm_vertex_ext *px = &xrec[(size_t)(j - 1u) * npaths];
                 px->ids = (px->ids & 0xFFFFu) | SPM_EXT_IDS(SPM_NONE, memit);
-                px->hit_c = rrw * wm;
+                px->hit_c = rrw * wm * escale;
                 feel(lvlk, memit, 1u, SPM_SETBY_EMITTER, &level, &setby);
             }
         }
@@ -391,9 +397,11 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                 wgt = emitters[k].inv_pdf * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
                       fabs(cos_i) / SPM_PI_F;
 #endif
+                float es;
+                uint ec = vertex_emission(em, cos_e, &es);
                 if (wgt > 0.0f) {
-                    eid = vertex_emission(em);
-                    c = wgt * rrw;
+                    eid = ec;
+                    c = wgt * es * rrw;
                 }
             }
         }

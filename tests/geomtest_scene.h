@@ -161,7 +161,7 @@ static inline void ts_tables(const spm_scene *s, spm_tables *t)
                                          e >= 0 ? (spm_u32)e : SPM_NONE, (float)mean,
                                          mean > 0 ? (float)(1.0 / mean) : 0.0f,
                                          SPM_MAT_LAMBERT | SPM_EMIT_AREA << 16, SPM_NONE,
-                                         {0, 0, 0, 0}};
+                                         {0, 0, 0, 0}, {0}};
     }
 }
 

@@ -96,13 +96,18 @@ static spm_u32 vertex_lobe(const spm_material *m, const rng_key *k, int j, float
     }
 }
 
-/* The emission colour of an emitter's material. */
-static spm_u32 vertex_emission(const spm_material *m)
+/* The emission of an emitter's material towards a direction at cosine
+ * cos_e > 0 to its emitting face's normal: its colour, and *scale, the
+ * factor its radiance there takes (1 for a uniform emitter). */
+static spm_u32 vertex_emission(const spm_material *m, float cos_e, float *scale)
 {
+    (void)cos_e;
     switch (SPM_EMIT_TAG(*m)) {
     case SPM_EMIT_AREA:
+        *scale = 1.0f;
         return m->emit;
     default:
+        *scale = 0.0f;
         return SPM_NONE;
     }
 }
@@ -200,8 +205,10 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
     }
     if (!(w > 0.0f))
         return SPM_NONE;
-    *c = w;
-    return vertex_emission(&mats[em->material]);
+    float es;
+    spm_u32 e = vertex_emission(&mats[em->material], cos_e, &es);
+    *c = w * es;
+    return e;
 }
 
 /* Cosine-weighted direction about the normal n on the incoming side, tangent
@@ -233,14 +240,13 @@ static int occurrences(const spm_path *path, int j, spm_u32 r)
  * density cpdf (0: the smooth one): counted there, into its record x, with
  * the throughput so far and the power heuristic against the light sample
  * (light_pdf: the hit triangle's pick probability; the solid-angle density
- * light_pdf d^2 / (area cos_e)). A face that does not emit counts nothing. */
-static void lobe_hit(const spm_tri *tri, const spm_material *m, const float d[3], float t,
-                     float light_pdf, float cpdf, float weight, spm_u32 memit, spm_vertex_ext *x,
-                     feeler *f, const uint8_t *lvlk)
+ * light_pdf d^2 / (area cos_e)); ce: the face's cosine to the viewer (twosided:
+ * its size), escale: the emission's factor there (vertex_emission). A face
+ * that does not emit counts nothing. */
+static void lobe_hit(const spm_tri *tri, float ce, float t, float light_pdf, float cpdf,
+                     float weight, spm_u32 memit, float escale, spm_vertex_ext *x, feeler *f,
+                     const uint8_t *lvlk)
 {
-    float ce = -v3_dot(d, tri->n);
-    if (m->type & SPM_EMIT_TWOSIDED)
-        ce = fabsf(ce);
     if (!(ce > 0.0f))
         return;
     float wm = 1.0f;
@@ -250,7 +256,7 @@ static void lobe_hit(const spm_tri *tri, const spm_material *m, const float d[3]
         wm = spm_ref_cond_power(cpdf, pl);
     }
     x->ids = (x->ids & 0xFFFFu) | SPM_EXT_IDS(SPM_NONE, memit);
-    x->hit_c = weight * wm;
+    x->hit_c = weight * wm * escale;
     feel(f, lvlk, memit, 1, SPM_SETBY_EMITTER);
 }
 
@@ -294,18 +300,21 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         const spm_material *m = &mats[tri->material];
         float x[3];
         v3_madd(x, o, d, t);
-        spm_u32 memit = vertex_emission(m);
+        float ecos = -v3_dot(d, tri->n), escale; /* the emitting face's cosine to the viewer */
+        if (m->type & SPM_EMIT_TWOSIDED)
+            ecos = fabsf(ecos);
+        spm_u32 memit = vertex_emission(m, ecos, &escale);
         if (j == 0 && memit != SPM_NONE &&
             (-v3_dot(d, tri->n) > 0.0f || (m->type & SPM_EMIT_TWOSIDED))) {
             h->first_emit = memit; /* local emission: first hit, an emitting face */
-            h->first_emit_c = 1.0f;
+            h->first_emit_c = escale;
             feel(&f, lvlk, memit, 1, SPM_SETBY_EMITTER);
         }
         if (din && j > 0) /* the segment's length inside: its absorption, in the shade stage */
             path->x[j - 1].cos_lobe = t;
         if (j > 0 && cpdf >= 0.0f && memit != SPM_NONE)
-            lobe_hit(tri, m, d, t, g->light_pdf[hit], cpdf, weight, memit, &path->x[j - 1], &f,
-                     lvlk);
+            lobe_hit(tri, ecos, t, g->light_pdf[hit], cpdf, weight, memit, escale,
+                     &path->x[j - 1], &f, lvlk);
         /* The hit's shading frame, the one place a type finds it: the normal
          * sn on the viewer's side and tangent st every type shades with; gn,
          * the geometric normal on the viewer's side (MiniLight: dot(n, -d) < 0

@@ -1,4 +1,5 @@
-/* The material and emitter type descriptors (materials.h). */
+/* The material and emitter type descriptors (materials.h): the entries of
+ * include/spm_types.h, and the fill and derive functions they name. */
 #include "materials.h"
 #include <stdio.h>
 #include <math.h>
@@ -13,15 +14,6 @@ static double colour_mean(const spm_scene *sc, int c)
 }
 
 /* ---- material types -------------------------------------------------------- */
-
-/* Lambertian (MiniLight): reflects its colour, survives Russian roulette with
- * its mean reflectance, bounces cosine-weighted (the vertex dimensions). */
-static void lambert_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d)
-{
-    double mean = colour_mean(sc, s->refl);
-    d->mean = (float)mean;
-    d->inv_mean = mean > 0.0 ? (float)(1.0 / mean) : 0.0f;
-}
 
 /* A conductor (a metal): eta + i k per wavelength, smooth or GGX-rough of
  * width alpha (Mitsuba 3's alpha); its lobe draws the visible normal from
@@ -225,148 +217,34 @@ static int coated_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
     return 0;
 }
 
+/* The descriptors: spm_types.h's entries, each at its tag. */
+#define SPM_MATERIAL_TYPE(name, ...) [SPM_MAT_##name] = {.tag = SPM_MAT_##name, __VA_ARGS__},
+#define SPM_EMITTER_TYPE(name, ...)
 const spm_mtype_desc spm_material_types[] = {
-    [SPM_MAT_LAMBERT] = {
-        .keyword = NULL, /* the default type */
-        .tag = SPM_MAT_LAMBERT,
-        .help = "diffuse: 'reflect SPECTRUM [SCALE]' (default black)",
-        .params = {{.clause = "reflect", .kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_REFL,
-                    .what = "a reflectance"}},
-        .nparams = 1,
-        .vertex_u32 = 0,
-        .rng_dims = 0, /* the vertex's own cosine-lobe dimensions */
-        .define = "SPM_WITH_LAMBERT",
-        .fill = lambert_fill,
-    },
-    [SPM_MAT_CONDUCTOR] = {
-        .keyword = "conductor",
-        .tag = SPM_MAT_CONDUCTOR,
-        .help = "metal: 'conductor ETA_SPECTRUM K_SPECTRUM [alpha A]' (complex index eta + i k; "
-                "alpha: GGX width, 0 smooth)",
-        .params = {{.kind = SPM_MP_OPTICAL, .slot = SPM_MSLOT_REFL,
-                    .what = "the real part eta of the index of refraction"},
-                   {.kind = SPM_MP_OPTICAL, .slot = SPM_MSLOT_COL2,
-                    .what = "the extinction coefficient k"},
-                   {.clause = "alpha", .kind = SPM_MP_NUMBER, .slot = SPM_COND_P_ALPHA, .lo = 0.0,
-                    .hi = 1.0, .what = "a GGX width"}},
-        .nparams = 3,
-        .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
-        .rng_dims = 2, /* SPM_DIM_COND_M_A, SPM_DIM_COND_M_B */
-        .define = "SPM_WITH_CONDUCTOR",
-        .smooth = 1, /* a faceted metal sphere shows its facets in every reflection */
-        .fill = conductor_fill,
-    },
-    [SPM_MAT_FLUOR] = {
-        .keyword = "fluoresce",
-        .tag = SPM_MAT_FLUOR,
-        .help = "fluorescent, diffuse: 'fluoresce ABSORB EMIT YIELD [reflect SPECTRUM [SCALE]]' "
-                "(Wilkie et al. 2006)",
-        .params = {{.kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_COL2,
-                    .what = "an absorption spectrum"},
-                   {.kind = SPM_MP_SHAPE, .slot = SPM_MSLOT_COL3, .what = "an emission shape"},
-                   {.kind = SPM_MP_NUMBER, .slot = SPM_FLUOR_P_YIELD, .lo = 0.0, .hi = 1.0,
-                    .what = "an energy yield"},
-                   {.clause = "reflect", .kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_REFL,
-                    .what = "a reflectance"}},
-        .nparams = 4,
-        .vertex_u32 = 0,
-        .rng_dims = 0,
-        .define = "SPM_WITH_FLUOR",
-        .fill = fluor_fill,
-        .derive = fluor_derive,
-    },
-    [SPM_MAT_DONALDSON] = {
-        .keyword = "donaldson",
-        .tag = SPM_MAT_DONALDSON,
-        .help = "fluorescent, diffuse, measured: 'donaldson FILE' (a re-radiation matrix, its "
-                "diagonal the reflectance; docs/SCENE_FORMAT.md)",
-        .params = {{.kind = SPM_MP_FILE, .slot = SPM_FLUOR_P_MATRIX, .what = "a matrix file"}},
-        .nparams = 1,
-        .vertex_u32 = 0,
-        .rng_dims = 0,
-        .define = "SPM_WITH_FLUOR", /* the fluorescent type's code, shared */
-        .fill = fluor_fill,
-        .derive = fluor_derive,
-    },
-    [SPM_MAT_DIELECTRIC] = {
-        .keyword = "dielectric",
-        .tag = SPM_MAT_DIELECTRIC,
-        .help = "glass: 'dielectric IOR [absorb SPECTRUM DENSITY] [alpha A]', IOR one of 'ior N', "
-                "'ior SPECTRUM' (n per wavelength), 'sellmeier B1 B2 B3 C1 C2 C3' (um, um^2), "
-                "'cauchy A B' (B in um^2), 'glass NAME' (N-BK7, N-SF11: Schott's catalogue) "
-                "(index inside the front face's side; Beer-Lambert exp(-DENSITY SPECTRUM d), d in "
-                "scene units; alpha: GGX width, 0 smooth)",
-        .params = {{.clause = "ior", .kind = SPM_MP_INDEX, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
-                    .hi = 4.0, .what = "an index of refraction", .required = 1, .group = 1},
-                   {.clause = "sellmeier", .kind = SPM_MP_INDEX, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
-                    .hi = 4.0, .what = "an index of refraction", .required = 1, .group = 1},
-                   {.clause = "cauchy", .kind = SPM_MP_INDEX, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
-                    .hi = 4.0, .what = "an index of refraction", .required = 1, .group = 1},
-                   {.clause = "glass", .kind = SPM_MP_INDEX, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
-                    .hi = 4.0, .what = "an index of refraction", .required = 1, .group = 1},
-                   {.clause = "absorb", .kind = SPM_MP_OPTICAL, .slot = SPM_MSLOT_COL2,
-                    .what = "an absorption coefficient (spectrum and density per scene unit)"},
-                   {.clause = "alpha", .kind = SPM_MP_NUMBER, .slot = SPM_DIEL_P_ALPHA, .lo = 0.0,
-                    .hi = 1.0, .what = "a GGX width"}},
-        .nparams = 6,
-        .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
-        .rng_dims = 4, /* SPM_DIM_DIEL_M_A, SPM_DIM_DIEL_M_B, SPM_DIM_DIEL_CHOICE, SPM_DIM_DIEL_LAMBDA */
-        .define = "SPM_WITH_DIELECTRIC",
-        .smooth = 1, /* a faceted glass sphere shows its facets in every refraction */
-        .fill = dielectric_fill,
-        .derive = dielectric_derive,
-    },
-    [SPM_MAT_COATED] = {
-        .keyword = "coated",
-        .tag = SPM_MAT_COATED,
-        .help = "paint, plastic: 'coated reflect SPECTRUM [SCALE] ior N [alpha A]' (a diffuse "
-                "base under a dielectric coating of index N, default 1.5; alpha: GGX width, 0 "
-                "smooth)",
-        .params = {{.clause = "reflect", .kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_REFL,
-                    .what = "a reflectance"},
-                   {.clause = "ior", .kind = SPM_MP_NUMBER, .slot = SPM_COAT_P_ETA, .lo = 1.0,
-                    .hi = 4.0, .what = "an index of refraction"},
-                   {.clause = "alpha", .kind = SPM_MP_NUMBER, .slot = SPM_COAT_P_ALPHA, .lo = 0.0,
-                    .hi = 1.0, .what = "a GGX width"}},
-        .nparams = 3,
-        .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
-        .rng_dims = 3, /* SPM_DIM_COAT_LOBE, SPM_DIM_COAT_M_A, SPM_DIM_COAT_M_B */
-        .define = "SPM_WITH_COATED",
-        .smooth = 1, /* a faceted glossy sphere shows its facets in its highlight */
-        .fill = coated_fill,
-        .derive = coated_derive,
-    },
+#include "spm_types.h"
 };
+#undef SPM_MATERIAL_TYPE
+#undef SPM_EMITTER_TYPE
 const int spm_nmaterial_types = (int)(sizeof spm_material_types / sizeof spm_material_types[0]);
 
 /* ---- emitter types --------------------------------------------------------- */
 
 /* An area light: the triangle emits its colour from its front face, or with
  * 'twosided' (pbrt-v4's) from both. */
-#define AREA_FLAG_TWOSIDED 0
 static void area_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d)
 {
     (void)sc;
-    if (s->flags & 1u << AREA_FLAG_TWOSIDED)
+    if (s->flags & 1u << SPM_AREA_FLAG_TWOSIDED)
         d->type |= SPM_EMIT_TWOSIDED;
 }
 
+#define SPM_MATERIAL_TYPE(name, ...)
+#define SPM_EMITTER_TYPE(name, ...) [SPM_EMIT_##name] = {.tag = SPM_EMIT_##name, __VA_ARGS__},
 const spm_mtype_desc spm_emitter_types[] = {
-    [SPM_EMIT_AREA] = {
-        .keyword = "area",
-        .tag = SPM_EMIT_AREA,
-        .help = "'emit SPECTRUM [SCALE] [twosided]': an area light, front face (or both)",
-        .params = {{.clause = "emit", .kind = SPM_MP_EMISSION, .slot = SPM_MSLOT_EMIT,
-                    .what = "an emission"},
-                   {.clause = "twosided", .kind = SPM_MP_FLAG, .slot = AREA_FLAG_TWOSIDED,
-                    .what = "both faces emit"}},
-        .nparams = 2,
-        .vertex_u32 = 0,
-        .rng_dims = 0,
-        .define = "SPM_WITH_AREA",
-        .fill = area_fill,
-    },
+#include "spm_types.h"
 };
+#undef SPM_MATERIAL_TYPE
+#undef SPM_EMITTER_TYPE
 const int spm_nemitter_types = (int)(sizeof spm_emitter_types / sizeof spm_emitter_types[0]);
 
 _Static_assert(sizeof spm_material_types / sizeof spm_material_types[0] <= SPM_MAT_TYPES,
@@ -376,7 +254,7 @@ _Static_assert(sizeof spm_emitter_types / sizeof spm_emitter_types[0] <= SPM_EMI
 
 int spm_material_faces(const spm_scene_material *s)
 {
-    return s->etype == SPM_EMIT_AREA && (s->flags & 1u << AREA_FLAG_TWOSIDED) ? 2 : 1;
+    return s->etype == SPM_EMIT_AREA && (s->flags & 1u << SPM_AREA_FLAG_TWOSIDED) ? 2 : 1;
 }
 
 const spm_mtype_desc *spm_material_type_find(const char *kw)
@@ -392,6 +270,36 @@ const spm_mtype_desc *spm_material_type_default(void)
     return &spm_material_types[SPM_MAT_LAMBERT];
 }
 
+/* A type without a fill of its own (Lambertian): its numbers into p[slot];
+ * Russian roulette survives with q, the largest mean of its reflectance
+ * colours, and weighs 1 / q. Whichever of them a vertex records, survival
+ * times weight is 1, so any choice among them stays unbiased, and q > 0
+ * whenever one of them is not black. */
+static void generic_fill(const spm_mtype_desc *t, const spm_scene *sc,
+                         const spm_scene_material *s, spm_material *d)
+{
+    double mean = 0.0;
+    int any = 0;
+    for (int i = 0; i < t->nparams; i++) {
+        const spm_mparam *q = &t->params[i];
+        if (q->kind == SPM_MP_NUMBER)
+            d->p[q->slot] = (float)s->p[q->slot];
+        else if (q->kind == SPM_MP_EMIT_NUMBER)
+            d->ep[q->slot] = (float)s->ep[q->slot];
+        else if (q->kind == SPM_MP_REFLECTANCE) {
+            double m = colour_mean(sc, q->slot == SPM_MSLOT_REFL   ? s->refl
+                                       : q->slot == SPM_MSLOT_COL2 ? s->col2
+                                                                   : s->col3);
+            mean = any ? fmax(mean, m) : m;
+            any = 1;
+        }
+    }
+    if (any) {
+        d->mean = (float)mean;
+        d->inv_mean = mean > 0.0 ? (float)(1.0 / mean) : 0.0f;
+    }
+}
+
 void spm_material_fill(const spm_scene *sc, const spm_scene_material *s, spm_material *d)
 {
     memset(d, 0, sizeof *d);
@@ -399,8 +307,15 @@ void spm_material_fill(const spm_scene *sc, const spm_scene_material *s, spm_mat
     d->emit = s->emit >= 0 ? (spm_u32)s->emit : SPM_NONE;
     d->col2 = s->col2 >= 0 ? (spm_u32)s->col2 : SPM_NONE;
     d->type = (spm_u32)s->type | (spm_u32)s->etype << 16;
-    spm_material_types[s->type].fill(sc, s, d);
-    spm_emitter_types[s->etype].fill(sc, s, d);
+    const spm_mtype_desc *mt = &spm_material_types[s->type], *et = &spm_emitter_types[s->etype];
+    if (mt->fill)
+        mt->fill(sc, s, d);
+    else
+        generic_fill(mt, sc, s, d);
+    if (et->fill)
+        et->fill(sc, s, d);
+    else
+        generic_fill(et, sc, s, d);
 }
 
 void spm_material_types_used(const spm_material *mats, int n, int used_m[SPM_MAT_TYPES],

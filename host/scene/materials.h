@@ -1,5 +1,7 @@
-/* Material and emitter types as descriptors, one per tag (spm_shared.h
- * SPM_MAT_*, SPM_EMIT_*), the way host/spectral/modes.c describes modes: the
+/* Material and emitter types as descriptors, one per tag, both from the one
+ * list of types (include/spm_types.h: an entry's name is its tag SPM_MAT_*,
+ * SPM_EMIT_*, its fields the descriptor), the way host/spectral/modes.c
+ * describes modes: the
  * scene parser reads a type's clauses from its descriptor, the tables fill the
  * device material with its `fill`, the render plan compiles in the kernel code
  * of the types a scene uses (`define`) and sizes the path record by their
@@ -15,6 +17,7 @@ typedef enum {
     SPM_MP_REFLECTANCE, /* a reflectance colour: slot 0 refl, 2 col2 */
     SPM_MP_EMISSION,    /* an emission colour: slot 1 emit */
     SPM_MP_NUMBER,      /* a number in [lo, hi]: p[slot] */
+    SPM_MP_EMIT_NUMBER, /* an emitter type's number in [lo, hi]: ep[slot] */
     SPM_MP_FLAG,        /* the clause's word alone: bit slot of flags */
     SPM_MP_FILE,        /* a re-radiation matrix file (fluor.h): its diagonal into refl, its
                            index in the scene's matrices into p[slot] */
@@ -31,6 +34,9 @@ typedef enum {
 #define SPM_MSLOT_EMIT 1
 #define SPM_MSLOT_COL2 2
 #define SPM_MSLOT_COL3 3
+
+/* the area light's flag: bit of the scene material's flags */
+#define SPM_AREA_FLAG_TWOSIDED 0
 
 typedef struct {
     const char *clause;   /* keyword before it, or NULL: positional (in order, after the type keyword) */
@@ -61,8 +67,10 @@ typedef struct {
      * diffuse types): only under the mesh statement's `smooth`; -1: never
      * (a type whose lobes read the geometric frame) */
     int smooth;
-    /* The device material's type-specific part (mean, inv_mean, p[]) from the
-     * scene material; colour ids and tags are already set. */
+    /* The device material's type-specific part (mean, inv_mean, p[], ep[])
+     * from the scene material; colour ids and tags are already set. NULL:
+     * the generic fill (materials.c generic_fill: the numbers into their
+     * slots, survival the largest mean of the reflectance colours). */
     void (*fill)(const spm_scene *sc, const spm_scene_material *s, spm_material *d);
     /* Optional: a colour derived from the material's own, appended to the
      * scene's colours (in material order) once the scene is complete, into

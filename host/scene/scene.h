@@ -26,6 +26,7 @@ typedef struct {
     int col3;  /* a type's third colour, -1 = none */
     int diag;  /* a colour the type derives at the end of the scene (materials.h derive), -1 = none */
     double p[SPM_MAT_PARAMS]; /* a type's numbers */
+    double ep[SPM_EMIT_PARAMS]; /* its emitter type's numbers */
     unsigned flags; /* a type's words without a value (materials.h SPM_MP_FLAG): bit `slot` */
 } spm_scene_material;
 

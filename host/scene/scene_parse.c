@@ -541,11 +541,11 @@ static int material_param(parser *p, const spm_mparam *pa, spm_scene_material *m
         m->flags |= 1u << pa->slot;
         return 0;
     }
-    if (pa->kind == SPM_MP_NUMBER) {
+    if (pa->kind == SPM_MP_NUMBER || pa->kind == SPM_MP_EMIT_NUMBER) {
         double v;
         if (spm_lex_number(&p->lx, pa->what, pa->lo, pa->hi, &v, p->err))
             return 1;
-        m->p[pa->slot] = v;
+        *(pa->kind == SPM_MP_NUMBER ? &m->p[pa->slot] : &m->ep[pa->slot]) = v; /* an emitter's: ep */
         return 0;
     }
     int c = colour_ref_as(p, pa->kind == SPM_MP_EMISSION ? SPM_KIND_EMISSION : SPM_KIND_REFLECTANCE,

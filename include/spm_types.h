@@ -1,0 +1,141 @@
+/* The material and emitter types: one entry each, its tag its position in
+ * its list. A type is named here once, and everything else is derived:
+ *  - spm_shared.h expands the entries' names into the tags SPM_MAT_NAME and
+ *    SPM_EMIT_NAME (host, CPU reference and kernels alike);
+ *  - host/scene/materials.c expands the same entries into the descriptors
+ *    (materials.h spm_mtype_desc: the fields after the name), so the scene
+ *    parser, the tables, the render plan and the kernel options read them.
+ * The fields are host-only C initialisers; the kernels' expansion drops them.
+ * A field's functions (fill, derive) are materials.c's; a type without a
+ * fill takes the generic one (materials.c spm_material_fill).
+ * docs/ADDING_A_MATERIAL.md says how to add a type.
+ *
+ * No include guard: the includer defines SPM_MATERIAL_TYPE(NAME, ...) and
+ * SPM_EMITTER_TYPE(NAME, ...) first, and undefines them after. */
+
+/* ---- material types -------------------------------------------------------- */
+
+/* MiniLight's diffuse reflector: its colour, survival its mean reflectance */
+SPM_MATERIAL_TYPE(LAMBERT,
+    .keyword = NULL, /* the default type */
+    .help = "diffuse: 'reflect SPECTRUM [SCALE]' (default black)",
+    .params = {{.clause = "reflect", .kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_REFL,
+                .what = "a reflectance"}},
+    .nparams = 1,
+    .vertex_u32 = 0,
+    .rng_dims = 0, /* the vertex's own cosine-lobe dimensions */
+    .define = "SPM_WITH_LAMBERT")
+
+/* a metal: Fresnel of eta + i k, smooth or GGX-rough */
+SPM_MATERIAL_TYPE(CONDUCTOR,
+    .keyword = "conductor",
+    .help = "metal: 'conductor ETA_SPECTRUM K_SPECTRUM [alpha A]' (complex index eta + i k; "
+            "alpha: GGX width, 0 smooth)",
+    .params = {{.kind = SPM_MP_OPTICAL, .slot = SPM_MSLOT_REFL,
+                .what = "the real part eta of the index of refraction"},
+               {.kind = SPM_MP_OPTICAL, .slot = SPM_MSLOT_COL2,
+                .what = "the extinction coefficient k"},
+               {.clause = "alpha", .kind = SPM_MP_NUMBER, .slot = SPM_COND_P_ALPHA, .lo = 0.0,
+                .hi = 1.0, .what = "a GGX width"}},
+    .nparams = 3,
+    .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
+    .rng_dims = 2, /* SPM_DIM_COND_M_A, SPM_DIM_COND_M_B */
+    .define = "SPM_WITH_CONDUCTOR",
+    .smooth = 1, /* a faceted metal sphere shows its facets in every reflection */
+    .fill = conductor_fill)
+
+/* a diffuse fluorescent surface (re-radiation matrix, fluor.h) */
+SPM_MATERIAL_TYPE(FLUOR,
+    .keyword = "fluoresce",
+    .help = "fluorescent, diffuse: 'fluoresce ABSORB EMIT YIELD [reflect SPECTRUM [SCALE]]' "
+            "(Wilkie et al. 2006)",
+    .params = {{.kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_COL2,
+                .what = "an absorption spectrum"},
+               {.kind = SPM_MP_SHAPE, .slot = SPM_MSLOT_COL3, .what = "an emission shape"},
+               {.kind = SPM_MP_NUMBER, .slot = SPM_FLUOR_P_YIELD, .lo = 0.0, .hi = 1.0,
+                .what = "an energy yield"},
+               {.clause = "reflect", .kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_REFL,
+                .what = "a reflectance"}},
+    .nparams = 4,
+    .vertex_u32 = 0,
+    .rng_dims = 0,
+    .define = "SPM_WITH_FLUOR",
+    .fill = fluor_fill,
+    .derive = fluor_derive)
+
+/* the same from a measured re-radiation (Donaldson) matrix */
+SPM_MATERIAL_TYPE(DONALDSON,
+    .keyword = "donaldson",
+    .help = "fluorescent, diffuse, measured: 'donaldson FILE' (a re-radiation matrix, its "
+            "diagonal the reflectance; docs/SCENE_FORMAT.md)",
+    .params = {{.kind = SPM_MP_FILE, .slot = SPM_FLUOR_P_MATRIX, .what = "a matrix file"}},
+    .nparams = 1,
+    .vertex_u32 = 0,
+    .rng_dims = 0,
+    .define = "SPM_WITH_FLUOR", /* the fluorescent type's code, shared */
+    .fill = fluor_fill,
+    .derive = fluor_derive)
+
+/* glass: one index, smooth or GGX-rough, Beer-Lambert inside */
+SPM_MATERIAL_TYPE(DIELECTRIC,
+    .keyword = "dielectric",
+    .help = "glass: 'dielectric IOR [absorb SPECTRUM DENSITY] [alpha A]', IOR one of 'ior N', "
+            "'ior SPECTRUM' (n per wavelength), 'sellmeier B1 B2 B3 C1 C2 C3' (um, um^2), "
+            "'cauchy A B' (B in um^2), 'glass NAME' (N-BK7, N-SF11: Schott's catalogue) "
+            "(index inside the front face's side; Beer-Lambert exp(-DENSITY SPECTRUM d), d in "
+            "scene units; alpha: GGX width, 0 smooth)",
+    .params = {{.clause = "ior", .kind = SPM_MP_INDEX, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
+                .hi = 4.0, .what = "an index of refraction", .required = 1, .group = 1},
+               {.clause = "sellmeier", .kind = SPM_MP_INDEX, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
+                .hi = 4.0, .what = "an index of refraction", .required = 1, .group = 1},
+               {.clause = "cauchy", .kind = SPM_MP_INDEX, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
+                .hi = 4.0, .what = "an index of refraction", .required = 1, .group = 1},
+               {.clause = "glass", .kind = SPM_MP_INDEX, .slot = SPM_DIEL_P_IOR, .lo = 1.0,
+                .hi = 4.0, .what = "an index of refraction", .required = 1, .group = 1},
+               {.clause = "absorb", .kind = SPM_MP_OPTICAL, .slot = SPM_MSLOT_COL2,
+                .what = "an absorption coefficient (spectrum and density per scene unit)"},
+               {.clause = "alpha", .kind = SPM_MP_NUMBER, .slot = SPM_DIEL_P_ALPHA, .lo = 0.0,
+                .hi = 1.0, .what = "a GGX width"}},
+    .nparams = 6,
+    .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
+    .rng_dims = 4, /* SPM_DIM_DIEL_M_A, SPM_DIM_DIEL_M_B, SPM_DIM_DIEL_CHOICE, SPM_DIM_DIEL_LAMBDA */
+    .define = "SPM_WITH_DIELECTRIC",
+    .smooth = 1, /* a faceted glass sphere shows its facets in every refraction */
+    .fill = dielectric_fill,
+    .derive = dielectric_derive)
+
+/* a Lambertian base under a smooth or GGX-rough dielectric coating */
+SPM_MATERIAL_TYPE(COATED,
+    .keyword = "coated",
+    .help = "paint, plastic: 'coated reflect SPECTRUM [SCALE] ior N [alpha A]' (a diffuse "
+            "base under a dielectric coating of index N, default 1.5; alpha: GGX width, 0 "
+            "smooth)",
+    .params = {{.clause = "reflect", .kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_REFL,
+                .what = "a reflectance"},
+               {.clause = "ior", .kind = SPM_MP_NUMBER, .slot = SPM_COAT_P_ETA, .lo = 1.0,
+                .hi = 4.0, .what = "an index of refraction"},
+               {.clause = "alpha", .kind = SPM_MP_NUMBER, .slot = SPM_COAT_P_ALPHA, .lo = 0.0,
+                .hi = 1.0, .what = "a GGX width"}},
+    .nparams = 3,
+    .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
+    .rng_dims = 3, /* SPM_DIM_COAT_LOBE, SPM_DIM_COAT_M_A, SPM_DIM_COAT_M_B */
+    .define = "SPM_WITH_COATED",
+    .smooth = 1, /* a faceted glossy sphere shows its facets in its highlight */
+    .fill = coated_fill,
+    .derive = coated_derive)
+
+/* ---- emitter types --------------------------------------------------------- */
+
+/* a triangle emitting from its front face (or both), uniformly */
+SPM_EMITTER_TYPE(AREA,
+    .keyword = "area",
+    .help = "'emit SPECTRUM [SCALE] [twosided]': an area light, front face (or both)",
+    .params = {{.clause = "emit", .kind = SPM_MP_EMISSION, .slot = SPM_MSLOT_EMIT,
+                .what = "an emission"},
+               {.clause = "twosided", .kind = SPM_MP_FLAG, .slot = SPM_AREA_FLAG_TWOSIDED,
+                .what = "both faces emit"}},
+    .nparams = 2,
+    .vertex_u32 = 0,
+    .rng_dims = 0,
+    .define = "SPM_WITH_AREA",
+    .fill = area_fill)
