@@ -51,7 +51,8 @@
 #define SPM_DIM_COAT_M_B 2u
 /* the dielectric's: its rough lobe's visible normal, then the choice
  * between reflection and refraction (by the Fresnel reflectance); at a
- * path's first dispersive vertex, the wavelength it commits to */
+ * path's first dispersive vertex, the wavelength it commits to (the
+ * pixel's rotation drawn at vertex 0's: spm_rng_stratified_u32) */
 #define SPM_DIM_DIEL_M_A 0u
 #define SPM_DIM_DIEL_M_B 1u
 #define SPM_DIM_DIEL_CHOICE 2u
@@ -100,5 +101,29 @@ SPM_INLINE spm_u32 spm_rng_u32(spm_u32 seed, spm_u32 pixel, spm_u32 sample, spm_
 SPM_INLINE float spm_rng(spm_u32 seed, spm_u32 pixel, spm_u32 sample, spm_u32 dim)
 {
     return (float)(spm_rng_u32(seed, pixel, sample, dim) >> 8) * SPM_RNG_UNIT;
+}
+/* A committed wavelength, stratified over a pixel's samples: a rotated
+ * radical inverse (Cranley-Patterson), h = r + reverse(sample) mod 2^32, r
+ * one random rotation per pixel (the sample key SPM_RNG_PIXEL_KEY, which no
+ * sample reaches). The first 2^k samples of a pixel fall one in each of 2^k
+ * equal strata of [0, 2^32); each sample alone is uniform and independent
+ * of its path's other numbers (r is), so the estimate stays unbiased with
+ * the uniform pdf. The sample index is the pixel's own, so the strata do not
+ * depend on how passes, devices or ranks share the samples. The rotation is
+ * drawn at vertex 0's dimension whatever vertex commits: the pixel's
+ * samples share one sequence. */
+#define SPM_RNG_PIXEL_KEY 0xffffffffu
+SPM_INLINE spm_u32 spm_bit_reverse32(spm_u32 x)
+{
+    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+    x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+    return (x >> 16) | (x << 16);
+}
+
+SPM_INLINE spm_u32 spm_rng_stratified_u32(spm_u32 seed, spm_u32 pixel, spm_u32 sample, spm_u32 dim)
+{
+    return spm_rng_u32(seed, pixel, SPM_RNG_PIXEL_KEY, dim) + spm_bit_reverse32(sample);
 }
 #endif

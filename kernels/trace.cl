@@ -236,7 +236,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         int dcommit = 0;
         if (drow) {
             if (lam == SPM_NONE) {
-                lam = disp_bin(spm_rng_u32(seed, pixel, sample, SPM_DIM_TYPE(j, SPM_DIM_DIEL_LAMBDA)));
+                lam = disp_bin(spm_rng_stratified_u32(seed, pixel, sample, SPM_DIM_TYPE(0u, SPM_DIM_DIEL_LAMBDA)));
                 dcommit = 1;
             }
             dior = disp[(drow - 1u) * SPM_TRUTH_BINS + lam];

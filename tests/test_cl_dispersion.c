@@ -4,6 +4,12 @@
  *    committed wavelength and 1 / pdf in the same vertex word of every
  *    committed path (the draw is integer: no tolerance), and the paths
  *    diverge no more than test_cl_dielectric allows;
+ *  - the committed wavelengths are stratified over a pixel's samples
+ *    (include/spm_rng.h spm_rng_stratified_u32): the SPP = 16 samples of a
+ *    pixel are its first 2^4, whose draws lie exactly 2^28 apart, i.e. 25
+ *    of the 400 bins, so the bins of a pixel's committed paths are distinct
+ *    and equal mod 25, on both backends (16 independent draws would be so
+ *    with odds below 25^-1 per extra committed path);
  *  - every mode's shade kernel against the reference's shading of the same
  *    records, committed paths included (rgb's records are traced apart: it
  *    commits none, tracing the glass at n_d).
@@ -36,6 +42,32 @@ static size_t committed(const spm_path *p, spm_u32 *bin, float *iw)
             return j + 1;
         }
     return 0;
+}
+
+/* A pixel's committed bins (paths pixel * SPP .. + SPP - 1): distinct and
+ * equal mod SPM_TRUTH_BINS / SPP. Returns the pixels with two or more
+ * committed paths; counts the pixels that break the strata in *bad. */
+static size_t strata_check(const spm_path *paths, size_t npix, size_t *bad)
+{
+    size_t tested = 0;
+    *bad = 0;
+    for (size_t px = 0; px < npix; px++) {
+        int seen[SPM_TRUTH_BINS] = {0}, mod = -1, ncom = 0, broken = 0;
+        for (size_t k = 0; k < SPP; k++) {
+            spm_u32 b;
+            float iw;
+            if (!committed(&paths[px * SPP + k], &b, &iw))
+                continue;
+            ncom++;
+            broken |= seen[b]++ > 0;
+            if (mod < 0)
+                mod = (int)(b % (SPM_TRUTH_BINS / SPP));
+            broken |= (int)(b % (SPM_TRUTH_BINS / SPP)) != mod;
+        }
+        tested += ncom >= 2;
+        *bad += ncom >= 2 && broken;
+    }
+    return tested;
 }
 
 static void test_table(const cl_test_scene *s)
@@ -113,6 +145,15 @@ static void test_sphere(void)
             else
                 CHECK(ncom > n / 20, "too few committed paths (%zu of %zu)", ncom, n);
             CHECK(lam_diff == 0, "%zu committed wavelengths differ", lam_diff);
+            if (!md->one_index) {
+                size_t bad_g, bad_c, tg = strata_check(gp, (size_t)W * H, &bad_g),
+                                     tc = strata_check(cp, (size_t)W * H, &bad_c);
+                printf("%s strata: %zu and %zu pixels of 2+ committed paths (kernel, reference), "
+                       "%zu and %zu off their strata\n", md->name, tg, tc, bad_g, bad_c);
+                CHECK(tg > 20 && tc > 20, "too few pixels to test the strata (%zu, %zu)", tg, tc);
+                CHECK(bad_g == 0 && bad_c == 0, "committed bins not stratified: %zu pixels "
+                      "(kernel), %zu (reference)", bad_g, bad_c);
+            }
             CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu paths diverged",
                   diverged);
         }

@@ -346,7 +346,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
             if (row) {
                 if (lam == SPM_NONE) {
                     lam = spm_ref_disp_bin(
-                        spm_rng_u32(k.seed, k.pixel, k.sample, SPM_DIM_TYPE(j, SPM_DIM_DIEL_LAMBDA)));
+                        spm_rng_stratified_u32(k.seed, k.pixel, k.sample, SPM_DIM_TYPE(0u, SPM_DIM_DIEL_LAMBDA)));
                     dcommit = 1;
                 }
                 ior = g->disp[(size_t)(row - 1u) * SPM_TRUTH_BINS + lam];
