@@ -397,10 +397,9 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                 wgt = emitters[k].inv_pdf * cos_e * et->area / fmax(d2, SPM_D2_MIN_REL * et->area) *
                       fabs(cos_i) / SPM_PI_F;
 #endif
-                float es;
-                uint ec = vertex_emission(em, cos_e, &es);
                 if (wgt > 0.0f) {
-                    eid = ec;
+                    float es;
+                    eid = vertex_emission(em, cos_e, &es);
                     c = wgt * es * rrw;
                 }
             }

@@ -290,7 +290,7 @@ static void generic_fill(const spm_mtype_desc *t, const spm_scene *sc,
             double m = colour_mean(sc, q->slot == SPM_MSLOT_REFL   ? s->refl
                                        : q->slot == SPM_MSLOT_COL2 ? s->col2
                                                                    : s->col3);
-            mean = any ? fmax(mean, m) : m;
+            mean = fmax(mean, m); /* colour means are >= 0 */
             any = 1;
         }
     }
