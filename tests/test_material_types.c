@@ -26,6 +26,18 @@ static void descriptors(void)
                   "type %d of table %d draws %d dimensions (at most %u)", i, k, d->rng_dims, half);
             CHECK(d->define && !strncmp(d->define, "SPM_WITH_", 9), "type %d: define", i);
             CHECK(d->nparams <= SPM_MTYPE_MAX_PARAMS, "type %d: %d parameters", i, d->nparams);
+            /* a number's slot indexes p[] or ep[] (the generic fill copies it there) */
+            for (int q = 0; q < d->nparams && q < SPM_MTYPE_MAX_PARAMS; q++) {
+                const spm_mparam *pa = &d->params[q];
+                int into_p = pa->kind == SPM_MP_NUMBER || pa->kind == SPM_MP_INDEX ||
+                             pa->kind == SPM_MP_FILE;
+                if (into_p)
+                    CHECK(pa->slot >= 0 && pa->slot < SPM_MAT_PARAMS,
+                          "type %d of table %d: parameter %d's slot %d outside p[]", i, k, q, pa->slot);
+                if (pa->kind == SPM_MP_EMIT_NUMBER)
+                    CHECK(pa->slot >= 0 && pa->slot < SPM_EMIT_PARAMS,
+                          "type %d of table %d: parameter %d's slot %d outside ep[]", i, k, q, pa->slot);
+            }
         }
     CHECK(spm_material_type_default()->tag == SPM_MAT_LAMBERT, "the default type is Lambertian");
 }
