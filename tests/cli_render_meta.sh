@@ -86,6 +86,10 @@ stages = [l for l in text.split("\n") if l.startswith("stages")]
 assert len(stages) == 1, text
 for word in ("load", "BVH", "tables+pretest", "kernel build", "render", "output", "total"):
     assert word in stages[0], text
+# every figure on a line of its own label (the text is for people, JSON stays in stdout)
+for label in ("scene", "bvh", "memory", "render", "kernels", "paths", "device 0"):
+    assert [l for l in text.split("\n") if l.startswith(label + " ")], (label, text)
+assert "{" not in text and '": ' not in text, text
 assert d["spp"] == 2 and d["spp_requested"] == 2
 if mode in ("ml", "mlc"):
     assert sum(l["paths"] for l in d["levels"]) == d["paths"], d["levels"]

@@ -84,8 +84,9 @@ void spm_render_stats_text(FILE *f, const spm_render_config *c, const spm_render
                "   render %.3f s   output %.3f s   total %.3f s\n",
             st->load_s, st->bvh_s, st->tables_s, st->kernels_s, st->render_s, st->output_s,
             stages_total(st));
-    fprintf(f, ", \"compiled_during_timing\": %s",
-            st->compiled_in_render < 0 ? "null" : st->compiled_in_render ? "true" : "false");
+    if (st->compiled_in_render > 0)
+        fprintf(f, "             (a kernel compiled during the timed render: its time includes "
+                   "the compile)\n");
     const spm_geometry *g = &s->geom;
     fprintf(f, "bvh          %d triangles   %d nodes   %d leaves   SAH cost %.3f   %d threads\n",
             g->ntris, g->nnodes, g->bvh.leaves, g->bvh.sah_cost, g->bvh.threads);
