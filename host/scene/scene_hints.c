@@ -3,55 +3,89 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct {
-    float p[3];
-    uint32_t at; /* 3 * triangle + corner */
-} corner;
-
-static int corner_cmp(const void *a, const void *b)
+/* A position's bits, with -0 made +0 so that equal values share one key. */
+static void position_bits(const float *p, uint32_t k[3])
 {
-    const float *p = ((const corner *)a)->p, *q = ((const corner *)b)->p;
-    for (int i = 0; i < 3; i++)
-        if (p[i] != q[i])
-            return p[i] < q[i] ? -1 : 1;
-    return 0;
+    for (int i = 0; i < 3; i++) {
+        float x = p[i] + 0.0f;
+        memcpy(&k[i], &x, sizeof k[i]);
+    }
 }
 
-static int u64_cmp(const void *a, const void *b)
+static uint32_t hash3(const uint32_t k[3])
 {
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return (x > y) - (x < y);
+    uint32_t h = k[0] * 0x9e3779b1u ^ k[1] * 0x85ebca77u ^ k[2] * 0xc2b2ae3du;
+    h ^= h >> 16; /* murmur3's finaliser: every input bit reaches the low bits */
+    h *= 0x85ebca6bu;
+    h ^= h >> 13;
+    h *= 0xc2b2ae35u;
+    return h ^ h >> 16;
 }
 
-/* Vertices numbered by position (sorted corners, equal runs one id), then the
- * edges as (lower id, higher id) keys, sorted: closed when every run of equal
- * keys is two long. O(n log n). */
+/* Sorts keys a[0, n) of at most `bits` significant bits, LSD radix by bytes
+ * (tmp holds n keys). */
+static void radix_sort_u64(uint64_t *a, uint64_t *tmp, size_t n, int bits)
+{
+    for (int shift = 0; shift < bits; shift += 8) {
+        size_t count[257] = {0};
+        for (size_t k = 0; k < n; k++)
+            count[(a[k] >> shift & 0xff) + 1]++;
+        for (int d = 0; d < 256; d++)
+            count[d + 1] += count[d];
+        for (size_t k = 0; k < n; k++)
+            tmp[count[a[k] >> shift & 0xff]++] = a[k];
+        uint64_t *t = a;
+        a = tmp;
+        tmp = t;
+    }
+    if ((bits + 7) / 8 % 2) /* an odd number of passes left the keys in tmp */
+        memcpy(tmp, a, n * sizeof *a);
+}
+
+/* Vertices numbered by position (an open-addressing table of corners keyed
+ * on the position's bits: a mesh's corners repeat each vertex ~6 times close
+ * together, so most lookups hit the cache), then the edges as (lower id,
+ * higher id) keys, radix-sorted: closed when every key occurs exactly twice.
+ * O(n). */
 int spm_tris_closed(const spm_scene_tri *t, int n)
 {
     if (n < 4) /* a tetrahedron is the smallest closed mesh */
         return 0;
-    size_t nc = 3 * (size_t)n;
-    corner *c = spm_xmalloc(nc * sizeof *c);
-    for (size_t k = 0; k < nc; k++) {
-        memcpy(c[k].p, t[k / 3].p[k % 3], sizeof c[k].p);
-        c[k].at = (uint32_t)k;
-    }
-    qsort(c, nc, sizeof *c, corner_cmp);
+    size_t nc = 3 * (size_t)n, cap = 1;
+    while (cap < 2 * nc) /* load at most 1/2 */
+        cap <<= 1;
+    uint32_t *slot = spm_xmalloc(cap * sizeof *slot); /* corner + 1, 0 = empty */
+    memset(slot, 0, cap * sizeof *slot);
     uint32_t *id = spm_xmalloc(nc * sizeof *id);
-    uint32_t next = 0;
+    uint32_t nv = 0;
     for (size_t k = 0; k < nc; k++) {
-        if (k && corner_cmp(&c[k - 1], &c[k]))
-            next++;
-        id[c[k].at] = next;
+        uint32_t key[3], other[3];
+        position_bits(t[k / 3].p[k % 3], key);
+        for (size_t h = hash3(key) & (cap - 1);; h = (h + 1) & (cap - 1)) {
+            if (!slot[h]) {
+                slot[h] = (uint32_t)k + 1;
+                id[k] = nv++;
+                break;
+            }
+            size_t j = slot[h] - 1;
+            position_bits(t[j / 3].p[j % 3], other);
+            if (!memcmp(key, other, sizeof key)) {
+                id[k] = id[j];
+                break;
+            }
+        }
     }
-    free(c);
-    uint64_t *e = spm_xmalloc(nc * sizeof *e);
+    free(slot);
+    int idbits = 1;
+    while (idbits < 32 && (nv - 1) >> idbits)
+        idbits++;
+    uint64_t *e = spm_xmalloc(2 * nc * sizeof *e);
     for (size_t k = 0; k < nc; k++) {
         uint64_t a = id[k], b = id[k - k % 3 + (k % 3 + 1) % 3];
-        e[k] = a < b ? a << 32 | b : b << 32 | a;
+        e[k] = a < b ? a << idbits | b : b << idbits | a;
     }
     free(id);
-    qsort(e, nc, sizeof *e, u64_cmp);
+    radix_sort_u64(e, e + nc, nc, 2 * idbits);
     int closed = 1;
     for (size_t k = 0; k < nc && closed; k += 2)
         closed = k + 1 < nc && e[k] == e[k + 1] && (k + 2 >= nc || e[k + 2] != e[k]);

@@ -4,12 +4,12 @@
 #include "scene.h"
 
 /* Whether triangles t[0, n) are closed: every edge (its two vertices, matched
- * bit for bit, in either order) shared by exactly two of them. */
+ * by value, -0 = +0, in either order) shared by exactly two of them. */
 int spm_tris_closed(const spm_scene_tri *t, int n);
 /* Warns, per mesh statement, when the camera is inside the mesh's bounding
  * box and the mesh is closed: its inside faces may be all the camera sees.
  * Reads s->tris, so call it before they are consumed. Meshes above
  * SPM_HINT_CLOSED_MAX_TRIS triangles are not checked. */
 void spm_scene_hint_camera_inside(const spm_scene *s);
-#define SPM_HINT_CLOSED_MAX_TRIS (1 << 21) /* 2M triangles: 150 MB of edge keys at most */
+#define SPM_HINT_CLOSED_MAX_TRIS (1 << 21) /* 2M triangles: 100 MB of keys at most */
 #endif
