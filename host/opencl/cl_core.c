@@ -1,5 +1,6 @@
 /* OpenCL plumbing: listing, contexts, program builds, error names. */
 #include "cl_core.h"
+#include "cl_contract.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -300,6 +301,8 @@ int spm_cl_build(spm_cl_ctx *c, const char *const *files, int nfiles, const char
                  cl_program *out, spm_error *err)
 {
     *out = NULL;
+    if (spm_cl_contract_check(err))
+        return 1;
     char **src = spm_xcalloc((size_t)nfiles, sizeof *src);
     int ok = 1;
     char path[4096];
