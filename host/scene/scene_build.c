@@ -57,10 +57,7 @@ static void *reserve(void *p, int count, int *cap, size_t elem)
 
 static void spectrum_key(const spm_spectrum *sp, char *key, size_t size)
 {
-    uint64_t h = 1469598103934665603ull; /* FNV-1a over the bins' bytes */
-    const unsigned char *p = (const unsigned char *)sp->nm1;
-    for (size_t i = 0; i < sizeof sp->nm1; i++)
-        h = (h ^ p[i]) * 1099511628211ull;
+    uint64_t h = spm_fnv1a64(SPM_FNV1A64_BASIS, sp->nm1, sizeof sp->nm1); /* the bins' bytes */
     snprintf(key, size, "%d:%016llx", (int)sp->kind, (unsigned long long)h);
 }
 

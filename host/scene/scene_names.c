@@ -4,13 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static uint64_t hash(const char *s)
-{
-    uint64_t h = 1469598103934665603ull; /* FNV-1a */
-    for (; *s; s++)
-        h = (h ^ (unsigned char)*s) * 1099511628211ull;
-    return h;
-}
+static uint64_t hash(const char *s) { return spm_fnv1a64(SPM_FNV1A64_BASIS, s, strlen(s)); }
 
 void spm_names_init(spm_names *t) { memset(t, 0, sizeof *t); }
 

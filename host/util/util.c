@@ -42,6 +42,14 @@ void *spm_xcalloc(size_t c, size_t s) { return check(calloc(c ? c : 1, s ? s : 1
 void *spm_xrealloc(void *p, size_t n) { return check(realloc(p, n ? n : 1), n); }
 char *spm_xstrdup(const char *s) { return strcpy(spm_xmalloc(strlen(s) + 1), s); }
 
+uint64_t spm_fnv1a64(uint64_t h, const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ b[i]) * 1099511628211ull;
+    return h;
+}
+
 double spm_now(void)
 {
     struct timespec ts;

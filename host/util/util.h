@@ -2,6 +2,7 @@
 #ifndef SPM_UTIL_H
 #define SPM_UTIL_H
 #include <stddef.h>
+#include <stdint.h>
 #include <stdarg.h>
 #include <stdio.h>
 #ifdef __cplusplus
@@ -37,6 +38,13 @@ char *spm_xstrdup(const char *s);
  * proves a process rendered without reading any scene file. */
 FILE *spm_fopen_input(const char *path, const char *mode);
 extern const char *spm_input_files_refused;
+
+/* FNV-1a, 64 bits: h = (h ^ byte) * 1099511628211 over the n bytes at p, from h
+ * (SPM_FNV1A64_BASIS to start), for the host's hash tables and keys. Bit k of
+ * the result depends on bits 0..k of every byte, so a power-of-two table of
+ * 256 slots or more, masking the low bits, sees every input bit. */
+#define SPM_FNV1A64_BASIS 1469598103934665603ull
+uint64_t spm_fnv1a64(uint64_t h, const void *p, size_t n);
 
 /* Monotonic wall clock in seconds. */
 double spm_now(void);
