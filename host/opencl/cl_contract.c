@@ -31,8 +31,8 @@ int spm_cl_contract_check(spm_error *err)
                             "compiled from that tree would not match the host's structs and "
                             "arguments (rebuild specmip there, or set SPECMIP_DATA to the "
                             "tree it was built from)",
-                       path, access(path, F_OK) == 0 ? "differs from" : "missing, unlike", SPM_SOURCE_DIR,
-                       c->path);
+                       path, access(path, F_OK) == 0 ? "differs from" : "missing, unlike",
+                       SPM_SOURCE_DIR, c->path);
             return 1;
         }
     return 0;

@@ -12,10 +12,13 @@ static void position_bits(const float *p, uint32_t k[3])
     }
 }
 
+/* A position's hash: three independent products and murmur3's finaliser (which
+ * brings every bit to the low ones a table masks). Not spm_fnv1a64: its twelve
+ * dependent multiplies per corner cost the 1M sphere's check 0.1 s more. */
 static uint32_t hash3(const uint32_t k[3])
 {
     uint32_t h = k[0] * 0x9e3779b1u ^ k[1] * 0x85ebca77u ^ k[2] * 0xc2b2ae3du;
-    h ^= h >> 16; /* murmur3's finaliser: every input bit reaches the low bits */
+    h ^= h >> 16;
     h *= 0x85ebca6bu;
     h ^= h >> 13;
     h *= 0xc2b2ae35u;
