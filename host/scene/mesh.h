@@ -112,7 +112,7 @@ typedef struct {
 #define SPM_MESH_WIRE_HEAD 32
 #define SPM_MESH_WIRE_NORMALS 1u
 
-/* Imports `path` in a child process (a PLY with triangle strips: by
+/* Imports `path` in a child process (a PLY file of triangles or strips: by
  * mesh_ply.c, in this process). Errors name `path` (and what Assimp said);
  * a crash or a limit hit in the child is an error; a stop request (Ctrl-C)
  * kills the child and fails with "interrupted". */

@@ -452,10 +452,12 @@ static int child_error(const char *path, int status, spm_error *err)
 int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err)
 {
     memset(out, 0, sizeof *out);
-    /* Assimp 5.2 makes one triangle of a PLY's strips (upstream issue 2337,
-     * fixed after 5.2): such a file is read by the project's own code */
-    if (ends_with_ci(path, ".ply") && spm_ply_has_strips(path))
-        return spm_ply_read(path, out, err);
+    /* PLY by the project's own reader (mesh_ply.h), but for polygons */
+    if (ends_with_ci(path, ".ply")) {
+        int rc = spm_ply_read(path, out, err);
+        if (rc != SPM_PLY_POLYGONS)
+            return rc;
+    }
     int fds[2];
     if (pipe(fds)) {
         spm_errorf(err, "%s: cannot start the importer: %s", path, strerror(errno));

@@ -34,6 +34,10 @@ typedef struct {
 
 enum { F_ASCII, F_LE, F_BE };
 
+/* Binary values come out of a block read ahead (a call to fread per value
+ * was most of a 1M-triangle file's reading time); ASCII tokens from getc. */
+#define PLY_BLOCK 65536
+
 typedef struct {
     FILE *f;
     const char *path;
@@ -44,6 +48,10 @@ typedef struct {
     const ply_elem *e;   /* where reading is, for messages */
     uint64_t item;
     int failed;
+    int strips;          /* the header declares tristrips */
+    int polygon;         /* a face of more than three vertices, in a file without strips */
+    unsigned char *block; /* binary: PLY_BLOCK bytes read ahead, [at, have) unread */
+    size_t at, have;
 } reader;
 
 static void fail(reader *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -104,6 +112,51 @@ static int token(reader *r, char tok[64])
 static const double type_min[] = {0, -128, 0, -32768, 0, -2147483648.0, 0, 0, 0};
 static const double type_max[] = {0, 127, 255, 32767, 65535, 2147483647.0, 4294967295.0, 0, 0};
 
+/* The next n (<= PLY_BLOCK) bytes of a binary file, consumed, or NULL at its end. */
+static const unsigned char *need(reader *r, size_t n)
+{
+    if (r->have - r->at < n) {
+        size_t left = r->have - r->at;
+        memmove(r->block, r->block + r->at, left);
+        r->at = 0;
+        r->have = left + fread(r->block + left, 1, PLY_BLOCK - left, r->f);
+        if (r->have < n) {
+            fail(r, "the file ends before the element's %llu items",
+                 (unsigned long long)r->e->count);
+            return NULL;
+        }
+    }
+    const unsigned char *b = r->block + r->at;
+    r->at += n;
+    r->offset += (uint64_t)n;
+    return b;
+}
+
+/* The binary value of type t at p, bytes reversed when swap, as a double
+ * (every integer type is exact in one). */
+static inline double decode(const unsigned char *p, ply_type t, int swap)
+{
+    unsigned char b[8];
+    int n = type_size[t];
+    memcpy(b, p, (size_t)n);
+    if (swap)
+        for (int i = 0; i < n / 2; i++) {
+            unsigned char x = b[i];
+            b[i] = b[n - 1 - i];
+            b[n - 1 - i] = x;
+        }
+    switch (t) {
+    case P_I8: return (int8_t)b[0];
+    case P_U8: return b[0];
+    case P_I16: { int16_t x; memcpy(&x, b, 2); return x; }
+    case P_U16: { uint16_t x; memcpy(&x, b, 2); return x; }
+    case P_I32: { int32_t x; memcpy(&x, b, 4); return x; }
+    case P_U32: { uint32_t x; memcpy(&x, b, 4); return x; }
+    case P_F32: { float x; memcpy(&x, b, 4); return x; }
+    default: { double x; memcpy(&x, b, 8); return x; }
+    }
+}
+
 /* One value of type t as a double (every integer type is exact in one). */
 static int value(reader *r, ply_type t, double *v)
 {
@@ -129,29 +182,10 @@ static int value(reader *r, ply_type t, double *v)
         }
         return 0;
     }
-    unsigned char b[8];
-    int n = type_size[t];
-    if (fread(b, 1, (size_t)n, r->f) != (size_t)n) {
-        fail(r, "the file ends before the element's %llu items", (unsigned long long)r->e->count);
+    const unsigned char *b = need(r, (size_t)type_size[t]);
+    if (!b)
         return 1;
-    }
-    r->offset += (uint64_t)n;
-    if (r->swap)
-        for (int i = 0; i < n / 2; i++) {
-            unsigned char x = b[i];
-            b[i] = b[n - 1 - i];
-            b[n - 1 - i] = x;
-        }
-    switch (t) {
-    case P_I8: *v = (int8_t)b[0]; break;
-    case P_U8: *v = b[0]; break;
-    case P_I16: { int16_t x; memcpy(&x, b, 2); *v = x; } break;
-    case P_U16: { uint16_t x; memcpy(&x, b, 2); *v = x; } break;
-    case P_I32: { int32_t x; memcpy(&x, b, 4); *v = x; } break;
-    case P_U32: { uint32_t x; memcpy(&x, b, 4); *v = x; } break;
-    case P_F32: { float x; memcpy(&x, b, 4); *v = x; } break;
-    default: { double x; memcpy(&x, b, 8); *v = x; } break;
-    }
+    *v = decode(b, t, r->swap);
     return 0;
 }
 
@@ -374,9 +408,28 @@ static int read_indices(reader *r, ply_mesh *m, const ply_prop *p, int strip)
     }
     if (!strip && count < 3)
         m->ignored |= SPM_MESH_IGN_POINTS_LINES;
+    if (!strip && count > 3 && !r->strips) { /* Assimp's triangulation: the caller's */
+        r->polygon = r->failed = 1;
+        return 1;
+    }
+    /* binary: the whole list at once, r->offset kept at the index being read for messages */
+    size_t isz = (size_t)type_size[p->type];
+    const unsigned char *bulk = NULL;
+    uint64_t at = r->offset;
+    if (r->format != F_ASCII && count * (double)isz <= PLY_BLOCK) {
+        if (!(bulk = need(r, (size_t)count * isz)))
+            return 1;
+        r->offset = at;
+    }
     int have = 0, odd = 0;
     for (double k = 0; k < count; k++) {
-        if (value(r, p->type, &i) || !index_ok(r, m, i, strip))
+        if (bulk) {
+            i = decode(bulk + (size_t)k * isz, p->type, r->swap);
+            r->offset += isz;
+        } else if (value(r, p->type, &i)) {
+            return 1;
+        }
+        if (!index_ok(r, m, i, strip))
             return 1;
         if (strip && i == -1) {
             have = odd = 0;
@@ -466,6 +519,33 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
     }
     if (e->nprops == 0)
         return (r->e = NULL, 0); /* no bytes to read: any count costs nothing */
+    /* binary vertices of scalar properties: a record of fixed size at a time */
+    size_t rec = 0, at[6];
+    int scalar = is_v && r->format != F_ASCII;
+    for (int k = 0; k < e->nprops && scalar; k++) {
+        for (int c = 0; c < 6; c++)
+            if (k == (c < 3 ? xyz[c] : nxyz[c - 3]))
+                at[c] = rec;
+        scalar = e->props[k].count_type == P_NONE;
+        rec += (size_t)type_size[e->props[k].type];
+    }
+    for (; scalar && r->item < e->count; r->item++) {
+        if ((r->item & 0xffff) == 0 && spm_stop_requested()) {
+            spm_errorf(r->err, "interrupted while loading %s", r->path);
+            r->failed = 1;
+            return 1;
+        }
+        const unsigned char *b = need(r, rec);
+        if (!b)
+            return 1;
+        if (m->nv == m->capv) {
+            m->capv = m->capv ? 2 * m->capv : 1024;
+            m->v = spm_xrealloc(m->v, m->capv * (uint64_t)m->vstride * sizeof *m->v);
+        }
+        float *v = &m->v[(uint64_t)m->vstride * m->nv++];
+        for (int c = 0; c < m->vstride; c++)
+            v[c] = (float)decode(b + at[c], e->props[c < 3 ? xyz[c] : nxyz[c - 3]].type, r->swap);
+    }
     for (; r->item < e->count; r->item++) {
         if ((r->item & 0xffff) == 0 && spm_stop_requested()) {
             spm_errorf(r->err, "interrupted while loading %s", r->path);
@@ -507,12 +587,18 @@ int spm_ply_read(const char *path, spm_mesh_data *out, spm_error *err)
         spm_errorf(err, "%s: cannot open: %s", path, strerror(errno));
         return 1;
     }
-    reader r = {f, path, err, 0, 0, 0, 0, NULL, 0, 0};
+    reader r;
+    memset(&r, 0, sizeof r);
+    r.f = f, r.path = path, r.err = err;
     static ply_header h; /* 64 elements of 64 properties: kept off the stack */
     ply_mesh m;
     memset(&m, 0, sizeof m);
     int rc = parse_header(&r, &h);
     if (!rc) {
+        for (int i = 0; i < h.nelems; i++)
+            r.strips |= !strcmp(h.elems[i].name, "tristrips");
+        if (h.format != F_ASCII)
+            r.block = spm_xmalloc(PLY_BLOCK);
         uint16_t one = 1;
         int little = *(unsigned char *)&one == 1;
         r.format = h.format;
@@ -523,6 +609,13 @@ int spm_ply_read(const char *path, spm_mesh_data *out, spm_error *err)
             rc = read_element(&r, &m, &h.elems[i]);
     }
     fclose(f);
+    free(r.block);
+    if (r.polygon) {
+        free(m.v);
+        free(m.t);
+        free(m.tn);
+        return SPM_PLY_POLYGONS;
+    }
     if (!rc && !m.have_vertices) {
         spm_errorf(err, "%s: the file has no vertex element", path);
         rc = 1;
@@ -541,23 +634,4 @@ int spm_ply_read(const char *path, spm_mesh_data *out, spm_error *err)
     free(m.t);
     free(m.tn);
     return rc;
-}
-
-int spm_ply_has_strips(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return 0;
-    char line[256];
-    int strips = 0, ply = 0;
-    for (int n = 0; n < SPM_PLY_MAX_HEADER_LINES && fgets(line, sizeof line, f); n++) {
-        if (n == 0)
-            ply = !strncmp(line, "ply", 3) && (line[3] == '\n' || line[3] == '\r');
-        if (!ply || !strncmp(line, "end_header", 10))
-            break;
-        strips |= !strncmp(line, "element tristrips", 17) &&
-                  (line[17] == ' ' || line[17] == '\t');
-    }
-    fclose(f);
-    return ply && strips;
 }
