@@ -1,7 +1,9 @@
 /* The closed-mesh test behind the camera-inside hint: closed and open meshes
- * (a tetrahedron, a torus grid large enough that vertex numbers take several
- * radix passes), an edge shared by four faces, a corner written as -0, and the
- * order of the triangles not mattering. */
+ * (a tetrahedron, a torus grid, a bipyramid whose apexes have more edges than
+ * the insertion sort takes, two-sided triangles: the most vertices a closed
+ * mesh can have, past the position table's first size), an edge shared by
+ * four faces, a corner written as -0, and the order of the triangles not
+ * mattering. */
 #include "scene_hints.h"
 #include "testutil.h"
 #include <math.h>
@@ -40,6 +42,37 @@ static spm_scene_tri *torus(int nu, int nv, int *n)
     return t;
 }
 
+/* A bipyramid of 2 * sides faces about the z axis: its apexes have `sides` edges each. */
+static spm_scene_tri *bipyramid(int sides, int *n)
+{
+    *n = 2 * sides;
+    spm_scene_tri *t = malloc((size_t)*n * sizeof *t);
+    const float top[3] = {0, 0, 1}, bottom[3] = {0, 0, -1};
+    for (int i = 0; i < sides; i++) {
+        float a[3] = {(float)cos(2 * M_PI * i / sides), (float)sin(2 * M_PI * i / sides), 0};
+        float b[3] = {(float)cos(2 * M_PI * (i + 1) / sides),
+                      (float)sin(2 * M_PI * (i + 1) / sides), 0};
+        if (i + 1 == sides)
+            b[0] = 1, b[1] = 0;
+        tri(&t[2 * i], top, a, b);
+        tri(&t[2 * i + 1], bottom, b, a);
+    }
+    return t;
+}
+
+/* m separate triangles, each twice (the second reversed): closed, 3m vertices for 2m faces. */
+static spm_scene_tri *two_sided(int m, int *n)
+{
+    *n = 2 * m;
+    spm_scene_tri *t = malloc((size_t)*n * sizeof *t);
+    for (int i = 0; i < m; i++) {
+        float a[3] = {(float)i, 0, 0}, b[3] = {(float)i + 0.5f, 0, 0}, c[3] = {(float)i, 1, 0};
+        tri(&t[2 * i], a, b, c);
+        tri(&t[2 * i + 1], a, c, b);
+    }
+    return t;
+}
+
 int main(void)
 {
     const float v[5][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, -1}};
@@ -65,7 +98,7 @@ int main(void)
     CHECK(!spm_tris_closed(t, 4), "a corner moved by 1e-30 does not");
 
     int n;
-    spm_scene_tri *g = torus(400, 300, &n); /* 120000 vertices: 17-bit ids, 34-bit keys, five (odd) radix passes */
+    spm_scene_tri *g = torus(400, 300, &n); /* 120000 vertices */
     CHECK(spm_tris_closed(g, n), "a torus of %d triangles is closed", n);
     for (int k = 0; k < n / 2; k++) { /* reversed order */
         spm_scene_tri s = g[k];
@@ -77,9 +110,25 @@ int main(void)
     g[n / 2].p[1][2] = nextafterf(g[n / 2].p[1][2], 2.0f);
     CHECK(!spm_tris_closed(g, n), "the torus with one corner moved by an ulp is open");
     free(g);
-    g = torus(12, 10, &n); /* 120 vertices: 14-bit keys, two (even) radix passes */
+    g = torus(12, 10, &n); /* 120 vertices */
     CHECK(spm_tris_closed(g, n), "a torus of %d triangles is closed", n);
     CHECK(!spm_tris_closed(g, n - 1), "the small torus less one triangle is open");
+    free(g);
+    g = bipyramid(100, &n);
+    CHECK(spm_tris_closed(g, n), "a bipyramid of %d faces is closed", n);
+    CHECK(!spm_tris_closed(g + 1, n - 1), "the bipyramid less one face is open");
+    free(g);
+    g = two_sided(5000, &n); /* 15000 vertices: more than a table of 16384 slots holds at half load */
+    CHECK(spm_tris_closed(g, n), "%d two-sided triangles are closed", n / 2);
+    CHECK(!spm_tris_closed(g, n - 1), "less one side, open");
+    g[2 * 4000].p[2][1] = 2; /* one triangle's third corner moved on both sides */
+    g[2 * 4000 + 1].p[1][1] = 2;
+    CHECK(spm_tris_closed(g, n), "still closed with a corner moved on both sides");
+    g[2 * 4000 + 1].p[1][1] = 3;
+    CHECK(!spm_tris_closed(g, n), "open with it moved on one side only");
+    for (int k = 0; k < n; k += 2) /* one side each: 3m vertices for m faces */
+        g[k / 2] = g[k];
+    CHECK(!spm_tris_closed(g, n / 2), "a soup of %d triangles is open", n / 2);
     free(g);
     TEST_END();
 }

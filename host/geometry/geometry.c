@@ -1,5 +1,6 @@
 /* Scene triangles in MiniLight's form, the emitter list and the camera. */
 #include "geometry.h"
+#include <pthread.h>
 #include "colour.h"
 #include "materials.h"
 #include "util.h"
@@ -152,16 +153,37 @@ static void list_emitters(const spm_scene *sc, spm_geometry *g)
     free(w);
 }
 
-static int build(spm_scene *owned, const spm_scene *scene, spm_geometry *g, spm_error *err)
+typedef struct {
+    void (*fn)(const spm_scene *);
+    const spm_scene *scene;
+} beside_task;
+
+static void *run_beside(void *arg)
+{
+    const beside_task *b = arg;
+    b->fn(b->scene);
+    return NULL;
+}
+
+static int build(spm_scene *owned, void (*beside)(const spm_scene *), const spm_scene *scene,
+                 spm_geometry *g, spm_error *err)
 {
     memset(g, 0, sizeof *g);
+    beside_task task = {beside, scene};
+    pthread_t th;
+    int threaded = beside && pthread_create(&th, NULL, run_beside, &task) == 0;
+    if (beside && !threaded)
+        beside(scene);
+    int rc = 0;
     g->ntris = scene->ntris;
     g->tris = spm_xcalloc((size_t)scene->ntris + 1, sizeof *g->tris);
-    for (int i = 0; i < scene->ntris; i++) {
-        if (make_tri(scene, &scene->tris[i], &g->tris[i], err)) {
-            spm_geometry_free(g);
-            return 1;
-        }
+    for (int i = 0; i < scene->ntris && !rc; i++)
+        rc = make_tri(scene, &scene->tris[i], &g->tris[i], err);
+    if (threaded)
+        pthread_join(th, NULL);
+    if (rc) {
+        spm_geometry_free(g);
+        return 1;
     }
     g->nvn = scene->nvnormals;
     if (g->nvn) { /* the smooth triangles' normals, indexed by vn: the BVH's order does not move them */
@@ -191,12 +213,13 @@ static int build(spm_scene *owned, const spm_scene *scene, spm_geometry *g, spm_
 
 int spm_geometry_build(const spm_scene *scene, spm_geometry *g, spm_error *err)
 {
-    return build(NULL, scene, g, err);
+    return build(NULL, NULL, scene, g, err);
 }
 
-int spm_geometry_build_consume(spm_scene *scene, spm_geometry *g, spm_error *err)
+int spm_geometry_build_consume(spm_scene *scene, void (*beside)(const spm_scene *),
+                               spm_geometry *g, spm_error *err)
 {
-    return build(scene, scene, g, err);
+    return build(scene, beside, scene, g, err);
 }
 
 void spm_geometry_free(spm_geometry *g)

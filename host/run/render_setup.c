@@ -153,8 +153,8 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
     spm_render_size(c->width, c->height, &s->scene.width, &s->scene.height);
     double t1 = spm_now();
     s->times.load_s = t1 - t0;
-    spm_scene_hint_camera_inside(&s->scene); /* before the triangles are consumed */
-    rc = spm_geometry_build_consume(&s->scene, &s->geom, err);
+    /* the hint reads the triangles beside their conversion, before they are freed */
+    rc = spm_geometry_build_consume(&s->scene, spm_scene_hint_camera_inside, &s->geom, err);
     double t2 = spm_now();
     s->times.bvh_s = t2 - t1;
     if (rc)

@@ -25,74 +25,139 @@ static uint32_t hash3(const uint32_t k[3])
     return h ^ h >> 16;
 }
 
-/* Sorts keys a[0, n) of at most `bits` significant bits, LSD radix by bytes
- * (tmp holds n keys). */
-static void radix_sort_u64(uint64_t *a, uint64_t *tmp, size_t n, int bits)
+static int cmp_u32(const void *a, const void *b)
 {
-    for (int shift = 0; shift < bits; shift += 8) {
-        size_t count[257] = {0};
-        for (size_t k = 0; k < n; k++)
-            count[(a[k] >> shift & 0xff) + 1]++;
-        for (int d = 0; d < 256; d++)
-            count[d + 1] += count[d];
-        for (size_t k = 0; k < n; k++)
-            tmp[count[a[k] >> shift & 0xff]++] = a[k];
-        uint64_t *t = a;
-        a = tmp;
-        tmp = t;
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* Sorts a[0, n): insertion for the few edges a vertex usually has, qsort for
+ * a fan's many (no quadratic case). */
+static void sort_u32(uint32_t *a, size_t n)
+{
+    if (n > 32) {
+        qsort(a, n, sizeof *a, cmp_u32);
+        return;
     }
-    if ((bits + 7) / 8 % 2) /* an odd number of passes left the keys in tmp */
-        memcpy(tmp, a, n * sizeof *a);
+    for (size_t i = 1; i < n; i++) {
+        uint32_t x = a[i];
+        size_t j = i;
+        for (; j > 0 && a[j - 1] > x; j--)
+            a[j] = a[j - 1];
+        a[j] = x;
+    }
+}
+
+/* A table slot: the first corner with its position (+ 1; 0 = empty) and the
+ * position's hash, so that a probe reads the triangles only when the hashes
+ * agree (and one cache line holds both). */
+typedef struct {
+    uint32_t corner, hash;
+} slot;
+
+/* The slot of position `key` (hash h) in a table of cap slots: its own, or
+ * the empty one it would take. */
+static size_t find_slot(const slot *tab, size_t cap, const spm_scene_tri *t,
+                        const uint32_t key[3], uint32_t h)
+{
+    for (size_t s = h & (cap - 1);; s = (s + 1) & (cap - 1)) {
+        if (!tab[s].corner)
+            return s;
+        if (tab[s].hash != h)
+            continue;
+        uint32_t other[3];
+        size_t j = tab[s].corner - 1;
+        position_bits(t[j / 3].p[j % 3], other);
+        if (!memcmp(key, other, sizeof other))
+            return s;
+    }
 }
 
 /* Vertices numbered by position (an open-addressing table of corners keyed
- * on the position's bits: a mesh's corners repeat each vertex ~6 times close
- * together, so most lookups hit the cache), then the edges as (lower id,
- * higher id) keys, radix-sorted: closed when every key occurs exactly twice.
- * O(n). */
+ * on the position's bits), then each edge (lower id, higher id) put in its
+ * lower vertex's bucket (a counting sort): closed when in every bucket each
+ * higher id occurs exactly twice. O(n). The table starts at twice a closed
+ * mesh's vertices (about n / 2) and doubles at half full, and each corner's
+ * slot is fetched PREFETCH corners ahead: the table's cache misses were most
+ * of the check's time (0.2 s for the 1M sphere with a table sized for 3n
+ * corners, fetched on demand; radix-sorting the 3n edge keys took 0.08 s).
+ * A closed mesh has at most 3n / 2 vertices (Euler: V = n / 2 + 2C - 2G with
+ * at most n / 2 components, two faces each), so more ends the check early. */
+#define PREFETCH 16
 int spm_tris_closed(const spm_scene_tri *t, int n)
 {
     if (n < 4) /* a tetrahedron is the smallest closed mesh */
         return 0;
-    size_t nc = 3 * (size_t)n, cap = 1;
-    while (cap < 2 * nc) /* load at most 1/2 */
+    size_t nc = 3 * (size_t)n, cap = 1024;
+    while (cap < (size_t)n)
         cap <<= 1;
-    uint32_t *slot = spm_xmalloc(cap * sizeof *slot); /* corner + 1, 0 = empty */
-    memset(slot, 0, cap * sizeof *slot);
+    slot *tab = spm_xcalloc(cap, sizeof *tab);
     uint32_t *id = spm_xmalloc(nc * sizeof *id);
-    uint32_t nv = 0;
-    for (size_t k = 0; k < nc; k++) {
-        uint32_t key[3], other[3];
-        position_bits(t[k / 3].p[k % 3], key);
-        for (size_t h = hash3(key) & (cap - 1);; h = (h + 1) & (cap - 1)) {
-            if (!slot[h]) {
-                slot[h] = (uint32_t)k + 1;
-                id[k] = nv++;
-                break;
+    uint32_t nv = 0, ahead[2 * PREFETCH]; /* hashes of corners c to k */
+    for (size_t k = 0; k < nc + PREFETCH; k++) {
+        uint32_t key[3], h;
+        if (k < nc) { /* corner k hashed and its slot fetched ... */
+            position_bits(t[k / 3].p[k % 3], key);
+            h = ahead[k % (2 * PREFETCH)] = hash3(key);
+            __builtin_prefetch(&tab[h & (cap - 1)]);
+        }
+        if (k < PREFETCH)
+            continue;
+        size_t c = k - PREFETCH; /* ... while corner c is placed */
+        h = ahead[c % (2 * PREFETCH)];
+        position_bits(t[c / 3].p[c % 3], key);
+        size_t s = find_slot(tab, cap, t, key, h);
+        if (tab[s].corner) {
+            id[c] = id[tab[s].corner - 1];
+            continue;
+        }
+        tab[s] = (slot){(uint32_t)c + 1, h};
+        id[c] = nv++;
+        if (nv > nc / 2) /* more than 3n / 2 vertices: open */
+            break;
+        if (2 * (size_t)nv > cap) { /* half full: twice the slots, every entry moved */
+            size_t ncap = 2 * cap;
+            slot *nt = spm_xcalloc(ncap, sizeof *nt);
+            for (size_t i = 0; i < cap; i++) {
+                if (!tab[i].corner)
+                    continue;
+                size_t d = tab[i].hash & (ncap - 1);
+                while (nt[d].corner)
+                    d = (d + 1) & (ncap - 1);
+                nt[d] = tab[i];
             }
-            size_t j = slot[h] - 1;
-            position_bits(t[j / 3].p[j % 3], other);
-            if (!memcmp(key, other, sizeof key)) {
-                id[k] = id[j];
-                break;
-            }
+            free(tab);
+            tab = nt, cap = ncap;
         }
     }
-    free(slot);
-    int idbits = 1;
-    while (idbits < 32 && (nv - 1) >> idbits)
-        idbits++;
-    uint64_t *e = spm_xmalloc(2 * nc * sizeof *e);
+    free(tab);
+    if (nv > nc / 2) {
+        free(id);
+        return 0;
+    }
+    /* start[v] .. start[v + 1]: the higher ends of the edges whose lower end is v */
+    uint32_t *start = spm_xcalloc((size_t)nv + 1, sizeof *start);
+    uint32_t *hi = spm_xmalloc(nc * sizeof *hi);
     for (size_t k = 0; k < nc; k++) {
-        uint64_t a = id[k], b = id[k - k % 3 + (k % 3 + 1) % 3];
-        e[k] = a < b ? a << idbits | b : b << idbits | a;
+        uint32_t a = id[k], b = id[k - k % 3 + (k % 3 + 1) % 3];
+        start[(a < b ? a : b) + 1]++;
+    }
+    for (uint32_t v = 0; v < nv; v++)
+        start[v + 1] += start[v];
+    for (size_t k = 0; k < nc; k++) { /* start[v] moves to the end of v's bucket */
+        uint32_t a = id[k], b = id[k - k % 3 + (k % 3 + 1) % 3];
+        hi[start[a < b ? a : b]++] = a < b ? b : a;
     }
     free(id);
-    radix_sort_u64(e, e + nc, nc, 2 * idbits);
     int closed = 1;
-    for (size_t k = 0; k < nc && closed; k += 2)
-        closed = k + 1 < nc && e[k] == e[k + 1] && (k + 2 >= nc || e[k + 2] != e[k]);
-    free(e);
+    for (uint32_t v = 0, begin = 0; v < nv && closed; begin = start[v++]) {
+        uint32_t *h = hi + begin, d = start[v] - begin;
+        sort_u32(h, d);
+        for (uint32_t k = 0; k < d && closed; k += 2)
+            closed = k + 1 < d && h[k] == h[k + 1] && (k + 2 >= d || h[k + 2] != h[k]);
+    }
+    free(start);
+    free(hi);
     return closed;
 }
 

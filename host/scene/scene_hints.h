@@ -11,5 +11,5 @@ int spm_tris_closed(const spm_scene_tri *t, int n);
  * Reads s->tris, so call it before they are consumed. Meshes above
  * SPM_HINT_CLOSED_MAX_TRIS triangles are not checked. */
 void spm_scene_hint_camera_inside(const spm_scene *s);
-#define SPM_HINT_CLOSED_MAX_TRIS (1 << 21) /* 2M triangles: 120 MB at most (edge keys, their radix buffer, vertex ids) */
+#define SPM_HINT_CLOSED_MAX_TRIS (1 << 21) /* 2M triangles: 88 MB at most (the position table, the corners' vertex ids) */
 #endif
