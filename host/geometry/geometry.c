@@ -1,10 +1,10 @@
 /* Scene triangles in MiniLight's form, the emitter list and the camera. */
 #include "geometry.h"
-#include <pthread.h>
 #include "colour.h"
 #include "materials.h"
 #include "util.h"
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 

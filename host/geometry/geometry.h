@@ -40,8 +40,8 @@ int spm_geometry_build(const spm_scene *scene, spm_geometry *g, spm_error *err);
  * they are converted, before the BVH build: a render needs them no more, and
  * a million of them are 44 MB. `beside`, if not NULL, runs on a thread of its
  * own while they are converted and is done before they are freed: it may
- * only read the scene (the camera-inside hint, 0.2 s for the 1M sphere,
- * takes no time of its own on two cores then). */
+ * only read the scene (the camera-inside hint, which then takes the core
+ * the conversion leaves idle). */
 int spm_geometry_build_consume(spm_scene *scene, void (*beside)(const spm_scene *),
                                spm_geometry *g, spm_error *err);
 void spm_geometry_free(spm_geometry *g);
