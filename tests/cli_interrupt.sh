@@ -65,6 +65,18 @@ for stage in load:3 csv:2 bvh:2 pretest:2; do
     check "$stage: no temporary file" no_temps "$T"
 done
 
+# 1b. While the project's PLY reader reads a mesh, in process (it asks every
+#     65536 items, and first at the vertex element's first).
+python3 "$ROOT/tools/gen_meshes.py" --scale sphere 5000 "$T/s.ply" "$T/s.scene" > /dev/null ||
+  { echo "FAIL: gen_meshes.py --scale"; exit 1; }
+echo old > "$T/o.png"
+paused ply 1 INT "$T/s.scene" "${SMALL[@]}" -o "$T/o.png"
+check "ply: exit 130" test $rc -eq 130
+check "ply: within $BOUND s" in_time
+check "ply: says where" said "interrupted while loading .*s.ply (element vertex, item 1)"
+check "ply: says nothing was written" said "nothing rendered, no image written"
+check "ply: existing output untouched" is_old "$T/o.png"
+
 # 2. Inside the first pass (after its first batch): the pass ends there,
 #    so nothing is rendered and nothing written.
 echo old > "$T/o.png"

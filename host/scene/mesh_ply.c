@@ -471,6 +471,18 @@ static int skip_prop(reader *r, const ply_prop *p)
     return 0;
 }
 
+/* A stop request (Ctrl-C), asked every 65536 items: 1 and the error, naming the item. */
+static int stop_requested(reader *r)
+{
+    spm_test_pause("ply");
+    if (!spm_stop_requested())
+        return 0;
+    spm_errorf(r->err, "interrupted while loading %s (element %s, item %llu)", r->path,
+               r->e->name, (unsigned long long)r->item + 1);
+    r->failed = 1;
+    return 1;
+}
+
 static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
 {
     int is_v = !strcmp(e->name, "vertex");
@@ -530,11 +542,8 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
         rec += (size_t)type_size[e->props[k].type];
     }
     for (; scalar && r->item < e->count; r->item++) {
-        if ((r->item & 0xffff) == 0 && spm_stop_requested()) {
-            spm_errorf(r->err, "interrupted while loading %s", r->path);
-            r->failed = 1;
+        if ((r->item & 0xffff) == 0 && stop_requested(r))
             return 1;
-        }
         const unsigned char *b = need(r, rec);
         if (!b)
             return 1;
@@ -547,11 +556,8 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
             v[c] = (float)decode(b + at[c], e->props[c < 3 ? xyz[c] : nxyz[c - 3]].type, r->swap);
     }
     for (; r->item < e->count; r->item++) {
-        if ((r->item & 0xffff) == 0 && spm_stop_requested()) {
-            spm_errorf(r->err, "interrupted while loading %s", r->path);
-            r->failed = 1;
+        if ((r->item & 0xffff) == 0 && stop_requested(r))
             return 1;
-        }
         for (int k = 0; k < e->nprops; k++) {
             const ply_prop *p = &e->props[k];
             if (k == list) {
