@@ -616,12 +616,8 @@ int spm_ply_read(const char *path, spm_mesh_data *out, spm_error *err)
     }
     fclose(f);
     free(r.block);
-    if (r.polygon) {
-        free(m.v);
-        free(m.t);
-        free(m.tn);
-        return SPM_PLY_POLYGONS;
-    }
+    if (r.polygon)
+        rc = SPM_PLY_POLYGONS;
     if (!rc && !m.have_vertices) {
         spm_errorf(err, "%s: the file has no vertex element", path);
         rc = 1;
