@@ -77,6 +77,29 @@ check "ply: says where" said "interrupted while loading .*s.ply (element vertex,
 check "ply: says nothing was written" said "nothing rendered, no image written"
 check "ply: existing output untouched" is_old "$T/o.png"
 
+# 1c. Within one long list: a strip mesh of 1000 vertices whose one strip
+#     lists 200000 indices (the reader asks every 65536 values of a list too:
+#     its third pause is the one at value 65537, after the vertex element's
+#     and the strip element's first item).
+python3 - "$T/strip.ply" <<'PY' || { echo "FAIL: strip.ply"; exit 1; }
+import struct, sys
+w, n = 500, 200000  # two rows of w vertices, the strip zigzagging along them again and again
+with open(sys.argv[1], 'wb') as f:
+    f.write(b'ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\n'
+            b'property float y\nproperty float z\nelement tristrips 1\n'
+            b'property list int int vertex_indices\nend_header\n' % (2 * w))
+    f.write(b''.join(struct.pack('<3f', c / w - 0.5, r * 0.1, 0.0) for r in (0, 1) for c in range(w)))
+    f.write(struct.pack('<%di' % (n + 1), n, *[(k // 2) % w + w * (k % 2) for k in range(n)]))
+PY
+sed 's|s.ply|strip.ply|' "$T/s.scene" > "$T/strip.scene"
+echo old > "$T/o.png"
+paused ply:3 1 INT "$T/strip.scene" "${SMALL[@]}" -o "$T/o.png"
+check "ply list: exit 130" test $rc -eq 130
+check "ply list: within $BOUND s" in_time
+check "ply list: says where" said "interrupted while loading .*strip.ply (element tristrips, item 1, value 65537 of its list)"
+check "ply list: says nothing was written" said "nothing rendered, no image written"
+check "ply list: existing output untouched" is_old "$T/o.png"
+
 # 2. Inside the first pass (after its first batch): the pass ends there,
 #    so nothing is rendered and nothing written.
 echo old > "$T/o.png"

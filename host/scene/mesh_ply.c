@@ -393,6 +393,27 @@ static int index_ok(reader *r, const ply_mesh *m, double i, int restart_ok)
     return 1;
 }
 
+/* A stop request (Ctrl-C), asked every 65536 items and every 65536 values of
+ * a list (a strip's one list may hold the whole mesh): 1 and the error,
+ * naming the item, and the value when within a list (k > 0). */
+static int stop_requested(reader *r, double k)
+{
+    spm_test_pause("ply");
+    if (!spm_stop_requested())
+        return 0;
+    if (k > 0)
+        spm_errorf(r->err, "interrupted while loading %s (element %s, item %llu, value %.0f of "
+                   "its list)", r->path, r->e->name, (unsigned long long)r->item + 1, k + 1);
+    else
+        spm_errorf(r->err, "interrupted while loading %s (element %s, item %llu)", r->path,
+                   r->e->name, (unsigned long long)r->item + 1);
+    r->failed = 1;
+    return 1;
+}
+
+/* every 65536 values of a list, not at its start (the item's own check) */
+#define LIST_STOP(r, k) ((k) >= 65536.0 && fmod((k), 65536.0) == 0 && stop_requested((r), (k)))
+
 /* The list of face or strip indices: a face's polygon as a fan (v0, vi, vi+1);
  * a strip's triangle j (from its start or last -1) is (vj, vj+1, vj+2), its
  * first two vertices swapped for odd j so that every triangle keeps the
@@ -423,6 +444,8 @@ static int read_indices(reader *r, ply_mesh *m, const ply_prop *p, int strip)
     }
     int have = 0, odd = 0;
     for (double k = 0; k < count; k++) {
+        if (LIST_STOP(r, k))
+            return 1;
         if (bulk) {
             i = decode(bulk + (size_t)k * isz, p->type, r->swap);
             r->offset += isz;
@@ -466,21 +489,9 @@ static int skip_prop(reader *r, const ply_prop *p)
         return 1;
     }
     for (double k = 0; k < count; k++)
-        if (value(r, p->type, &v))
+        if (LIST_STOP(r, k) || value(r, p->type, &v))
             return 1;
     return 0;
-}
-
-/* A stop request (Ctrl-C), asked every 65536 items: 1 and the error, naming the item. */
-static int stop_requested(reader *r)
-{
-    spm_test_pause("ply");
-    if (!spm_stop_requested())
-        return 0;
-    spm_errorf(r->err, "interrupted while loading %s (element %s, item %llu)", r->path,
-               r->e->name, (unsigned long long)r->item + 1);
-    r->failed = 1;
-    return 1;
 }
 
 static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
@@ -542,7 +553,7 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
         rec += (size_t)type_size[e->props[k].type];
     }
     for (; scalar && r->item < e->count; r->item++) {
-        if ((r->item & 0xffff) == 0 && stop_requested(r))
+        if ((r->item & 0xffff) == 0 && stop_requested(r, 0))
             return 1;
         const unsigned char *b = need(r, rec);
         if (!b)
@@ -556,7 +567,7 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
             v[c] = (float)decode(b + at[c], e->props[c < 3 ? xyz[c] : nxyz[c - 3]].type, r->swap);
     }
     for (; r->item < e->count; r->item++) {
-        if ((r->item & 0xffff) == 0 && stop_requested(r))
+        if ((r->item & 0xffff) == 0 && stop_requested(r, 0))
             return 1;
         for (int k = 0; k < e->nprops; k++) {
             const ply_prop *p = &e->props[k];
