@@ -411,8 +411,9 @@ static int stop_requested(reader *r, double k)
     return 1;
 }
 
-/* every 65536 values of a list, not at its start (the item's own check) */
-#define LIST_STOP(r, k) ((k) >= 65536.0 && fmod((k), 65536.0) == 0 && stop_requested((r), (k)))
+/* every 65536 values of a list, as items are counted, but not at its start
+ * (the item's own check); k < count, a count of at most 2^32 */
+#define LIST_STOP(r, k) ((k) > 0 && ((uint64_t)(k) & 0xffff) == 0 && stop_requested((r), (k)))
 
 /* The list of face or strip indices: a face's polygon as a fan (v0, vi, vi+1);
  * a strip's triangle j (from its start or last -1) is (vj, vj+1, vj+2), its
