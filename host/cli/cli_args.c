@@ -194,6 +194,11 @@ const spm_option spm_options[] = {
         "low|medium|high: Embree's BVH (default medium)"),
     ROW(JSON, "--json", NULL, FLAG, 0, 0, B,
         "the ray benchmark's results as one JSON object on stdout"),
+    ROW(ALLOW_PATH, "--allow-path", "DIR", TEXT, 0, 0, R | B,
+        "a folder the files a scene names (meshes, spectra, images, a\n"
+        "model's buffers) may also be in; repeatable. By default only\n"
+        "the scene file's own folder and below, and specmip's spectra/\n"
+        "and scenes/ (docs/SCENE_FORMAT.md, 'Where referenced files may be')"),
     {SPM_O_HELP, "--help", "-h", NULL, SPM_ARG_FLAG, 0, 0, R | B | S, NULL, "this text"},
 };
 const int spm_noptions = (int)(sizeof spm_options / sizeof spm_options[0]);

@@ -4,6 +4,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "cli_args.h"
+#include "paths.h"
 #include "mpi_render.h"
 #include "commands.h"
 #include "film_spectral.h"
@@ -87,6 +88,12 @@ static int word_option(spm_opt_id id, const char *v, render_opts *o)
     case SPM_O_BACKEND:
         if (!(o->cfg.backend = spm_backend_kind_find(v))) {
             fprintf(stderr, "specmip render: --backend is opencl or cpu, not '%s'\n", v);
+            return SPM_EXIT_INPUT;
+        }
+        return 0;
+    case SPM_O_ALLOW_PATH:
+        if (spm_paths_allow(v, &e)) {
+            fprintf(stderr, "specmip render: %s\n", e.msg);
             return SPM_EXIT_INPUT;
         }
         return 0;

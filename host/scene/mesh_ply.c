@@ -597,10 +597,11 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
     return 0;
 }
 
-int spm_ply_read(const char *path, spm_mesh_data *out, spm_error *err)
+int spm_ply_read(const spm_file *file, spm_mesh_data *out, spm_error *err)
 {
     memset(out, 0, sizeof *out);
-    FILE *f = fopen(path, "rb");
+    const char *path = file->shown;
+    FILE *f = spm_path_fopen(file, "rb");
     if (!f) {
         spm_errorf(err, "%s: cannot open: %s", path, strerror(errno));
         return 1;
