@@ -106,6 +106,7 @@ typedef struct {
     spm_mesh_tri *tris;
     spm_mesh_normals *normals; /* per triangle, or NULL: the file has no vertex normals */
     void *buf;                 /* owns mats, tris and normals */
+    char extensions[512];      /* a glTF's extensionsUsed that are not rendered, ", "-separated */
 } spm_mesh_data;
 
 /* The child's answer on its pipe (mesh_wire.c): a header of this many bytes
@@ -124,8 +125,10 @@ typedef struct {
 int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err);
 /* The files a model names — a glTF's buffer and image URIs, an OBJ's MTL
  * files and their maps — each checked by the path rule (paths.h); a .glb's
- * chunks against its size (mesh_refs.c). 1 with err naming the reference. */
-int spm_mesh_refs_check(const spm_file *model, spm_error *err);
+ * chunks against its size (mesh_refs.c). 1 with err naming the reference.
+ * A glTF's extensionsUsed that specmip does not render go into
+ * unrendered[size] (Assimp hides the extensions it does not parse). */
+int spm_mesh_refs_check(const spm_file *model, char *unrendered, size_t size, spm_error *err);
 
 /* For an OBJ (by its extension): a warning naming each `mtllib` file that is
  * not beside it, and every material that no MTL file found defines loses its

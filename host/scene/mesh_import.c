@@ -544,7 +544,9 @@ int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err)
     const char *path = file->shown;
     /* test hook (mesh.h): without the check before the import, the child's own */
     const char *refs = getenv("SPECMIP_TEST_MESH_REFS");
-    if (!(refs && !strcmp(refs, "skip")) && spm_mesh_refs_check(file, err))
+    char unrendered[sizeof out->extensions] = "";
+    if (!(refs && !strcmp(refs, "skip")) &&
+        spm_mesh_refs_check(file, unrendered, sizeof unrendered, err))
         return 1;
     /* PLY by the project's own reader (mesh_ply.h), but for polygons */
     if (ends_with_ci(path, ".ply")) {
@@ -658,5 +660,6 @@ int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err)
         free(buf);
         return 1;
     }
+    memcpy(out->extensions, unrendered, sizeof unrendered);
     return 0;
 }

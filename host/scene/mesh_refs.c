@@ -42,6 +42,33 @@ static int gltf_uri(const char *dir, const char *uri, const char *where, spm_err
     return spm_path_check(dir, path, at, &p, err);
 }
 
+/* The glTF extensions that reach the image: the materials mesh_pbr.c maps;
+ * lights and emissive strengths have warnings of their own (SPM_MESH_IGN_*). */
+static const char *const gltf_rendered[] = {
+    "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior",
+    "KHR_lights_punctual", "KHR_materials_emissive_strength"};
+
+static void gltf_extensions(const spm_json *doc, char *out, size_t size)
+{
+    const spm_json *used = spm_json_get(doc, "extensionsUsed");
+    size_t n = 0, cut = 0;
+    out[0] = '\0';
+    for (size_t i = 0; used && used->type == SPM_JSON_ARRAY && i < used->n; i++) {
+        const spm_json *e = &used->items[i];
+        int known = e->type != SPM_JSON_STRING;
+        for (size_t k = 0; !known && k < sizeof gltf_rendered / sizeof *gltf_rendered; k++)
+            known = !strcmp(e->string, gltf_rendered[k]);
+        if (known)
+            continue;
+        if (n + strlen(e->string) + 2 + 16 < size)
+            n += (size_t)snprintf(out + n, size - n, "%s%s", n ? ", " : "", e->string);
+        else
+            cut++;
+    }
+    if (cut)
+        snprintf(out + n, size - n, " and %zu more", cut);
+}
+
 static int gltf_uris(const spm_file *model, const spm_json *doc, spm_error *err)
 {
     static const char *const arrays[] = {"buffers", "images"};
@@ -116,7 +143,8 @@ static int glb_json(const spm_file *model, FILE *f, char **json, size_t *len, sp
     return 0;
 }
 
-static int gltf_check(const spm_file *model, int binary, spm_error *err)
+static int gltf_check(const spm_file *model, int binary, char *unrendered, size_t size,
+                      spm_error *err)
 {
     FILE *f = spm_path_fopen(model, "rb");
     if (!f)
@@ -148,6 +176,7 @@ static int gltf_check(const spm_file *model, int binary, spm_error *err)
             rc = 1;
         } else {
             rc = gltf_uris(model, doc, err);
+            gltf_extensions(doc, unrendered, size);
             spm_json_free(doc);
         }
     }
@@ -221,10 +250,11 @@ static int text_refs(const spm_file *file, int obj, spm_error *err)
     return rc;
 }
 
-int spm_mesh_refs_check(const spm_file *model, spm_error *err)
+int spm_mesh_refs_check(const spm_file *model, char *unrendered, size_t size, spm_error *err)
 {
+    unrendered[0] = '\0';
     if (ends_with(model->shown, ".gltf") || ends_with(model->shown, ".glb"))
-        return gltf_check(model, ends_with(model->shown, ".glb"), err);
+        return gltf_check(model, ends_with(model->shown, ".glb"), unrendered, size, err);
     if (ends_with(model->shown, ".obj"))
         return text_refs(model, 1, err);
     return 0;
