@@ -22,6 +22,8 @@
 #define MAX_INLINE_SAMPLES 100000
 #define MAX_WAVELENGTH 1e5  /* nm; anything beyond is a typo, not data */
 
+#define SPM_INCLUDE_DEPTH 16 /* files read inside one another, the scene file included */
+
 typedef enum { DEF_FILE, DEF_INLINE, DEF_EQUAL, DEF_BLACKBODY } def_type;
 
 typedef struct {
@@ -49,7 +51,23 @@ typedef struct {
     int image_line, camera_line, spp_line, bg_line[2];
     int kw_line, kw_col;     /* the current statement's keyword: where it stands */
     spm_mesh_cache meshes;   /* lifted mesh colours, shared by the scene's meshes */
+    char *reading[SPM_INCLUDE_DEPTH]; /* the files being read, outermost first (canonical) */
+    int nreading;
 } parser;
+
+static int statement(parser *p);
+
+/* Statements up to the end of the file the lexer reads. */
+static int read_statements(parser *p)
+{
+    int rc = 0;
+    while (!rc && p->lx.type != SPM_TOK_EOF) {
+        rc = spm_lex_skip_newlines(&p->lx, p->err);
+        if (!rc && p->lx.type != SPM_TOK_EOF)
+            rc = statement(p);
+    }
+    return rc;
+}
 
 static void where_now(const parser *p, char *buf, size_t size)
 {
@@ -963,6 +981,50 @@ static int stmt_quad(parser *p)
     return stmt_polygon(p, 4);
 }
 
+/* include FILE: FILE's statements, as if written here. FILE is relative to
+ * this file's folder, where the path rule allows (paths.h); an included file
+ * may include others, but not one that is being read (a cycle). */
+static int stmt_include(parser *p)
+{
+    char where[600], file[SPM_TOK_MAX], dir[sizeof p->dir];
+    where_keyword(p, where, sizeof where);
+    spm_file inc;
+    if (spm_lex_path(&p->lx, "an included file's name", file, sizeof file, p->err) ||
+        spm_lex_end_of_statement(&p->lx, p->err) ||
+        spm_path_check(p->dir, file, where, &inc, p->err))
+        return 1;
+    if (!file_exists(inc.path)) {
+        spm_errorf(p->err, "%s: included file '%s' not found (or not a regular file; looked for "
+                           "%s)", where, file, inc.shown);
+        return 1;
+    }
+    for (int i = 0; i < p->nreading; i++)
+        if (!strcmp(p->reading[i], inc.path)) {
+            spm_errorf(p->err, "%s: include '%s': a cycle (that file is being read already)",
+                       where, file);
+            return 1;
+        }
+    if (p->nreading == SPM_INCLUDE_DEPTH) {
+        spm_errorf(p->err, "%s: include '%s': more than %d files deep", where, file,
+                   SPM_INCLUDE_DEPTH);
+        return 1;
+    }
+    spm_lexer outer = p->lx;
+    memcpy(dir, p->dir, sizeof dir);
+    spm_path_dir(inc.shown, p->dir, sizeof p->dir);
+    p->reading[p->nreading++] = spm_xstrdup(inc.path);
+    int rc = spm_lex_open(&p->lx, &inc, p->err) || read_statements(p);
+    if (rc && !spm_stop_requested()) { /* say where it was included */
+        spm_error inner = *p->err;
+        spm_errorf(p->err, "%.800s (included at %s)", inner.msg, where);
+    }
+    spm_lex_close(&p->lx);
+    p->lx = outer;
+    memcpy(p->dir, dir, sizeof dir);
+    free(p->reading[--p->nreading]);
+    return rc;
+}
+
 /* The statements: a keyword and its parser, which starts on the token after
  * the keyword (the keyword's position is p->kw_line, p->kw_col). The order is
  * the one the error for an unknown statement lists them in. */
@@ -973,6 +1035,7 @@ static const struct {
     {"image", stmt_image},   {"spp", stmt_spp},   {"camera", stmt_camera},
     {"spectrum", stmt_spectrum}, {"material", stmt_material}, {"tri", stmt_tri},
     {"quad", stmt_quad},     {"mesh", stmt_mesh}, {"background", stmt_background},
+    {"include", stmt_include},
 };
 #define NSTATEMENTS ((int)(sizeof statements / sizeof statements[0]))
 
@@ -1005,6 +1068,8 @@ static void parser_free(parser *p)
     spm_names_free(&p->materials);
     spm_mesh_cache_free(&p->meshes);
     spm_lex_close(&p->lx);
+    for (int i = 0; i < p->nreading; i++)
+        free(p->reading[i]);
 }
 
 static int finish(parser *p)
@@ -1039,12 +1104,8 @@ int spm_scene_parse_text(const spm_file *file, spm_scene *out, spm_error *err)
         snprintf(p.dir, sizeof p.dir, ".");
     if (slash == path)
         snprintf(p.dir, sizeof p.dir, "/");
-    int rc = spm_lex_open(&p.lx, file, err);
-    while (!rc && p.lx.type != SPM_TOK_EOF) {
-        rc = spm_lex_skip_newlines(&p.lx, err);
-        if (!rc && p.lx.type != SPM_TOK_EOF)
-            rc = statement(&p);
-    }
+    p.reading[p.nreading++] = spm_xstrdup(file->path);
+    int rc = spm_lex_open(&p.lx, file, err) || read_statements(&p);
     if (!rc)
         rc = finish(&p);
     parser_free(&p);
