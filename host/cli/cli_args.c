@@ -142,6 +142,12 @@ const spm_option spm_options[] = {
     ROW(EXPOSURE, "--exposure", "E", TEXT, 0, 0, R,
         "auto (default: the 99th percentile of Y maps to white) or a\n"
         "number multiplying Y before the operator"),
+    ROW(WHITE, "--white", "W", TEXT, 0, 0, R,
+        "white balance: the image adapted (Bradford) from white W to\n"
+        "the display's D65, as a camera would: D65 (default: unchanged),\n"
+        "E, A, D50, F1..F12 or another illuminant of spectra/, auto (the\n"
+        "scene's most powerful emitter) or a spectrum's CSV file; every\n"
+        "output but a .spectral.exr, which stays as rendered"),
     ROW(STATS, "--stats", NULL, FLAG, 0, 0, R,
         "print the time of every stage, the BVH (nodes, SAH cost,\n"
         "threads), peak memory, paths/s and (ml, mlc) paths per level\n"

@@ -5,6 +5,7 @@
 #include <unistd.h>
 #include "cli_args.h"
 #include "paths.h"
+#include "render_white.h"
 #include "mpi_render.h"
 #include "commands.h"
 #include "film_spectral.h"
@@ -54,6 +55,8 @@ typedef struct {
     int nout, nspectral; /* outputs, and how many of them are .spectral.exr */
     int stats, json, progress, spec_nm;
     spm_tonemap tm;
+    const char *white;       /* --white, or NULL */
+    char white_desc[160];    /* what it resolved to, for the images' metadata */
 } render_opts;
 
 #define HELP_SHOWN (-1) /* parse_args: --help printed, nothing to render */
@@ -90,6 +93,9 @@ static int word_option(spm_opt_id id, const char *v, render_opts *o)
             fprintf(stderr, "specmip render: --backend is opencl or cpu, not '%s'\n", v);
             return SPM_EXIT_INPUT;
         }
+        return 0;
+    case SPM_O_WHITE:
+        o->white = v;
         return 0;
     case SPM_O_ALLOW_PATH:
         if (spm_paths_allow(v, &e)) {
@@ -221,6 +227,8 @@ static int write_outputs(const render_opts *o, spm_render_setup *s, const spm_ru
      * after the writes (an image write cannot be interrupted) */
     spm_render_meta meta;
     spm_render_meta_make(&o->cfg, s, res, s->times.render_s, &meta);
+    if (o->white && meta.n < SPM_META_MAX)
+        meta.a[meta.n++] = (spm_image_attr){"specmip:white", SPM_ATTR_STRING, 0, 0, o->white_desc};
     double t0 = spm_now();
     for (int i = 0; i < o->nout; i++)
         if (spm_spectral_path(o->outputs[i])
@@ -327,6 +335,12 @@ int spm_cmd_render(int argc, char **argv)
         goto out;
     }
     /* the other ranks wait for passes after a failure here: mpirun ends them */
+    if (o.white && spm_render_white(o.white, &s.scene, &s.geom, &o.tm, o.white_desc,
+                                    sizeof o.white_desc, &err)) {
+        fprintf(stderr, "specmip render: %s\n", err.msg);
+        rc = SPM_EXIT_INPUT;
+        goto out;
+    }
     if (spm_film_init(&film, s.scene.width, s.scene.height, &err) ||
         (s.plan.nspec && spm_film_spectral_init(&film, s.plan.nspec, &err))) {
         fprintf(stderr, "specmip render: %s\n", err.msg);
