@@ -46,6 +46,21 @@ sed 's/quad_emit.gltf/strength.gltf/' "$T/quad.scene" > "$T/strength.scene"
 check "emissive strength: renders" test $? -eq 0
 check "emissive strength: warned" grep -q "warning: .*KHR_materials_emissive_strength" "$T/err"
 
+# Glass on an open mesh is warned about with its count of unpaired edges (the
+# quad: 4); on a closed one (the bundled sphere) it is not.
+cp "$ROOT/scenes/materials_sphere.ply" "$T/"
+for m in quad_emit.gltf materials_sphere.ply; do
+    { sed '$d' "$T/quad.scene"; echo "material lamp emit white 10"
+      echo "quad lamp -1 3 -1  1 3 -1  1 3 1  -1 3 1"; echo "material glass dielectric ior 1.5"
+      echo "mesh $m material glass"; } > "$T/glass.scene"
+    "$BIN" render "$T/glass.scene" "${R[@]}" --spp 1 -o "$T/s.exr" 2> "$T/err-$m"
+    rc=$?
+    check "glass on $m: renders ($(head -c 300 "$T/err-$m"))" test $rc -eq 0
+done
+check "open glass: warned ($(grep -i 'not closed' "$T/err-quad_emit.gltf"))" grep -q \
+    "'quad_emit.gltf': its glass ('glass', 2 triangles) is not closed: 4 edges" "$T/err-quad_emit.gltf"
+check "closed glass: not warned" eval "! grep -q 'not closed' '$T/err-materials_sphere.ply'"
+
 # Every glTF extension the file uses and specmip does not render is named
 # (Assimp hides those it does not read); the ones it renders are not.
 python3 -c 'import json, sys; d = json.load(open(sys.argv[1]))

@@ -91,6 +91,13 @@ int main(void)
                 memcpy(t[k].p[c], v[4], sizeof v[4]);
     CHECK(spm_tris_closed(t + 4, 4), "the second tetrahedron alone is closed");
     CHECK(!spm_tris_closed(t, 8), "two tetrahedra sharing an edge: four faces on it");
+    CHECK(spm_tris_unpaired_edges(t, 4) == 0, "a tetrahedron: no unpaired edge");
+    CHECK(spm_tris_unpaired_edges(t, 3) == 3, "three faces: the missing face's 3 edges (%ld)",
+          spm_tris_unpaired_edges(t, 3));
+    /* the two share the face v0 v1 v3 (t[1] and t[5]): its three edges have four faces */
+    CHECK(spm_tris_unpaired_edges(t, 8) == 3, "a shared face: its 3 edges on four faces (%ld)",
+          spm_tris_unpaired_edges(t, 8));
+    CHECK(spm_tris_unpaired_edges(t, 1) == 3, "one triangle: its 3 edges");
     /* -0 is the same position as +0 */
     t[1].p[0][0] = -0.0f;
     CHECK(spm_tris_closed(t, 4), "a corner at -0 joins its neighbours at +0");
@@ -107,6 +114,9 @@ int main(void)
     }
     CHECK(spm_tris_closed(g, n), "the torus in reverse order is closed");
     CHECK(!spm_tris_closed(g + 1, n - 1), "the torus less one triangle is open");
+    CHECK(spm_tris_unpaired_edges(g + 2, n - 2) == 4 || spm_tris_unpaired_edges(g + 2, n - 2) == 6,
+          "the torus less two triangles: a quad's hole of 4 edges, or two of 3 (%ld)",
+          spm_tris_unpaired_edges(g + 2, n - 2));
     g[n / 2].p[1][2] = nextafterf(g[n / 2].p[1][2], 2.0f);
     CHECK(!spm_tris_closed(g, n), "the torus with one corner moved by an ulp is open");
     free(g);
@@ -129,6 +139,8 @@ int main(void)
     for (int k = 0; k < n; k += 2) /* one side each: 3m vertices for m faces */
         g[k / 2] = g[k];
     CHECK(!spm_tris_closed(g, n / 2), "a soup of %d triangles is open", n / 2);
+    CHECK(spm_tris_unpaired_edges(g, n / 2) == 3L * (n / 2), "a soup: every edge unpaired (%ld)",
+          spm_tris_unpaired_edges(g, n / 2));
     free(g);
     TEST_END();
 }

@@ -154,7 +154,7 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
     double t1 = spm_now();
     s->times.load_s = t1 - t0;
     /* the hint reads the triangles beside their conversion, before they are freed */
-    rc = spm_geometry_build_consume(&s->scene, spm_scene_hint_camera_inside, &s->geom, err);
+    rc = spm_geometry_build_consume(&s->scene, spm_scene_hints, &s->geom, err);
     double t2 = spm_now();
     s->times.bvh_s = t2 - t1;
     if (rc)

@@ -136,6 +136,7 @@ static int glb_json(const spm_file *model, FILE *f, char **json, size_t *len, sp
             spm_errorf(err, "%s: truncated: a chunk at byte %ld ends past the file's end (%ld "
                             "bytes)", model->shown, at, size);
             free(*json);
+            *json = NULL;
             return 1;
         }
         at += 8 + (long)((le32(c) + 3) & ~3u);

@@ -84,10 +84,10 @@ static size_t find_slot(const slot *tab, size_t cap, const spm_scene_tri *t,
  * A closed mesh has at most 3n / 2 vertices (Euler: V = n / 2 + 2C - 2G with
  * at most n / 2 components, two faces each), so more ends the check early. */
 #define PREFETCH 16
-int spm_tris_closed(const spm_scene_tri *t, int n)
+/* The edges of t[0, n) not shared by exactly two of them; with `first`, 1 at
+ * the first such edge (or the vertex count past a closed mesh's). */
+static long unpaired_edges(const spm_scene_tri *t, int n, int first)
 {
-    if (n < 4) /* a tetrahedron is the smallest closed mesh */
-        return 0;
     size_t nc = 3 * (size_t)n, cap = 1024;
     while (cap < (size_t)n)
         cap <<= 1;
@@ -113,7 +113,7 @@ int spm_tris_closed(const spm_scene_tri *t, int n)
         }
         tab[s] = (slot){(uint32_t)c + 1, h};
         id[c] = nv++;
-        if (nv > nc / 2) /* more than 3n / 2 vertices: open */
+        if (first && nv > nc / 2) /* more than 3n / 2 vertices: open */
             break;
         if (2 * (size_t)nv > cap) { /* half full: twice the slots, every entry moved */
             size_t ncap = 2 * cap;
@@ -131,9 +131,9 @@ int spm_tris_closed(const spm_scene_tri *t, int n)
         }
     }
     free(tab);
-    if (nv > nc / 2) {
+    if (first && nv > nc / 2) {
         free(id);
-        return 0;
+        return 1;
     }
     /* start[v] .. start[v + 1]: the higher ends of the edges whose lower end is v */
     uint32_t *start = spm_xcalloc((size_t)nv + 1, sizeof *start);
@@ -149,16 +149,65 @@ int spm_tris_closed(const spm_scene_tri *t, int n)
         hi[start[a < b ? a : b]++] = a < b ? b : a;
     }
     free(id);
-    int closed = 1;
-    for (uint32_t v = 0, begin = 0; v < nv && closed; begin = start[v++]) {
+    long unpaired = 0; /* in each bucket, runs of one higher end: an edge each */
+    for (uint32_t v = 0, begin = 0; v < nv && !(first && unpaired); begin = start[v++]) {
         uint32_t *h = hi + begin, d = start[v] - begin;
         sort_u32(h, d);
-        for (uint32_t k = 0; k < d && closed; k += 2)
-            closed = k + 1 < d && h[k] == h[k + 1] && (k + 2 >= d || h[k + 2] != h[k]);
+        for (uint32_t k = 0, run; k < d; k += run) {
+            for (run = 1; k + run < d && h[k + run] == h[k]; run++)
+                ;
+            unpaired += run != 2;
+        }
     }
     free(start);
     free(hi);
-    return closed;
+    return unpaired;
+}
+
+int spm_tris_closed(const spm_scene_tri *t, int n)
+{
+    return n >= 4 && unpaired_edges(t, n, 1) == 0; /* a tetrahedron is the smallest */
+}
+
+long spm_tris_unpaired_edges(const spm_scene_tri *t, int n)
+{
+    return n > 0 ? unpaired_edges(t, n, 0) : 0;
+}
+
+/* Per mesh statement, its dielectric triangles: a refraction that enters
+ * must leave, so glass is a closed surface; warned with the count of edges
+ * that are not shared by exactly two of them. */
+static void hint_open_glass(const spm_scene *s)
+{
+    for (int i = 0; i < s->nmeshes; i++) {
+        const spm_scene_mesh *m = &s->meshes[i];
+        if (m->n > SPM_HINT_CLOSED_MAX_TRIS || m->first + m->n > s->ntris)
+            continue;
+        spm_scene_tri *glass = NULL;
+        int n = 0, mat = -1;
+        for (int k = m->first; k < m->first + m->n; k++) {
+            const spm_scene_material *sm = &s->materials[s->tris[k].material];
+            if (SPM_MAT_TAG(*sm) != SPM_MAT_DIELECTRIC)
+                continue;
+            if (!glass)
+                glass = spm_xmalloc((size_t)m->n * sizeof *glass);
+            glass[n++] = s->tris[k];
+            mat = s->tris[k].material;
+        }
+        long open = spm_tris_unpaired_edges(glass, n);
+        if (open)
+            spm_warnf("%s: '%s': its glass ('%s', %d triangles) is not closed: %ld edges are not "
+                      "shared by exactly two of its triangles; light refracted into an open "
+                      "surface may not find its way out (docs/SCENE_FORMAT.md, meshes)", m->where,
+                      m->name, s->materials[mat].name, n, open);
+        free(glass);
+    }
+}
+
+void spm_scene_hints(const spm_scene *s)
+{
+    spm_scene_hint_camera_inside(s);
+    hint_open_glass(s);
 }
 
 void spm_scene_hint_camera_inside(const spm_scene *s)
