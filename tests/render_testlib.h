@@ -31,7 +31,7 @@ typedef struct {
 
 static inline void rt_scene_path(const char *name, char *path, size_t n)
 {
-    snprintf(path, n, "%s/scenes/%s", SPM_SOURCE_DIR, name);
+    snprintf(path, n, "%s/scenes/%.200s", SPM_SOURCE_DIR, name);
 }
 
 /* 0, or prints why and returns 1. */

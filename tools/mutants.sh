@@ -7,10 +7,12 @@
 #   unviable  the mutant does not build: neither
 # Not part of ctest (a run takes the better part of an hour on 2 cores).
 #
-# usage: tools/mutants.sh [-k] [-j N] [NAME_REGEX]
+# usage: tools/mutants.sh [-j N] [-l LIST] [NAME_REGEX]
 #   NAME_REGEX  run only the mutants whose name matches (grep -E)
-#   -k          keep the work directory (default: $TMPDIR/specmip-mutants, reused)
 #   -j N        build jobs (default 2)
+#   -l LIST     the list (default tools/mutants.txt)
+# The work directory, $TMPDIR/specmip-mutants (default /tmp), is kept and
+# reused: a second run rebuilds only what changed.
 # The copy holds the tree's tracked and untracked (not ignored) files; it is
 # built once in its own build directory, then each mutant rebuilds only what
 # its tests need (specmip for cli_* tests, the test's program for test_*).
@@ -21,12 +23,12 @@
 set -u
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 LIST=$ROOT/tools/mutants.txt
-JOBS=2 KEEP=0 ONLY=
+JOBS=2 ONLY=
 while [ $# -gt 0 ]; do
     case $1 in
-    -k) KEEP=1 ;;
     -j) JOBS=$2; shift ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    -l) LIST=$(realpath "$2"); shift ;;
+    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
     *) ONLY=$1 ;;
     esac
     shift
@@ -34,7 +36,7 @@ done
 W=${TMPDIR:-/tmp}/specmip-mutants
 SRC=$W/src BUILD=$W/build LOG=$W/logs
 mkdir -p "$SRC" "$LOG"
-trap 'restore; [ $KEEP = 1 ] || true' EXIT
+trap 'restore' EXIT
 trap 'echo "interrupted" >&2; exit 130' INT TERM
 
 # the copy: refreshed from the tree (its build directory kept between runs)
