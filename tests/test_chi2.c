@@ -12,13 +12,18 @@
  *    cosine bounce is the trace loop's);
  *  - light sampling by power (the pick table of emitter triangles) and the
  *    committed wavelength of dispersive glass (uniform over the 1 nm bins):
- *    counts per choice against their probabilities.
+ *    counts per choice against their probabilities;
+ *  - the trace loop's own draws at a Lambertian floor, read from the rays it
+ *    casts (refcpu.h's ray sink): the bounce, cos / pi about the normal, and
+ *    the light sample's direction towards two unequal quad lights, pdf(wi) =
+ *    P(triangle) d^2 / (A cos_e) with P the triangle's share of the power.
  * Each with fixed seeds; the level is corrected for the number of tests
  * (Sidak, ALPHA overall). The samplers are reached through small adapters
  * (sample, pdf, eval), so a material's sample/pdf of its own plugs in the
  * same way. */
 #include <string.h>
 #include "chi2_testlib.h"
+#include "geomtest_scene.h"
 #include "geometry.h"
 #include "refcpu_coated.h"
 #include "refcpu_conductor.h"
@@ -28,7 +33,7 @@
 #define ALPHA 0.01
 #define N_DIR 400000L
 #define N_PICK 1000000L
-#define NTESTS 12 /* chi-squared tests run below */
+#define NTESTS 14 /* chi-squared tests run below */
 
 /* --- GGX in double (Trowbridge-Reitz, Smith's height-correlated G2) */
 static double d_ggx(double a, double mz)
@@ -314,12 +319,169 @@ static void committed_wavelength(double alpha_test)
     discrete("committed wavelength (400 bins)", count, prob, SPM_TRUTH_BINS, n, alpha_test);
 }
 
+/* --- the trace loop's draws at vertex 0 on a Lambertian floor (y = 0),
+ * seen by a camera 0.002 above it looking down (all paths hit within 2e-4
+ * of the same point x, 0.6 and more from the lights) */
+#define N_TRACE 400000L
+#define TRACE_BATCH 4096
+typedef struct {
+    float *bounce, *shadow; /* directions, 3 floats each, in the floor's frame (z = +y) */
+    long nb, ns;
+    int state;              /* 0: camera ray next, 1: vertex 0's rays, 2: done */
+    int got_b, got_s;
+    double x[3];
+} ray_log;
+
+static void to_local(const float d[3], float *out)
+{
+    out[0] = d[0], out[1] = d[2], out[2] = d[1]; /* a frame of the floor: z along its normal +y */
+}
+
+static void log_ray(void *ctx, const spm_ray *r)
+{
+    ray_log *l = ctx;
+    if (r->skip == 0xFFFFFFFFu) { /* a camera ray: a new path */
+        l->state = 1, l->got_b = l->got_s = 0;
+        return;
+    }
+    if (l->state != 1)
+        return;
+    if (r->emitter != SPM_RAY_CLOSEST && !l->got_s) {
+        to_local(r->d, &l->shadow[3 * l->ns++]);
+        l->got_s = 1;
+        for (int i = 0; i < 3; i++)
+            l->x[i] = r->o[i];
+    } else if (r->emitter == SPM_RAY_CLOSEST && !l->got_b) {
+        to_local(r->d, &l->bounce[3 * l->nb++]);
+        l->got_b = 1;
+    }
+    if (l->got_b && l->got_s)
+        l->state = 2;
+}
+
+/* the lights: quads at height h over [x0, x1] x [z0, z1], facing down, radiance e */
+static const struct {
+    double h, x0, x1, z0, z1, e;
+} lights[2] = {{1.0, -0.8, -0.2, -0.3, 0.3, 1.0}, {0.6, 0.3, 0.7, -0.2, 0.4, 4.0}};
+
+static void trace_floor(ray_log *l)
+{
+    spm_scene s;
+    ts_init(&s);
+    s.width = s.height = 1;
+    s.fov_deg = 10.0f; /* the narrowest field there is: the camera is close instead */
+    memcpy(s.eye, (float[]){0.0f, 0.002f, 0.0f}, sizeof s.eye);
+    memcpy(s.dir, (float[]){0.0f, -1.0f, 0.0f}, sizeof s.dir);
+    int floor_m = ts_material(&s, ts_colour(&s, SPM_KIND_REFLECTANCE, 1.0), -1);
+    ts_quad(&s, floor_m, (float[]){-50, 0, -50}, (float[]){-50, 0, 50}, (float[]){50, 0, 50},
+            (float[]){50, 0, -50});
+    for (int k = 0; k < 2; k++) {
+        int m = ts_material(&s, -1, ts_colour(&s, SPM_KIND_EMISSION, lights[k].e));
+        float h = (float)lights[k].h, x0 = (float)lights[k].x0, x1 = (float)lights[k].x1;
+        float z0 = (float)lights[k].z0, z1 = (float)lights[k].z1;
+        ts_quad(&s, m, (float[]){x0, h, z0}, (float[]){x1, h, z0}, (float[]){x1, h, z1},
+                (float[]){x0, h, z1});
+    }
+    spm_geometry g;
+    spm_error err;
+    if (spm_geometry_build(&s, &g, &err)) {
+        CHECK(0, "build: %s", err.msg);
+        ts_free(&s);
+        return;
+    }
+    spm_tables t;
+    ts_tables(&s, &t);
+    spm_trace_params p = ts_params(&s, &g, (spm_u32)N_TRACE, 21u);
+    spm_path *paths = calloc(TRACE_BATCH, sizeof *paths);
+    uint8_t levels[TRACE_BATCH];
+    spm_ref_rays = (spm_ref_ray_sink){log_ray, l};
+    for (long b = 0; b < N_TRACE; b += TRACE_BATCH) {
+        long e = b + TRACE_BATCH < N_TRACE ? b + TRACE_BATCH : N_TRACE;
+        spm_ref_trace_range(&g, t.materials, NULL, 0, &p, (size_t)b, (size_t)e, paths, levels);
+    }
+    spm_ref_rays = (spm_ref_ray_sink){NULL, NULL};
+    free(paths);
+    spm_tables_free(&t);
+    spm_geometry_free(&g);
+    ts_free(&s);
+}
+
+typedef struct {
+    const float *dirs;
+    long n, next;
+    const double *x;
+} replay_ctx;
+
+/* the logged directions one by one (u unused: the trace loop drew them) */
+static int replay_sample(void *ctx, const double wo[3], const double u[3], double wi[3],
+                         double *pdf, double *w)
+{
+    (void)wo, (void)u;
+    replay_ctx *r = ctx;
+    if (r->next >= r->n)
+        return 0;
+    for (int i = 0; i < 3; i++)
+        wi[i] = r->dirs[3 * r->next + i];
+    r->next++;
+    unit3(wi);
+    *pdf = 0.0, *w = 0.0; /* neither is logged */
+    return 1;
+}
+static double lambert_pdf(void *ctx, const double wo[3], const double wi[3])
+{
+    (void)ctx, (void)wo;
+    return wi[2] > 0.0 ? wi[2] / M_PI : 0.0;
+}
+/* a direction (the floor's frame) towards the lights from x: the density of
+ * picking by power, then a uniform point on the triangle */
+static double light_pdf(void *ctx, const double wo[3], const double wl[3])
+{
+    (void)wo;
+    const replay_ctx *r = ctx;
+    double d[3] = {wl[0], wl[2], wl[1]}, total = 0.0, pdf = 0.0; /* back to the scene's axes */
+    for (int k = 0; k < 2; k++)
+        total += lights[k].e * (lights[k].x1 - lights[k].x0) * (lights[k].z1 - lights[k].z0);
+    for (int k = 0; k < 2; k++) {
+        if (!(d[1] > 0.0))
+            break;
+        double t = (lights[k].h - r->x[1]) / d[1];
+        double px = r->x[0] + t * d[0], pz = r->x[2] + t * d[2];
+        if (px < lights[k].x0 || px > lights[k].x1 || pz < lights[k].z0 || pz > lights[k].z1)
+            continue;
+        /* the quad's power share, spread uniformly over its area: P / A = e / total */
+        double dist2 = t * t, cos_e = d[1];
+        pdf += lights[k].e / total * dist2 / cos_e;
+    }
+    return pdf;
+}
+
+static void trace_draws(double alpha_test)
+{
+    ray_log l;
+    memset(&l, 0, sizeof l);
+    l.bounce = malloc(3 * sizeof(float) * N_TRACE);
+    l.shadow = malloc(3 * sizeof(float) * N_TRACE);
+    trace_floor(&l);
+    CHECK(l.nb > N_TRACE / 2 && l.ns > N_TRACE / 2, "logged %ld bounces, %ld light samples of %ld paths",
+          l.nb, l.ns, N_TRACE);
+    double wo[3] = {0.0, 0.0, 1.0};
+    replay_ctx rb = {l.bounce, l.nb, 0, l.x}, rs = {l.shadow, l.ns, 0, l.x};
+    chi2_sampler b = {"lambertian bounce (trace loop)", &rb, replay_sample, lambert_pdf, NULL};
+    chi2_sampler s = {"light sample by power (trace loop)", &rs, replay_sample, light_pdf, NULL};
+    chi2_run(&b, wo, l.nb, 0, alpha_test);
+    chi2_run(&s, wo, l.ns, 0, alpha_test);
+    ntests += 2;
+    free(l.bounce);
+    free(l.shadow);
+}
+
 int main(void)
 {
     double alpha_test = st_sidak(ALPHA, NTESTS);
     directions(alpha_test);
     light_pick(alpha_test);
     committed_wavelength(alpha_test);
+    trace_draws(alpha_test);
     CHECK(ntests == NTESTS, "%d tests run, the correction assumed %d", ntests, NTESTS);
     TEST_END();
 }
