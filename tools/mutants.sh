@@ -46,8 +46,15 @@ if [ ! -f "$BUILD/CMakeCache.txt" ]; then
     cmake -S "$SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release > "$LOG/configure.log" 2>&1 ||
         { echo "configure failed: $LOG/configure.log" >&2; exit 2; }
 fi
+# what the list's tests need: specmip for cli_* tests, each test_* program
+targets_of() {  # targets_of TESTS...
+    local t
+    echo specmip
+    for t in "$@"; do [[ $t == test_* ]] && echo "$t"; done
+}
+ALL=$(grep -v '^[[:space:]]*#' "$LIST" | awk -F' :: ' 'NF > 2 { print $2 }' | tr ' ' '\n' | sort -u)
 echo "building the unmutated copy in $BUILD ..."
-nice cmake --build "$BUILD" -j"$JOBS" > "$LOG/build.log" 2>&1 ||
+nice cmake --build "$BUILD" -j"$JOBS" --target $(targets_of $ALL | sort -u) > "$LOG/build.log" 2>&1 ||
     { echo "the unmutated copy does not build: $LOG/build.log" >&2; exit 2; }
 
 TOUCHED=()
@@ -78,9 +85,7 @@ while IFS= read -r line; do
         if cmp -s "$ROOT/$file" "$SRC/$file"; then status=stale why="$file: $expr changes nothing"; break; fi
     done
     if [ -z "$status" ]; then
-        targets=(specmip)
-        for t in $tests; do [[ $t == test_* ]] && targets+=("$t"); done
-        if ! nice cmake --build "$BUILD" -j"$JOBS" --target "${targets[@]}" > "$LOG/$name.build" 2>&1; then
+        if ! nice cmake --build "$BUILD" -j"$JOBS" --target $(targets_of $tests) > "$LOG/$name.build" 2>&1; then
             status=unviable why="does not build: $LOG/$name.build"
         else
             re="^($(tr ' ' '|' <<< "$tests"))\$"
@@ -91,7 +96,7 @@ while IFS= read -r line; do
                 status=unviable why="ran $ran of the tests '$tests' ($LOG/$name.test)"
             elif [ $rc -ne 0 ]; then
                 status=caught why=$(grep -E '\*\*\*Failed|\*\*\*Timeout|Exception' "$LOG/$name.test" |
-                                    sed 's/.*- //; s/ .*//' | tr '\n' ' ')
+                                    sed -E 's/.*Test +#[0-9]+: ([^ ]+).*/\1/' | tr '\n' ' ')
             elif grep -q 'Not Run\|Skipped' "$LOG/$name.test"; then
                 status=unviable why="a test skipped ($LOG/$name.test)"
             else
