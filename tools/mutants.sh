@@ -34,18 +34,26 @@ while [ $# -gt 0 ]; do
     shift
 done
 W=${TMPDIR:-/tmp}/specmip-mutants
-SRC=$W/src BUILD=$W/build LOG=$W/logs
-mkdir -p "$SRC" "$LOG"
+TOUCHED=()
+restore() {  # the mutated files back from the tree
+    for f in "${TOUCHED[@]}"; do cp "$ROOT/$f" "$SRC/$f"; done
+    TOUCHED=()
+}
 trap 'restore' EXIT
 trap 'echo "interrupted" >&2; exit 130' INT TERM
+SRC=$W/src BUILD=$W/build LOG=$W/logs
+mkdir -p "$SRC" "$LOG"
 
-# the copy: refreshed from the tree (its build directory kept between runs)
-(cd "$ROOT" && git ls-files -co --exclude-standard -z | grep -zv '^build' |
-    tar --null -T - -cf -) | (cd "$SRC" && tar -xf -) || { echo "cannot copy the tree" >&2; exit 2; }
-if [ ! -f "$BUILD/CMakeCache.txt" ]; then
-    cmake -S "$SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release > "$LOG/configure.log" 2>&1 ||
-        { echo "configure failed: $LOG/configure.log" >&2; exit 2; }
-fi
+# the copy: refreshed from the tree, a file only where it differs (a fresh
+# mtime, so that make rebuilds it; the build directory is kept between runs)
+(cd "$ROOT" && git ls-files -co --exclude-standard) | grep -v '^build' | while IFS= read -r f; do
+    [ -f "$ROOT/$f" ] || continue
+    cmp -s "$ROOT/$f" "$SRC/$f" && continue
+    mkdir -p "$SRC/$(dirname "$f")" && cp "$ROOT/$f" "$SRC/$f" || exit 2
+done || { echo "cannot copy the tree to $SRC" >&2; exit 2; }
+# configured every run: the tests are found by glob (a new one needs a new target)
+cmake -S "$SRC" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release > "$LOG/configure.log" 2>&1 ||
+    { echo "configure failed: $LOG/configure.log" >&2; exit 2; }
 # what the list's tests need: specmip for cli_* tests, each test_* program
 targets_of() {  # targets_of TESTS...
     local t
@@ -57,11 +65,6 @@ echo "building the unmutated copy in $BUILD ..."
 nice cmake --build "$BUILD" -j"$JOBS" --target $(targets_of $ALL | sort -u) > "$LOG/build.log" 2>&1 ||
     { echo "the unmutated copy does not build: $LOG/build.log" >&2; exit 2; }
 
-TOUCHED=()
-restore() {  # the mutated files back from the tree
-    for f in "${TOUCHED[@]}"; do cp "$ROOT/$f" "$SRC/$f"; done
-    TOUCHED=()
-}
 
 caught=0 survived=0 stale=0 unviable=0
 SURV=()
