@@ -298,6 +298,13 @@ static void light_pick(double alpha_test)
         CHECK(fabs(em[i].inv_pdf * em[i].pdf - 1.0) <= 1e-6, "emitter %d: inv_pdf %.9g pdf %.9g",
               i, em[i].inv_pdf, em[i].pdf);
     }
+    /* each emitter owns its first count and the one before belongs to the one
+     * before: a boundary off by one is 2^-24 of the draws, too rare to count */
+    for (int i = 1; i < K; i++)
+        CHECK(spm_emitter_search(em, K, em[i].cdf) == (spm_u32)i &&
+                  spm_emitter_search(em, K, em[i].cdf - 1u) == (spm_u32)(i - 1),
+              "the draw %u (emitter %d's first count) picks %u", em[i].cdf, i,
+              spm_emitter_search(em, K, em[i].cdf));
     for (long k = 0; k < N_PICK; k++) {
         spm_u32 u24 = spm_rng_u32(7u, (spm_u32)k, 0u, SPM_DIM_VERTEX(0) + SPM_DIM_EMITTER) >> 8;
         count[spm_emitter_search(em, K, u24)] += 1.0;
