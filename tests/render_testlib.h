@@ -29,9 +29,13 @@ typedef struct {
     const char *backend;  /* backends.h's name; NULL: OpenCL device 0 */
 } rt_render_job;
 
+/* A bundled scene's file name, or an absolute path as it is. */
 static inline void rt_scene_path(const char *name, char *path, size_t n)
 {
-    snprintf(path, n, "%s/scenes/%.200s", SPM_SOURCE_DIR, name);
+    if (name[0] == '/')
+        snprintf(path, n, "%.1000s", name);
+    else
+        snprintf(path, n, "%s/scenes/%.200s", SPM_SOURCE_DIR, name);
 }
 
 /* 0, or prints why and returns 1. */
