@@ -1,5 +1,5 @@
 /* Shared set-up of the stability tests: render a bundled scene in-process on
- * OpenCL device 0 (the same calls as `specmip render`), keep the image as
+ * OpenCL device 0 or a named backend (the same calls as `specmip render`), keep the image as
  * linear sRGB and the run's statistics, and compare two renders as
  * `specmip compare --blur 5` does. */
 #ifndef SPM_RENDER_TESTLIB_H
@@ -26,11 +26,16 @@ typedef struct {
     spm_u32 seed;
     int size;             /* square image side */
     double threshold;     /* pretest threshold; 0: the default (2.0) */
+    const char *backend;  /* backends.h's name; NULL: OpenCL device 0 */
 } rt_render_job;
 
+/* A bundled scene's file name, or an absolute path as it is. */
 static inline void rt_scene_path(const char *name, char *path, size_t n)
 {
-    snprintf(path, n, "%s/scenes/%s", SPM_SOURCE_DIR, name);
+    if (name[0] == '/')
+        snprintf(path, n, "%.1000s", name);
+    else
+        snprintf(path, n, "%s/scenes/%.200s", SPM_SOURCE_DIR, name);
 }
 
 /* 0, or prints why and returns 1. */
@@ -48,6 +53,10 @@ static inline int rt_render(const rt_render_job *j, rt_render_out *o, rt_inspect
     cfg.width = cfg.height = j->size;
     if (j->threshold > 0)
         cfg.pretest.threshold = j->threshold;
+    if (j->backend && !(cfg.backend = spm_backend_kind_find(j->backend))) {
+        printf("no backend %s\n", j->backend);
+        return 1;
+    }
     spm_quiet_warnings = 1;
     memset(o, 0, sizeof *o);
     spm_render_setup s;

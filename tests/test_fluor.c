@@ -3,9 +3,13 @@
  * o <= i), each column sums to YIELD A(i) where emission lies above bin i and
  * to 0 where none does (the emission truncated to o > i and normalised
  * there), so no column puts out more than it takes in with the diagonal
- * SPEC (1 - A); and Russian roulette's albedo is the mean column sum. */
+ * SPEC (1 - A); and Russian roulette's albedo is the mean column sum.
+ * An emission shape measured over part of the range only is an emission:
+ * zero outside its samples (docs/SCENE_FORMAT.md "Spectra files"), so a dye
+ * whose shape is given over 380-400 nm emits nothing above 400 nm. */
 #include <math.h>
 #include <stdlib.h>
+#include <unistd.h>
 #include "fluor.h"
 #include "testutil.h"
 
@@ -46,8 +50,46 @@ static void check_material(const spm_scene *sc, const spm_scene_material *m)
     free(F);
 }
 
+/* A shape given at 380, 390 and 400 nm only, under a flat absorption. */
+static void check_partial_shape(void)
+{
+    char path[] = "/tmp/spm_fluor_shapeXXXXXX";
+    int fd = mkstemp(path);
+    FILE *f = fd >= 0 ? fdopen(fd, "w") : NULL;
+    if (!f) {
+        CHECK(0, "cannot write a scene at %s", path);
+        return;
+    }
+    fprintf(f, "image 4 4\ncamera position 0 0 0  direction 0 0 1  fov 40\nspectrum half equal\n"
+               "spectrum violet inline 380 0.2 390 1 400 0.5 end\n"
+               "material dye reflect half fluoresce half violet 0.8\n"
+               "material lamp emit half\n"
+               "tri dye 0 0 1  1 0 1  0 1 1\n"
+               "tri lamp 0 0 -1  0 1 -1  1 0 -1\n");
+    fclose(f);
+    spm_scene sc;
+    spm_error err;
+    int rc = spm_scene_load(path, &sc, &err);
+    unlink(path);
+    if (rc) {
+        CHECK(0, "%s", err.msg);
+        return;
+    }
+    const spm_scene_material *m = &sc.materials[0];
+    const double *e = sc.colours[m->col3].s.nm1;
+    double inside = 0.0, outside = 0.0;
+    for (int b = 0; b < SPM_TRUTH_BINS; b++)
+        *(b < 400 - SPM_LAMBDA_MIN ? &inside : &outside) += e[b];
+    printf("partial shape: %.4f inside 380-400 nm, %.4f above\n", inside, outside);
+    CHECK(inside > 5.0 && outside == 0.0, "a shape over 380-400 nm: %g inside, %g above (zero "
+          "outside its samples, as an emission)", inside, outside);
+    check_material(&sc, m);
+    spm_scene_free(&sc);
+}
+
 int main(void)
 {
+    check_partial_shape();
     char path[1024];
     spm_scene sc;
     spm_error err;

@@ -68,6 +68,12 @@ static void round_trip(const char *rel)
     CHECK(same(g.emitters, g2.emitters, (size_t)g.nemitters * sizeof *g.emitters),
           "%s: emitters", rel);
     CHECK(!memcmp(&g.cam, &g2.cam, sizeof g.cam), "%s: camera", rel);
+    CHECK(same(g.light_pdf, g2.light_pdf, (size_t)g.ntris * sizeof *g.light_pdf),
+          "%s: light pick probabilities", rel);
+    CHECK(g2.nvn == g.nvn && same(g.vnormals, g2.vnormals, (size_t)g.nvn * 9 * sizeof *g.vnormals),
+          "%s: vertex normals", rel);
+    CHECK(g2.ndisp == g.ndisp && same(g.disp, g2.disp, (size_t)g.ndisp * SPM_TRUTH_BINS * sizeof *g.disp),
+          "%s: index tables", rel);
     size_t nc = (size_t)t.ncolours;
     CHECK(t2.ncolours == t.ncolours && t2.nmaterials == t.nmaterials &&
               t2.nspikes == t.nspikes && t2.coarsest_level == t.coarsest_level &&
@@ -136,6 +142,7 @@ int main(void)
     round_trip("scenes/cornell.scene");
     round_trip("scenes/cornell_spiky.scene"); /* spike lanes: the mlc tables */
     round_trip("scenes/multilight.scene");
+    round_trip("scenes/prism.scene"); /* a dispersive glass: its index table */
 
     /* the test hook: a process that refuses scene files cannot load one */
     char path[1024];

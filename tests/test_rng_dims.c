@@ -55,5 +55,24 @@ int main(void)
     CHECK(SPM_DIM_TYPE(0, SPM_TYPE_MAT_DIMS - 1) < SPM_DIM_EMIT_TYPE(0, 0) &&
               SPM_DIM_EMIT_TYPE(0, SPM_TYPE_EMIT_DIMS - 1) < SPM_DIM_TYPE(1, 0),
           "the emitter types' half overlaps the material types' or the next vertex's");
+    /* each type's offsets are its own: two of them at one dimension draw one
+     * number twice (a visible normal from u1 = u2 lies on a curve) */
+    static const struct {
+        const char *type;
+        spm_u32 dims[4];
+        int n;
+    } types[] = {
+        {"conductor", {SPM_DIM_COND_M_A, SPM_DIM_COND_M_B}, 2},
+        {"coated", {SPM_DIM_COAT_LOBE, SPM_DIM_COAT_M_A, SPM_DIM_COAT_M_B}, 3},
+        {"dielectric", {SPM_DIM_DIEL_M_A, SPM_DIM_DIEL_M_B, SPM_DIM_DIEL_CHOICE, SPM_DIM_DIEL_LAMBDA}, 4},
+    };
+    for (unsigned t = 0; t < sizeof types / sizeof types[0]; t++)
+        for (int a = 0; a < types[t].n; a++) {
+            CHECK(types[t].dims[a] < SPM_TYPE_MAT_DIMS, "%s: offset %u past the types' %u",
+                  types[t].type, types[t].dims[a], SPM_TYPE_MAT_DIMS);
+            for (int b = a + 1; b < types[t].n; b++)
+                CHECK(types[t].dims[a] != types[t].dims[b], "%s: offsets %d and %d share dimension %u",
+                      types[t].type, a, b, types[t].dims[a]);
+        }
     TEST_END();
 }

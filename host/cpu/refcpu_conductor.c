@@ -37,6 +37,8 @@ static float ggx_d(float a, float mz)
 float spm_ref_cond_power(float a, float b)
 {
     float a2 = a * a, b2 = b * b;
+    if (isinf(a2)) /* a strategy alone (refcpu_trace.c mis_pick) */
+        return 1.0f;
     return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
 }
 

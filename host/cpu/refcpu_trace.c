@@ -12,6 +12,26 @@
 #include "refcpu_coated.h"
 #include "refcpu_dielectric.h"
 #include "refcpu_shading.h"
+#include <stdlib.h>
+#include <string.h>
+
+/* One strategy alone, for tests/test_strategies.c: SPECMIP_TEST_STRATEGY=light
+ * (light sampling alone: the lobes' emitter hits weigh 0) or lobe (the lobes
+ * alone: light samples weigh 0), through the light-pick probability the power
+ * heuristic sees (infinite or 0); unset, MIS. The estimators' own 1 / pdf are
+ * untouched, so each strategy alone is unbiased where it can reach the light. */
+static _Thread_local int strategy;
+
+static float mis_pick(float pick)
+{
+    return strategy == 1 ? INFINITY : strategy == 2 ? 0.0f : pick;
+}
+
+static int strategy_from_env(void)
+{
+    const char *s = getenv("SPECMIP_TEST_STRATEGY");
+    return !s ? 0 : !strcmp(s, "light") ? 1 : !strcmp(s, "lobe") ? 2 : 0;
+}
 
 /* The level feeler: the finest (smallest) level among the colours met,
  * starting from the coarsest level in use; a colour lowers it only when
@@ -181,20 +201,20 @@ static spm_u32 sample_emitter(const spm_geometry *g, const spm_material *mats, c
     if (cc && deta > 0.0f) {
         float d2c = d2 > d2min ? d2 : d2min;
         w = pe->inv_pdf * cos_e * em->area / d2c *
-            spm_ref_diel_light(cc, deta, l, pe->pdf, d2c, em->area, cos_e);
+            spm_ref_diel_light(cc, deta, l, mis_pick(pe->pdf), d2c, em->area, cos_e);
         if (sn && !(v3_dot(l, cc->n) > 0.0f))
             w = 0.0f;
     } else if (cc) {
         float d2c = d2 > d2min ? d2 : d2min;
         w = pe->inv_pdf * cos_e * em->area / d2c *
-            spm_ref_cond_light(cc, l, pe->pdf, d2c, em->area, cos_e, cos_h);
+            spm_ref_cond_light(cc, l, mis_pick(pe->pdf), d2c, em->area, cos_e, cos_h);
         if (sn && !(v3_dot(l, cc->n) > 0.0f))
             w = 0.0f;
     } else if (co) {
         float d2c = d2 > d2min ? d2 : d2min;
         float ci = sn ? fmaxf(v3_dot(l, sn), 0.0f) : cos_i;
         w = pe->inv_pdf * cos_e * em->area / d2c *
-            spm_ref_coat_light(co, l, ci, pe->pdf, d2c, em->area, cos_e);
+            spm_ref_coat_light(co, l, ci, mis_pick(pe->pdf), d2c, em->area, cos_e);
         if (sn && co->spec && !(v3_dot(l, co->f.n) > 0.0f))
             w = 0.0f;
     } else if (sn) {
@@ -313,7 +333,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         if (din && j > 0) /* the segment's length inside: its absorption, in the shade stage */
             path->x[j - 1].cos_lobe = t;
         if (j > 0 && cpdf >= 0.0f && memit != SPM_NONE)
-            lobe_hit(tri, ecos, t, g->light_pdf[hit], cpdf, weight, memit, escale,
+            lobe_hit(tri, ecos, t, mis_pick(g->light_pdf[hit]), cpdf, weight, memit, escale,
                      &path->x[j - 1], &f, lvlk);
         /* The hit's shading frame, the one place a type finds it: the normal
          * sn on the viewer's side and tangent st every type shades with; gn,
@@ -478,6 +498,7 @@ void spm_ref_trace_range(const spm_geometry *g, const spm_material *mats, const 
                          int start_level, const spm_trace_params *p, size_t begin, size_t end,
                          spm_path *paths, uint8_t *levels)
 {
+    strategy = strategy_from_env();
     for (size_t i = begin; i < end; i++)
         levels[i - begin] = trace_path(g, mats, lvlk, start_level, p, i, &paths[i - begin]);
 }

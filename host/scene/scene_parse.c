@@ -282,7 +282,8 @@ static const spm_spectrum *use_spectrum(parser *p, int idx, spm_kind kind, const
 
 /* "NAME SCALE?" -> a colour of the scene (scaled, checked). Returns its index
  * or -1. A spectrum name, with an optional scale; shape_only: without one, the
- * spectrum's peak scaled to 1 (a shape, as a reflectance-kind colour);
+ * spectrum's peak scaled to 1 (a shape, as a reflectance-kind colour; an
+ * emission's shape, so zero outside its samples as every emission is);
  * optical: an optical constant (a conductor's eta or k), extended as a
  * reflectance (by its end values) but not bounded by 1. */
 static int colour_ref_as(parser *p, spm_kind kind, int shape_only, int optical)
@@ -298,7 +299,8 @@ static int colour_ref_as(parser *p, spm_kind kind, int shape_only, int optical)
         return -1;
     }
     double scale;
-    const spm_spectrum *shape = use_spectrum(p, idx, kind, where);
+    const spm_spectrum *shape =
+        use_spectrum(p, idx, shape_only ? SPM_KIND_EMISSION : kind, where);
     if (!shape || (!shape_only && opt_scale(p, kind == SPM_KIND_EMISSION, &scale)))
         return -1;
     if (shape_only) {
