@@ -139,6 +139,7 @@ allowed=(
     'scene_parse.c:.*spm_spectrum_load\(d->file.path,'
     'scene_parse.c:.*spm_fluor_load_donaldson\(path.path,'
     'scene_parse.c:.*spm_lex_open\(&p.lx, file, err\)'
+    'scene_parse.c:.*spm_lex_open\(&p->lx, &inc, p->err\)'
     'scene_minilight.c:.*spm_lex_open\(&p.lx, file, err\)'
     'fluor.c:.*spm_csv_load\(path, &csv, err\)'
 )

@@ -68,7 +68,7 @@ int main(void)
         rt_render_out o[SPM_MODE_COUNT];
         int ok = 1;
         for (size_t m = 0; m < sizeof modes / sizeof modes[0]; m++) {
-            rt_render_job j = {scenes[si], modes[m], SPP, 1, SIZE, 0.0};
+            rt_render_job j = {scenes[si], modes[m], SPP, 1, SIZE, 0.0, NULL};
             ok &= !rt_render(&j, &o[modes[m]], NULL, NULL);
         }
         CHECK(ok, "%s: render failed", scenes[si]);

@@ -35,7 +35,7 @@ static void inspect(const spm_render_setup *s, void *arg)
 
 static int render(const char *scene, int mode, double threshold, rt_render_out *o, inspect_ctx *c)
 {
-    rt_render_job j = {scene, mode, SPP, 1, SIZE, threshold};
+    rt_render_job j = {scene, mode, SPP, 1, SIZE, threshold, NULL};
     int rc = rt_render(&j, o, c ? inspect : NULL, c);
     CHECK(!rc, "%s %s: render failed", scene, spm_mode_name(mode));
     return rc;

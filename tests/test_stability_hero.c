@@ -39,7 +39,7 @@ static const char *scenes[] = {"cornell.scene", "cornell_spiky.scene", "multilig
 static double hero_error(const char *scene, int spp)
 {
     rt_render_out truth, hero;
-    rt_render_job j = {scene, SPM_MODE_TRUTH, spp, 1, SIZE, 0.0};
+    rt_render_job j = {scene, SPM_MODE_TRUTH, spp, 1, SIZE, 0.0, NULL};
     int rc = rt_render(&j, &truth, NULL, NULL);
     j.mode = SPM_MODE_HERO;
     rc |= rt_render(&j, &hero, NULL, NULL);
