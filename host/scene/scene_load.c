@@ -39,5 +39,9 @@ int spm_scene_load(const char *path, spm_scene *out, spm_error *err)
                    MINILIGHT_ID);
         return 1;
     }
+    if (ends_with(path, ".pbrt")) {
+        spm_file top; /* the file named on the command line: its folder is the root */
+        return spm_paths_set_root(path, &top, err) || spm_scene_parse_pbrt(&top, out, err);
+    }
     return spm_scene_parse_text(path, out, err);
 }

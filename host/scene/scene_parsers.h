@@ -3,9 +3,12 @@
 #ifndef SPM_SCENE_PARSERS_H
 #define SPM_SCENE_PARSERS_H
 #include "scene.h"
+#include "paths.h"
 
 /* The project's format (docs/SCENE_FORMAT.md), scene_parse.c. */
 int spm_scene_parse_text(const char *path, spm_scene *out, spm_error *err);
 /* MiniLight's .ml.txt, scene_minilight.c. */
 int spm_scene_parse_minilight(const char *path, spm_scene *out, spm_error *err);
+/* pbrt-v4's .pbrt files (docs/PBRT.md), pbrt_parse.c. */
+int spm_scene_parse_pbrt(const spm_file *file, spm_scene *out, spm_error *err);
 #endif

@@ -106,14 +106,16 @@ const char *spm_path_dir(const char *file, char *buf, size_t size)
     return buf;
 }
 
-int spm_paths_set_root(const char *file, spm_error *err)
+int spm_paths_set_root(const char *file, spm_file *top, spm_error *err)
 {
     char dir[SPM_PATH_MAX];
-    if (canonical(spm_path_dir(file, dir, sizeof dir), root)) {
+    if (strlen(file) >= SPM_PATH_MAX || canonical(spm_path_dir(file, dir, sizeof dir), root) ||
+        canonical(file, top->path)) {
         root[0] = '\0';
-        spm_errorf(err, "%s: its folder cannot be resolved", file);
+        spm_errorf(err, "%s: the path is too long to resolve", file);
         return 1;
     }
+    snprintf(top->shown, sizeof top->shown, "%s", file);
     return 0;
 }
 
@@ -156,15 +158,16 @@ static int in_data(const char *path)
 }
 
 /* `joined` checked, `shown` (the reference as written) named in the error. */
-static int check(const char *joined, const char *shown, const char *where, spm_path *out,
+static int check(const char *joined, const char *shown, const char *where, spm_file *out,
                  spm_error *err)
 {
     char cwd[SPM_PATH_MAX];
     const char *top = root[0] ? root : getcwd(cwd, sizeof cwd) ? cwd : "/nonexistent";
-    if (canonical(joined, out->path)) {
+    if (strlen(joined) >= SPM_PATH_MAX || canonical(joined, out->path)) {
         spm_errorf(err, "%s: '%s': the path is too long to resolve", where, shown);
         return 1;
     }
+    snprintf(out->shown, sizeof out->shown, "%s", joined);
     if (under(out->path, top) || in_data(out->path))
         return 0;
     for (int i = 0; i < nallowed; i++)
@@ -177,12 +180,12 @@ static int check(const char *joined, const char *shown, const char *where, spm_p
     return 1;
 }
 
-int spm_path_check_joined(const char *path, const char *where, spm_path *out, spm_error *err)
+int spm_path_check_joined(const char *path, const char *where, spm_file *out, spm_error *err)
 {
     return check(path, path, where, out, err);
 }
 
-int spm_path_check(const char *dir, const char *ref, const char *where, spm_path *out,
+int spm_path_check(const char *dir, const char *ref, const char *where, spm_file *out,
                    spm_error *err)
 {
     char joined[2 * SPM_PATH_MAX];
@@ -199,7 +202,7 @@ int spm_path_check(const char *dir, const char *ref, const char *where, spm_path
     return check(joined, ref, where, out, err);
 }
 
-FILE *spm_path_fopen(const spm_path *p, const char *mode)
+FILE *spm_path_fopen(const spm_file *p, const char *mode)
 {
     return spm_fopen_input(p->path, mode);
 }

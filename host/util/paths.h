@@ -7,7 +7,7 @@
  *   - a folder the user allows (render --allow-path DIR, repeatable),
  *   - or the project's own data (its spectra/ and scenes/ folders).
  * A reader never opens such a file by its name: it asks spm_path_check for
- * an spm_path and opens that (spm_path_fopen, or a library given its .path),
+ * an spm_file and opens that (spm_path_fopen, or a library given its .path),
  * so tests/cli_paths.sh can tell by grep that no reader goes around it. */
 #ifndef SPM_PATHS_H
 #define SPM_PATHS_H
@@ -18,16 +18,18 @@ extern "C" {
 
 #define SPM_PATH_MAX 4096
 
-/* A path that passed the rule: absolute, "." and ".." resolved, and every
- * symbolic link of the part that exists followed. */
+/* A path that passed the rule: `path` absolute, "." and ".." resolved, and
+ * every symbolic link of the part that exists followed, to open; `shown` as
+ * the reference was joined to its folder, for messages. */
 typedef struct {
     char path[SPM_PATH_MAX];
-} spm_path;
+    char shown[SPM_PATH_MAX];
+} spm_file;
 
-/* The root becomes the folder of `file` (the file named on the command line;
- * spm_scene_load calls it for the file it is given). 1 with err when the
- * folder cannot be resolved. */
-int spm_paths_set_root(const char *file, spm_error *err);
+/* The root becomes the folder of `file`, the file named on the command line
+ * (spm_scene_load calls it for the file it is given), which *top then holds.
+ * 1 with err when the folder cannot be resolved. */
+int spm_paths_set_root(const char *file, spm_file *top, spm_error *err);
 /* --allow-path DIR: one more folder references may lead into. It must exist
  * and be a folder; 1 with err naming it otherwise. */
 int spm_paths_allow(const char *dir, spm_error *err);
@@ -40,16 +42,16 @@ void spm_paths_clear_allowed(void);
  * folder or the project's data; 1 with err otherwise, naming where, the
  * reference and the option that would allow it (exit 2). A file that does
  * not exist is checked by where it would be: the caller says it is missing. */
-int spm_path_check(const char *dir, const char *ref, const char *where, spm_path *out,
+int spm_path_check(const char *dir, const char *ref, const char *where, spm_file *out,
                    spm_error *err);
 /* The same for a path already joined to its folder (a reference's folder is
  * the referencing file's: spm_path_dir gives it). */
-int spm_path_check_joined(const char *path, const char *where, spm_path *out, spm_error *err);
+int spm_path_check_joined(const char *path, const char *where, spm_file *out, spm_error *err);
 /* The folder of a file's path ("." for a bare name), into buf. */
 const char *spm_path_dir(const char *file, char *buf, size_t size);
 
 /* Opens a checked path for reading (spm_fopen_input's test hook applies). */
-FILE *spm_path_fopen(const spm_path *p, const char *mode);
+FILE *spm_path_fopen(const spm_file *p, const char *mode);
 
 /* RFC 3986 percent-decoding of a URI's path ("%2e%2e/a%20b" -> "../a b"),
  * into out: 1 when it holds a malformed escape or decodes to a NUL byte. */
