@@ -150,7 +150,7 @@ static int shape_material(pbrt_parser *p, int emit, const char *where)
 }
 
 static int add_mesh(pbrt_parser *p, const spm_mesh_data *d, int material, int smooth,
-                    const double m[4][4], const char *where)
+                    const double m[4][4], const char *what, const char *where)
 {
     spm_mesh_opts o = {.material = material,
                        .shading = smooth ? SPM_MESH_SHADE_SMOOTH : SPM_MESH_SHADE_DEFAULT,
@@ -158,7 +158,7 @@ static int add_mesh(pbrt_parser *p, const spm_mesh_data *d, int material, int sm
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 4; j++)
             o.m[i][j] = m[i][j];
-    return spm_mesh_add(&p->b, &p->cache, d, &o, where, where, p->err);
+    return spm_mesh_add(&p->b, &p->cache, d, &o, what, where, p->err);
 }
 
 /* alpha cut-outs: a constant 1 is the default; anything else is warned. */
@@ -219,7 +219,7 @@ static int dir_shape(pbrt_parser *p, const char *where)
         return 0;
     }
     int m = shape_material(p, 1, where);
-    rc = m < 0 || add_mesh(p, &d, m, c.has_normals, p->gs.ctm, where);
+    rc = m < 0 || add_mesh(p, &d, m, c.has_normals, p->gs.ctm, what, where);
     spm_mesh_free(&d);
     return rc;
 }
@@ -273,10 +273,13 @@ static int dir_object_instance(pbrt_parser *p, const char *where)
         return 1;
     }
     const pbrt_object *o = &p->objs[i];
+    char what[SPM_NAME_MAX + 32];
+    snprintf(what, sizeof what, "ObjectInstance \"%s\"", name);
     for (int k = 0; k < o->n; k++) {
         double m[4][4];
         pbrt_mat_mul(p->gs.ctm, o->shapes[k].m, m);
-        if (add_mesh(p, &o->shapes[k].d, o->shapes[k].material, o->shapes[k].smooth, m, where))
+        if (add_mesh(p, &o->shapes[k].d, o->shapes[k].material, o->shapes[k].smooth, m, what,
+                     where))
             return 1;
     }
     return 0;
