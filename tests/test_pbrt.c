@@ -9,6 +9,7 @@
 #include "testutil.h"
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static char dir[256];
@@ -259,6 +260,38 @@ static void test_param_errors(void)
     }
 }
 
+/* Include and Import read a file in place, relative to the including file;
+ * named materials and coordinate systems carry across. */
+static void test_include(void)
+{
+    char sub[600], path[700];
+    snprintf(sub, sizeof sub, "%s/sub", dir);
+    CHECK(mkdir(sub, 0755) == 0, "mkdir %s", sub);
+    snprintf(path, sizeof path, "%s/mats.pbrt", sub);
+    FILE *f = fopen(path, "w");
+    fprintf(f, "MakeNamedMaterial \"red\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.5 0 0]\n"
+               "Include \"geom.pbrt\"\n");
+    fclose(f);
+    snprintf(path, sizeof path, "%s/geom.pbrt", sub);
+    f = fopen(path, "w");
+    fprintf(f, "Translate 0 0 7\nCoordinateSystem \"seven\"\n");
+    fclose(f);
+    spm_scene s;
+    spm_error err;
+    int rc = load("inc.pbrt", "", "AttributeBegin\nInclude \"sub/mats.pbrt\"\nAttributeEnd\n"
+                  "CoordSysTransform \"seven\"\nImport \"sub/geom.pbrt\"\nNamedMaterial \"red\"\n"
+                  "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0]", &s, &err);
+    CHECK(rc == 0, "%s", err.msg);
+    const spm_scene_tri *t = rc ? NULL : first_plain(&s);
+    if (t) { /* 7 from the named system, 7 more from the second include's Translate */
+        CHECK_NEAR(t->p[0][2], 14, 1e-6, "z");
+        const spm_spectrum *r = &s.colours[s.materials[t->material].refl].s;
+        CHECK(r->nm1[300] > 3 * r->nm1[80], "the included red: %g at 680 nm, %g at 460 nm",
+              r->nm1[300], r->nm1[80]);
+    }
+    spm_scene_free(&s);
+}
+
 /* A sphere is tessellated: 48 rings of 96, less the poles' degenerate halves. */
 static void test_sphere(void)
 {
@@ -300,6 +333,7 @@ int main(void)
     test_orientation();
     test_param_errors();
     test_sphere();
+    test_include();
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd))
