@@ -3,6 +3,7 @@
  * "normal3" and "color" are its older spellings). A lookup by name checks the
  * type the directive expects; what no lookup used is warned about. */
 #include "pbrt.h"
+#include "interrupt.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -40,21 +41,29 @@ void pbrt_params_free(pbrt_params *ps)
     ps->n = 0;
 }
 
+/* Room for element n of an array that holds n: capacities are the powers
+ * of two, so a mesh of a million values is not copied a million times. */
+static void grow(void **a, size_t n, size_t size)
+{
+    if (n < 8 ? n == 0 : (n & (n - 1)) == 0)
+        *a = spm_xrealloc(*a, (n < 8 ? 8 : 2 * n) * size);
+}
+
 /* One value token into pa, as its kind takes it. */
 static int value(pbrt_lexer *lx, pbrt_param *pa, vkind kind, spm_error *err)
 {
     int is_bool = lx->type != PT_NUMBER && (!strcmp(lx->text, "true") || !strcmp(lx->text, "false"));
     if (kind == V_BOOL && (lx->type == PT_WORD || lx->type == PT_STRING) && is_bool) {
-        pa->num = spm_xrealloc(pa->num, (pa->nnum + 1) * sizeof *pa->num);
+        grow((void **)&pa->num, pa->nnum, sizeof *pa->num);
         pa->num[pa->nnum++] = !strcmp(lx->text, "true");
     } else if ((kind == V_NUM || kind == V_SPEC) && lx->type == PT_NUMBER && pa->nstr == 0) {
         if (pa->type == PP_INTEGER && lx->num != (double)(long)lx->num)
             return pbrt_lex_expected(lx, err, "a whole number (an 'integer' parameter)");
-        pa->num = spm_xrealloc(pa->num, (pa->nnum + 1) * sizeof *pa->num);
+        grow((void **)&pa->num, pa->nnum, sizeof *pa->num);
         pa->num[pa->nnum++] = lx->num;
     } else if ((kind == V_STR || (kind == V_SPEC && pa->nnum == 0 && pa->nstr == 0)) &&
                lx->type == PT_STRING) {
-        pa->str = spm_xrealloc(pa->str, (pa->nstr + 1) * sizeof *pa->str);
+        grow((void **)&pa->str, pa->nstr, sizeof *pa->str);
         size_t n = strlen(lx->text) + 1;
         pa->str[pa->nstr] = spm_xmalloc(n);
         memcpy(pa->str[pa->nstr++], lx->text, n);
@@ -131,6 +140,10 @@ int pbrt_params_read(pbrt_lexer *lx, pbrt_params *ps, spm_error *err)
             if (pbrt_lex_next(lx, err))
                 return 1;
             while (lx->type != PT_RBRACK) {
+                if ((pa->nnum & 0xffff) == 0xffff && spm_stop_requested()) {
+                    spm_errorf(err, "%s: interrupted while reading '%s'", pa->where, pa->name);
+                    return 1;
+                }
                 if (lx->type == PT_EOF) {
                     spm_errorf(err, "%s: unterminated '[' (no ']' before the end of the file)",
                                open);

@@ -5,6 +5,7 @@
  * (pbrt_world.c), the camera and rendering options (pbrt_options.c). */
 #include "pbrt_parser.h"
 #include "scene_parsers.h"
+#include "interrupt.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -190,6 +191,11 @@ int spm_scene_parse_pbrt(const spm_file *file, spm_scene *out, spm_error *err)
     while (!rc && p.depth) {
         pbrt_lexer *lx = pbrt_lx(&p);
         if (lx->type != PT_EOF) {
+            if (spm_stop_requested()) {
+                spm_errorf(err, "interrupted while loading %s", lx->path);
+                rc = 1;
+                break;
+            }
             rc = directive(&p);
             continue;
         }
