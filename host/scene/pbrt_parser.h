@@ -67,7 +67,7 @@ extern const pbrt_directive pbrt_state_directives[];  /* pbrt_state.c */
 extern const pbrt_directive pbrt_world_directives[];  /* pbrt_world.c */
 extern const pbrt_directive pbrt_option_directives[]; /* pbrt_options.c */
 
-/* Arguments: a quoted string; n numbers, bare or in one bracketed list. */
+/* Arguments (pbrt_args.c): a quoted string; n numbers, bare or in one bracketed list. */
 int pbrt_arg_string(pbrt_parser *p, const char *what, char *out, size_t size);
 int pbrt_arg_numbers(pbrt_parser *p, int n, const char *what, double *out);
 /* The directive's parameter list (pbrt_params_read on the current file). */
