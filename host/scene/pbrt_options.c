@@ -6,19 +6,31 @@
 #include <math.h>
 #include <string.h>
 
-/* Reads "type" and the parameters; `out_type` may be NULL. */
-static int typed(pbrt_parser *p, char *type, size_t size, pbrt_params *ps)
+/* `Directive "type" params`: the type and the parameters read, `what`
+ * the directive and type for messages. */
+static int typed(pbrt_parser *p, const char *dname, char *what, size_t size, pbrt_params *ps)
 {
-    return pbrt_arg_string(p, "a type name", type, size) || pbrt_arg_params(p, ps);
+    char type[64];
+    if (pbrt_arg_string(p, "a type name", type, sizeof type) || pbrt_arg_params(p, ps))
+        return 1;
+    snprintf(what, size, "%s \"%.40s\"", dname, type);
+    return 0;
+}
+
+/* The end of a directive: its parameters no code read warned about, freed. */
+static int done(pbrt_parser *p, pbrt_params *ps, const char *what, int rc)
+{
+    rc = rc || pbrt_params_unused(ps, what, p->err);
+    pbrt_params_free(ps);
+    return rc;
 }
 
 static int dir_camera(pbrt_parser *p, const char *where)
 {
-    char type[64], what[128];
+    char what[128];
     pbrt_params ps;
-    if (typed(p, type, sizeof type, &ps))
+    if (typed(p, "Camera", what, sizeof what, &ps))
         return 1;
-    snprintf(what, sizeof what, "Camera \"%.40s\"", type);
     memcpy(p->cam_ctm, p->gs.ctm, sizeof p->cam_ctm);
     p->have_camera = 1;
     snprintf(p->cam_where, sizeof p->cam_where, "%s", where);
@@ -28,34 +40,24 @@ static int dir_camera(pbrt_parser *p, const char *where)
     pbrt_param_float(&ps, "focaldistance", 1e6, &bad, p->err);
     if (bad)
         rc = 1;
-    else if (strcmp(type, "perspective"))
+    else if (strcmp(what, "Camera \"perspective\""))
         rc = pbrt_warn(where, what, "rendered as a perspective camera of the same fov", p->err);
     else if (lens > 0)
         rc = pbrt_warn(where, "Camera \"perspective\": lensradius (depth of field)",
                        "specmip has no thin lens yet: a pinhole", p->err);
     /* pbrt-v4 names the camera's space "camera" */
     double inv[4][4];
-    if (!rc && !pbrt_mat_inverse(p->cam_ctm, inv)) {
-        int i = spm_names_get(&p->coordsys, "camera");
-        if (i < 0) {
-            p->cs = spm_xrealloc(p->cs, (size_t)(p->ncs + 1) * sizeof *p->cs);
-            i = p->ncs++;
-            spm_names_put(&p->coordsys, "camera", i);
-        }
-        memcpy(p->cs[i], inv, sizeof inv);
-    }
-    rc = rc || pbrt_params_unused(&ps, what, p->err);
-    pbrt_params_free(&ps);
-    return rc;
+    if (!rc && !pbrt_mat_inverse(p->cam_ctm, inv))
+        pbrt_coordsys_set(p, "camera", inv);
+    return done(p, &ps, what, rc);
 }
 
 static int dir_film(pbrt_parser *p, const char *where)
 {
-    char type[64], what[128];
+    char what[128];
     pbrt_params ps;
-    if (typed(p, type, sizeof type, &ps))
+    if (typed(p, "Film", what, sizeof what, &ps))
         return 1;
-    snprintf(what, sizeof what, "Film \"%.40s\"", type);
     int bad = 0;
     p->width = pbrt_param_int(&ps, "xresolution", 1280, &bad, p->err);
     p->height = pbrt_param_int(&ps, "yresolution", 720, &bad, p->err);
@@ -67,18 +69,15 @@ static int dir_film(pbrt_parser *p, const char *where)
                    p->height, SPM_SCENE_MAX_SIDE);
         rc = 1;
     }
-    rc = rc || pbrt_params_unused(&ps, what, p->err);
-    pbrt_params_free(&ps);
-    return rc;
+    return done(p, &ps, what, rc);
 }
 
 static int dir_sampler(pbrt_parser *p, const char *where)
 {
-    char type[64], what[128];
+    char what[128];
     pbrt_params ps;
-    if (typed(p, type, sizeof type, &ps))
+    if (typed(p, "Sampler", what, sizeof what, &ps))
         return 1;
-    snprintf(what, sizeof what, "Sampler \"%.40s\"", type);
     int bad = 0;
     p->spp = pbrt_param_int(&ps, "pixelsamples", 16, &bad, p->err);
     int rc = bad;
@@ -91,25 +90,25 @@ static int dir_sampler(pbrt_parser *p, const char *where)
                                                       "jitter", "xsamples", "ysamples", NULL};
          *u; u++)
         pbrt_param_find(&ps, *u, ~0u, &bad, p->err);
-    rc = rc || pbrt_params_unused(&ps, what, p->err);
-    pbrt_params_free(&ps);
-    return rc;
+    return done(p, &ps, what, rc);
 }
 
 static int dir_integrator(pbrt_parser *p, const char *where)
 {
-    char type[64], what[128];
+    char what[128];
     pbrt_params ps;
-    if (typed(p, type, sizeof type, &ps))
+    if (typed(p, "Integrator", what, sizeof what, &ps))
         return 1;
-    snprintf(what, sizeof what, "Integrator \"%.40s\"", type);
     int bad = 0, rc = 0;
     int depth = pbrt_param_int(&ps, "maxdepth", 5, &bad, p->err);
     static const char *const same[] = {"path", "volpath", "bdpt", "mlt", "sppm", "simplepath",
                                        "lightpath", NULL};
     int known = 0;
-    for (int i = 0; same[i]; i++)
-        known |= !strcmp(same[i], type);
+    for (int i = 0; same[i]; i++) {
+        char w[64];
+        snprintf(w, sizeof w, "Integrator \"%s\"", same[i]);
+        known |= !strcmp(w, what);
+    }
     if (bad)
         rc = 1;
     else if (!known)
@@ -121,20 +120,17 @@ static int dir_integrator(pbrt_parser *p, const char *where)
                   "not at a set depth (docs/PBRT.md)", where, depth);
     for (const char *const *u = (const char *const[]){"lightsampler", "regularize", NULL}; *u; u++)
         pbrt_param_find(&ps, *u, ~0u, &bad, p->err);
-    rc = rc || pbrt_params_unused(&ps, what, p->err);
-    pbrt_params_free(&ps);
-    return rc;
+    return done(p, &ps, what, rc);
 }
 
 /* Directives whose content does not change what the image converges to
  * (Accelerator), or that specmip does not render (the others: warned). */
 static int dir_other(pbrt_parser *p, const char *where, const char *dname, int quiet)
 {
-    char type[64], what[128];
+    char what[128];
     pbrt_params ps;
-    if (typed(p, type, sizeof type, &ps))
+    if (typed(p, dname, what, sizeof what, &ps))
         return 1;
-    snprintf(what, sizeof what, "%s \"%.40s\"", dname, type);
     int rc = quiet ? 0 : pbrt_warn(where, what, "not rendered", p->err);
     pbrt_params_free(&ps);
     return rc;
@@ -230,13 +226,7 @@ static int dir_world_begin(pbrt_parser *p, const char *where)
     }
     p->world = 1;
     pbrt_mat_identity(p->gs.ctm);
-    int i = spm_names_get(&p->coordsys, "world");
-    if (i < 0) {
-        p->cs = spm_xrealloc(p->cs, (size_t)(p->ncs + 1) * sizeof *p->cs);
-        i = p->ncs++;
-        spm_names_put(&p->coordsys, "world", i);
-    }
-    pbrt_mat_identity(p->cs[i]);
+    pbrt_coordsys_set(p, "world", p->gs.ctm);
     return pbrt_options_finish(p, where);
 }
 

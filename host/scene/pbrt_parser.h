@@ -73,6 +73,9 @@ int pbrt_arg_numbers(pbrt_parser *p, int n, const char *what, double *out);
 /* The directive's parameter list (pbrt_params_read on the current file). */
 int pbrt_arg_params(pbrt_parser *p, pbrt_params *ps);
 
+/* Names the coordinate system m (CoordinateSystem; pbrt's "camera" and
+ * "world"), replacing one of that name. */
+void pbrt_coordsys_set(pbrt_parser *p, const char *name, const double m[4][4]);
 /* The camera and film, once the options are complete (WorldBegin, or the
  * end of a file without it). */
 int pbrt_options_finish(pbrt_parser *p, const char *where);

@@ -94,19 +94,24 @@ static int dir_reverse(pbrt_parser *p, const char *where)
     return 0;
 }
 
-static int dir_coordsys(pbrt_parser *p, const char *where)
+void pbrt_coordsys_set(pbrt_parser *p, const char *name, const double m[4][4])
 {
-    char name[SPM_NAME_MAX];
-    (void)where;
-    if (pbrt_arg_string(p, "a coordinate system's name", name, sizeof name))
-        return 1;
     int i = spm_names_get(&p->coordsys, name);
     if (i < 0) {
         p->cs = spm_xrealloc(p->cs, (size_t)(p->ncs + 1) * sizeof *p->cs);
         i = p->ncs++;
         spm_names_put(&p->coordsys, name, i);
     }
-    memcpy(p->cs[i], p->gs.ctm, sizeof p->cs[i]);
+    memcpy(p->cs[i], m, sizeof p->cs[i]);
+}
+
+static int dir_coordsys(pbrt_parser *p, const char *where)
+{
+    char name[SPM_NAME_MAX];
+    (void)where;
+    if (pbrt_arg_string(p, "a coordinate system's name", name, sizeof name))
+        return 1;
+    pbrt_coordsys_set(p, name, p->gs.ctm);
     return 0;
 }
 
