@@ -50,6 +50,7 @@ LightSource "point" "rgb I" [1 1 1]
 LightSource "point" "rgb I" [2 2 2]
 LightSource "point" "rgb I" [3 3 3]
 Texture "checks" "spectrum" "checkerboard"
+Material "diffuse" "texture reflectance" "checks"
 AttributeBegin
 AreaLightSource "diffuse" "rgb L" [4 4 4] "float power" 10
 Translate 0 0 5
@@ -64,9 +65,11 @@ check "LightSource \"point\" warned once" \
 check "at its first line" grep -qF 'warn.pbrt:4:1: LightSource "point" ignored' <<< "$msg"
 check "its repeats counted" grep -qF 'warn.pbrt:4:1: LightSource "point": ignored 3 times' <<< "$msg"
 check "the texture named" grep -qF 'warn.pbrt:7:1: Texture "checkerboard" ignored' <<< "$msg"
+check "a texture's use named" \
+  grep -qF "warn.pbrt:8:20: Material \"diffuse\": a texture as 'reflectance' ignored" <<< "$msg"
 check "the lens named" grep -qF 'warn.pbrt:2:1: Camera "perspective": lensradius' <<< "$msg"
 check "an unused parameter named" \
-  grep -qF "warn.pbrt:9:43: AreaLightSource \"diffuse\": parameter 'float power' ignored" <<< "$msg"
+  grep -qF "warn.pbrt:10:43: AreaLightSource \"diffuse\": parameter 'float power' ignored" <<< "$msg"
 msg=$("$BIN" render "$T/warn.pbrt" --spp 1 --strict -o "$T/strict.png" 2>&1); rc=$?
 check "--strict: exit 2 (got $rc)" [ "$rc" -eq 2 ]
 check "--strict: the first one named (got: $msg)" \
