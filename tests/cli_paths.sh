@@ -141,6 +141,7 @@ allowed=(
     'scene_parse.c:.*spm_lex_open\(&p.lx, file, err\)'
     'scene_parse.c:.*spm_lex_open\(&p->lx, &inc, p->err\)'
     'scene_minilight.c:.*spm_lex_open\(&p.lx, file, err\)'
+    'pbrt_spectra.c:.*spm_spectrum_load\(spm_data_path\(rel, path, sizeof path\)'
     'fluor.c:.*spm_csv_load\(path, &csv, err\)'
 )
 (cd "$ROOT/host/scene" && grep -nE "$openers" *.c *.cpp | grep -vE '^[^:]+:[0-9]+:\s*(/?\*|//)' |

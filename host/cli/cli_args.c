@@ -161,6 +161,9 @@ const spm_option spm_options[] = {
     ROW(QUIET, "--quiet", NULL, FLAG, 0, 0, R | B, NULL),
     ROW(VERBOSE, "--verbose", NULL, FLAG, 0, 0, R,
         "print the pretest's level table (mlc: its own)"),
+    ROW(STRICT, "--strict", NULL, FLAG, 0, 0, R,
+        "what a scene holds that specmip does not render is an error\n"
+        "(exit 2), not a warning (pbrt-v4 files)"),
     /* bench */
     ROW(OUT, "--out", "DIR", TEXT, 0, 0, B, "output directory (default bench-out)"),
     ROW(QUICK, "--quick", NULL, FLAG, 0, 0, B,

@@ -25,8 +25,9 @@ static void usage(FILE *f)
     fprintf(f,
         "usage: specmip render [SCENE] [options]   (also: specmip SCENE [options])\n"
         "Options take their value as '--spp 16' or '--spp=16'.\n"
-        "Renders SCENE (a .scene file or a MiniLight .ml.txt file); without SCENE the built-in\n"
-        "Cornell box (ColorChecker walls, equal-energy light).\n\n");
+        "Renders SCENE (a .scene file, a MiniLight .ml.txt file or a pbrt-v4 .pbrt file,\n"
+        "docs/PBRT.md); without SCENE the built-in Cornell box (ColorChecker walls,\n"
+        "equal-energy light).\n\n");
     spm_opt_help(f, SPM_CMD_RENDER, 25);
     fprintf(f,
         "Under mpirun every rank renders passes on its own --device/--backend; rank 0 reads\n"
@@ -158,6 +159,7 @@ static int parse_args(int argc, char **argv, render_opts *o)
         case SPM_O_PROGRESS: o->progress = 1; break;
         case SPM_O_QUIET: o->progress = 0; break;
         case SPM_O_VERBOSE: o->cfg.verbose = 1; break;
+        case SPM_O_STRICT: spm_scene_strict = 1; break;
         default:
             if (word_option(it.opt->id, it.value, o))
                 return SPM_EXIT_INPUT;

@@ -202,7 +202,7 @@ static int build(spm_scene *owned, void (*beside)(const spm_scene *), const spm_
         owned->ntris = 0;
     }
     /* the camera first: the BVH pads its boxes by the eye's magnitude too */
-    g->cam = spm_camera_make(scene->eye, scene->dir, scene->fov_deg, scene->width, scene->height);
+    g->cam = spm_camera_of_scene(scene);
     if (spm_bvh_build(g, err)) {
         spm_geometry_free(g);
         return 1;
@@ -276,5 +276,33 @@ spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg
     c.tan_half = (float)tan(angle * 0.5 * (3.14159265358979323846 / 180.0));
     c.width = w;
     c.height = h;
+    return c;
+}
+
+/* A scene's camera. Without an up vector, MiniLight's frame and horizontal
+ * field of view. With one (pbrt-v4): right = up x dir, or dir x up for a
+ * mirrored camera, and a field of view across the shorter image side, so
+ * the horizontal tan_half is tan(fov / 2) times w / h when w >= h. */
+spm_camera spm_camera_of_scene(const spm_scene *s)
+{
+    if (s->up[0] == 0.0f && s->up[1] == 0.0f && s->up[2] == 0.0f)
+        return spm_camera_make(s->eye, s->dir, s->fov_deg, s->width, s->height);
+    spm_camera c = spm_camera_make(s->eye, s->dir, 90.0f, s->width, s->height);
+    double d[3] = {s->dir[0], s->dir[1], s->dir[2]}, up[3] = {s->up[0], s->up[1], s->up[2]};
+    double right[3];
+    dnormalise(d);
+    dcross(right, up, d);
+    dnormalise(right);
+    dcross(up, d, right); /* re-orthogonalised: float storage left it a little off */
+    dnormalise(up);
+    for (int i = 0; i < 3; i++) {
+        c.dir[i] = (float)d[i];
+        c.right[i] = (float)(s->mirror ? -right[i] : right[i]);
+        c.up[i] = (float)up[i];
+    }
+    double t = tan(s->fov_deg * 0.5 * (3.14159265358979323846 / 180.0));
+    if (s->fov_axis == SPM_FOV_SHORTER && s->width >= s->height)
+        t *= (double)s->width / s->height;
+    c.tan_half = (float)t;
     return c;
 }

@@ -51,6 +51,9 @@ void spm_geometry_free(spm_geometry *g);
  * (or too many emitters for the 24-bit table) and the pick is uniform. */
 int spm_emitter_table_build(spm_emitter *em, const double *w, int n);
 spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg, int w, int h);
+/* The camera of scene s: spm_camera_make, or the frame its up vector, mirror
+ * flag and field-of-view axis give (scene.h). */
+spm_camera spm_camera_of_scene(const spm_scene *s);
 
 /* Closest hit along origin + t dir, t > 0, ignoring triangle `skip` (or
  * SPM_NONE-like 0xFFFFFFFF). Returns the triangle index or -1; *t_out set. */

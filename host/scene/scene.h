@@ -49,7 +49,13 @@ typedef struct {
 typedef struct {
     char path[512];      /* file it came from ("<default>" for the built-in scene) */
     float eye[3], dir[3];
-    float fov_deg;       /* full horizontal field of view, MiniLight-style */
+    float fov_deg;       /* full field of view, across the axis fov_axis names */
+    int fov_axis;        /* SPM_FOV_HORIZONTAL (MiniLight) or SPM_FOV_SHORTER (pbrt-v4) */
+    float up[3];         /* the camera's up (unit, normal to dir); zero: MiniLight's rule
+                            (Y, or Z for a vertical view: host/geometry spm_camera_make) */
+    int mirror;          /* 1: the image's x runs along dir x up, not up x dir (a
+                            camera-from-world transform that mirrors, as pbrt's scenes
+                            written from right-handed tools have) */
     int width, height;
     int spp;             /* samples per pixel the file asks for (0: not given) */
     spm_colour *colours;
@@ -76,6 +82,12 @@ typedef struct {
     double *disp;
     int ndisp;
 } spm_scene;
+
+enum { SPM_FOV_HORIZONTAL = 0, SPM_FOV_SHORTER = 1 };
+
+/* render --strict: what an importer would warn about as not rendered is an
+ * error instead (exit 2). */
+extern int spm_scene_strict;
 
 /* Load a scene file: MiniLight .ml.txt (first line "#MiniLight") or the
  * project's own format. Errors: "file:line:col: what was expected". */

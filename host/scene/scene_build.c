@@ -142,6 +142,8 @@ int spm_sb_material_typed(spm_scene_builder *b, const spm_scene_material *proto,
         for (int i = 0; i < SPM_MAT_PARAMS; i++)
             n += snprintf(key + n, sizeof key - (size_t)n, " %a", proto->p[i]);
     }
+    if (proto->flags) /* a two-sided light is not a one-sided one */
+        n += snprintf(key + n, sizeof key - (size_t)n, " f%x", proto->flags);
     int i = spm_names_get(&b->material_index, key);
     if (i >= 0)
         return i;
@@ -238,6 +240,50 @@ int spm_sb_camera(spm_scene_builder *b, const double eye[3], const double dir[3]
         s->dir[k] = (float)(dir[k] / len);
     }
     s->fov_deg = (float)clamped;
+    return 0;
+}
+
+void spm_sb_index_table(spm_scene_builder *b, const double n[SPM_TRUTH_BINS],
+                        spm_scene_material *m)
+{
+    spm_scene *s = b->s;
+    s->disp = spm_xrealloc(s->disp, (size_t)(s->ndisp + 1) * SPM_TRUTH_BINS * sizeof *s->disp);
+    memcpy(s->disp + (size_t)s->ndisp * SPM_TRUTH_BINS, n, SPM_TRUTH_BINS * sizeof *n);
+    m->p[SPM_DIEL_P_DISP] = ++s->ndisp;
+}
+
+int spm_sb_camera_frame(spm_scene_builder *b, const double eye[3], const double dir[3],
+                        const double up[3], int mirror, double fov, const char *where,
+                        spm_error *err)
+{
+    double c[3] = {up[1] * dir[2] - up[2] * dir[1], up[2] * dir[0] - up[0] * dir[2],
+                   up[0] * dir[1] - up[1] * dir[0]};
+    double lu = sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
+    double lc = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    if (!(fov > 0.0 && fov < 180.0)) {
+        spm_errorf(err, "%s: a field of view of %g degrees (it must be inside 0..180)", where,
+                   fov);
+        return 1;
+    }
+    if (spm_sb_camera(b, eye, dir, 90.0, where, err))
+        return 1;
+    if (!(lc > 1e-9 * lu) || !isfinite(lc)) {
+        spm_errorf(err, "%s: the camera's up vector is zero or parallel to its direction", where);
+        return 1;
+    }
+    spm_scene *s = b->s;
+    /* up made normal to dir: (dir x up) x dir over its length */
+    double d[3] = {s->dir[0], s->dir[1], s->dir[2]}, u[3];
+    u[0] = (d[1] * up[2] - d[2] * up[1]);
+    u[1] = (d[2] * up[0] - d[0] * up[2]);
+    u[2] = (d[0] * up[1] - d[1] * up[0]);
+    double v[3] = {u[1] * d[2] - u[2] * d[1], u[2] * d[0] - u[0] * d[2], u[0] * d[1] - u[1] * d[0]};
+    double lv = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int k = 0; k < 3; k++)
+        s->up[k] = (float)(v[k] / lv);
+    s->mirror = mirror != 0;
+    s->fov_deg = (float)fov;
+    s->fov_axis = SPM_FOV_SHORTER;
     return 0;
 }
 

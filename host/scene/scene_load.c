@@ -43,5 +43,7 @@ int spm_scene_load(const char *path, spm_scene *out, spm_error *err)
                    MINILIGHT_ID);
         return 1;
     }
+    if (ends_with(path, ".pbrt"))
+        return spm_scene_parse_pbrt(&top, out, err);
     return spm_scene_parse_text(&top, out, err);
 }

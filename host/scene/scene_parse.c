@@ -500,10 +500,7 @@ static int index_param(parser *p, const spm_mparam *pa, spm_scene_material *m)
                        n[b], spm_disp_bin_nm(b), pa->lo, pa->hi);
             return 1;
         }
-    spm_scene *s = p->b.s;
-    s->disp = spm_xrealloc(s->disp, (size_t)(s->ndisp + 1) * SPM_TRUTH_BINS * sizeof *s->disp);
-    memcpy(s->disp + (size_t)s->ndisp * SPM_TRUTH_BINS, n, sizeof n);
-    m->p[SPM_DIEL_P_DISP] = ++s->ndisp;
+    spm_sb_index_table(&p->b, n, m);
     m->p[pa->slot] = nd;
     return 0;
 }

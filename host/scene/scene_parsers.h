@@ -9,4 +9,6 @@
 int spm_scene_parse_text(const spm_file *file, spm_scene *out, spm_error *err);
 /* MiniLight's .ml.txt, scene_minilight.c. */
 int spm_scene_parse_minilight(const spm_file *file, spm_scene *out, spm_error *err);
+/* pbrt-v4's .pbrt files (docs/PBRT.md), pbrt_parse.c. */
+int spm_scene_parse_pbrt(const spm_file *file, spm_scene *out, spm_error *err);
 #endif
