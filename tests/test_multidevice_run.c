@@ -119,7 +119,7 @@ static int run(spm_backend *bs, int nb, volatile sig_atomic_t *stop, size_t wind
     spm_backend *b[SPM_MAX_BACKENDS];
     for (int i = 0; i < nb; i++)
         b[i] = &bs[i];
-    spm_run_opts o = {SPP, SPP_PER_PASS, stop, 0};
+    spm_run_opts o = {.spp = SPP, .spp_per_pass = SPP_PER_PASS, .stop = stop, .progress = 0};
     spm_film_init(film, W, H, err);
     return window_bytes ? spm_render_run_window(b, nb, NPIX, &o, window_bytes, film, r, err)
                         : spm_render_run(b, nb, NPIX, &o, film, r, err);
@@ -357,7 +357,7 @@ static void arguments(void)
     spm_error err;
     make(&b, &f, 0, -1);
     spm_backend *bp = &b;
-    spm_run_opts o = {SPP, 0, NULL, 0};
+    spm_run_opts o = {.spp = SPP, .spp_per_pass = 0, .stop = NULL, .progress = 0};
     spm_film_init(&film, W, H, &err);
     CHECK(spm_render_run(&bp, 1, NPIX, &o, &film, &r, &err) == 1, "0 spp per pass accepted");
     o.spp_per_pass = 1;

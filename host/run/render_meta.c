@@ -31,8 +31,9 @@ void spm_render_meta_make(const spm_render_config *c, const spm_render_setup *s,
     int levelled = spm_mode(c->mode)->levelled;
     snprintf(m->software, sizeof m->software, "specmip %s", SPM_VERSION);
     snprintf(m->description, sizeof m->description,
-             "specmip %s render of %.900s: mode %s, %d of %d samples per pixel, seed %u",
-             SPM_VERSION, s->scene.path, mode, r->spp_done, spp, c->seed);
+             "specmip %s render of %.900s: mode %s, %d of %d samples per pixel%s, seed %u",
+             SPM_VERSION, s->scene.path, mode, r->spp_done, spp,
+             r->time_up ? " (the time budget's)" : "", c->seed);
     size_t used = 0;
     for (int i = 0; i < s->nb && used + 1 < sizeof m->devices; i++) {
         int w = snprintf(m->devices + used, sizeof m->devices - used, "%s%s", i ? "; " : "",
@@ -62,5 +63,9 @@ void spm_render_meta_make(const spm_render_config *c, const spm_render_setup *s,
         add_int(m, "specmip:coarsestLevel", c->pretest.coarsest_level);
     }
     add(m, "renderTimeSeconds", SPM_ATTR_FLOAT)->f = (float)render_s;
+    if (c->time_s > 0)
+        add(m, "specmip:timeBudgetSeconds", SPM_ATTR_FLOAT)->f = (float)c->time_s;
+    if (c->film_name)
+        add_string(m, "specmip:film", c->film_name);
     add_string(m, "specmip:devices", m->devices);
 }
