@@ -428,7 +428,7 @@ int spm_render_run_window(spm_backend **b, int nb, size_t npix, const spm_run_op
     if (o->progress && !complete)
         fputc('\n', stderr);
     r->interrupted = !complete && o->stop && *o->stop;
-    r->time_up = !complete && !r->interrupted && s.deadline > 0 && budget_spent(&s, spm_now());
+    r->time_up = !complete && !r->interrupted && s.deadline > 0 && s.alive > 0;
     free(s.done);
     free(s.retry);
     pthread_mutex_destroy(&s.mu);
