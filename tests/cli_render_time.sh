@@ -32,6 +32,7 @@ check "--time 3: it rendered for most of the budget" num "$render_s" '>' 2
 check "--time 3: the EXR records its spp" num "$spp" '>=' 1
 check "--time 3: the JSON's spp is the EXR's" test "$(jnum "$T/t.json" .spp)" = "$spp"
 check "--time 3: the EXR records the budget" test "$(exr_attr "$T/t.exr" specmip:timeBudgetSeconds)" = 3
+check "--time 3: the JSON says the budget ended it" test "$(jq .time_up "$T/t.json")" = true
 check "--time 3: says the budget ended it" said "the time budget (3 s) ended the render at $spp samples per pixel"
 
 # 2. With --spp: whichever limit comes first.
