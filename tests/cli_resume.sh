@@ -39,6 +39,16 @@ resumed "CPU reference" "$BIN" "${R[@]}" --backend cpu
 # Two devices of PoCL, the passes shared out as they come (both take some).
 SPECMIP_TEST_MEET=2 POCL_DEVICES="pthread basic" resumed "two devices" "$BIN" "${R[@]}" --device all
 
+# A spectral render keeps its bins in the film too: both EXRs bit for bit.
+S=("$BIN" "${R[@]}" --mode truth)
+"${S[@]}" --spp 16 -o "$T/s1.exr" -o "$T/s1.spectral.exr"
+"${S[@]}" --spp 8 --film -o "$T/s.spectral.exr" -o "$T/s.exr"
+check "spectral: a film with its bins" grep -aq '^layer=spectral f64 80$' "$T/s.spectral.exr.film"
+"${S[@]}" --spp 16 --resume "$T/s.spectral.exr" -o "$T/s.spectral.exr" -o "$T/s.exr"
+check "spectral: resumed to 16" test $? -eq 0
+check "spectral: the spectral EXR bit for bit" same_pixels "$T/s1.spectral.exr" "$T/s.spectral.exr"
+check "spectral: the RGB EXR bit for bit" same_pixels "$T/s1.exr" "$T/s.exr"
+
 # A film off the pass grid (64x64: 16 spp per pass, 8 spp is half a pass)
 # is continued, with a warning that it is not bit-identical.
 "$BIN" "${R[@]}" --width 64 --height 64 --spp 8 --film -o "$T/g.exr"
