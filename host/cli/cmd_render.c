@@ -187,7 +187,8 @@ static int film_file(render_opts *o)
         if (n > 4 && !strcasecmp(o->outputs[i] + n - 4, ".exr")) {
             const char *slash = strrchr(o->outputs[i], '/');
             snprintf(o->film_path, sizeof o->film_path, "%s.film", o->outputs[i]);
-            snprintf(o->film_name, sizeof o->film_name, "%s.film", slash ? slash + 1 : o->outputs[i]);
+            snprintf(o->film_name, sizeof o->film_name, "%s.film",
+                     slash ? slash + 1 : o->outputs[i]);
             o->cfg.film_name = o->film_name;
             return 0;
         }
@@ -344,7 +345,8 @@ static int render_film(render_opts *o, spm_mpi *mpi, spm_render_setup *s, spm_fi
     size_t npix = (size_t)s->scene.width * (size_t)s->scene.height;
     checkpoint_ctx ck = {o, s};
     o->pass_spp = (int)spm_spp_per_pass(npix, spp);
-    spm_run_opts ro = {.spp = spp, .spp_per_pass = (spm_u32)o->pass_spp, .stop = &spm_stop_flag, .progress = o->progress};
+    spm_run_opts ro = {.spp = spp, .spp_per_pass = (spm_u32)o->pass_spp, .stop = &spm_stop_flag,
+                       .progress = o->progress};
     ro.start = (int)film->samples;
     ro.time_s = o->cfg.time_s;
     ro.contiguous = o->keep_film;

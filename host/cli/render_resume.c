@@ -78,7 +78,8 @@ int spm_resume_load(const char *exr, const spm_film_print *now, int spp, int pas
                         "resume (--spp, or --time alone)", path, film->samples);
         goto refused;
     }
-    const char *was = spm_film_print_get(&saved, "backend"), *is = spm_film_print_get(now, "backend");
+    const char *was = spm_film_print_get(&saved, "backend");
+    const char *is = spm_film_print_get(now, "backend");
     if (was && is && strcmp(was, is))
         spm_warnf("%s was rendered on backend %s, continued on %s: the image is not "
                   "bit-identical to one render on either", path, was, is);

@@ -284,7 +284,8 @@ int spm_film_load(const char *path, spm_film *f, spm_film_print *p, int *pass_sp
     unsigned long long want = len + npix * (3 + (size_t)nspec) * sizeof(double) + sizeof(uint64_t);
     if (!rc && (unsigned long long)st.st_size != want) {
         spm_errorf(err, "%s: %s: %lld bytes where its header describes %llu", path,
-                   (unsigned long long)st.st_size < want ? "truncated" : "has bytes beyond the film",
+                   (unsigned long long)st.st_size < want ? "truncated"
+                                                         : "has bytes beyond the film",
                    (long long)st.st_size, want);
         rc = 1;
     }
@@ -299,8 +300,9 @@ int spm_film_load(const char *path, spm_film *f, spm_film_print *p, int *pass_sp
         uint64_t computed = hash;
         whole = whole && get(in, &stored, sizeof stored, &hash);
         if (!whole || stored != computed) {
-            spm_errorf(err, "%s: %s", path, whole ? "corrupt: its checksum does not match its contents"
-                                                  : "truncated while it was read");
+            spm_errorf(err, "%s: %s", path,
+                       whole ? "corrupt: its checksum does not match its contents"
+                             : "truncated while it was read");
             rc = 1;
         }
         f->samples = h.samples;

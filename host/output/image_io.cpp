@@ -170,7 +170,8 @@ extern "C" int spm_image_read_string_attr(const char *path, const char *name, ch
     auto in = ImageInput::open(path);
     if (!in) {
         std::string why = OIIO::geterror();
-        spm_errorf(err, "%s: cannot read image: %s", path, why.empty() ? "unknown format" : why.c_str());
+        spm_errorf(err, "%s: cannot read image: %s", path,
+                   why.empty() ? "unknown format" : why.c_str());
         return -1;
     }
     const OIIO::ParamValue *p = in->spec().find_attribute(name, TypeDesc::STRING);

@@ -158,7 +158,8 @@ static void progress_line(run_state *s)
     double paths = (double)s->r->total.paths;
     for (int i = 0; i < s->nb; i++)
         paths += (double)s->live_paths[i];
-    double all = (double)s->npix * (s->o->spp - s->o->start), done = paths < all ? paths / all : 1.0;
+    double all = (double)s->npix * (s->o->spp - s->o->start);
+    double done = paths < all ? paths / all : 1.0;
     if (s->deadline > 0 && dt / s->o->time_s > done) /* the budget ends it first */
         done = dt / s->o->time_s < 1.0 ? dt / s->o->time_s : 1.0;
     int left = s->npasses - s->next_to_add;
