@@ -18,27 +18,7 @@
 #define NPIX (W * H)
 #define P 3 /* samples per pixel a pass */
 
-/* A sample's XYZ, a function of (pixel, sample): every mantissa bit in use,
- * so that another summation order shows in the film. */
-static float sample_value(size_t pix, spm_u32 sample, int c)
-{
-    spm_u32 h = (spm_u32)pix * 2654435761u ^ (sample + 1u) * 2246822519u ^ (spm_u32)c * 3266489917u;
-    h ^= h >> 15;
-    h *= 2246822519u;
-    h ^= h >> 13;
-    return (float)(h >> 8) * (1.0f / 16777216.0f) * 97.0f;
-}
-
-static void pass_image(spm_u32 first, spm_u32 spp, float *img)
-{
-    for (size_t i = 0; i < NPIX; i++)
-        for (int c = 0; c < 3; c++) {
-            float sum = 0.0f;
-            for (spm_u32 s = first; s < first + spp; s++)
-                sum += sample_value(i, s, c);
-            img[3 * i + c] = sum;
-        }
-}
+#include "fake_passes.h"
 
 typedef struct {
     int delay_us; /* per pass */
@@ -56,7 +36,7 @@ static int fake_pass(spm_backend *b, spm_u32 first, spm_u32 spp, float *img, spm
         if (k + 1 < n && spm_pass_batch_end(&b->ctl, (uint64_t)(k + 1) * NPIX * spp / (unsigned)n))
             return SPM_PASS_STOPPED;
     }
-    pass_image(first, spp, img);
+    fake_pass_image(first, spp, img);
     st->paths += (uint64_t)NPIX * spp;
     return 0;
 }
@@ -82,7 +62,7 @@ static void film_to(int spp, spm_film *film)
     float img[3 * NPIX];
     for (int first = 0; first < spp; first += P) {
         int n = spp - first < P ? spp - first : P;
-        pass_image((spm_u32)first, (spm_u32)n, img);
+        fake_pass_image((spm_u32)first, (spm_u32)n, img);
         spm_film_add_pass(film, img, n);
     }
 }
