@@ -46,6 +46,18 @@ sed 's/quad_emit.gltf/strength.gltf/' "$T/quad.scene" > "$T/strength.scene"
 check "emissive strength: renders" test $? -eq 0
 check "emissive strength: warned" grep -q "warning: .*KHR_materials_emissive_strength" "$T/err"
 
+# Every glTF extension the file uses and specmip does not render is named
+# (Assimp hides those it does not read); the ones it renders are not.
+python3 -c 'import json, sys; d = json.load(open(sys.argv[1]))
+d["extensionsUsed"] = ["KHR_materials_clearcoat", "KHR_materials_ior", "KHR_materials_sheen", "EXT_made_up"]
+json.dump(d, open(sys.argv[2], "w"))' "$T/quad_emit.gltf" "$T/ext.gltf"
+sed 's/quad_emit.gltf/ext.gltf/' "$T/quad.scene" > "$T/ext.scene"
+"$BIN" render "$T/ext.scene" "${R[@]}" --spp 1 -o "$T/s.exr" 2> "$T/err"
+check "extensions: renders" test $? -eq 0
+check "extensions: each one not rendered named ($(grep extension "$T/err"))" grep -q \
+    "ext.gltf: glTF extensions KHR_materials_clearcoat, KHR_materials_sheen, EXT_made_up not rendered" "$T/err"
+check "extensions: a rendered one not named" eval "! grep -q KHR_materials_ior \"$T/err\""
+
 # 2. The README's mesh example (the first block with a mesh statement).
 awk '/^```/ { if (b) { if (m) { printf "%s", buf; exit } b = 0; buf = ""; m = 0; next } b = 1; next }
      b { buf = buf $0 "\n"; if ($1 == "mesh") m = 1 }' "$ROOT/README.md" > "$T/room.scene"

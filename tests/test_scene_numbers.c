@@ -50,7 +50,9 @@ int main(void)
 
     spm_lexer lx;
     spm_error err;
-    CHECK(spm_lex_open(&lx, path, &err) == 0, "open: %s", err.msg);
+    spm_file file;
+    CHECK(spm_paths_set_root(path, &file, &err) == 0 && spm_lex_open(&lx, &file, &err) == 0,
+          "open: %s", err.msg);
     int differ = 0;
     for (int i = 0; i < n; i++) {
         if (lx.type == SPM_TOK_NEWLINE)

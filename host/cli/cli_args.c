@@ -158,6 +158,12 @@ const spm_option spm_options[] = {
     ROW(EXPOSURE, "--exposure", "E", TEXT, 0, 0, R,
         "auto (default: the 99th percentile of Y maps to white) or a\n"
         "number multiplying Y before the operator"),
+    ROW(WHITE, "--white", "W", TEXT, 0, 0, R,
+        "white balance: the image adapted (Bradford) from white W to\n"
+        "the display's D65, as a camera would: D65 (default: unchanged),\n"
+        "E, A, D50, F1..F12 or another illuminant of spectra/, auto (the\n"
+        "scene's most powerful emitter) or a spectrum's CSV file; every\n"
+        "output but a .spectral.exr, which stays as rendered"),
     ROW(STATS, "--stats", NULL, FLAG, 0, 0, R,
         "print the time of every stage, the BVH (nodes, SAH cost,\n"
         "threads), peak memory, paths/s and (ml, mlc) paths per level\n"
@@ -210,6 +216,11 @@ const spm_option spm_options[] = {
         "low|medium|high: Embree's BVH (default medium)"),
     ROW(JSON, "--json", NULL, FLAG, 0, 0, B,
         "the ray benchmark's results as one JSON object on stdout"),
+    ROW(ALLOW_PATH, "--allow-path", "DIR", TEXT, 0, 0, R | B,
+        "a folder the files a scene names (meshes, spectra, images, a\n"
+        "model's buffers) may also be in; repeatable. By default only\n"
+        "the scene file's own folder and below, and specmip's spectra/\n"
+        "and scenes/ (docs/SCENE_FORMAT.md, 'Where referenced files may be')"),
     {SPM_O_HELP, "--help", "-h", NULL, SPM_ARG_FLAG, 0, 0, R | B | S, NULL, "this text"},
 };
 const int spm_noptions = (int)(sizeof spm_options / sizeof spm_options[0]);

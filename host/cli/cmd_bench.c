@@ -15,6 +15,7 @@
 #include "backends.h"
 #include "bench_study.h"
 #include "cli_args.h"
+#include "paths.h"
 #include "commands.h"
 #include "render_setup.h"
 #include "spectrum.h"
@@ -271,6 +272,12 @@ static int parse_args(int argc, char **argv, options *o)
             break;
         case SPM_O_REPEAT: p->repeat = (int)it.number; break;
         case SPM_O_OUT: o->out = it.value; break;
+        case SPM_O_ALLOW_PATH: {
+            spm_error e;
+            if (spm_paths_allow(it.value, &e))
+                return fail("%s%s", e.msg, "");
+            break;
+        }
         case SPM_O_OPS_ITEMS: o->ops_items = (int)it.number; break;
         case SPM_O_OPS_ITERS: o->ops_iters = (int)it.number; break;
         default: break;

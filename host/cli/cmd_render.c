@@ -4,6 +4,8 @@
 #include <string.h>
 #include <unistd.h>
 #include "cli_args.h"
+#include "paths.h"
+#include "render_white.h"
 #include "mpi_render.h"
 #include "commands.h"
 #include "film_spectral.h"
@@ -65,6 +67,8 @@ typedef struct {
     char film_path[4096], film_name[256];
     spm_film_print print; /* what the render is, for its film */
     int pass_spp;
+    const char *white;       /* --white, or NULL */
+    char white_desc[160];    /* what it resolved to, for the images' metadata */
 } render_opts;
 
 #define HELP_SHOWN (-1) /* parse_args: --help printed, nothing to render */
@@ -99,6 +103,15 @@ static int word_option(spm_opt_id id, const char *v, render_opts *o)
     case SPM_O_BACKEND:
         if (!(o->cfg.backend = spm_backend_kind_find(v))) {
             fprintf(stderr, "specmip render: --backend is opencl or cpu, not '%s'\n", v);
+            return SPM_EXIT_INPUT;
+        }
+        return 0;
+    case SPM_O_WHITE:
+        o->white = v;
+        return 0;
+    case SPM_O_ALLOW_PATH:
+        if (spm_paths_allow(v, &e)) {
+            fprintf(stderr, "specmip render: %s\n", e.msg);
             return SPM_EXIT_INPUT;
         }
         return 0;
@@ -266,6 +279,8 @@ static int write_all(const render_opts *o, const spm_render_setup *s, const spm_
     }
     spm_render_meta meta;
     spm_render_meta_make(&o->cfg, s, r, render_s, &meta);
+    if (o->white && meta.n < SPM_META_MAX)
+        meta.a[meta.n++] = (spm_image_attr){"specmip:white", SPM_ATTR_STRING, 0, 0, o->white_desc};
     for (int i = 0; i < o->nout; i++)
         if (spm_spectral_path(o->outputs[i])
                 ? spm_spectral_exr_write(o->outputs[i], film, meta.a, meta.n, &err)
@@ -435,6 +450,12 @@ int spm_cmd_render(int argc, char **argv)
         goto out;
     }
     /* the other ranks wait for passes after a failure here: mpirun ends them */
+    if (o.white && spm_render_white(o.white, &s.scene, &s.geom, &o.tm, o.white_desc,
+                                    sizeof o.white_desc, &err)) {
+        fprintf(stderr, "specmip render: %s\n", err.msg);
+        rc = SPM_EXIT_INPUT;
+        goto out;
+    }
     if (!film.sum && (spm_film_init(&film, s.scene.width, s.scene.height, &err) ||
                       (s.plan.nspec && spm_film_spectral_init(&film, s.plan.nspec, &err)))) {
         fprintf(stderr, "specmip render: %s\n", err.msg);

@@ -103,6 +103,28 @@ void spm_linear_srgb_to_xyz(const double rgb[3], double xyz[3])
     mat3(m, rgb, xyz);
 }
 
+void spm_cat_bradford(const double src[3], const double dst[3], double m[3][3])
+{
+    static const double b[3][3] = {{0.8951, 0.2664, -0.1614},
+                                   {-0.7502, 1.7135, 0.0367},
+                                   {0.0389, -0.0685, 1.0296}};
+    static const double binv[3][3] = {{0.9869929, -0.1470543, 0.1599627},
+                                      {0.4323053, 0.5183603, 0.0492912},
+                                      {-0.0085287, 0.0400428, 0.9684867}};
+    double s[3], d[3], ys = src[1] > 0 ? src[1] : 1.0, yd = dst[1] > 0 ? dst[1] : 1.0;
+    double sn[3] = {src[0] / ys, 1.0, src[2] / ys}, dn[3] = {dst[0] / yd, 1.0, dst[2] / yd};
+    mat3(b, sn, s);
+    mat3(b, dn, d);
+    /* m = binv * diag(d / s) * b */
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double v = 0.0;
+            for (int k = 0; k < 3; k++)
+                v += binv[i][k] * (s[k] != 0.0 ? d[k] / s[k] : 1.0) * b[k][j];
+            m[i][j] = v;
+        }
+}
+
 double spm_srgb_encode(double v)
 {
     v = v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v;

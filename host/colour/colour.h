@@ -19,6 +19,11 @@ void spm_lab_to_xyz(const double lab[3], const double white[3], double xyz[3]);
 /* IEC 61966-2-1 matrices (D65). */
 void spm_xyz_to_linear_srgb(const double xyz[3], double rgb[3]);
 void spm_linear_srgb_to_xyz(const double rgb[3], double xyz[3]);
+/* Bradford chromatic adaptation (Lam 1985; ICC.1 v4 Annex E): the matrix that
+ * takes XYZ seen under the white `src` to XYZ that looks the same under `dst`,
+ * M = B^-1 diag(B dst / B src) B. Whites are XYZ of any scale (only their
+ * chromaticities count: each is normalised to Y = 1). */
+void spm_cat_bradford(const double src[3], const double dst[3], double m[3][3]);
 double spm_srgb_encode(double linear);  /* transfer function, input clamped to [0, 1] */
 double spm_srgb_decode(double encoded);
 

@@ -125,6 +125,13 @@ static int write_xyz(const char *path, int width, int height, const float *xyz,
         return spm_output_check(path, err);
     size_t npix = (size_t)width * height;
     int rc;
+    float *balanced = NULL;
+    if (tm && tm->adapt) { /* white balance: on a copy, the film's XYZ stays as rendered */
+        balanced = spm_xmalloc(npix * 3 * sizeof *balanced);
+        memcpy(balanced, xyz, npix * 3 * sizeof *balanced);
+        spm_tonemap_white_balance(tm, balanced, npix);
+        xyz = balanced;
+    }
     if (kind == OUT_FLOAT) {
         float *rgb = spm_xmalloc(npix * 3 * sizeof *rgb);
         for (size_t i = 0; i < npix; i++) {
@@ -146,6 +153,7 @@ static int write_xyz(const char *path, int width, int height, const float *xyz,
         rc = spm_image_write_attrs(path, width, height, rgb8, SPM_PIXEL_UINT8, attrs, nattrs, err);
         free(rgb8);
     }
+    free(balanced);
     return rc;
 }
 

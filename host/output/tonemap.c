@@ -11,6 +11,7 @@ void spm_tonemap_default(spm_tonemap *tm)
     tm->op = SPM_TONE_LINEAR;
     tm->exposure = 0.0;
     tm->a = SPM_TONEMAP_THESIS_A;
+    tm->adapt = 0;
 }
 
 int spm_tonemap_select(spm_tonemap *tm, const char *name, spm_error *err)
@@ -58,6 +59,18 @@ double spm_tonemap_exposure(const spm_tonemap *tm, const float *xyz, size_t npix
     free(y);
     /* A black (or all-negative) image keeps exposure 1 rather than dividing by 0. */
     return white > 0 && isfinite(white) ? 1.0 / white : 1.0;
+}
+
+void spm_tonemap_white_balance(const spm_tonemap *tm, float *xyz, size_t npix)
+{
+    if (!tm || !tm->adapt)
+        return;
+    for (size_t i = 0; i < npix; i++) {
+        double v[3] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+        for (int r = 0; r < 3; r++)
+            xyz[3 * i + r] = (float)(tm->cat[r][0] * v[0] + tm->cat[r][1] * v[1] +
+                                     tm->cat[r][2] * v[2]);
+    }
 }
 
 void spm_tonemap_apply(const spm_tonemap *tm, const float *xyz, size_t npix, unsigned char *rgb8)

@@ -5,6 +5,7 @@
 #ifndef SPM_MESH_H
 #define SPM_MESH_H
 #include "scene_build.h"
+#include "paths.h"
 #include <stddef.h>
 #include <stdint.h>
 
@@ -19,7 +20,9 @@
 /* Test hook, active only when the environment sets it:
  * SPECMIP_TEST_MESH_CHILD=crash makes the child die of SIGSEGV before
  * importing, =hang makes it wait for ever, =as=N limits its address space
- * to N MiB instead. */
+ * to N MiB instead. SPECMIP_TEST_MESH_REFS=skip leaves out the check of a
+ * model's references before the import, so that a test sees the child's
+ * own (every file Assimp opens, every texture it reads). */
 #define SPM_MESH_MAX_MATERIALS 4096
 #define SPM_MESH_MAX_DEPTH 256 /* node hierarchy depth */
 
@@ -103,6 +106,7 @@ typedef struct {
     spm_mesh_tri *tris;
     spm_mesh_normals *normals; /* per triangle, or NULL: the file has no vertex normals */
     void *buf;                 /* owns mats, tris and normals */
+    char extensions[512];      /* a glTF's extensionsUsed that are not rendered, ", "-separated */
 } spm_mesh_data;
 
 /* The child's answer on its pipe (mesh_wire.c): a header of this many bytes
@@ -112,18 +116,26 @@ typedef struct {
 #define SPM_MESH_WIRE_HEAD 32
 #define SPM_MESH_WIRE_NORMALS 1u
 
-/* Imports `path` in a child process (a PLY file of triangles or strips: by
- * mesh_ply.c, in this process). Errors name `path` (and what Assimp said);
- * a crash or a limit hit in the child is an error; a stop request (Ctrl-C)
- * kills the child and fails with "interrupted". */
-int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err);
+/* Imports `file` in a child process (a PLY file of triangles or strips: by
+ * mesh_ply.c, in this process). The files it names are checked first
+ * (spm_mesh_refs_check), and every file the importer opens is checked again
+ * by the path rule in the child. Errors name the file (and what Assimp
+ * said); a crash or a limit hit in the child is an error; a stop request
+ * (Ctrl-C) kills the child and fails with "interrupted". */
+int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err);
+/* The files a model names — a glTF's buffer and image URIs, an OBJ's MTL
+ * files and their maps — each checked by the path rule (paths.h); a .glb's
+ * chunks against its size (mesh_refs.c). 1 with err naming the reference.
+ * A glTF's extensionsUsed that specmip does not render go into
+ * unrendered[size] (Assimp hides the extensions it does not parse). */
+int spm_mesh_refs_check(const spm_file *model, char *unrendered, size_t size, spm_error *err);
 
 /* For an OBJ (by its extension): a warning naming each `mtllib` file that is
  * not beside it, and every material that no MTL file found defines loses its
  * name, so the rule for a mesh without materials applies to those triangles;
  * a material whose `illum` is 6 or 7 gets SPM_MESH_HAS_REFRACT
  * (mesh_obj_mtl.c). `where` is the statement's file:line. */
-void spm_mesh_obj_mtl_check(const char *obj, const char *where, spm_mesh_data *d);
+void spm_mesh_obj_mtl_check(const spm_file *obj, const char *where, spm_mesh_data *d);
 void spm_mesh_free(spm_mesh_data *d);
 
 /* The child's answer on the pipe, decoded and checked (the parent does not

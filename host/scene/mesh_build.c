@@ -339,6 +339,10 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
                                  "'smooth'"
                                : "not rendered");
     said |= ignored;
+    if (d->extensions[0])
+        spm_warnf("%s: %s: glTF extension%s %s not rendered (specmip leaves %s effect out)",
+                  where, file, strchr(d->extensions, ',') ? "s" : "", d->extensions,
+                  strchr(d->extensions, ',') ? "their" : "its");
     record_mesh(b->s, file, where, first, lo, hi);
     if (!spm_quiet_warnings)
         fprintf(stderr, "specmip: %s: %s: %llu triangles, bounding box (%g %g %g) to (%g %g %g)\n",

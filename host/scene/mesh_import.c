@@ -11,6 +11,7 @@
 #include "interrupt.h"
 #include "mesh_ply.h"
 #include "mesh_texture.h"
+#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -196,7 +197,7 @@ static int walk_node(walk *k, const struct aiNode *n, const affine parent, int d
     return 0;
 }
 
-static int file_mentions(const char *path, const char *needle);
+static int file_mentions(const spm_file *file, const char *needle);
 static int ends_with_ci(const char *s, const char *suffix);
 
 static int has_colour(const struct aiMaterial *m, const char *key, unsigned type, unsigned idx,
@@ -215,9 +216,10 @@ static int has_colour(const struct aiMaterial *m, const char *key, unsigned type
  * default material (for files without materials) gets no name: such a mesh
  * needs a `material` clause. A base-colour texture's mean multiplies the
  * colour (mesh_texture.c). */
-static void material(const struct aiScene *sc, const char *path, const struct aiMaterial *m,
-                     spm_mesh_material *out, uint32_t *ignored)
+static int material(const struct aiScene *sc, const spm_file *file, const struct aiMaterial *m,
+                    spm_mesh_material *out, uint32_t *ignored, spm_error *refused)
 {
+    const char *path = file->shown;
     memset(out, 0, sizeof *out);
     struct aiString s;
     if (aiGetMaterialString(m, AI_MATKEY_NAME, &s) == aiReturn_SUCCESS &&
@@ -225,12 +227,14 @@ static void material(const struct aiScene *sc, const char *path, const struct ai
         snprintf(out->name, sizeof out->name, "%.*s", (int)(s.length < 63 ? s.length : 63),
                  s.data);
     if (!out->name[0])
-        return; /* its colours and defaults are Assimp's, not the file's */
+        return 0; /* its colours and defaults are Assimp's, not the file's */
     /* glTF's base colour where there is one, else the diffuse colour */
     if (!has_colour(m, AI_MATKEY_BASE_COLOR, out->diffuse) &&
         !has_colour(m, AI_MATKEY_COLOR_DIFFUSE, out->diffuse))
         out->diffuse[0] = out->diffuse[1] = out->diffuse[2] = 0.0f;
-    int base_tex = spm_mesh_texture_apply(sc, m, path, out);
+    int base_tex = spm_mesh_texture_apply(sc, m, file->path, out, refused);
+    if (base_tex == 2)
+        return 1;
     if (has_colour(m, AI_MATKEY_COLOR_EMISSIVE, out->emission)) {
         float strength;
         if (aiGetMaterialFloatArray(m, AI_MATKEY_EMISSIVE_INTENSITY, &strength, NULL) ==
@@ -255,7 +259,7 @@ static void material(const struct aiScene *sc, const char *path, const struct ai
         /* Assimp gives every glTF material an index: only KHR_materials_ior's counts */
         static int ior_ext = -1; /* one file per child: looked for once */
         if (ior_ext < 0)
-            ior_ext = file_mentions(path, "KHR_materials_ior");
+            ior_ext = file_mentions(file, "KHR_materials_ior");
         if (ior_ext)
             GETF(AI_MATKEY_REFRACTI, ior, SPM_MESH_HAS_IOR)
     }
@@ -276,6 +280,7 @@ static void material(const struct aiScene *sc, const char *path, const struct ai
                                   type == aiTextureType_NORMAL_CAMERA
                               ? SPM_MESH_IGN_NORMAL_MAPS
                               : SPM_MESH_IGN_TEXTURES;
+    return 0;
 }
 
 static int ends_with_ci(const char *s, const char *suffix)
@@ -291,9 +296,9 @@ static int ends_with_ci(const char *s, const char *suffix)
 
 /* Whether the file's bytes (the first 64 MiB: glTF's JSON comes first)
  * contain `needle`. Assimp 5.2 drops glTF's emissive strength without a word. */
-static int file_mentions(const char *path, const char *needle)
+static int file_mentions(const spm_file *file, const char *needle)
 {
-    FILE *f = fopen(path, "rb");
+    FILE *f = spm_path_fopen(file, "rb");
     if (!f)
         return 0;
     static char buf[(1 << 20) + 64];
@@ -312,8 +317,86 @@ static int file_mentions(const char *path, const char *needle)
     return found;
 }
 
-static void child_main(const char *path, int fd, pid_t parent)
+/* ---- the child's files: each one the importer opens goes through the path
+ * rule (paths.h), and the first refusal ends the import with its error ---- */
+
+static spm_error io_refused;
+static int io_was_refused;
+static const char *io_model;
+
+static size_t io_read(struct aiFile *f, char *buf, size_t size, size_t count)
 {
+    return fread(buf, size, count, (FILE *)f->UserData);
+}
+
+static size_t io_write(struct aiFile *f, const char *buf, size_t size, size_t count)
+{
+    (void)f, (void)buf, (void)size, (void)count;
+    return 0;
+}
+
+static size_t io_tell(struct aiFile *f)
+{
+    long at = ftell((FILE *)f->UserData);
+    return at < 0 ? 0 : (size_t)at;
+}
+
+static size_t io_size(struct aiFile *f)
+{
+    FILE *fp = (FILE *)f->UserData;
+    long at = ftell(fp), n = fseek(fp, 0, SEEK_END) ? -1 : ftell(fp);
+    fseek(fp, at, SEEK_SET);
+    return n < 0 ? 0 : (size_t)n;
+}
+
+static enum aiReturn io_seek(struct aiFile *f, size_t off, enum aiOrigin o)
+{
+    int whence = o == aiOrigin_SET ? SEEK_SET : o == aiOrigin_CUR ? SEEK_CUR : SEEK_END;
+    return fseek((FILE *)f->UserData, (long)off, whence) ? aiReturn_FAILURE : aiReturn_SUCCESS;
+}
+
+static void io_flush(struct aiFile *f)
+{
+    (void)f;
+}
+
+static struct aiFile *io_open(struct aiFileIO *io, const char *name, const char *mode)
+{
+    (void)io;
+    char where[SPM_PATH_MAX + 48];
+    snprintf(where, sizeof where, "%s: a file its importer asked for", io_model);
+    spm_file p;
+    spm_error e;
+    if (strpbrk(mode, "wa+"))
+        return NULL;
+    if (spm_path_check_joined(name, where, &p, &e)) {
+        if (!io_was_refused)
+            io_refused = e;
+        io_was_refused = 1;
+        return NULL;
+    }
+    FILE *fp = spm_path_fopen(&p, "rb");
+    if (!fp)
+        return NULL;
+    struct aiFile *f = calloc(1, sizeof *f);
+    if (!f) {
+        fclose(fp);
+        return NULL;
+    }
+    *f = (struct aiFile){io_read, io_write, io_tell, io_size, io_seek, io_flush, (char *)fp};
+    return f;
+}
+
+static void io_close(struct aiFileIO *io, struct aiFile *f)
+{
+    (void)io;
+    fclose((FILE *)f->UserData);
+    free(f);
+}
+
+static void child_main(const spm_file *file, int fd, pid_t parent)
+{
+    const char *path = file->shown;
     signal(SIGINT, SIG_DFL); /* Ctrl-C reaches the whole process group: end at once */
     signal(SIGTERM, SIG_DFL);
     signal(SIGPIPE, SIG_DFL);
@@ -342,7 +425,11 @@ static void child_main(const char *path, int fd, pid_t parent)
         pause();
     static writer w;
     w.fd = fd;
-    const struct aiScene *sc = aiImportFile(path, aiProcess_Triangulate);
+    struct aiFileIO io = {io_open, io_close, NULL};
+    io_model = path;
+    const struct aiScene *sc = aiImportFileEx(file->path, aiProcess_Triangulate, &io);
+    if (io_was_refused)
+        child_fail(&w, io_refused.msg);
     if (!sc) {
         char msg[700];
         const char *why = aiGetErrorString();
@@ -376,7 +463,9 @@ static void child_main(const char *path, int fd, pid_t parent)
         child_fail(&w, "out of memory");
     for (unsigned i = 0; i < sc->mNumMaterials; i++) {
         uint32_t ign = 0;
-        material(sc, path, sc->mMaterials[i], &mats[i], &ign);
+        spm_error refused;
+        if (material(sc, file, sc->mMaterials[i], &mats[i], &ign, &refused))
+            child_fail(&w, refused.msg);
         if (k.used[i])
             k.ignored |= ign;
     }
@@ -402,7 +491,7 @@ static void child_main(const char *path, int fd, pid_t parent)
             k.ignored |= SPM_MESH_IGN_TEXTURES;
     }
     if ((ends_with_ci(path, ".gltf") || ends_with_ci(path, ".glb")) &&
-        file_mentions(path, "KHR_materials_emissive_strength"))
+        file_mentions(file, "KHR_materials_emissive_strength"))
         k.ignored |= SPM_MESH_IGN_EMISSIVE_STRENGTH;
     if (sc->mNumCameras)
         k.ignored |= SPM_MESH_IGN_CAMERAS;
@@ -449,12 +538,19 @@ static int child_error(const char *path, int status, spm_error *err)
     return 1;
 }
 
-int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err)
+int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err)
 {
     memset(out, 0, sizeof *out);
+    const char *path = file->shown;
+    /* test hook (mesh.h): without the check before the import, the child's own */
+    const char *refs = getenv("SPECMIP_TEST_MESH_REFS");
+    char unrendered[sizeof out->extensions] = "";
+    if (!(refs && !strcmp(refs, "skip")) &&
+        spm_mesh_refs_check(file, unrendered, sizeof unrendered, err))
+        return 1;
     /* PLY by the project's own reader (mesh_ply.h), but for polygons */
     if (ends_with_ci(path, ".ply")) {
-        int rc = spm_ply_read(path, out, err);
+        int rc = spm_ply_read(file, out, err);
         if (rc != SPM_PLY_POLYGONS)
             return rc;
     }
@@ -475,7 +571,7 @@ int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err)
     }
     if (pid == 0) {
         close(fds[0]);
-        child_main(path, fds[1], parent);
+        child_main(file, fds[1], parent);
     }
     close(fds[1]);
     spm_test_pause("mesh");
@@ -564,5 +660,6 @@ int spm_mesh_import(const char *path, spm_mesh_data *out, spm_error *err)
         free(buf);
         return 1;
     }
+    memcpy(out->extensions, unrendered, sizeof unrendered);
     return 0;
 }

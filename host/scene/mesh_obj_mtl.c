@@ -36,9 +36,9 @@ static void add_name(name_list *l, const char *name)
 /* The `newmtl` names of an existing MTL file, appended to *names, and those
  * whose `illum` is 6 or 7 (refraction on; Assimp 5.2 does not pass illum
  * on) to *refract; 0 if the file cannot be opened. */
-static int mtl_names(const char *path, name_list *names, name_list *refract)
+static int mtl_names(const spm_file *file, name_list *names, name_list *refract)
 {
-    FILE *f = fopen(path, "r");
+    FILE *f = spm_path_fopen(file, "r");
     if (!f)
         return 0;
     char line[512], name[SPM_NAME_MAX] = "";
@@ -65,16 +65,17 @@ static int listed(const char *names, const char *name)
     return 0;
 }
 
-void spm_mesh_obj_mtl_check(const char *obj, const char *where, spm_mesh_data *d)
+void spm_mesh_obj_mtl_check(const spm_file *file, const char *where, spm_mesh_data *d)
 {
+    const char *obj = file->shown;
     size_t olen = strlen(obj);
     if (olen < 4 || strcasecmp(obj + olen - 4, ".obj"))
         return;
-    FILE *f = fopen(obj, "r");
+    FILE *f = spm_path_fopen(file, "r");
     if (!f)
         return;
-    const char *slash = strrchr(obj, '/');
-    int dirlen = slash ? (int)(slash - obj + 1) : 0;
+    char dir[SPM_PATH_MAX];
+    spm_path_dir(file->path, dir, sizeof dir); /* where the importer found its MTL files */
     name_list names = {NULL, 0, 0}, refract = {NULL, 0, 0};
     char missing[512] = "";
     size_t nmiss = 0;
@@ -85,9 +86,11 @@ void spm_mesh_obj_mtl_check(const char *obj, const char *where, spm_mesh_data *d
             continue;
         for (char *tok = strtok(line + 6, " \t\r\n"); tok && nlibs < MAX_LIBS;
              tok = strtok(NULL, " \t\r\n"), nlibs++) {
-            char path[4096];
-            snprintf(path, sizeof path, "%.*s%s", dirlen, obj, tok);
-            if (!mtl_names(path, &names, &refract) && nmiss < sizeof missing - 80) {
+            spm_file mtl; /* refused ones were refused before the import */
+            spm_error refused;
+            int found = !spm_path_check(dir, tok, where, &mtl, &refused) &&
+                        mtl_names(&mtl, &names, &refract);
+            if (!found && nmiss < sizeof missing - 80) {
                 snprintf(missing + nmiss, sizeof missing - nmiss, "%s'%s'", nmiss ? ", " : "", tok);
                 nmiss = strlen(missing);
             }

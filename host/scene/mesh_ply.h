@@ -27,5 +27,5 @@
  * byte offset (binary), and the problem, or SPM_PLY_POLYGONS (nothing in *out,
  * err untouched). A strip's triangles with a repeated index (the joins of
  * strips) are left out. */
-int spm_ply_read(const char *path, spm_mesh_data *out, spm_error *err);
+int spm_ply_read(const spm_file *file, spm_mesh_data *out, spm_error *err);
 #endif

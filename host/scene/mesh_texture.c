@@ -47,9 +47,10 @@ static const struct aiTexture *embedded(const struct aiScene *sc, const char *pa
     return NULL;
 }
 
-/* The mean of the texture `path` names: 0, or 1 with why filled. */
+/* The mean of the texture `path` names: 0, or 1 with why filled, or 2 with
+ * why the path rule's error. */
 static int texture_mean(const struct aiScene *sc, const char *model, const char *path,
-                        spm_mesh_material *out)
+                        spm_mesh_material *out, spm_error *refused)
 {
     int index = -1;
     const struct aiTexture *t = embedded(sc, path, &index);
@@ -71,32 +72,31 @@ static int texture_mean(const struct aiScene *sc, const char *model, const char 
         /* compressed (PNG, JPEG...): mWidth bytes; the hint is the format's extension */
         char name[32];
         snprintf(name, sizeof name, "embedded.%.8s", t->achFormatHint[0] ? t->achFormatHint : "png");
-        return spm_texture_mean(name, t->pcData, t->mWidth, out->texture_mean, out->texture_why,
-                                sizeof out->texture_why);
+        return spm_texture_mean_data(name, t->pcData, t->mWidth, out->texture_mean,
+                                     out->texture_why, sizeof out->texture_why);
     }
     /* a file: relative to the model's folder; Windows separators as '/' */
     snprintf(out->texture_name, sizeof out->texture_name, "%.95s", path);
-    char rel[1024], file[2048];
+    char rel[1024], dir[SPM_PATH_MAX], where[SPM_PATH_MAX + 32];
     snprintf(rel, sizeof rel, "%s", path);
     for (char *c = rel; *c; c++)
         if (*c == '\\')
             *c = '/';
-    const char *slash = strrchr(model, '/');
-    if (rel[0] == '/' || !slash)
-        snprintf(file, sizeof file, "%s", rel);
-    else
-        snprintf(file, sizeof file, "%.*s/%s", (int)(slash - model), model, rel);
+    snprintf(where, sizeof where, "%s: image", model);
+    spm_file file;
+    if (spm_path_check(spm_path_dir(model, dir, sizeof dir), rel, where, &file, refused))
+        return 2;
     struct stat st;
-    if (stat(file, &st) != 0 || !S_ISREG(st.st_mode)) {
+    if (stat(file.path, &st) != 0 || !S_ISREG(st.st_mode)) {
         snprintf(out->texture_why, sizeof out->texture_why, "no such file beside the model");
         return 1;
     }
-    return spm_texture_mean(file, NULL, 0, out->texture_mean, out->texture_why,
-                            sizeof out->texture_why);
+    return spm_texture_mean_file(&file, out->texture_mean, out->texture_why,
+                                 sizeof out->texture_why);
 }
 
 int spm_mesh_texture_apply(const struct aiScene *sc, const struct aiMaterial *m,
-                           const char *model, spm_mesh_material *out)
+                           const char *model, spm_mesh_material *out, spm_error *refused)
 {
     /* glTF's base colour texture, else the diffuse one (OBJ's map_Kd; Assimp
      * gives a glTF's base colour texture as both) */
@@ -109,9 +109,10 @@ int spm_mesh_texture_apply(const struct aiScene *sc, const struct aiMaterial *m,
     if (aiGetMaterialTexture(m, type, 0, &path, NULL, NULL, NULL, NULL, NULL, NULL) !=
         aiReturn_SUCCESS)
         return 0;
-    if (texture_mean(sc, model, path.data, out)) {
+    int rc = texture_mean(sc, model, path.data, out, refused);
+    if (rc) {
         out->texture = SPM_MESH_TEX_UNREAD;
-        return 1;
+        return rc == 2 ? 2 : 1;
     }
     out->texture = SPM_MESH_TEX_MEAN;
     for (int c = 0; c < 3; c++)

@@ -6,6 +6,7 @@
 #ifndef SPM_MESH_TEXTURE_H
 #define SPM_MESH_TEXTURE_H
 #include <stddef.h>
+#include "paths.h"
 #ifndef __cplusplus
 #include "mesh.h"
 #endif
@@ -17,12 +18,14 @@ extern "C" {
  * 768 MiB, fit under the importer child's address-space limit beside Assimp). */
 #define SPM_TEXTURE_MAX_PIXELS (1LL << 26)
 
-/* The mean linear RGB of the image file `name`, or, when data is not NULL, of
- * the size bytes at data (an embedded image; name's extension says the
- * format). Integer-coded pixels are sRGB-decoded before averaging; one or two
- * channels are grey. Returns 0, or 1 with why filled. (mesh_texture_io.cpp) */
-int spm_texture_mean(const char *name, const void *data, size_t size, float mean[3], char *why,
-                     size_t whylen);
+/* The mean linear RGB of the image file `file` (checked by the path rule),
+ * or of the size bytes at data (an embedded image; the extension of `hint`
+ * says its format). Integer-coded pixels are sRGB-decoded before averaging;
+ * one or two channels are grey. Returns 0, or 1 with why filled.
+ * (mesh_texture_io.cpp) */
+int spm_texture_mean_file(const spm_file *file, float mean[3], char *why, size_t whylen);
+int spm_texture_mean_data(const char *hint, const void *data, size_t size, float mean[3],
+                          char *why, size_t whylen);
 
 #ifndef __cplusplus
 struct aiScene;
@@ -30,9 +33,10 @@ struct aiMaterial;
 /* In the importer's child: the material's base-colour texture, if it has
  * one, read and its mean multiplied into out->diffuse (out->texture* say
  * what happened). `model` is the file's path (textures are found beside it).
- * Returns 1 if the material has a base-colour texture. */
+ * Returns 1 if the material has a base-colour texture, 2 with *refused
+ * filled when its file is outside where the scene may read (paths.h). */
 int spm_mesh_texture_apply(const struct aiScene *sc, const struct aiMaterial *m,
-                           const char *model, spm_mesh_material *out);
+                           const char *model, spm_mesh_material *out, spm_error *refused);
 /* In the parent, when a file material's colour is used: the warning that its
  * texture was replaced by its mean (or could not be read). `mwhere` names
  * the statement, file and material. */

@@ -26,14 +26,31 @@ static int fail(char *why, size_t n, const std::string &msg)
     return 1;
 }
 
-extern "C" int spm_texture_mean(const char *name, const void *data, size_t size, float mean[3],
-                                char *why, size_t whylen)
+static int mean_of(std::unique_ptr<ImageInput> in, float mean[3], char *why, size_t whylen);
+
+extern "C" int spm_texture_mean_file(const spm_file *file, float mean[3], char *why,
+                                     size_t whylen)
 {
     OIIO::attribute("threads", 1); // a forked child: no pool threads of the parent's
-    OIIO::Filesystem::IOMemReader mem(data, data ? size : 0);
-    auto in = ImageInput::open(name, nullptr, data ? &mem : nullptr);
+    auto in = ImageInput::open(file->path);
     if (!in)
         return fail(why, whylen, OIIO::geterror());
+    return mean_of(std::move(in), mean, why, whylen);
+}
+
+extern "C" int spm_texture_mean_data(const char *hint, const void *data, size_t size,
+                                     float mean[3], char *why, size_t whylen)
+{
+    OIIO::attribute("threads", 1);
+    OIIO::Filesystem::IOMemReader mem(data, size);
+    auto in = ImageInput::open(hint, nullptr, &mem);
+    if (!in)
+        return fail(why, whylen, OIIO::geterror());
+    return mean_of(std::move(in), mean, why, whylen);
+}
+
+static int mean_of(std::unique_ptr<ImageInput> in, float mean[3], char *why, size_t whylen)
+{
     const ImageSpec &spec = in->spec();
     long long npix = (long long)spec.width * spec.height;
     if (spec.deep || spec.width <= 0 || spec.height <= 0 || spec.depth > 1 || spec.nchannels < 1 ||

@@ -25,11 +25,11 @@ static int error_at(const spm_lexer *lx, spm_error *err, int line, int col, cons
     return 1;
 }
 
-int spm_lex_open(spm_lexer *lx, const char *path, spm_error *err)
+int spm_lex_open(spm_lexer *lx, const spm_file *file, spm_error *err)
 {
     memset(lx, 0, sizeof *lx);
-    lx->path = path;
-    lx->f = spm_fopen_input(path, "rb");
+    const char *path = lx->path = file->shown;
+    lx->f = spm_path_fopen(file, "rb");
     if (!lx->f) {
         spm_errorf(err, "%s: cannot open: %s", path, strerror(errno));
         return 1;

@@ -6,6 +6,7 @@
 #define SPM_SCENE_LEXER_H
 #include <stdio.h>
 #include "util.h"
+#include "paths.h"
 
 #define SPM_TOK_MAX 256
 
@@ -30,7 +31,7 @@ typedef struct {
 } spm_lexer;
 
 /* Opens the file and reads the first token. On failure nothing is left open. */
-int spm_lex_open(spm_lexer *lx, const char *path, spm_error *err);
+int spm_lex_open(spm_lexer *lx, const spm_file *file, spm_error *err);
 void spm_lex_close(spm_lexer *lx);
 /* Moves to the next token. */
 int spm_lex_next(spm_lexer *lx, spm_error *err);

@@ -2,6 +2,7 @@
  * the parser of that format (scene_parsers.h) builds the scene through the
  * builder (scene_build.h). Nothing here is called back. */
 #include "scene_parsers.h"
+#include "paths.h"
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
@@ -24,7 +25,10 @@ int spm_scene_load(const char *path, spm_scene *out, spm_error *err)
         spm_errorf(err, "%s: is a directory, not a scene file", path);
         return 1;
     }
-    FILE *f = spm_fopen_input(path, "rb");
+    spm_file top; /* the file named on the command line: its folder is the root */
+    if (spm_paths_set_root(path, &top, err))
+        return 1;
+    FILE *f = spm_path_fopen(&top, "rb");
     if (!f) {
         spm_errorf(err, "%s: cannot open: %s", path, strerror(errno));
         return 1;
@@ -33,11 +37,11 @@ int spm_scene_load(const char *path, spm_scene *out, spm_error *err)
     size_t n = fread(head, 1, sizeof head - 1, f);
     fclose(f);
     if (n == sizeof head - 1 && memcmp(head, MINILIGHT_ID, n) == 0)
-        return spm_scene_parse_minilight(path, out, err);
+        return spm_scene_parse_minilight(&top, out, err);
     if (ends_with(path, ".ml.txt")) {
         spm_errorf(err, "%s:1:1: expected '%s' at the start of a MiniLight file", path,
                    MINILIGHT_ID);
         return 1;
     }
-    return spm_scene_parse_text(path, out, err);
+    return spm_scene_parse_text(&top, out, err);
 }

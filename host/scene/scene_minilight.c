@@ -127,15 +127,16 @@ static int triangle(ml_parser *p)
     return m < 0 || spm_sb_tri(&p->b, v, m, line, where, p->err);
 }
 
-int spm_scene_parse_minilight(const char *path, spm_scene *out, spm_error *err)
+int spm_scene_parse_minilight(const spm_file *file, spm_scene *out, spm_error *err)
 {
+    const char *path = file->shown;
     ml_parser p;
     memset(&p, 0, sizeof p);
     p.err = err;
     spm_names_init(&p.rgb_colours);
     spm_sb_init(&p.b, out, path);
     /* The "#MiniLight" line is a comment to the lexer; spm_scene_load checked it. */
-    int rc = spm_lex_open(&p.lx, path, err) || header(&p) || background(&p) || skip(&p);
+    int rc = spm_lex_open(&p.lx, file, err) || header(&p) || background(&p) || skip(&p);
     while (!rc && p.lx.type != SPM_TOK_EOF)
         rc = triangle(&p) || skip(&p);
     if (!rc) {

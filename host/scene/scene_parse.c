@@ -22,13 +22,15 @@
 #define MAX_INLINE_SAMPLES 100000
 #define MAX_WAVELENGTH 1e5  /* nm; anything beyond is a typo, not data */
 
+#define SPM_INCLUDE_DEPTH 16 /* files read inside one another, the scene file included */
+
 typedef enum { DEF_FILE, DEF_INLINE, DEF_EQUAL, DEF_BLACKBODY } def_type;
 
 typedef struct {
     char name[SPM_NAME_MAX];
     def_type type;
     char where[600];         /* "file:line:col" of the definition */
-    char path[1024];         /* DEF_FILE: resolved path */
+    spm_file file;           /* DEF_FILE: resolved path */
     char column[SPM_TOK_MAX]; /* DEF_FILE: column name or "" */
     double *wl, *val;        /* DEF_INLINE */
     size_t n;
@@ -49,7 +51,23 @@ typedef struct {
     int image_line, camera_line, spp_line, bg_line[2];
     int kw_line, kw_col;     /* the current statement's keyword: where it stands */
     spm_mesh_cache meshes;   /* lifted mesh colours, shared by the scene's meshes */
+    char *reading[SPM_INCLUDE_DEPTH]; /* the files being read, outermost first (canonical) */
+    int nreading;
 } parser;
+
+static int statement(parser *p);
+
+/* Statements up to the end of the file the lexer reads. */
+static int read_statements(parser *p)
+{
+    int rc = 0;
+    while (!rc && p->lx.type != SPM_TOK_EOF) {
+        rc = spm_lex_skip_newlines(&p->lx, p->err);
+        if (!rc && p->lx.type != SPM_TOK_EOF)
+            rc = statement(p);
+    }
+    return rc;
+}
 
 static void where_now(const parser *p, char *buf, size_t size)
 {
@@ -99,41 +117,33 @@ static int is_directory(const char *path)
     return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
 }
 
-/* A spectrum file: absolute, or relative to the scene file, or in spectra/.
- * A directory where the file is looked for is named as such, not skipped. */
-static int resolve_spectrum_file(parser *p, const char *name, const char *where, char *out,
-                                 size_t size)
+/* A spectrum file: absolute, or relative to the scene file, or in spectra/;
+ * where it may be is the path rule's (paths.h). A directory where the file is
+ * looked for is named as such, not skipped. */
+static int resolve_spectrum_file(parser *p, const char *name, const char *where, spm_file *out)
 {
-    char tried[1024];
+    if (spm_path_check(p->dir, name, where, out, p->err))
+        return 1;
+    if (file_exists(out->path))
+        return 0;
+    if (is_directory(out->path)) {
+        spm_errorf(p->err, "%s: spectrum file '%s' is a directory (%s), not a CSV file", where,
+                   name, out->shown);
+        return 1;
+    }
     if (name[0] == '/') {
-        snprintf(out, size, "%s", name);
-        if (file_exists(out))
-            return 0;
-        if (is_directory(out)) {
-            spm_errorf(p->err, "%s: spectrum file '%s' is a directory, not a CSV file", where,
-                       name);
-            return 1;
-        }
         spm_errorf(p->err, "%s: spectrum file '%s' not found (or not a regular file)", where,
                    name);
         return 1;
     }
-    int n = snprintf(out, size, "%s/%s", p->dir, name);
-    if (n < (int)size && file_exists(out))
-        return 0;
-    if (n < (int)size && is_directory(out)) {
-        spm_errorf(p->err, "%s: spectrum file '%s' is a directory (%s), not a CSV file", where,
-                   name, out);
-        return 1;
-    }
-    snprintf(tried, sizeof tried, "%s", out);
-    char rel[1100];
+    char tried[SPM_PATH_MAX], rel[1100], data[SPM_PATH_MAX];
+    snprintf(tried, sizeof tried, "%s", out->shown);
     snprintf(rel, sizeof rel, "spectra/%s", name);
-    spm_data_path(rel, out, size);
-    if (file_exists(out))
+    spm_data_path(rel, data, sizeof data);
+    if (spm_path_check_joined(data, where, out, p->err) == 0 && file_exists(out->path))
         return 0;
     spm_errorf(p->err, "%s: spectrum file '%s' not found (looked for %s and %s)", where, name,
-               tried, out);
+               tried, data);
     return 1;
 }
 
@@ -202,7 +212,7 @@ static int stmt_spectrum(parser *p)
             return 1;
         where_now(p, fwhere, sizeof fwhere);
         if (spm_lex_path(&p->lx, "a spectrum file name", file, sizeof file, p->err) ||
-            resolve_spectrum_file(p, file, fwhere, d->path, sizeof d->path))
+            resolve_spectrum_file(p, file, fwhere, &d->file))
             return 1;
         if (spm_lex_is(&p->lx, "column") &&
             (spm_lex_next(&p->lx, p->err) ||
@@ -240,7 +250,7 @@ static const spm_spectrum *use_spectrum(parser *p, int idx, spm_kind kind, const
     int rc = 0;
     switch (d->type) {
     case DEF_FILE:
-        rc = spm_spectrum_load(d->path, d->column[0] ? d->column : NULL, kind, &sp, &inner);
+        rc = spm_spectrum_load(d->file.path, d->column[0] ? d->column : NULL, kind, &sp, &inner);
         if (rc)
             spm_errorf(p->err, "%s: spectrum '%s': %s", where, d->name, inner.msg);
         break;
@@ -502,17 +512,18 @@ static int index_param(parser *p, const spm_mparam *pa, spm_scene_material *m)
  * the scene's matrices. */
 static int matrix_param(parser *p, const spm_mparam *pa, spm_scene_material *m)
 {
-    char where[600], file[512], path[1024];
+    char where[600], file[512];
+    spm_file path;
     where_now(p, where, sizeof where);
     if (spm_lex_path(&p->lx, "a matrix file name", file, sizeof file, p->err) ||
-        resolve_spectrum_file(p, file, where, path, sizeof path))
+        resolve_spectrum_file(p, file, where, &path))
         return 1;
     spm_scene *s = p->b.s;
     const size_t nn = (size_t)SPM_TRUTH_BINS * SPM_TRUTH_BINS;
     double *F = spm_xcalloc(nn, sizeof *F);
     spm_spectrum diag;
     spm_error inner;
-    if (spm_fluor_load_donaldson(path, &diag, F, &inner)) {
+    if (spm_fluor_load_donaldson(path.path, &diag, F, &inner)) {
         spm_errorf(p->err, "%s: %s", where, inner.msg);
         free(F);
         return 1;
@@ -843,17 +854,15 @@ static int mesh_translate(parser *p, double m[3][4])
     return 0;
 }
 
-/* The mesh file's path (relative to the scene's folder), existing and of a
- * format the importer reads. */
-static int mesh_path(parser *p, const char *file, const char *fwhere, char *path, size_t size)
+/* The mesh file's path (relative to the scene's folder, where the path rule
+ * allows), existing and of a format the importer reads. */
+static int mesh_path(parser *p, const char *file, const char *fwhere, spm_file *path)
 {
-    if (file[0] != '/' && snprintf(path, size, "%s/%s", p->dir, file) >= (int)size)
-        return spm_lex_expected(&p->lx, p->err, "a shorter mesh file name");
-    if (file[0] == '/')
-        snprintf(path, size, "%s", file);
-    if (!file_exists(path)) {
+    if (spm_path_check(p->dir, file, fwhere, path, p->err))
+        return 1;
+    if (!file_exists(path->path)) {
         spm_errorf(p->err, "%s: mesh file '%s' not found (or not a regular file; looked for %s)",
-                   fwhere, file, path);
+                   fwhere, file, path->shown);
         return 1;
     }
     const char *dot = strrchr(file, '.');
@@ -871,7 +880,8 @@ static int mesh_path(parser *p, const char *file, const char *fwhere, char *path
  * clauses in any order, the transforms applied in the order written. */
 static int stmt_mesh(parser *p)
 {
-    char where[600], fwhere[600], file[SPM_TOK_MAX], path[2048];
+    char where[600], fwhere[600], file[SPM_TOK_MAX];
+    spm_file path;
     int line = p->kw_line;
     where_keyword(p, where, sizeof where);
     where_now(p, fwhere, sizeof fwhere);
@@ -909,20 +919,20 @@ static int stmt_mesh(parser *p)
               : k == 2 ? mesh_rotate(p, o.m)
                        : mesh_translate(p, o.m));
     }
-    rc = rc || mesh_path(p, file, fwhere, path, sizeof path) ||
+    rc = rc || mesh_path(p, file, fwhere, &path) ||
          spm_lex_end_of_statement(&p->lx, p->err);
     if (!rc) {
         spm_mesh_data d;
         o.binds = binds;
         o.nbinds = nbinds;
-        rc = spm_mesh_import(path, &d, p->err);
+        rc = spm_mesh_import(&path, &d, p->err);
         if (rc && !spm_stop_requested()) { /* say which statement */
             spm_error inner = *p->err;
             spm_errorf(p->err, "%s: mesh %.900s", where, inner.msg);
         }
         if (!rc) {
-            spm_mesh_obj_mtl_check(path, where, &d);
-            rc = spm_mesh_add(&p->b, &p->meshes, &d, &o, path, where, p->err);
+            spm_mesh_obj_mtl_check(&path, where, &d);
+            rc = spm_mesh_add(&p->b, &p->meshes, &d, &o, path.shown, where, p->err);
         }
         spm_mesh_free(&d);
     }
@@ -971,6 +981,50 @@ static int stmt_quad(parser *p)
     return stmt_polygon(p, 4);
 }
 
+/* include FILE: FILE's statements, as if written here. FILE is relative to
+ * this file's folder, where the path rule allows (paths.h); an included file
+ * may include others, but not one that is being read (a cycle). */
+static int stmt_include(parser *p)
+{
+    char where[600], file[SPM_TOK_MAX], dir[sizeof p->dir];
+    where_keyword(p, where, sizeof where);
+    spm_file inc;
+    if (spm_lex_path(&p->lx, "an included file's name", file, sizeof file, p->err) ||
+        spm_lex_end_of_statement(&p->lx, p->err) ||
+        spm_path_check(p->dir, file, where, &inc, p->err))
+        return 1;
+    if (!file_exists(inc.path)) {
+        spm_errorf(p->err, "%s: included file '%s' not found (or not a regular file; looked for "
+                           "%s)", where, file, inc.shown);
+        return 1;
+    }
+    for (int i = 0; i < p->nreading; i++)
+        if (!strcmp(p->reading[i], inc.path)) {
+            spm_errorf(p->err, "%s: include '%s': a cycle (that file is being read already)",
+                       where, file);
+            return 1;
+        }
+    if (p->nreading == SPM_INCLUDE_DEPTH) {
+        spm_errorf(p->err, "%s: include '%s': more than %d files deep", where, file,
+                   SPM_INCLUDE_DEPTH);
+        return 1;
+    }
+    spm_lexer outer = p->lx;
+    memcpy(dir, p->dir, sizeof dir);
+    spm_path_dir(inc.shown, p->dir, sizeof p->dir);
+    p->reading[p->nreading++] = spm_xstrdup(inc.path);
+    int rc = spm_lex_open(&p->lx, &inc, p->err) || read_statements(p);
+    if (rc && !spm_stop_requested()) { /* say where it was included */
+        spm_error inner = *p->err;
+        spm_errorf(p->err, "%.800s (included at %s)", inner.msg, where);
+    }
+    spm_lex_close(&p->lx);
+    p->lx = outer;
+    memcpy(p->dir, dir, sizeof dir);
+    free(p->reading[--p->nreading]);
+    return rc;
+}
+
 /* The statements: a keyword and its parser, which starts on the token after
  * the keyword (the keyword's position is p->kw_line, p->kw_col). The order is
  * the one the error for an unknown statement lists them in. */
@@ -981,6 +1035,7 @@ static const struct {
     {"image", stmt_image},   {"spp", stmt_spp},   {"camera", stmt_camera},
     {"spectrum", stmt_spectrum}, {"material", stmt_material}, {"tri", stmt_tri},
     {"quad", stmt_quad},     {"mesh", stmt_mesh}, {"background", stmt_background},
+    {"include", stmt_include},
 };
 #define NSTATEMENTS ((int)(sizeof statements / sizeof statements[0]))
 
@@ -1013,6 +1068,8 @@ static void parser_free(parser *p)
     spm_names_free(&p->materials);
     spm_mesh_cache_free(&p->meshes);
     spm_lex_close(&p->lx);
+    for (int i = 0; i < p->nreading; i++)
+        free(p->reading[i]);
 }
 
 static int finish(parser *p)
@@ -1030,8 +1087,9 @@ static int finish(parser *p)
     return spm_sb_finish(&p->b, where, p->err);
 }
 
-int spm_scene_parse_text(const char *path, spm_scene *out, spm_error *err)
+int spm_scene_parse_text(const spm_file *file, spm_scene *out, spm_error *err)
 {
+    const char *path = file->shown;
     parser p;
     memset(&p, 0, sizeof p);
     p.err = err;
@@ -1046,12 +1104,8 @@ int spm_scene_parse_text(const char *path, spm_scene *out, spm_error *err)
         snprintf(p.dir, sizeof p.dir, ".");
     if (slash == path)
         snprintf(p.dir, sizeof p.dir, "/");
-    int rc = spm_lex_open(&p.lx, path, err);
-    while (!rc && p.lx.type != SPM_TOK_EOF) {
-        rc = spm_lex_skip_newlines(&p.lx, err);
-        if (!rc && p.lx.type != SPM_TOK_EOF)
-            rc = statement(&p);
-    }
+    p.reading[p.nreading++] = spm_xstrdup(file->path);
+    int rc = spm_lex_open(&p.lx, file, err) || read_statements(&p);
     if (!rc)
         rc = finish(&p);
     parser_free(&p);

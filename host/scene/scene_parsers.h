@@ -3,9 +3,10 @@
 #ifndef SPM_SCENE_PARSERS_H
 #define SPM_SCENE_PARSERS_H
 #include "scene.h"
+#include "paths.h"
 
 /* The project's format (docs/SCENE_FORMAT.md), scene_parse.c. */
-int spm_scene_parse_text(const char *path, spm_scene *out, spm_error *err);
+int spm_scene_parse_text(const spm_file *file, spm_scene *out, spm_error *err);
 /* MiniLight's .ml.txt, scene_minilight.c. */
-int spm_scene_parse_minilight(const char *path, spm_scene *out, spm_error *err);
+int spm_scene_parse_minilight(const spm_file *file, spm_scene *out, spm_error *err);
 #endif

@@ -45,7 +45,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             tris[t].p[k / 3][k % 3] = (float)(int8_t)b[k] * 0.25f;
         tris[t].mat = b[9] % nmats;
     }
-    d = (spm_mesh_data){0, nmats, ntris, mats, tris, NULL};
+    d = (spm_mesh_data){0, nmats, ntris, mats, tris, NULL, NULL, ""};
 
     spm_scene s;
     spm_scene_builder bld;

@@ -11,7 +11,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         return 0;
     spm_scene s;
     spm_error err;
-    if (spm_scene_parse_minilight(path, &s, &err) == 0)
+    spm_file file;
+    if (spm_paths_set_root(path, &file, &err) == 0 && spm_scene_parse_minilight(&file, &s, &err) == 0)
         spm_scene_free(&s);
     return 0;
 }

@@ -13,7 +13,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         return 0;
     spm_mesh_data d;
     spm_error err;
-    int rc = spm_ply_read(path, &d, &err);
+    spm_file file;
+    if (spm_paths_set_root(path, &file, &err))
+        abort();
+    int rc = spm_ply_read(&file, &d, &err);
     if (rc != 0 && rc != 1 && rc != SPM_PLY_POLYGONS)
         abort();
     if (rc == 0) {

@@ -2,7 +2,7 @@
 # Runs one libFuzzer harness until it has used CPU_SECONDS of CPU (the machine
 # is shared: one job, rounds of at most the CPU time still owed), seeded with
 # the bundled good files and tests/bad-inputs. Findings go to OUT/art_NAME/.
-# usage: bash tests/fuzz/run_fuzz.sh BUILD_DIR scene|minilight|csv|mesh|ply OUT [CPU_SECONDS]
+# usage: bash tests/fuzz/run_fuzz.sh BUILD_DIR scene|minilight|csv|mesh|ply|gltf OUT [CPU_SECONDS]
 # (BUILD_DIR configured with CC=clang CXX=clang++ -DSPECMIP_FUZZ=ON)
 set -u
 BUILD=$(cd "${1:?build dir}" && pwd) NAME=${2:?harness} OUT=${3:?output dir} CPU=${4:-600}
@@ -27,6 +27,13 @@ case $NAME in
        python3 "$ROOT/tools/gen_meshes.py" "dir_$NAME/gen" > /dev/null
        cp "dir_$NAME"/gen/*.ply "seed_$NAME/" && rm -r "dir_$NAME/gen"
        maxlen=8192 ;;
+  gltf) # the corpus's models, each behind the byte that picks .gltf, .glb, .obj or .mtl
+        i=0
+        for f in "$ROOT"/tests/bad-inputs/path_models/*.{gltf,glb,obj,mtl}; do
+          case $f in *.gltf) b='\x00' ;; *.glb) b='\x01' ;; *.obj) b='\x02' ;; *) b='\x03' ;; esac
+          { printf "$b"; cat "$f"; } > "seed_$NAME/m$((i++))"
+        done
+        maxlen=8192 ;;
   *) echo "unknown harness $NAME" >&2; exit 2 ;;
 esac
 used=0 round=0
