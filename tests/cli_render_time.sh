@@ -49,7 +49,8 @@ seen="" bad=0 snap=""
 for ((i = 0; i < 200; i++)); do
     sleep 0.2
     kill -0 $pid 2> /dev/null || break
-    [ -e "$T/c.exr" ] || continue
+    # the first checkpoint writes the film, the EXR, then the PNG: all there
+    [ -e "$T/c.exr.film" ] && [ -e "$T/c.exr" ] && [ -e "$T/c.png" ] || continue
     cp "$T/c.exr" "$T/read.exr" && cp "$T/c.png" "$T/read.png" && cp "$T/c.exr.film" "$T/read.film"
     if ! oiiotool "$T/read.exr" --printstats > /dev/null 2>&1 ||
         ! oiiotool "$T/read.png" --printstats > /dev/null 2>&1; then
