@@ -2,7 +2,7 @@
 # Ctrl-C / SIGTERM at each moment of a render on the CPU reference (no OpenCL,
 # so the sanitizer build runs it too): while the scene, a CSV spectrum, the BVH
 # and the pretests are being prepared, inside a pass, and while the images are
-# written; a second signal. The test hook SPECMIP_TEST_PAUSE (host/util/interrupt.h)
+# written, and while a checkpoint is written (--checkpoint); a second signal. The test hook SPECMIP_TEST_PAUSE (host/util/interrupt.h)
 # holds the program at a named stage until the signal arrives. Each time: exit
 # 130 well within the bound below, the message names the moment, existing
 # outputs are replaced by complete images only, and no temporary file is left.
@@ -155,6 +155,69 @@ check "signal during a write: says so" said "interrupted once the render was don
 check "signal during a write: first output complete" same_pixels "$T/full.exr" "$T/o.exr"
 check "signal during a write: second output written" is_png "$T/o.png"
 check "signal during a write: no temporary file" no_temps "$T"
+
+# 7. Checkpoints (--checkpoint, docs/RENDERING.md): the film is written first,
+#    then the images, each to a temporary file renamed over the last one.
+#    64x64 at 16 spp a pass, a checkpoint after every pass or so; the test
+#    pause "film" holds the second checkpoint's film write (the first is done).
+CK=(--backend cpu --width 64 --height 64 --spp 4096 --checkpoint 0.1 --quiet)
+film_samples() { grep -a -m1 '^samples=' "$1" | cut -d= -f2; }
+exr_spp() { oiiotool --info -v "$1" 2> /dev/null | sed -n 's/^ *samplesPerPixel: //p'; }
+resumes() { "$BIN" render "${CK[@]}" --spp $(($(film_samples "$1.film") + 16)) --resume "$1" -o "$T/res.exr"; }
+mkdir "$T/ck"
+# a) Killed outright while the second checkpoint's film is written: the first
+#    checkpoint's film and images are there as they were, and resume.
+: > "$T/err"
+SPECMIP_TEST_PAUSE=film:2 "$BIN" render "${CK[@]}" -o "$T/ck/c.exr" -o "$T/ck/c.png" 2> "$T/err" &
+pid=$!
+for ((i = 0; i < 600; i++)); do
+    grep -q "test pause at film" "$T/err" && break
+    sleep 0.1
+done
+cp "$T/ck/c.exr" "$T/first.exr" && cp "$T/ck/c.exr.film" "$T/first.film" && cp "$T/ck/c.png" "$T/first.png"
+kill -KILL $pid
+wait $pid 2> /dev/null
+check "checkpoint killed: paused in the second film write" said "test pause at film"
+check "checkpoint killed: the first checkpoint's film untouched" cmp -s "$T/first.film" "$T/ck/c.exr.film"
+check "checkpoint killed: its EXR untouched" cmp -s "$T/first.exr" "$T/ck/c.exr"
+check "checkpoint killed: its PNG untouched" cmp -s "$T/first.png" "$T/ck/c.png"
+check "checkpoint killed: the film resumes" resumes "$T/ck/c.exr"
+rm -rf "$T/ck" && mkdir "$T/ck"
+# b) Ctrl-C during the second checkpoint's film write: that checkpoint is
+#    completed, then the passes done are written; film and EXR agree.
+paused film:2 1 INT "${CK[@]}" -o "$T/ck/c.exr" -o "$T/ck/c.png"
+check "checkpoint, Ctrl-C: exit 130" test $rc -eq 130
+check "checkpoint, Ctrl-C: the passes done written" said "interrupted after [0-9]* of 4096 samples per pixel; image written"
+check "checkpoint, Ctrl-C: film and EXR agree" test "$(film_samples "$T/ck/c.exr.film")" = "$(exr_spp "$T/ck/c.exr")"
+check "checkpoint, Ctrl-C: no temporary file" no_temps "$T"
+check "checkpoint, Ctrl-C: the film resumes" resumes "$T/ck/c.exr"
+rm -rf "$T/ck" && mkdir "$T/ck"
+# c) A second signal while that checkpoint's EXR is written (after its film):
+#    exit at once; the EXR is the first checkpoint's, no temporary file, and
+#    it resumes from the film written just before.
+: > "$T/err"
+SPECMIP_TEST_PAUSE=film:2,write:2 "$BIN" render "${CK[@]}" -o "$T/ck/c.exr" 2> "$T/err" &
+pid=$!
+for ((i = 0; i < 600; i++)); do
+    grep -q "test pause at film" "$T/err" && break
+    sleep 0.1
+done
+cp "$T/ck/c.exr" "$T/first.exr"
+kill -INT $pid
+for ((i = 0; i < 600; i++)); do
+    grep -q "test pause at write" "$T/err" && break
+    sleep 0.1
+done
+kill -TERM $pid
+wait $pid
+rc=$?
+check "checkpoint, second signal: exit 130" test $rc -eq 130
+check "checkpoint, second signal: says so" said "interrupted again"
+check "checkpoint, second signal: the EXR is the first checkpoint's" cmp -s "$T/first.exr" "$T/ck/c.exr"
+check "checkpoint, second signal: no temporary file" no_temps "$T"
+check "checkpoint, second signal: the film is the second's" \
+    num "$(film_samples "$T/ck/c.exr.film")" '>' "$(exr_spp "$T/ck/c.exr")"
+check "checkpoint, second signal: the film resumes" resumes "$T/ck/c.exr"
 
 # 6. Without the hook: the test pause does nothing unless asked for, and a
 #    render left alone exits 0.

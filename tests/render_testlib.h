@@ -71,7 +71,7 @@ static inline int rt_render(const rt_render_job *j, rt_render_out *o, rt_inspect
     spm_film film;
     int rc = spm_film_init(&film, j->size, j->size, &err);
     if (!rc) {
-        spm_run_opts ro = {j->spp, spm_spp_per_pass(npix, j->spp), NULL, 0};
+        spm_run_opts ro = {.spp = j->spp, .spp_per_pass = spm_spp_per_pass(npix, j->spp)};
         rc = spm_render_run(s.b, s.nb, npix, &ro, &film, &o->run, &err);
     }
     if (rc) {

@@ -46,7 +46,7 @@ static double render_mean_y(const char *name, int mode, int size, int spp)
     spm_run_result res;
     int rc = spm_film_init(&film, size, size, &err);
     if (!rc) {
-        spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), NULL, 0};
+        spm_run_opts ro = {.spp = spp, .spp_per_pass = spm_spp_per_pass(npix, spp)};
         rc = spm_render_run(s.b, s.nb, npix, &ro, &film, &res, &err);
         CHECK(rc == 0, "%s: render: %s", name, err.msg);
     }

@@ -80,7 +80,7 @@ static void render_loop(void)
     memset(&be, 0, sizeof be);
     be.pass = fake_pass;
     spm_backend *b = &be;
-    spm_run_opts o = {10, 3, NULL, 0};
+    spm_run_opts o = {.spp = 10, .spp_per_pass = 3, .stop = NULL, .progress = 0};
     spm_run_result r;
     CHECK(spm_render_run(&b, 1, N, &o, &f, &r, &err) == 0, "%s", err.msg);
     float spec[N * NB];

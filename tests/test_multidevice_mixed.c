@@ -95,7 +95,7 @@ static int render(int ndev, const int *devs, const char *fail, spm_film *film, s
     unsetenv("SPECMIP_CL_FAIL");
     if (!rc) {
         spm_film_init(film, W, H, &err);
-        spm_run_opts o = {SPP, SPP_PER_PASS, NULL, 0};
+        spm_run_opts o = {.spp = SPP, .spp_per_pass = SPP_PER_PASS, .stop = NULL, .progress = 0};
         /* each device's first pass waits until both have taken one (the
          * render loop's test hook, render_run.h), so that on a loaded machine
          * neither takes every pass before the other's thread asks */

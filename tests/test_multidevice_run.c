@@ -18,27 +18,7 @@
 #define SPP_PER_PASS 3 /* 13 passes, the last one of a single sample */
 #define NPASSES ((SPP + SPP_PER_PASS - 1) / SPP_PER_PASS)
 
-/* A sample's XYZ: a function of (pixel, sample) only, with all 24 mantissa
- * bits in use so that any change of summation order shows in the film. */
-static float sample_value(size_t pix, spm_u32 sample, int c)
-{
-    spm_u32 h = (spm_u32)pix * 2654435761u ^ (sample + 1u) * 2246822519u ^ (spm_u32)c * 3266489917u;
-    h ^= h >> 15;
-    h *= 2246822519u;
-    h ^= h >> 13;
-    return (float)(h >> 8) * (1.0f / 16777216.0f) * 97.0f;
-}
-
-static void pass_image(spm_u32 first, spm_u32 spp, float *img)
-{
-    for (size_t i = 0; i < NPIX; i++)
-        for (int c = 0; c < 3; c++) {
-            float sum = 0.0f;
-            for (spm_u32 s = first; s < first + spp; s++)
-                sum += sample_value(i, s, c);
-            img[3 * i + c] = sum;
-        }
-}
+#include "fake_passes.h"
 
 typedef struct {
     int delay_us;               /* per pass: the device's speed */
@@ -91,7 +71,7 @@ static int fake_pass(spm_backend *b, spm_u32 first, spm_u32 spp, float *img, spm
         if (spm_pass_batch_end(&b->ctl, (uint64_t)k * NPIX * spp / (unsigned)f->batches))
             return SPM_PASS_STOPPED;
     }
-    pass_image(first, spp, img);
+    fake_pass_image(first, spp, img);
     st->paths += (uint64_t)NPIX * spp;
     f->done_first[f->ndone++] = (int)first;
     if (f->stop_after && f->ndone == 2 && !f->batches)
@@ -119,7 +99,7 @@ static int run(spm_backend *bs, int nb, volatile sig_atomic_t *stop, size_t wind
     spm_backend *b[SPM_MAX_BACKENDS];
     for (int i = 0; i < nb; i++)
         b[i] = &bs[i];
-    spm_run_opts o = {SPP, SPP_PER_PASS, stop, 0};
+    spm_run_opts o = {.spp = SPP, .spp_per_pass = SPP_PER_PASS, .stop = stop, .progress = 0};
     spm_film_init(film, W, H, err);
     return window_bytes ? spm_render_run_window(b, nb, NPIX, &o, window_bytes, film, r, err)
                         : spm_render_run(b, nb, NPIX, &o, film, r, err);
@@ -140,7 +120,7 @@ static void film_of(const int *marked, spm_film *film)
         spm_u32 first = (spm_u32)p * SPP_PER_PASS, spp = SPP - first < SPP_PER_PASS ? SPP - first
                                                                                      : SPP_PER_PASS;
         if (marked[first]) {
-            pass_image(first, spp, img);
+            fake_pass_image(first, spp, img);
             spm_film_add_pass(film, img, (int)spp);
         }
     }
@@ -357,7 +337,7 @@ static void arguments(void)
     spm_error err;
     make(&b, &f, 0, -1);
     spm_backend *bp = &b;
-    spm_run_opts o = {SPP, 0, NULL, 0};
+    spm_run_opts o = {.spp = SPP, .spp_per_pass = 0, .stop = NULL, .progress = 0};
     spm_film_init(&film, W, H, &err);
     CHECK(spm_render_run(&bp, 1, NPIX, &o, &film, &r, &err) == 1, "0 spp per pass accepted");
     o.spp_per_pass = 1;

@@ -38,7 +38,7 @@ static int render(spm_render_setup *s, int spp, spm_film *film, spm_run_result *
 {
     spm_error err;
     spm_film_init(film, W, H, &err);
-    spm_run_opts o = {spp, SPP_PER_PASS, NULL, 0};
+    spm_run_opts o = {.spp = spp, .spp_per_pass = SPP_PER_PASS, .stop = NULL, .progress = 0};
     int rc = spm_render_run(s->b, s->nb, (size_t)W * H, &o, film, r, &err);
     if (rc)
         printf("render: %s\n", err.msg);

@@ -133,7 +133,8 @@ static int render_with(study *st, scene_run *r, spm_backend **b, int spp, int ti
         spm_film film;
         if (spm_film_init(&film, r->s.scene.width, r->s.scene.height, err))
             return SPM_EXIT_INPUT;
-        spm_run_opts ro = {spp, spm_spp_per_pass(r->npix, spp), st->p->stop, 0};
+        spm_run_opts ro = {.spp = spp, .spp_per_pass = spm_spp_per_pass(r->npix, spp),
+                           .stop = st->p->stop, .progress = 0};
         spm_run_result res;
         spm_pocl_cache c0 = spm_pocl_cache_now();
         rc = spm_render_run(b, r->s.nb, r->npix, &ro, &film, &res, err) ? SPM_EXIT_RUNTIME : 0;

@@ -59,6 +59,22 @@ const spm_option spm_options[] = {
         "spectral mode (default ml; 'specmip modes' lists them):"),
     ROW(SPP, "--spp", "N", INT, 1, SPM_SCENE_MAX_SPP, R,
         "samples per pixel, %R (default: the scene's, else 16)"),
+    ROW(TIME, "--time", "SECONDS", REAL, 0.01, 1e7, R,
+        "render for this long (%R s): passes are begun while they end\n"
+        "within it, each device's first pass measuring its speed; the\n"
+        "rendering alone counts (not loading, kernel builds or writing);\n"
+        "with --spp both limits apply, else only the time does"),
+    ROW(CHECKPOINT, "--checkpoint", "SECONDS", REAL, 0.1, 1e7, R,
+        "every SECONDS (%R) write every output and the film (as\n"
+        "--film) as the render goes, each file replaced whole"),
+    ROW(FILM, "--film", NULL, FLAG, 0, 0, R,
+        "keep the film (the per-pixel sums) beside the first .exr output\n"
+        "as NAME.exr.film, named in its header, so that --resume can\n"
+        "continue the render"),
+    ROW(RESUME, "--resume", "OUT.exr", TEXT, 0, 0, R,
+        "continue the render whose EXR this is from its film, to --spp\n"
+        "or for --time: the same scene and options (refused, naming\n"
+        "what differs, if not); the outputs default to OUT.exr"),
     /* bench */
     ROW(SCENES, "--scenes", "A,B,...", TEXT, 0, 0, B,
         "scene files (default: the bundled scenes/*.scene)"),

@@ -16,6 +16,10 @@
 #include "backends.h"
 #include "render_stats.h"
 #include "spectral_exr.h"
+#include "film_file.h"
+#include "render_resume.h"
+#include "scene_build.h"
+#include <strings.h>
 
 #define MAX_OUTPUTS 4
 
@@ -34,7 +38,8 @@ static void usage(FILE *f)
         "the scene, sends it to the others and alone writes outputs (README: several machines).\n"
         "Ctrl-C (or SIGTERM) stops within a batch of paths, writes the image of the passes done\n"
         "and exits 130 (nothing is written when no pass is done); a second Ctrl-C exits at once\n"
-        "without writing. Existing outputs are replaced only by complete images.\n");
+        "without writing. Existing outputs are replaced only by complete images.\n"
+        "--time, --checkpoint, --film and --resume: docs/RENDERING.md.\n");
 }
 
 /* The test hook of util.h: SPECMIP_TEST_REFUSE_SCENE_FILES=others makes the
@@ -56,6 +61,13 @@ typedef struct {
     int nout, nspectral; /* outputs, and how many of them are .spectral.exr */
     int stats, json, progress, spec_nm;
     spm_tonemap tm;
+    /* the film kept beside the first .exr output (--film, --checkpoint, --resume) */
+    int keep_film;
+    const char *resume;
+    double checkpoint_s;
+    char film_path[4096], film_name[256];
+    spm_film_print print; /* what the render is, for its film */
+    int pass_spp;
     const char *white;       /* --white, or NULL */
     char white_desc[160];    /* what it resolved to, for the images' metadata */
 } render_opts;
@@ -107,6 +119,9 @@ static int word_option(spm_opt_id id, const char *v, render_opts *o)
     case SPM_O_DEVICE:
         return spm_opt_devices("render", v, o->cfg.devices, SPM_MAX_BACKENDS, &o->cfg.ndevices,
                                &o->cfg.all_devices) ? SPM_EXIT_INPUT : 0;
+    case SPM_O_RESUME:
+        o->resume = v;
+        return 0;
     case SPM_O_METRIC:
         if (strcmp(v, "de00") && strcmp(v, "deab")) {
             fprintf(stderr, "specmip render: --metric is de00 or deab, not '%s'\n", v);
@@ -160,6 +175,9 @@ static int parse_args(int argc, char **argv, render_opts *o)
         case SPM_O_QUIET: o->progress = 0; break;
         case SPM_O_VERBOSE: o->cfg.verbose = 1; break;
         case SPM_O_STRICT: spm_scene_strict = 1; break;
+        case SPM_O_TIME: o->cfg.time_s = it.number; break;
+        case SPM_O_CHECKPOINT: o->checkpoint_s = it.number; break;
+        case SPM_O_FILM: o->keep_film = 1; break;
         default:
             if (word_option(it.opt->id, it.value, o))
                 return SPM_EXIT_INPUT;
@@ -167,17 +185,46 @@ static int parse_args(int argc, char **argv, render_opts *o)
     }
     if (more < 0)
         return SPM_EXIT_INPUT;
+    /* with a time budget, an explicit --spp alone limits the samples */
+    if (o->cfg.time_s > 0 && !o->cfg.spp)
+        o->cfg.spp = SPM_SCENE_MAX_SPP;
+    o->keep_film |= o->checkpoint_s > 0 || o->resume;
     return 0;
+}
+
+/* The film's file: beside the first .exr output, which names it. */
+static int film_file(render_opts *o)
+{
+    if (!o->keep_film)
+        return 0;
+    for (int i = 0; i < o->nout; i++) {
+        size_t n = strlen(o->outputs[i]);
+        if (n > 4 && !strcasecmp(o->outputs[i] + n - 4, ".exr")) {
+            const char *slash = strrchr(o->outputs[i], '/');
+            snprintf(o->film_path, sizeof o->film_path, "%s.film", o->outputs[i]);
+            snprintf(o->film_name, sizeof o->film_name, "%s.film",
+                     slash ? slash + 1 : o->outputs[i]);
+            o->cfg.film_name = o->film_name;
+            return 0;
+        }
+    }
+    fprintf(stderr, "specmip render: --film, --checkpoint and --resume need an .exr output: the "
+                    "film is kept beside it and named in its header\n");
+    return SPM_EXIT_INPUT;
 }
 
 /* The outputs, by default an image and an EXR; spectral ones need a spectral
  * mode, at one of its bin widths. */
 static int check_outputs(render_opts *o)
 {
-    if (!o->nout) {
+    if (!o->nout && o->resume) {
+        o->outputs[o->nout++] = o->resume;
+    } else if (!o->nout) {
         o->outputs[o->nout++] = "specmip.png";
         o->outputs[o->nout++] = "specmip.exr";
     }
+    if (film_file(o))
+        return SPM_EXIT_INPUT;
     for (int i = 0; i < o->nout; i++)
         o->nspectral += spm_spectral_path(o->outputs[i]);
     if (!o->nspectral) {
@@ -217,29 +264,73 @@ static void watch_compiles(const render_opts *o, spm_render_setup *s, const spm_
     }
 }
 
+/* The film (when kept), then every output, of `film` as r left it after
+ * render_s seconds: 0, or the number of files not written (each reported).
+ * With `film_first` a film that cannot be written leaves the outputs as
+ * they were too (a checkpoint: the previous film and images stay a pair). */
+static int write_all(const render_opts *o, const spm_render_setup *s, const spm_film *film,
+                     const spm_run_result *r, double render_s, int film_first)
+{
+    spm_error err;
+    int failed = 0;
+    if (o->keep_film && spm_film_save(o->film_path, film, &o->print, o->pass_spp, &err)) {
+        fprintf(stderr, "specmip render: %s\n", err.msg);
+        if (film_first)
+            return 1;
+        failed++;
+    }
+    spm_render_meta meta;
+    spm_render_meta_make(&o->cfg, s, r, render_s, &meta);
+    if (o->white && meta.n < SPM_META_MAX)
+        meta.a[meta.n++] = (spm_image_attr){"specmip:white", SPM_ATTR_STRING, 0, 0, o->white_desc};
+    for (int i = 0; i < o->nout; i++)
+        if (spm_spectral_path(o->outputs[i])
+                ? spm_spectral_exr_write(o->outputs[i], film, meta.a, meta.n, &err)
+                : spm_output_write_film_attrs(o->outputs[i], film, &o->tm, meta.a, meta.n, &err)) {
+            fprintf(stderr, "specmip render: %s\n", err.msg);
+            failed++;
+        }
+    return failed;
+}
+
+/* spm_run_opts.checkpoint: the film and outputs so far, from the render
+ * loop's watching thread. */
+typedef struct {
+    const render_opts *o;
+    const spm_render_setup *s;
+} checkpoint_ctx;
+
+static void checkpoint(void *ctx, const spm_film *film, const spm_run_result *r)
+{
+    const checkpoint_ctx *k = ctx;
+    if (write_all(k->o, k->s, film, r, r->wall_s, 1))
+        fprintf(stderr, "specmip render: checkpoint at %d samples per pixel not written; "
+                        "rendering goes on\n", r->spp_done);
+    else
+        fprintf(stderr, "%sspecmip render: checkpoint: %d samples per pixel written\n",
+                k->o->progress ? "\n" : "", r->spp_done);
+}
+
 /* The images of a render loop that ended without error; the exit code. */
 static int write_outputs(const render_opts *o, spm_render_setup *s, const spm_run_result *res,
-                         spm_film *film, spm_error *err)
+                         spm_film *film)
 {
     int rc = 0, spp = spm_render_spp(&o->cfg, &s->scene);
     spm_render_warn_dropped(res, film);
     if (!res->interrupted)
         spm_render_hint_black(film);
+    if (res->passes_dropped)
+        fprintf(stderr, "specmip render: %d finished passes after one that was not were left "
+                        "out, so that the film can be resumed\n", res->passes_dropped);
     /* the image so far after an interruption; a signal now is acted on
      * after the writes (an image write cannot be interrupted) */
-    spm_render_meta meta;
-    spm_render_meta_make(&o->cfg, s, res, s->times.render_s, &meta);
-    if (o->white && meta.n < SPM_META_MAX)
-        meta.a[meta.n++] = (spm_image_attr){"specmip:white", SPM_ATTR_STRING, 0, 0, o->white_desc};
     double t0 = spm_now();
-    for (int i = 0; i < o->nout; i++)
-        if (spm_spectral_path(o->outputs[i])
-                ? spm_spectral_exr_write(o->outputs[i], film, meta.a, meta.n, err)
-                : spm_output_write_film_attrs(o->outputs[i], film, &o->tm, meta.a, meta.n, err)) {
-            fprintf(stderr, "specmip render: %s\n", err->msg);
-            rc = SPM_EXIT_RUNTIME;
-        }
+    if (write_all(o, s, film, res, s->times.render_s, 0))
+        rc = SPM_EXIT_RUNTIME;
     s->times.output_s = spm_now() - t0;
+    if (res->time_up)
+        fprintf(stderr, "specmip render: the time budget (%g s) ended the render at %d samples "
+                        "per pixel\n", o->cfg.time_s, res->spp_done);
     if (!rc && res->interrupted) {
         fprintf(stderr, "specmip render: interrupted after %d of %d samples per pixel; "
                         "image written\n", res->spp_done, spp);
@@ -252,14 +343,35 @@ static int write_outputs(const render_opts *o, spm_render_setup *s, const spm_ru
     return rc;
 }
 
+/* A render that keeps its film: what it is (the print), its pass grid, and
+ * with --resume the film it continues, loaded into film. 0 or an exit code. */
+static int prepare_film(render_opts *o, const spm_render_setup *s, spm_film *film, spm_error *err)
+{
+    int spp = spm_render_spp(&o->cfg, &s->scene);
+    o->pass_spp = (int)spm_spp_per_pass((size_t)s->scene.width * (size_t)s->scene.height, spp);
+    spm_render_print(&o->cfg, s, &o->print);
+    return o->resume ? spm_resume_load(o->resume, &o->print, spp, o->pass_spp, film, err) : 0;
+}
+
 /* Rank 0's render loop over the film, then the images; the exit code.
  * *torn_down: mpirun is ending every rank (an interrupted render). */
-static int render_film(const render_opts *o, spm_mpi *mpi, spm_render_setup *s, spm_film *film,
+static int render_film(render_opts *o, spm_mpi *mpi, spm_render_setup *s, spm_film *film,
                        spm_run_result *res, int *torn_down, spm_error *err)
 {
     int spp = spm_render_spp(&o->cfg, &s->scene);
     size_t npix = (size_t)s->scene.width * (size_t)s->scene.height;
-    spm_run_opts ro = {spp, spm_spp_per_pass(npix, spp), &spm_stop_flag, o->progress};
+    checkpoint_ctx ck = {o, s};
+    o->pass_spp = (int)spm_spp_per_pass(npix, spp);
+    spm_run_opts ro = {.spp = spp, .spp_per_pass = (spm_u32)o->pass_spp, .stop = &spm_stop_flag,
+                       .progress = o->progress};
+    ro.start = (int)film->samples;
+    ro.time_s = o->cfg.time_s;
+    ro.contiguous = o->keep_film;
+    if (o->checkpoint_s > 0) {
+        ro.checkpoint_s = o->checkpoint_s;
+        ro.checkpoint = checkpoint;
+        ro.checkpoint_ctx = &ck;
+    }
     spm_pocl_cache cache0 = spm_pocl_cache_now();
     double t0 = spm_now();
     int rc = spm_mpi_render_run(mpi, s, npix, &ro, film, res, err);
@@ -277,12 +389,13 @@ static int render_film(const render_opts *o, spm_mpi *mpi, spm_render_setup *s, 
         fprintf(stderr, "specmip render: %s; no image written\n", err->msg);
         return SPM_EXIT_RUNTIME;
     }
-    if (res->interrupted && res->spp_done == 0) {
+    if (res->interrupted && res->passes_in_film == 0) {
         fprintf(stderr, "specmip render: interrupted in the first pass (of %d samples per pixel); "
-                        "nothing rendered, no image written\n", (int)ro.spp_per_pass);
+                        "nothing rendered, %s\n", (int)ro.spp_per_pass,
+                ro.start ? "the outputs and film left as they were" : "no image written");
         return SPM_EXIT_INTERRUPTED;
     }
-    return write_outputs(o, s, res, film, err);
+    return write_outputs(o, s, res, film);
 }
 
 int spm_cmd_render(int argc, char **argv)
@@ -331,6 +444,8 @@ int spm_cmd_render(int argc, char **argv)
         goto out;
     }
     rc = spm_render_setup_open(&o.cfg, &s, &err);
+    if (!rc && o.keep_film)
+        rc = prepare_film(&o, &s, &film, &err);
     if ((rc = spm_mpi_share(&mpi, rc, &o.cfg, &s, &err))) {
         fprintf(stderr, "specmip render: %s%s\n", err.msg,
                 rc == SPM_EXIT_INTERRUPTED ? "; nothing rendered, no image written" : "");
@@ -343,8 +458,8 @@ int spm_cmd_render(int argc, char **argv)
         rc = SPM_EXIT_INPUT;
         goto out;
     }
-    if (spm_film_init(&film, s.scene.width, s.scene.height, &err) ||
-        (s.plan.nspec && spm_film_spectral_init(&film, s.plan.nspec, &err))) {
+    if (!film.sum && (spm_film_init(&film, s.scene.width, s.scene.height, &err) ||
+                      (s.plan.nspec && spm_film_spectral_init(&film, s.plan.nspec, &err)))) {
         fprintf(stderr, "specmip render: %s\n", err.msg);
         rc = SPM_EXIT_INPUT;
         goto out;

@@ -182,3 +182,16 @@ int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *
     }
     return 0;
 }
+
+uint64_t spm_prepared_hash(const spm_geometry *g, const spm_tables *t)
+{
+    spm_geometry gs = *g;
+    memset(&gs.bvh, 0, sizeof gs.bvh); /* how the build ran (its threads), not what it built */
+    spm_prepared_info none;
+    memset(&none, 0, sizeof none);
+    size_t n;
+    void *buf = spm_prepared_pack(&gs, t, &none, &n);
+    uint64_t h = spm_fnv1a64(SPM_FNV1A64_BASIS, buf, n);
+    free(buf);
+    return h;
+}

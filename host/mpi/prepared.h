@@ -24,4 +24,8 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
  * then freed with spm_geometry_free and spm_tables_free. */
 int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *t,
                         spm_prepared_info *info, spm_error *err);
+/* The prepared scene's fingerprint (FNV-1a 64 of its block without the
+ * image size, spp, mode and seed, and without the BVH build's statistics):
+ * the same scene, files and pretest give the same number. */
+uint64_t spm_prepared_hash(const spm_geometry *g, const spm_tables *t);
 #endif

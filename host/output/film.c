@@ -2,6 +2,7 @@
 #include "film.h"
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* Same bound as image reading: 2^28 pixels, 6 GiB of sums. */
 #define SPM_FILM_MAX_PIXELS (1LL << 28)
@@ -30,6 +31,19 @@ void spm_film_free(spm_film *f)
     f->sum = NULL;
     free(f->spec);
     f->spec = NULL;
+}
+
+void spm_film_copy(spm_film *to, const spm_film *from)
+{
+    size_t npix = (size_t)from->width * from->height;
+    *to = *from;
+    to->sum = spm_xmalloc(npix * 3 * sizeof *to->sum);
+    memcpy(to->sum, from->sum, npix * 3 * sizeof *to->sum);
+    to->spec = NULL;
+    if (from->spec) {
+        to->spec = spm_xmalloc(npix * (size_t)from->nspec * sizeof *to->spec);
+        memcpy(to->spec, from->spec, npix * (size_t)from->nspec * sizeof *to->spec);
+    }
 }
 
 void spm_film_add_pass(spm_film *f, const float *pass_xyz, int spp_in_pass)

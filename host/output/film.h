@@ -17,6 +17,8 @@ typedef struct {
 /* 0, or fills err when the size is not positive or too large. */
 int spm_film_init(spm_film *f, int width, int height, spm_error *err);
 void spm_film_free(spm_film *f);
+/* A copy of `from` (its sums, spectral ones too) into `to`, freed with spm_film_free. */
+void spm_film_copy(spm_film *to, const spm_film *from);
 
 /* Adds one pass: pass_xyz[3*(y*width+x) + c] holds the SUM over that pixel's
  * spp_in_pass samples (not their mean); with a spectral film a pixel is

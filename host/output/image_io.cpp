@@ -158,6 +158,29 @@ static std::string make_temp(const std::string &target, const std::string &ext, 
     return "";
 }
 
+extern "C" char *spm_temp_create(const char *target, const char *ext, int *slot, int *errnum)
+{
+    std::string t = make_temp(target, ext, slot, errnum);
+    return t.empty() ? nullptr : spm_xstrdup(t.c_str());
+}
+
+extern "C" int spm_image_read_string_attr(const char *path, const char *name, char *buf,
+                                          size_t size, spm_error *err)
+{
+    auto in = ImageInput::open(path);
+    if (!in) {
+        std::string why = OIIO::geterror();
+        spm_errorf(err, "%s: cannot read image: %s", path,
+                   why.empty() ? "unknown format" : why.c_str());
+        return -1;
+    }
+    const OIIO::ParamValue *p = in->spec().find_attribute(name, TypeDesc::STRING);
+    if (!p)
+        return 0;
+    snprintf(buf, size, "%s", p->get_string().c_str());
+    return 1;
+}
+
 // Typed where the format keeps types (EXR), else as text.
 static void put_attrs(ImageSpec &spec, const char *format, const spm_image_attr *a, int n)
 {

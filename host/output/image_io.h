@@ -67,6 +67,17 @@ int spm_image_write_channels(const char *path, int width, int height, int nch,
  * Malloc'd; NULL with err filled. */
 char *spm_image_target(const char *path, spm_error *err);
 
+/* A fresh, exclusively created empty file next to `target` (an absolute
+ * path, spm_image_target), named dir/.base.spmtmp-PID-N with the extension
+ * ext, registered as a temporary file (interrupt.h) in *slot from before it
+ * exists. Malloc'd; NULL with *errnum set. */
+char *spm_temp_create(const char *target, const char *ext, int *slot, int *errnum);
+
+/* The string attribute `name` of an image's header into buf: 1, 0 when the
+ * header has none, -1 with err filled when the file cannot be read. */
+int spm_image_read_string_attr(const char *path, const char *name, char *buf, size_t size,
+                               spm_error *err);
+
 /* 1 if OIIO has a writer for this file name's extension. */
 int spm_image_can_write(const char *path);
 

@@ -4,8 +4,8 @@
 
 int spm_pass_batch_end(const spm_pass_ctl *c, uint64_t paths_so_far)
 {
+    spm_test_pause("pass"); /* before batch_done, which turns a signal into c->stop */
     if (c && c->batch_done)
         c->batch_done(c->ctx, paths_so_far);
-    spm_test_pause("pass");
     return c && c->stop && *c->stop;
 }

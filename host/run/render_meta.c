@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
+#include "scene_build.h"
 
 static spm_image_attr *add(spm_render_meta *m, const char *name, spm_attr_type type)
 {
@@ -33,6 +34,10 @@ void spm_render_meta_make(const spm_render_config *c, const spm_render_setup *s,
     snprintf(m->description, sizeof m->description,
              "specmip %s render of %.900s: mode %s, %d of %d samples per pixel, seed %u",
              SPM_VERSION, s->scene.path, mode, r->spp_done, spp, c->seed);
+    if (c->time_s > 0 && spp == SPM_SCENE_MAX_SPP) /* no --spp: the budget alone decides */
+        snprintf(m->description, sizeof m->description,
+                 "specmip %s render of %.900s: mode %s, %d samples per pixel in a %g s budget, "
+                 "seed %u", SPM_VERSION, s->scene.path, mode, r->spp_done, c->time_s, c->seed);
     size_t used = 0;
     for (int i = 0; i < s->nb && used + 1 < sizeof m->devices; i++) {
         int w = snprintf(m->devices + used, sizeof m->devices - used, "%s%s", i ? "; " : "",
@@ -52,7 +57,8 @@ void spm_render_meta_make(const spm_render_config *c, const spm_render_setup *s,
     add_string(m, "specmip:scene", s->scene.path);
     add_string(m, "specmip:mode", mode);
     add_int(m, "samplesPerPixel", r->spp_done);
-    add_int(m, "specmip:samplesPerPixelRequested", spp);
+    if (!(c->time_s > 0 && spp == SPM_SCENE_MAX_SPP))
+        add_int(m, "specmip:samplesPerPixelRequested", spp);
     /* text: EXR has no unsigned integer, and seeds go up to 2^32 - 1 */
     snprintf(m->seed, sizeof m->seed, "%u", c->seed);
     add_string(m, "specmip:seed", m->seed);
@@ -62,5 +68,9 @@ void spm_render_meta_make(const spm_render_config *c, const spm_render_setup *s,
         add_int(m, "specmip:coarsestLevel", c->pretest.coarsest_level);
     }
     add(m, "renderTimeSeconds", SPM_ATTR_FLOAT)->f = (float)render_s;
+    if (c->time_s > 0)
+        add(m, "specmip:timeBudgetSeconds", SPM_ATTR_FLOAT)->f = (float)c->time_s;
+    if (c->film_name)
+        add_string(m, "specmip:film", c->film_name);
     add_string(m, "specmip:devices", m->devices);
 }

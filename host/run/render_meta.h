@@ -5,7 +5,7 @@
 #include "image_io.h"
 #include "render_setup.h"
 
-#define SPM_META_MAX 16
+#define SPM_META_MAX 20
 
 typedef struct {
     spm_image_attr a[SPM_META_MAX];

@@ -40,6 +40,12 @@ typedef struct {
     spm_film *film;
     spm_run_result *r;
     double t0;
+    int first_grid;                 /* the grid pass the first one is in (start / spp_per_pass) */
+    double deadline;                /* spm_now() at which the time budget ends; 0: none */
+    double next_checkpoint;         /* spm_now() of the next checkpoint; 0: none */
+    int checkpoint_passes;          /* passes in the film at the last checkpoint */
+    int workers;                    /* worker threads still running */
+    volatile sig_atomic_t halt;     /* the backends' stop: a signal, or the budget spent */
 } run_state;
 
 typedef struct {
@@ -97,11 +103,34 @@ static int worth_taking(const run_state *s, int idx)
     return spm_run_worth_taking(pass_time(s, idx), other, n, work);
 }
 
+/* Pass p's samples: the grid's passes [k P, (k + 1) P) (P = spp_per_pass),
+ * the first starting where the film left off and the last ending at spp. */
+static int pass_first(const run_state *s, int pass)
+{
+    return pass ? (s->first_grid + pass) * (int)s->o->spp_per_pass : s->o->start;
+}
+
 static spm_u32 pass_spp(const run_state *s, int pass)
 {
-    int first = pass * (int)s->o->spp_per_pass;
-    int left = s->o->spp - first;
-    return (spm_u32)(left < (int)s->o->spp_per_pass ? left : (int)s->o->spp_per_pass);
+    int end = (s->first_grid + pass + 1) * (int)s->o->spp_per_pass;
+    return (spm_u32)((end < s->o->spp ? end : s->o->spp) - pass_first(s, pass));
+}
+
+/* Caller holds mu. The budget is spent: no pass is begun, and those in flight
+ * stop, once the film holds a pass (a first pass always ends). */
+static int budget_spent(const run_state *s, double now)
+{
+    return s->deadline > 0 && now >= s->deadline && s->film->samples > 0;
+}
+
+/* Caller holds mu. A pass of backend idx begun now would end after the
+ * budget (by its own passes' mean time; its first pass is its calibration). */
+static int past_budget(const run_state *s, int idx)
+{
+    if (s->deadline <= 0)
+        return 0;
+    double now = spm_now();
+    return budget_spent(s, now) || (pass_time(s, idx) > 0 && now + pass_time(s, idx) > s->deadline);
 }
 
 /* Caller holds mu. The next pass to render, TAKE_WAIT when one may come
@@ -109,7 +138,7 @@ static spm_u32 pass_spp(const run_state *s, int pass)
  * holds up the film. */
 static int take_pass(run_state *s, int idx)
 {
-    if (s->o->stop && *s->o->stop)
+    if ((s->o->stop && *s->o->stop) || s->halt || past_budget(s, idx))
         return TAKE_NONE;
     if ((s->nretry > 0 || s->next_pass < s->npasses) && !worth_taking(s, idx))
         return TAKE_WAIT; /* a faster device is due to finish it sooner */
@@ -129,7 +158,10 @@ static void progress_line(run_state *s)
     double paths = (double)s->r->total.paths;
     for (int i = 0; i < s->nb; i++)
         paths += (double)s->live_paths[i];
-    double all = (double)s->npix * s->o->spp, done = paths < all ? paths / all : 1.0;
+    double all = (double)s->npix * (s->o->spp - s->o->start);
+    double done = paths < all ? paths / all : 1.0;
+    if (s->deadline > 0 && dt / s->o->time_s > done) /* the budget ends it first */
+        done = dt / s->o->time_s < 1.0 ? dt / s->o->time_s : 1.0;
     int left = s->npasses - s->next_to_add;
     double eta = done > 0 ? dt / done * (1.0 - done) : 0.0;
     fprintf(stderr, "\rspecmip: pass %d/%d  %3.0f%%  %.2f Mpaths/s  ETA %.0f s   ", s->next_to_add,
@@ -145,6 +177,8 @@ static void batch_done(void *ctx, uint64_t paths)
     run_state *s = a->s;
     pthread_mutex_lock(&s->mu);
     s->live_paths[a->idx] = paths;
+    if ((s->o->stop && *s->o->stop) || budget_spent(s, spm_now()))
+        s->halt = 1;
     if (s->o->progress && !(s->o->stop && *s->o->stop)) /* stopping: no line after the notice */
         progress_line(s);
     pthread_mutex_unlock(&s->mu);
@@ -218,9 +252,9 @@ static void *worker(void *argp)
         memset(&st, 0, sizeof st);
         spm_error err;
         err.msg[0] = 0;
-        b->ctl = (spm_pass_ctl){s->o->stop, batch_done, a};
+        b->ctl = (spm_pass_ctl){&s->halt, batch_done, a};
         double t0 = spm_now();
-        int rc = b->pass(b, (spm_u32)pass * s->o->spp_per_pass, pass_spp(s, pass), img, &st, &err);
+        int rc = b->pass(b, (spm_u32)pass_first(s, pass), pass_spp(s, pass), img, &st, &err);
         double busy = spm_now() - t0;
         pthread_mutex_lock(&s->mu);
         s->in_flight--;
@@ -246,23 +280,76 @@ static void *worker(void *argp)
             break;
     }
     memset(&b->ctl, 0, sizeof b->ctl); /* a points into this render's state */
+    pthread_mutex_lock(&s->mu);
+    s->workers--;
+    pthread_cond_broadcast(&s->changed);
+    pthread_mutex_unlock(&s->mu);
     return NULL;
 }
 
-/* One thread per backend; a thread that cannot be started leaves its backend
- * out, and with no thread at all the caller's thread does the work. */
+/* Caller holds mu: a copy of the film and of the result so far for the
+ * checkpoint, written without the lock while the passes go on. */
+static void checkpoint(run_state *s)
+{
+    spm_film copy;
+    spm_film_copy(&copy, s->film);
+    spm_run_result r = *s->r;
+    r.wall_s = spm_now() - s->t0;
+    s->checkpoint_passes = s->r->passes_in_film;
+    pthread_mutex_unlock(&s->mu);
+    s->o->checkpoint(s->o->checkpoint_ctx, &copy, &r);
+    spm_film_free(&copy);
+    pthread_mutex_lock(&s->mu);
+}
+
+/* The thread that started the workers, while they run: turns a signal or the
+ * spent budget into the backends' stop, and writes the checkpoints. */
+static void watch(run_state *s)
+{
+    pthread_mutex_lock(&s->mu);
+    while (s->workers > 0) {
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        until.tv_nsec += 20000000; /* 20 ms: a signal or the deadline is seen soon */
+        if (until.tv_nsec >= 1000000000) {
+            until.tv_sec++;
+            until.tv_nsec -= 1000000000;
+        }
+        pthread_cond_timedwait(&s->changed, &s->mu, &until);
+        double now = spm_now();
+        if ((s->o->stop && *s->o->stop) || budget_spent(s, now)) {
+            if (!s->halt) /* workers waiting for a pass see there is none */
+                pthread_cond_broadcast(&s->changed);
+            s->halt = 1;
+        }
+        if (s->next_checkpoint > 0 && now >= s->next_checkpoint && !s->halt &&
+            s->r->passes_in_film > s->checkpoint_passes) {
+            checkpoint(s);
+            s->next_checkpoint = spm_now() + s->o->checkpoint_s;
+        }
+    }
+    pthread_mutex_unlock(&s->mu);
+}
+
+/* One thread per backend, watched by the caller's (watch); a thread that
+ * cannot be started leaves its backend out, and with no thread at all the
+ * caller's thread does the work (a signal and the budget are then seen by
+ * batch_done and between passes, and no checkpoint is written). */
 static void run_workers(run_state *s, int nb)
 {
     pthread_t th[SPM_MAX_BACKENDS];
     worker_arg args[SPM_MAX_BACKENDS];
     int started[SPM_MAX_BACKENDS], nstarted = 0;
+    s->workers = nb;
     for (int i = 0; i < nb; i++) {
         args[i] = (worker_arg){s, i};
-        started[i] = nb > 1 && pthread_create(&th[i], NULL, worker, &args[i]) == 0;
+        started[i] = pthread_create(&th[i], NULL, worker, &args[i]) == 0;
         nstarted += started[i];
-        if (nb > 1 && !started[i]) {
+        if (!started[i]) {
             pthread_mutex_lock(&s->mu);
-            spm_warnf("no thread for device '%s': it is left out", s->b[i]->name);
+            s->workers--;
+            if (nb > 1)
+                spm_warnf("no thread for device '%s': it is left out", s->b[i]->name);
             s->r->failed[i] = 1;
             s->alive--;
             pthread_mutex_unlock(&s->mu);
@@ -271,7 +358,10 @@ static void run_workers(run_state *s, int nb)
     if (!nstarted) {
         s->r->failed[0] = 0;
         s->alive = 1;
+        s->workers = 1;
         worker(&args[0]);
+    } else {
+        watch(s);
     }
     for (int i = 0; i < nb; i++)
         if (started[i])
@@ -289,16 +379,19 @@ int spm_render_run_window(spm_backend **b, int nb, size_t npix, const spm_run_op
                           spm_error *err)
 {
     memset(r, 0, sizeof *r);
-    if (nb < 1 || nb > SPM_MAX_BACKENDS || o->spp < 1 || o->spp_per_pass < 1 || npix < 1) {
-        spm_errorf(err, "render: %d devices (1 to %d), %d spp, %u spp per pass, %zu pixels", nb,
-                   SPM_MAX_BACKENDS, o->spp, o->spp_per_pass, npix);
+    if (nb < 1 || nb > SPM_MAX_BACKENDS || o->spp < 1 || o->spp_per_pass < 1 || npix < 1 ||
+        o->start < 0 || o->start >= o->spp || film->samples != o->start) {
+        spm_errorf(err, "render: %d devices (1 to %d), %d spp from %d (the film: %lld), %u spp "
+                   "per pass, %zu pixels", nb, SPM_MAX_BACKENDS, o->spp, o->start,
+                   film->samples, o->spp_per_pass, npix);
         return 1;
     }
     run_state s;
     memset(&s, 0, sizeof s);
     pthread_mutex_init(&s.mu, NULL);
     pthread_cond_init(&s.changed, NULL);
-    s.npasses = (o->spp + (int)o->spp_per_pass - 1) / (int)o->spp_per_pass;
+    s.first_grid = o->start / (int)o->spp_per_pass;
+    s.npasses = (o->spp + (int)o->spp_per_pass - 1) / (int)o->spp_per_pass - s.first_grid;
     /* the window of passes handed out ahead of the film (render_run.h) */
     size_t fit = max_waiting_bytes / (npix * (3 + (size_t)film->nspec) * sizeof(float));
     s.window = fit > (size_t)(2 * nb) ? (fit < (size_t)s.npasses ? (int)fit : s.npasses) : 2 * nb;
@@ -314,25 +407,34 @@ int spm_render_run_window(spm_backend **b, int nb, size_t npix, const spm_run_op
     s.film = film;
     s.r = r;
     s.t0 = spm_now();
+    s.deadline = o->time_s > 0 ? s.t0 + o->time_s : 0;
+    s.next_checkpoint = o->checkpoint && o->checkpoint_s > 0 ? s.t0 + o->checkpoint_s : 0;
     double cpu0 = cpu_now();
     r->npasses = s.npasses;
+    r->spp_done = o->start;
     run_workers(&s, nb);
     r->wall_s = spm_now() - s.t0;
     r->cpu_s = cpu_now() - cpu0;
     /* Cut short (every device failed, or stopped with a pass given back):
-     * the passes finished beyond the gap still go in, in pass order. */
+     * the passes finished beyond the gap still go in, in pass order; or are
+     * dropped when the film must stay a run of whole passes (o->contiguous). */
     for (int p = s.next_to_add; p < s.npasses; p++)
-        if (s.done[p])
+        if (s.done[p] && o->contiguous) {
+            r->passes_dropped++;
+            free(s.done[p]);
+        } else if (s.done[p]) {
             add_to_film(&s, p);
+        }
     int complete = r->passes_in_film == s.npasses;
     if (o->progress && !complete)
         fputc('\n', stderr);
     r->interrupted = !complete && o->stop && *o->stop;
+    r->time_up = !complete && !r->interrupted && s.deadline > 0 && s.alive > 0;
     free(s.done);
     free(s.retry);
     pthread_mutex_destroy(&s.mu);
     pthread_cond_destroy(&s.changed);
-    if (!complete && !r->interrupted) {
+    if (!complete && !r->interrupted && !r->time_up) {
         spm_errorf(err, "every device failed; %d of %d passes rendered (%d of %d samples per pixel)",
                    r->passes_in_film, s.npasses, r->spp_done, o->spp);
         return 1;

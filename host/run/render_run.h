@@ -2,9 +2,20 @@
  * in their own threads, and adds finished pass images to the film strictly in
  * pass order, so the image does not depend on which device rendered what.
  *
- * A chunk of work is one pass: samples [p*spp_per_pass, (p+1)*spp_per_pass)
- * of every pixel. A device that fails is dropped for the rest of the render
- * and its pass goes back to the queue for the others.
+ * A chunk of work is one pass: samples [k*spp_per_pass, (k+1)*spp_per_pass)
+ * of every pixel, the grid of passes depending on the image size alone; a
+ * render from `start` samples (a resumed film) begins with the rest of the
+ * grid pass `start` is in, and the last pass ends at spp. So a render that
+ * stopped on the grid and was resumed adds the very passes, in the same order,
+ * as one render to the same spp (docs/RENDERING.md). A device that fails is
+ * dropped for the rest of the render and its pass goes back to the queue for
+ * the others.
+ *
+ * A time budget (time_s) counts from the loop's start: a device takes a pass
+ * only while its mean pass time says the pass ends within the budget (its
+ * first pass measures it), and once the budget is spent the passes in flight
+ * stop and are dropped; only a film without any pass waits for its first. The
+ * thread that calls the loop watches it meanwhile and writes checkpoints.
  *
  * A test hook, active only when the environment sets it: SPECMIP_TEST_MEET=N
  * makes each backend, once it has taken its first pass, wait (at most 30 s)
@@ -19,13 +30,6 @@
 
 #define SPM_MAX_BACKENDS 16
 
-typedef struct {
-    int spp;                        /* samples per pixel in all (>= 1) */
-    spm_u32 spp_per_pass;           /* samples per pixel in one pass (>= 1) */
-    volatile sig_atomic_t *stop;    /* when set: passes in flight end at their next batch
-                                       boundary and are dropped, no more are handed out */
-    int progress;                   /* print a progress line on stderr */
-} spm_run_opts;
 
 typedef struct {
     spm_pass_stats total;
@@ -38,9 +42,29 @@ typedef struct {
                                        so cpu_s / wall_s shows how many cores the render had */
     int npasses;                    /* passes the render was cut into */
     int passes_in_film;             /* passes added to the film (all of them unless cut short) */
-    int spp_done;                   /* samples per pixel in the film */
+    int spp_done;                   /* samples per pixel in the film (start included) */
+    int passes_dropped;             /* finished beyond a gap and left out (o->contiguous) */
     int interrupted;
+    int time_up;                    /* ended by the time budget before spp */
 } spm_run_result;
+
+typedef struct {
+    int spp;                        /* samples per pixel in all (>= 1) */
+    spm_u32 spp_per_pass;           /* samples per pixel in one pass (>= 1) */
+    volatile sig_atomic_t *stop;    /* when set: passes in flight end at their next batch
+                                       boundary and are dropped, no more are handed out */
+    int progress;                   /* print a progress line on stderr */
+    int start;                      /* samples per pixel already in the film (< spp) */
+    double time_s;                  /* the loop's time budget in seconds; 0: none */
+    int contiguous;                 /* cut short: passes beyond the first gap are dropped, so the
+                                       film holds samples [0, spp_done) and can be resumed */
+    /* Every checkpoint_s seconds, when passes were added since the last one:
+     * checkpoint(ctx, copy of the film, the result so far), from the
+     * watching thread while the devices go on. NULL: none. */
+    double checkpoint_s;
+    void (*checkpoint)(void *ctx, const spm_film *film, const spm_run_result *r);
+    void *checkpoint_ctx;
+} spm_run_opts;
 
 /* Samples per pixel in one pass: enough paths per pass to fill a device
  * (~64K), depending only on the image size so any device split gives the same passes. */
@@ -56,11 +80,12 @@ spm_u32 spm_spp_per_pass(size_t npix, int spp);
  * out and the unfinished part of those they are rendering). */
 int spm_run_worth_taking(double t_me, const double *t_other, int n, double work);
 
-/* Renders o->spp samples per pixel into film with backends b[0..nb). Returns 0;
+/* Renders samples o->start to o->spp of every pixel into film (which holds
+ * o->start samples) with backends b[0..nb). Returns 0;
  * or 1 with err filled when every backend failed before the end (the film then
  * holds every pass that was finished, added in pass order: nothing rendered is
  * lost) or the arguments are wrong. An interruption (o->stop) returns 0 with
- * r->interrupted set. r is filled in every case. */
+ * r->interrupted set, the budget's end r->time_up. r is filled in every case. */
 int spm_render_run(spm_backend **b, int nb, size_t npix, const spm_run_opts *o, spm_film *film,
                    spm_run_result *r, spm_error *err);
 

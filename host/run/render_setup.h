@@ -24,6 +24,11 @@ typedef struct {
     /* Spectral output: bins of this many nm (0: none); the plan then carries
      * spectral records and the host and device memory checks count them. */
     int spec_nm;
+    /* What the outputs record beside the image (render_meta.h): the film file
+     * kept beside them (its name, in their directory; NULL: none) and the
+     * render loop's time budget (0: none). */
+    const char *film_name;
+    double time_s;
 } spm_render_config;
 
 /* Wall seconds of each stage of a render (`render --stats`); setup fills the

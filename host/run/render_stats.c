@@ -1,4 +1,5 @@
 #include "render_stats.h"
+#include "scene_build.h"
 #include <sys/resource.h>
 
 /* The process's peak resident set so far (Linux reports ru_maxrss in KiB);
@@ -77,7 +78,9 @@ void spm_render_stats_text(FILE *f, const spm_render_config *c, const spm_render
     char a[32], b[32], d[32];
     fprintf(f, "scene        %s (%dx%d, %d", s->scene.path, s->scene.width, s->scene.height,
             r->spp_done);
-    if (r->spp_done != spp)
+    if (c->time_s > 0 && spp == SPM_SCENE_MAX_SPP) /* no --spp: the budget alone */
+        fprintf(f, " in a %g s budget", c->time_s);
+    else if (r->spp_done != spp)
         fprintf(f, " of %d", spp);
     fprintf(f, " spp, mode %s, seed %u)\n", spm_mode_name(c->mode), c->seed);
     fprintf(f, "stages       load %.3f s   BVH %.3f s   tables+pretest %.3f s   kernel build %.3f s"
@@ -135,6 +138,8 @@ void spm_render_stats_json(FILE *f, const spm_render_config *c, const spm_render
                "\"spp_requested\": %d, \"seed\": %u",
             spm_mode_name(c->mode), s->scene.width, s->scene.height, r->spp_done,
             spm_render_spp(c, &s->scene), c->seed);
+    fprintf(f, ", \"time_budget_s\": %g, \"time_up\": %s", c->time_s,
+            r->time_up ? "true" : "false");
     fprintf(f, ", \"stages\": {\"load_s\": %.6f, \"bvh_s\": %.6f, \"tables_s\": %.6f, "
                "\"kernel_build_s\": %.6f, \"render_s\": %.6f, \"output_s\": %.6f, "
                "\"total_s\": %.6f}",

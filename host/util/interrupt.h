@@ -15,8 +15,9 @@
  * mesh file's importer started, its answer not read yet), bvh (per
  * node), pretest (per colour), build (before the OpenCL programs are built),
  * pass (inside a pass, at a batch boundary), write (an image file being
- * written: its temporary file exists, the data are not written yet), row (a
- * bench CSV row written and flushed). */
+ * written: its temporary file exists, the data are not written yet), film (the
+ * same for a film file, output/film_file.h), row (a bench CSV row written and
+ * flushed). */
 #ifndef SPM_INTERRUPT_H
 #define SPM_INTERRUPT_H
 #include <signal.h>
