@@ -394,15 +394,15 @@ static void io_close(struct aiFileIO *io, struct aiFile *f)
     free(f);
 }
 
-static void child_main(const spm_file *file, int fd, pid_t parent)
+/* The child's limits and signals (and the test hook of mesh.h: a crash, a
+ * hang, or a smaller address-space limit); its address-space limit in bytes. */
+static rlim_t child_limits(pid_t parent)
 {
-    const char *path = file->shown;
     signal(SIGINT, SIG_DFL); /* Ctrl-C reaches the whole process group: end at once */
     signal(SIGTERM, SIG_DFL);
     signal(SIGPIPE, SIG_DFL);
     struct rlimit cpu = {SPM_MESH_CHILD_CPU_SECONDS, SPM_MESH_CHILD_CPU_SECONDS + 5};
     setrlimit(RLIMIT_CPU, &cpu);
-    /* test hook (mesh.h): a crash, or a smaller address-space limit */
     const char *hook = getenv("SPECMIP_TEST_MESH_CHILD");
     if (hook && !strcmp(hook, "crash")) {
         signal(SIGSEGV, SIG_DFL); /* past a sanitizer's handler */
@@ -414,8 +414,6 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
 #ifndef SPM_ASAN /* ASan reserves terabytes of shadow address space */
     struct rlimit as = {as_bytes, as_bytes};
     setrlimit(RLIMIT_AS, &as);
-#else
-    (void)as_bytes;
 #endif
     alarm(SPM_MESH_CHILD_WALL_SECONDS);
     prctl(PR_SET_PDEATHSIG, SIGKILL); /* a parent killed outright takes the child along */
@@ -423,6 +421,13 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
         _exit(1);
     while (hook && !strcmp(hook, "hang"))
         pause();
+    return as_bytes;
+}
+
+static void child_main(const spm_file *file, int fd, pid_t parent)
+{
+    const char *path = file->shown;
+    rlim_t as_bytes = child_limits(parent);
     static writer w;
     w.fd = fd;
     struct aiFileIO io = {io_open, io_close, NULL};
@@ -538,6 +543,32 @@ static int child_error(const char *path, int status, spm_error *err)
     return 1;
 }
 
+/* The importer's child started on `file`, reading end of its pipe in fds[0];
+ * its pid, or -1 with err. */
+static pid_t start_child(const spm_file *file, int fds[2], spm_error *err)
+{
+    if (pipe(fds)) {
+        spm_errorf(err, "%s: cannot start the importer: %s", file->shown, strerror(errno));
+        return -1;
+    }
+    fflush(stdout);
+    fflush(stderr);
+    pid_t parent = getpid();
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        spm_errorf(err, "%s: cannot start the importer: %s", file->shown, strerror(errno));
+        return -1;
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        child_main(file, fds[1], parent);
+    }
+    close(fds[1]);
+    return pid;
+}
+
 int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -555,25 +586,9 @@ int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err)
             return rc;
     }
     int fds[2];
-    if (pipe(fds)) {
-        spm_errorf(err, "%s: cannot start the importer: %s", path, strerror(errno));
+    pid_t pid = start_child(file, fds, err);
+    if (pid < 0)
         return 1;
-    }
-    fflush(stdout);
-    fflush(stderr);
-    pid_t parent = getpid();
-    pid_t pid = fork();
-    if (pid < 0) {
-        close(fds[0]);
-        close(fds[1]);
-        spm_errorf(err, "%s: cannot start the importer: %s", path, strerror(errno));
-        return 1;
-    }
-    if (pid == 0) {
-        close(fds[0]);
-        child_main(file, fds[1], parent);
-    }
-    close(fds[1]);
     spm_test_pause("mesh");
     /* the header first: it says how much follows, so memory is allocated once */
     unsigned char head[SPM_MESH_WIRE_HEAD];
