@@ -58,5 +58,9 @@ int pbrt_arg_numbers(pbrt_parser *p, int n, const char *what, double *out)
 int pbrt_arg_params(pbrt_parser *p, pbrt_params *ps)
 {
     memset(ps, 0, sizeof *ps);
-    return pbrt_params_read(pbrt_lx(p), ps, p->err);
+    if (pbrt_params_read(pbrt_lx(p), ps, p->err)) {
+        pbrt_params_free(ps); /* what was read before the error */
+        return 1;
+    }
+    return 0;
 }
