@@ -39,7 +39,7 @@ inline void feel(__global const uchar *lvlk, uint c, uint k, uint by, uint *leve
  * program was not built for is black and dark (the host never sends one). */
 
 /* The occurrences of colour c among vertices 0..j, c being vertex j's */
-inline uint occurrences(const ushort *seen, uint j, uint c)
+SPM_ALWAYS_INLINE uint occurrences(const ushort *seen, uint j, uint c)
 {
     uint k = 1;
     for (uint i = 0; i < j; i++)
@@ -48,7 +48,7 @@ inline uint occurrences(const ushort *seen, uint j, uint c)
 }
 
 /* The camera ray through a jittered point of pixel (spm_shared.h spm_camera). */
-inline float3 camera_dir(const spm_camera *cam, spm_key k)
+SPM_ALWAYS_INLINE float3 camera_dir(const spm_camera *cam, spm_key k)
 {
     uint px = k.pixel % (uint)cam->width, py = k.pixel / (uint)cam->width;
     float w = (float)cam->width, h = (float)cam->height;
@@ -65,7 +65,7 @@ inline float3 camera_dir(const spm_camera *cam, spm_key k)
  * normal (on the viewer's side) and tangent every type shades with; gn, the
  * geometric normal on the viewer's side, decides which side a direction is
  * on (kernels/shading.clh). A flat triangle's is gn and its own tangent. */
-inline spm_frame hit_frame(__global const spm_tri *tr, __global const float *vnormals, float3 o,
+SPM_ALWAYS_INLINE spm_frame hit_frame(__global const spm_tri *tr, __global const float *vnormals, float3 o,
                            float3 d)
 {
     spm_frame fr;
@@ -92,7 +92,7 @@ inline spm_frame hit_frame(__global const spm_tri *tr, __global const float *vno
  * of sampling the same direction when its sampled rays count emission too
  * and the light is not a delta. Returns the emission's colour (SPM_NONE:
  * nothing) and *c its weight; *cos_light the type's spectral argument. */
-inline uint light_weight(spm_material m, const spm_bsdf *b, const spm_frame *fr,
+SPM_ALWAYS_INLINE uint light_weight(spm_material m, const spm_bsdf *b, const spm_frame *fr,
                          const spm_light_sample *ls, float rrw, float *c, float *cos_light)
 {
     spm_eval e = bsdf_eval(m, b, fr, ls->wi, SPM_RADIANCE);
@@ -111,7 +111,7 @@ inline uint light_weight(spm_material m, const spm_bsdf *b, const spm_frame *fr,
  * the vertex that sampled it (record x) with the throughput rrw and the
  * power heuristic of its density cpdf against the light sample's lpdf
  * (light_pdf_hit); cpdf 0 (a delta) weighs 1. */
-inline void count_hit(float lpdf, float cpdf, float rrw, uint memit, float escale,
+SPM_ALWAYS_INLINE void count_hit(float lpdf, float cpdf, float rrw, uint memit, float escale,
                       __global spm_vertex_ext *x)
 {
     float wm = 1.0f;
