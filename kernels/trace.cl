@@ -228,7 +228,8 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         cpdf = s.pdf; /* for the next hit */
         seg = s.inside;
 #ifdef SPM_WITH_VEXT
-        xrec[(size_t)j * npaths].cos_lobe = s.cos_lobe;
+        if (s.cos_lobe != 0.0f) /* the record holds 0 already */
+            xrec[(size_t)j * npaths].cos_lobe = s.cos_lobe;
 #endif
         d = s.wi;
         o = pos;
