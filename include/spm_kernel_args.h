@@ -10,6 +10,7 @@
 
 #define SPM_COMMA ,
 #define SPM_KERNEL_PARAM(dev, host, name) dev name
+#define SPM_KERNEL_ARG(dev, host, name) name /* a kernel passing its parameters on */
 
 /* spm_trace (kernels/trace.cl): one batch of a pass, npaths paths, the samples
  * of pixels first_pixel ... (records indexed from 0 within the batch).

@@ -79,6 +79,38 @@ inline float disp_walk(spm_dev_head h, __global const spm_vertex *vp,
         L += P * t[(size_t)bg * SPM_TRUTH_BINS] * h.bg_c;
     return L;
 }
+
+/* The record of path pi when it committed to a wavelength (SPM_EXT_LAMBDA at
+ * its first dispersive vertex): one lane at its 1 nm bin, weighed by 1 / its
+ * pdf, whatever the mode, into rec (XYZ, then nspec spectral bins). Returns 0
+ * when the path did not commit (shade it as the mode does). */
+inline int shade_dispersed(spm_dev_head h, __global const spm_vertex *vp,
+                           __global const spm_vertex *verts, uint npaths, uint pi,
+                           __global const float *dtab, __global const float *dcmf,
+                           __global float *rec, uint nspec)
+{
+    __global const spm_vertex_ext *dx = (__global const spm_vertex_ext *)SPM_VERTEX_EXT(verts, npaths) + pi;
+    uint dn = h.nvert_end & 0xFFFFu, db = SPM_NONE;
+    float dw = 0.0f;
+    for (uint j = 0; j < dn && db == SPM_NONE; j++) {
+        spm_vertex_ext x = dx[(size_t)j * npaths];
+        if (SPM_EXT_DIEL(x) && SPM_EXT_LAMBDA(x) != SPM_NONE) {
+            db = SPM_EXT_LAMBDA(x);
+            dw = x.cos_light;
+        }
+    }
+    if (db == SPM_NONE)
+        return 0;
+    float dl = disp_walk(h, vp, dx, npaths, dtab + db) * dw;
+    for (int ch = 0; ch < 3; ch++)
+        rec[ch] = dl * dcmf[ch * SPM_TRUTH_BINS + db];
+    if (nspec) { /* the bin holding b: its share of the bin's mean, L / (pdf bin width) */
+        for (uint b = 0; b < nspec; b++)
+            rec[3 + b] = 0.0f;
+        rec[3 + db / (SPM_TRUTH_BINS / nspec)] = dl / (float)(SPM_TRUTH_BINS / nspec);
+    }
+    return 1;
+}
 #endif
 
 #ifdef SPM_SHADE_L0_NV

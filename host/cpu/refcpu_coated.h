@@ -26,13 +26,6 @@ typedef struct {
  * (SPM_DIM_COAT_*). */
 void spm_ref_coat_make(const spm_ref_cond *f, const spm_material *m, float u_lobe, float u1,
                        float u2, spm_ref_coat *c);
-/* The light sample towards unit l, the factor after the distance (the
- * Lambertian's |cos_i| / pi; cos_i the cosine to the frame's normal or, flat,
- * to the triangle's): diffuse |cos_i| / pi (1 - F(|cos_i|)) w;
- * rough specular F(wo.h) D G2 / (4 wo_z) / ps times the power heuristic
- * (pick_pdf, d2c, area, cos_e as spm_ref_cond_light). */
-float spm_ref_coat_light(const spm_ref_coat *c, const float l[3], float cos_i, float pick_pdf,
-                         float d2c, float area, float cos_e);
 /* The coating's Fresnel reflectance in float (host/scene/coated.h's formula). */
 float spm_ref_coat_fresnel(float eta, float c);
 #endif

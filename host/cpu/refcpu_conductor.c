@@ -3,6 +3,7 @@
 #include <float.h>
 #include <math.h>
 #include "geometry_vec3.h"
+#include "refcpu_bsdf.h"
 
 void spm_ref_cond_make(const spm_tri *tri, const float d[3], float alpha, spm_ref_cond *c)
 {
@@ -42,8 +43,9 @@ float spm_ref_cond_power(float a, float b)
     return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
 }
 
-float spm_ref_cond_light(const spm_ref_cond *c, const float l[3], float pick_pdf, float d2c,
-                         float area, float cos_e, float *cos_h)
+/* D G2 / (4 wo_z) toward unit l (world) and *pdf, the visible normals'
+ * G1(wo) D / (4 wo_z); *cos_h = wo.h */
+float spm_ref_cond_f(const spm_ref_cond *c, const float l[3], float *pdf, float *cos_h)
 {
     float wi[3] = {v3_dot(l, c->t), v3_dot(l, c->b), v3_dot(l, c->n)}, s[3], h[3];
     for (int i = 0; i < 3; i++)
@@ -52,8 +54,15 @@ float spm_ref_cond_light(const spm_ref_cond *c, const float l[3], float pick_pdf
     float d = ggx_d(c->alpha, h[2]);
     float lo = lambda(c->alpha, c->wo[2]), li = lambda(c->alpha, wi[2]);
     *cos_h = v3_dot(c->wo, h);
-    float pb = d / ((1.0f + lo) * 4.0f * c->wo[2]);
-    float f = d / ((1.0f + lo + li) * 4.0f * c->wo[2]);
+    *pdf = d / ((1.0f + lo) * 4.0f * c->wo[2]);
+    return d / ((1.0f + lo + li) * 4.0f * c->wo[2]);
+}
+
+float spm_ref_cond_light(const spm_ref_cond *c, const float l[3], float pick_pdf, float d2c,
+                         float area, float cos_e, float *cos_h)
+{
+    float pb;
+    float f = spm_ref_cond_f(c, l, &pb, cos_h);
     float pl = pick_pdf * d2c / (area * cos_e);
     return f * spm_ref_cond_power(pl, pb);
 }
@@ -163,4 +172,66 @@ float spm_ref_ggx_d(float a, float mz)
 void spm_ref_ggx_vndf(const float wo[3], float a, float u1, float u2, float m[3])
 {
     vndf(wo, a, u1, u2, m);
+}
+
+/* ---- the contract (refcpu_bsdf.h; kernels/conductor.clh's) ---------------- */
+void spm_ref_begin_CONDUCTOR(const spm_material *m, const spm_ref_hit *h, const spm_ref_key *k,
+                             int j, spm_ref_walk *w, spm_ref_bsdf *b)
+{
+    (void)k, (void)j, (void)w;
+    spm_ref_bsdf_frame(h, m->p[SPM_COND_P_ALPHA], &b->c);
+    b->nee = b->c.alpha != 0.0f;
+}
+
+spm_ref_eval spm_ref_eval_CONDUCTOR(const spm_material *m, const spm_ref_bsdf *b,
+                                    const spm_ref_hit *h, const float wi[3], int mode)
+{
+    (void)m, (void)mode;
+    float pb, ch;
+    spm_ref_eval e = spm_ref_eval_value(spm_ref_cond_f(&b->c, wi, &pb, &ch), 1.0f);
+    if (h->smooth && !(v3_dot(wi, b->c.n) > 0.0f)) /* below the shading horizon */
+        e.f = 0.0f;
+    e.pdf = pb;
+    e.cos_light = ch;
+    return e;
+}
+
+float spm_ref_pdf_CONDUCTOR(const spm_material *m, const spm_ref_bsdf *b, const float wo[3],
+                            const float wi[3], int mode)
+{
+    (void)m, (void)mode;
+    float a = b->c.alpha, s[3], h[3];
+    if (!(wo[2] > 0.0f) || !(wi[2] > 0.0f) || a == 0.0f)
+        return 0.0f;
+    for (int i = 0; i < 3; i++)
+        s[i] = wo[i] + wi[i];
+    v3_normalise(h, s);
+    return ggx_d(a, h[2]) / ((1.0f + lambda(a, wo[2])) * 4.0f * wo[2]);
+}
+
+int spm_ref_sample_CONDUCTOR(const spm_material *m, const spm_ref_bsdf *b, const spm_ref_hit *h,
+                             const spm_ref_key *k, int j, int mode, spm_ref_bsample *s)
+{
+    (void)m, (void)h, (void)mode;
+    s->wt = 1.0f;
+    s->refract = 0;
+    s->inside = 0;
+    return spm_ref_cond_lobe(&b->c, spm_ref_rnd(k, SPM_DIM_TYPE(j, SPM_DIM_COND_M_A)),
+                             spm_ref_rnd(k, SPM_DIM_TYPE(j, SPM_DIM_COND_M_B)), s->wi,
+                             &s->cos_lobe, &s->w, &s->pdf);
+}
+
+spm_u32 spm_ref_lobe_CONDUCTOR(const spm_material *m, const spm_ref_bsdf *b, float *mean,
+                               float *inv_mean)
+{
+    (void)b;
+    return spm_ref_lobe_plain(m, mean, inv_mean); /* eta as the colour */
+}
+
+spm_u32 spm_ref_record_CONDUCTOR(const spm_material *m, const spm_ref_bsdf *b,
+                                 const spm_ref_walk *w, spm_vertex_ext *x)
+{
+    (void)b, (void)w;
+    x->ids = SPM_EXT_IDS(m->col2, SPM_NONE);
+    return m->col2;
 }

@@ -21,6 +21,9 @@ void spm_ref_cond_make(const spm_tri *tri, const float d[3], float alpha, spm_re
  * emitter's; *cos_h = wo.h, the Fresnel angle. */
 float spm_ref_cond_light(const spm_ref_cond *c, const float l[3], float pick_pdf, float d2c,
                          float area, float cos_e, float *cos_h);
+/* The lobe toward unit l (world): D G2 / (4 wo_z), *pdf the visible normals'
+ * G1(wo) D / (4 wo_z), *cos_h = wo.h. */
+float spm_ref_cond_f(const spm_ref_cond *c, const float l[3], float *pdf, float *cos_h);
 /* The lobe's direction into out from the two random numbers (unused when
  * smooth): returns 0 when it points below the surface (the path ends), else 1
  * with *cos_m = wo.m (smooth: wo.n), *w the colour-independent weight

@@ -1,8 +1,10 @@
 /* The CPU reference's dielectric (refcpu_dielectric.h). */
 #include "refcpu_dielectric.h"
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include "geometry_vec3.h"
+#include "refcpu_bsdf.h"
 
 float spm_ref_diel_fresnel(float ci, float e, float *ct_out)
 {
@@ -26,8 +28,9 @@ float spm_ref_diel_eta(const spm_tri *tri, const float d[3], float ior)
     return v3_dot(back, tri->n) > 0.0f ? ior : 1.0f / ior;
 }
 
-float spm_ref_diel_light(const spm_ref_cond *c, float e, const float l[3], float pick_pdf,
-                         float d2c, float area, float cos_e)
+/* F(wo.h) D G2 / (4 wo_z) toward unit l (world) and *pdf, the chance of
+ * reflecting there: F G1(wo) D / (4 wo_z) */
+static float diel_f(const spm_ref_cond *c, float e, const float l[3], float *pdf)
 {
     float wi[3] = {v3_dot(l, c->t), v3_dot(l, c->b), v3_dot(l, c->n)}, s[3], h[3];
     for (int i = 0; i < 3; i++)
@@ -37,10 +40,8 @@ float spm_ref_diel_light(const spm_ref_cond *c, float e, const float l[3], float
     float lo = spm_ref_ggx_lambda(c->alpha, c->wo[2]), li = spm_ref_ggx_lambda(c->alpha, wi[2]);
     float ct;
     float f = spm_ref_diel_fresnel(v3_dot(c->wo, h), e, &ct);
-    float pb = f * d / ((1.0f + lo) * 4.0f * c->wo[2]);
-    float fr = f * d / ((1.0f + lo + li) * 4.0f * c->wo[2]);
-    float pl = pick_pdf * d2c / (area * cos_e);
-    return fr * spm_ref_cond_power(pl, pb);
+    *pdf = f * d / ((1.0f + lo) * 4.0f * c->wo[2]);
+    return f * d / ((1.0f + lo + li) * 4.0f * c->wo[2]);
 }
 
 int spm_ref_diel_lobe(const spm_ref_cond *c, float e, float u1, float u2, float uc, float out[3],
@@ -90,4 +91,101 @@ float spm_ref_diel_absorb(float sigma, float d)
 spm_u32 spm_ref_disp_bin(spm_u32 h)
 {
     return (spm_u32)(((uint64_t)h * SPM_TRUTH_BINS) >> 32);
+}
+
+/* ---- the contract (refcpu_bsdf.h; kernels/dielectric.clh's) --------------- */
+void spm_ref_begin_DIELECTRIC(const spm_material *m, const spm_ref_hit *h, const spm_ref_key *k,
+                              int j, spm_ref_walk *w, spm_ref_bsdf *b)
+{
+    (void)j;
+    b->commit = 0;
+    float ior = m->p[SPM_DIEL_P_IOR];
+    spm_u32 row = w->disperse ? (spm_u32)m->p[SPM_DIEL_P_DISP] : 0u;
+    if (row) {
+        if (w->lam == SPM_NONE) {
+            w->lam = spm_ref_disp_bin(spm_rng_stratified_u32(k->seed, k->pixel, k->sample,
+                                                             SPM_DIM_TYPE(0u, SPM_DIM_DIEL_LAMBDA)));
+            b->commit = 1;
+        }
+        ior = w->disp[(size_t)(row - 1u) * SPM_TRUTH_BINS + w->lam];
+    }
+    spm_ref_bsdf_frame(h, m->p[SPM_DIEL_P_ALPHA], &b->c);
+    float back[3] = {-h->d[0], -h->d[1], -h->d[2]};
+    b->eta = v3_dot(back, h->ng) > 0.0f ? ior : 1.0f / ior;
+    b->nee = b->c.alpha != 0.0f;
+}
+
+spm_ref_eval spm_ref_eval_DIELECTRIC(const spm_material *m, const spm_ref_bsdf *b,
+                                     const spm_ref_hit *h, const float wi[3], int mode)
+{
+    (void)m, (void)mode;
+    float pb;
+    spm_ref_eval e = spm_ref_eval_value(diel_f(&b->c, b->eta, wi, &pb), 1.0f);
+    if (h->smooth && !(v3_dot(wi, b->c.n) > 0.0f)) /* below the shading horizon */
+        e.f = 0.0f;
+    e.pdf = pb;
+    return e;
+}
+
+/* reflection F G1 D / (4 wo_z); refraction (Walter et al. 2007)
+ * (1 - F) G1 D (wo.h) / wo_z e^2 |wi.h| / (wo.h + e wi.h)^2, h = unit(wo + e wi) */
+float spm_ref_pdf_DIELECTRIC(const spm_material *m, const spm_ref_bsdf *b, const float wo[3],
+                             const float wi[3], int mode)
+{
+    (void)m, (void)mode;
+    float a = b->c.alpha, e = b->eta, ct, s[3], h[3];
+    if (!(wo[2] > 0.0f) || a == 0.0f)
+        return 0.0f;
+    float g1 = 1.0f / (1.0f + spm_ref_ggx_lambda(a, wo[2]));
+    int refl = wi[2] > 0.0f;
+    for (int i = 0; i < 3; i++)
+        s[i] = wo[i] + wi[i] * (refl ? 1.0f : e);
+    v3_normalise(h, s);
+    if (h[2] < 0.0f)
+        h[0] = -h[0], h[1] = -h[1], h[2] = -h[2];
+    float co = v3_dot(wo, h), ci = v3_dot(wi, h);
+    if (refl)
+        return spm_ref_diel_fresnel(co, e, &ct) * g1 * spm_ref_ggx_d(a, h[2]) / (4.0f * wo[2]);
+    float den = co + e * ci;
+    if (!(co > 0.0f) || !(ci < 0.0f) || den == 0.0f)
+        return 0.0f;
+    return (1.0f - spm_ref_diel_fresnel(co, e, &ct)) * g1 * spm_ref_ggx_d(a, h[2]) * co / wo[2] *
+           e * e * fabsf(ci) / (den * den);
+}
+
+int spm_ref_sample_DIELECTRIC(const spm_material *m, const spm_ref_bsdf *b, const spm_ref_hit *h,
+                              const spm_ref_key *k, int j, int mode, spm_ref_bsample *s)
+{
+    (void)m;
+    float wt;
+    int ok = spm_ref_diel_lobe(&b->c, b->eta, spm_ref_rnd(k, SPM_DIM_TYPE(j, SPM_DIM_DIEL_M_A)),
+                               spm_ref_rnd(k, SPM_DIM_TYPE(j, SPM_DIM_DIEL_M_B)),
+                               spm_ref_rnd(k, SPM_DIM_TYPE(j, SPM_DIM_DIEL_CHOICE)), s->wi, &wt,
+                               &s->w, &s->pdf);
+    if (!ok)
+        return 0;
+    s->wt = mode == SPM_REF_RADIANCE ? wt : 1.0f;
+    s->refract = ok == 2;
+    s->inside = v3_dot(s->wi, h->ng) < 0.0f; /* into the back face's side: inside */
+    s->cos_lobe = 0.0f;
+    return 1;
+}
+
+spm_u32 spm_ref_lobe_DIELECTRIC(const spm_material *m, const spm_ref_bsdf *b, float *mean,
+                                float *inv_mean)
+{
+    (void)b;
+    return spm_ref_lobe_plain(m, mean, inv_mean); /* its absorption colour; R + T = 1 */
+}
+
+spm_u32 spm_ref_record_DIELECTRIC(const spm_material *m, const spm_ref_bsdf *b,
+                                  const spm_ref_walk *w, spm_vertex_ext *x)
+{
+    (void)m;
+    x->ids = SPM_EXT_KIND; /* the length inside comes with the next hit */
+    if (b->commit) {       /* the committed bin and 1 / its pdf (SPM_EXT_LAMBDA) */
+        x->ids |= w->lam + 1u;
+        x->cos_light = (float)SPM_TRUTH_BINS;
+    }
+    return SPM_NONE;
 }

@@ -15,11 +15,6 @@ float spm_ref_diel_fresnel(float ci, float e, float *ct);
 /* The relative index at a vertex of index ior reached along d on triangle
  * tri: ior through the front face, 1 / ior through the back. */
 float spm_ref_diel_eta(const spm_tri *tri, const float d[3], float ior);
-/* The light sample towards unit l (the viewer's side; the rough lobe only):
- * F(wo.h) D G2 / (4 wo_z) times the power heuristic against the lobe's
- * density of reflecting towards l; the arguments as spm_ref_cond_light's. */
-float spm_ref_diel_light(const spm_ref_cond *c, float e, const float l[3], float pick_pdf,
-                         float d2c, float area, float cos_e);
 /* The lobe: the normal (the surface's, or a visible one from u1, u2), then
  * reflection if uc < F(wo.m), else refraction, into out (world). Returns 0
  * when the direction lands on the wrong side of the frame's normal (the path

@@ -9,6 +9,7 @@
 #include "refcpu.h"
 #include "refcpu_conductor.h"
 #include "refcpu_dielectric.h"
+#include "refcpu_bsdf.h"
 #include <string.h>
 
 #define MAX_LANES (SPM_TRUTH_BINS + SPM_MAX_SPIKES)
@@ -80,3 +81,41 @@ void spm_ref_fluor_shade(const spm_path *path, const spm_shade_table *tab, int n
         L[l] = e + A[l];
     }
 }
+
+/* The trace stage: the diffuse fluorescent types take the Lambertian's lobe
+ * (refcpu_lambert.c); their diagonal colour marks the vertex for the walk
+ * above. */
+#define SPM_REF_AS_LAMBERT(NAME)                                                                 \
+    void spm_ref_begin_##NAME(const spm_material *m, const spm_ref_hit *h, const spm_ref_key *k, \
+                              int j, spm_ref_walk *w, spm_ref_bsdf *b)                           \
+    {                                                                                            \
+        spm_ref_begin_LAMBERT(m, h, k, j, w, b);                                                 \
+    }                                                                                            \
+    spm_ref_eval spm_ref_eval_##NAME(const spm_material *m, const spm_ref_bsdf *b,               \
+                                     const spm_ref_hit *h, const float wi[3], int mode)          \
+    {                                                                                            \
+        return spm_ref_eval_LAMBERT(m, b, h, wi, mode);                                          \
+    }                                                                                            \
+    float spm_ref_pdf_##NAME(const spm_material *m, const spm_ref_bsdf *b, const float wo[3],    \
+                             const float wi[3], int mode)                                        \
+    {                                                                                            \
+        return spm_ref_pdf_LAMBERT(m, b, wo, wi, mode);                                          \
+    }                                                                                            \
+    int spm_ref_sample_##NAME(const spm_material *m, const spm_ref_bsdf *b,                      \
+                              const spm_ref_hit *h, const spm_ref_key *k, int j, int mode,       \
+                              spm_ref_bsample *s)                                                \
+    {                                                                                            \
+        return spm_ref_sample_LAMBERT(m, b, h, k, j, mode, s);                                   \
+    }                                                                                            \
+    spm_u32 spm_ref_lobe_##NAME(const spm_material *m, const spm_ref_bsdf *b, float *mean,       \
+                                float *inv_mean)                                                 \
+    {                                                                                            \
+        return spm_ref_lobe_LAMBERT(m, b, mean, inv_mean);                                       \
+    }                                                                                            \
+    spm_u32 spm_ref_record_##NAME(const spm_material *m, const spm_ref_bsdf *b,                  \
+                                  const spm_ref_walk *w, spm_vertex_ext *x)                      \
+    {                                                                                            \
+        return spm_ref_record_LAMBERT(m, b, w, x);                                               \
+    }
+SPM_REF_AS_LAMBERT(FLUOR)
+SPM_REF_AS_LAMBERT(DONALDSON)

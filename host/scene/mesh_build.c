@@ -224,6 +224,16 @@ static void record_mesh(spm_scene *s, const char *file, const char *where, int f
     }
 }
 
+/* the box lo..hi grown to hold the triangle's corners f */
+static void grow_box(double lo[3], double hi[3], float f[3][3])
+{
+    for (int v = 0; v < 3; v++)
+        for (int i = 0; i < 3; i++) {
+            lo[i] = fmin(lo[i], f[v][i]);
+            hi[i] = fmax(hi[i], f[v][i]);
+        }
+}
+
 int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_data *d,
                  const spm_mesh_opts *o, const char *file, const char *where, spm_error *err)
 {
@@ -304,11 +314,7 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
                 unusable++;
             }
         }
-        for (int v = 0; v < 3; v++)
-            for (int i = 0; i < 3; i++) {
-                lo[i] = fmin(lo[i], f[v][i]);
-                hi[i] = fmax(hi[i], f[v][i]);
-            }
+        grow_box(lo, hi, f);
     }
     free(map);
     if (rc)

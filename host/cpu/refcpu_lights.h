@@ -1,0 +1,43 @@
+/* The CPU reference's light contract (kernels/lights.clh has the kernels'
+ * own and says what each call means): area triangles chosen through the
+ * selection table, the two-colour background, the emission types' switch
+ * generated from include/spm_types.h. Plain scalar float C, in the kernels'
+ * operation order. */
+#ifndef SPM_REFCPU_LIGHTS_H
+#define SPM_REFCPU_LIGHTS_H
+#include "geometry.h"
+#include "refcpu_bsdf.h"
+
+/* A light sample toward a shading point (kernels/lights.clh spm_light_sample). */
+typedef struct {
+    float wi[3];
+    float g, pdf, scale;
+    spm_u32 colour;
+    int delta;
+} spm_ref_lsample;
+
+/* the selection's probability of triangle tri (0: not a light) */
+float spm_ref_light_pmf(const spm_geometry *g, spm_u32 tri);
+/* the emission of material m toward cosine cos_e > 0 to its face: its colour
+ * and *scale (SPM_NONE: none) */
+spm_u32 spm_ref_light_eval(const spm_material *m, float cos_e, float *scale);
+/* the background an escaping ray of direction d meets (SPM_NONE: dark) */
+spm_u32 spm_ref_light_background(const spm_trace_params *p, const float d[3]);
+/* light_sample's density of the point a ray found at distance t on emitting
+ * triangle tri (face cosine ce), in solid angle */
+float spm_ref_light_pdf_hit(const spm_geometry *g, spm_u32 tri, float t, float ce);
+/* A light sample from x on triangle hit (frame h) with vertex dimension dim's
+ * random numbers; 0 when occluded, back-facing or on the other side. */
+int spm_ref_light_sample(const spm_geometry *g, const spm_material *mats, const spm_ref_key *k,
+                         spm_u32 dim, const float x[3], spm_u32 hit, const spm_ref_hit *h,
+                         spm_ref_lsample *ls);
+/* A ray leaving emitter k of the selection: a uniform point o on it
+ * (*pdf_pos = 1 / area), a cosine-weighted direction d (*pdf_dir = cos / pi). */
+void spm_ref_light_sample_emission(const spm_geometry *g, spm_u32 k, const float u[4], float o[3],
+                                   float d[3], float *pdf_pos, float *pdf_dir);
+/* its densities of a ray leaving triangle tri along d */
+void spm_ref_light_pdf_emission(const spm_geometry *g, spm_u32 tri, const float d[3],
+                                float *pdf_pos, float *pdf_dir);
+/* the ray sink's hook (refcpu.h spm_ref_rays): ray o + t d, what it asks */
+void spm_ref_record_ray(const float o[3], const float d[3], spm_u32 skip, spm_u32 emitter);
+#endif
