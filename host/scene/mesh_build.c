@@ -234,6 +234,29 @@ static void grow_box(double lo[3], double hi[3], float f[3][3])
         }
 }
 
+/* What the file held that is not rendered: once per run and feature (nearly
+ * every model has vertex normals), and a glTF's extensions per statement. */
+static void warn_ignored(const spm_mesh_data *d, const spm_mesh_opts *o, int any_smooth,
+                         const char *where, const char *file)
+{
+    static uint32_t said;
+    uint32_t ignored = d->ignored;
+    if (d->normals && !any_smooth && o->shading != SPM_MESH_SHADE_FLAT)
+        ignored |= SPM_MESH_IGN_NORMALS;
+    for (int bit = 0; bit < SPM_MESH_IGN_COUNT; bit++)
+        if (ignored & ~said & (1u << bit))
+            spm_warnf("%s: %s: %s ignored (%s; said once per run)", where, file,
+                      spm_mesh_ignored_name(bit),
+                      bit == 0 ? "diffuse materials shade flat unless the mesh statement says "
+                                 "'smooth'"
+                               : "not rendered");
+    said |= ignored;
+    if (d->extensions[0])
+        spm_warnf("%s: %s: glTF extension%s %s not rendered (specmip leaves %s effect out)",
+                  where, file, strchr(d->extensions, ',') ? "s" : "", d->extensions,
+                  strchr(d->extensions, ',') ? "their" : "its");
+}
+
 int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_data *d,
                  const spm_mesh_opts *o, const char *file, const char *where, spm_error *err)
 {
@@ -332,23 +355,7 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
         spm_warnf("%s: %s: %llu triangle%s shade flat: a vertex normal is zero or not a finite "
                   "number, or the three are perpendicular to the face", where, file,
                   (unsigned long long)unusable, unusable == 1 ? "" : "s");
-    /* once per run and feature: nearly every model has vertex normals */
-    static uint32_t said;
-    uint32_t ignored = d->ignored;
-    if (d->normals && !smooth && !unusable && o->shading != SPM_MESH_SHADE_FLAT)
-        ignored |= SPM_MESH_IGN_NORMALS;
-    for (int bit = 0; bit < SPM_MESH_IGN_COUNT; bit++)
-        if (ignored & ~said & (1u << bit))
-            spm_warnf("%s: %s: %s ignored (%s; said once per run)", where, file,
-                      spm_mesh_ignored_name(bit),
-                      bit == 0 ? "diffuse materials shade flat unless the mesh statement says "
-                                 "'smooth'"
-                               : "not rendered");
-    said |= ignored;
-    if (d->extensions[0])
-        spm_warnf("%s: %s: glTF extension%s %s not rendered (specmip leaves %s effect out)",
-                  where, file, strchr(d->extensions, ',') ? "s" : "", d->extensions,
-                  strchr(d->extensions, ',') ? "their" : "its");
+    warn_ignored(d, o, smooth || unusable, where, file);
     record_mesh(b->s, file, where, first, lo, hi);
     if (!spm_quiet_warnings)
         fprintf(stderr, "specmip: %s: %s: %llu triangles, bounding box (%g %g %g) to (%g %g %g)\n",
