@@ -6,6 +6,7 @@
 #include <time.h>
 
 int spm_quiet_warnings = 0;
+int spm_quiet_notes = 0;
 
 void spm_errorf(spm_error *err, const char *fmt, ...)
 {
@@ -23,6 +24,18 @@ void spm_warnf(const char *fmt, ...)
     va_list ap;
     va_start(ap, fmt);
     fputs("specmip: warning: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+void spm_notef(const char *fmt, ...)
+{
+    if (spm_quiet_notes || spm_quiet_warnings)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("specmip: ", stderr);
     vfprintf(stderr, fmt, ap);
     fputc('\n', stderr);
     va_end(ap);
