@@ -1,7 +1,8 @@
 #!/bin/bash
 # README.md and docs/*.md: no paragraph kept twice (each text has one home;
 # README is the entrance, the rest lives in docs/), every relative link and
-# image resolves, and README stays at most 300 lines.
+# image resolves, README stays at most 300 lines and shows every bundled
+# scene's gallery picture.
 # usage: bash tests/cli_docs.sh /path/to/specmip   (the binary is not used)
 source "$(dirname "$0")/lib_cli.sh"
 CHECK=$ROOT/tools/docs_check.py
@@ -10,6 +11,12 @@ check "every relative link in README.md and docs/ resolves" python3 "$CHECK" lin
 lines=$(wc -l < "$ROOT/README.md")
 check "README.md at most 300 lines (has $lines)" num "$lines" '<=' 300
 check "README.md has its two commands" grep -q '^bash tools/test.sh' "$ROOT/README.md"
+# the gallery: every bundled scene's picture is there and shown (tools/gallery.sh)
+for f in "$ROOT"/scenes/*.scene; do
+    n=$(basename "$f" .scene)
+    check "gallery: docs/gallery/$n.png is there" test -s "$ROOT/docs/gallery/$n.png"
+    check "gallery: README shows $n" grep -qF "(docs/gallery/$n.png)" "$ROOT/README.md"
+done
 
 # The checks see what they are for: a copy of the documents with one of README's
 # paragraphs pasted into a doc, and with a link to a missing file, must fail.
