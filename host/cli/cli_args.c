@@ -172,8 +172,8 @@ const spm_option spm_options[] = {
         "print the statistics as one JSON object (stdout; with --stats\n"
         "too, the text goes to stderr)"),
     {SPM_O_PROGRESS, "--progress", NULL, NULL, SPM_ARG_FLAG, 0, 0, R | B,
-     "--progress, --quiet", "progress line on stderr even when it is not a terminal,\n"
-                            "or none (default: when stderr is a terminal)"},
+     "--progress, --quiet", "progress line on stderr even when it is not a terminal\n"
+                            "(default: when it is), or none and no notes (warnings stay)"},
     ROW(QUIET, "--quiet", NULL, FLAG, 0, 0, R | B, NULL),
     ROW(VERBOSE, "--verbose", NULL, FLAG, 0, 0, R,
         "print the pretest's level table (mlc: its own)"),

@@ -172,7 +172,7 @@ static int parse_args(int argc, char **argv, render_opts *o)
         case SPM_O_STATS: o->stats = 1; break;
         case SPM_O_JSON: o->json = 1; break;
         case SPM_O_PROGRESS: o->progress = 1; break;
-        case SPM_O_QUIET: o->progress = 0; break;
+        case SPM_O_QUIET: o->progress = 0; spm_quiet_notes = 1; break;
         case SPM_O_VERBOSE: o->cfg.verbose = 1; break;
         case SPM_O_STRICT: spm_scene_strict = 1; break;
         case SPM_O_TIME: o->cfg.time_s = it.number; break;
@@ -250,12 +250,13 @@ static int check_outputs(render_opts *o)
 
 /* PoCL's kernel cache before and after the render loop: a render that
  * compiled is timed with its compiles (the CPU reference compiles nothing: a
- * cache that grew meanwhile is another process's). */
+ * cache that grew meanwhile is another process's). Said with --stats only, the
+ * times it qualifies; --json carries it as compiled_during_timing. */
 static void watch_compiles(const render_opts *o, spm_render_setup *s, const spm_pocl_cache *c0,
                            const spm_pocl_cache *c1)
 {
     s->times.compiled_in_render = o->cfg.backend->compiles ? spm_pocl_cache_grew(c0, c1) : -1;
-    if (s->times.compiled_in_render == 1) {
+    if (s->times.compiled_in_render == 1 && o->stats) { /* a note on the timing: --stats' */
         char dir[4096];
         fprintf(stderr, "specmip render: WARNING: PoCL's kernel cache %s gained %lld files "
                         "during the render: kernels were compiled (by this render, unless another "
