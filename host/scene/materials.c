@@ -151,6 +151,23 @@ static int dielectric_derive(spm_scene *sc, spm_scene_material *s, spm_error *er
     return 0;
 }
 
+/* A type whose derived colour would follow a fluorescent material's diagonal
+ * refuses fluorescent materials in its scene: their diagonals must be the
+ * scene's last colours (the shade stage knows them by id), and their
+ * light-end walk has no case for its vertices. */
+static int refuse_fluor(const spm_scene *sc, const spm_scene_material *s, const char *type,
+                        spm_error *err)
+{
+    for (int i = 0; i < sc->nmaterials; i++)
+        if (sc->materials[i].type == (int)SPM_MAT_FLUOR ||
+            sc->materials[i].type == (int)SPM_MAT_DONALDSON) {
+            spm_errorf(err, "material '%s' (%s) and material '%s' (fluorescent): a scene "
+                            "cannot have both types yet", s->name, type, sc->materials[i].name);
+            return 1;
+        }
+    return 0;
+}
+
 /* Coated (coated.h): a Lambertian base under a smooth or GGX-rough dielectric
  * coating, Mitsuba 3's plastic / roughplastic with nonlinear true. The vertex
  * records the derived colour D (col3, the diffuse lobe) or the derived white
@@ -187,13 +204,8 @@ static void coated_fill(const spm_scene *sc, const spm_scene_material *s, spm_ma
  * the coated vertex's hit. */
 static int coated_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
 {
-    for (int i = 0; i < sc->nmaterials; i++)
-        if (sc->materials[i].type == (int)SPM_MAT_FLUOR ||
-            sc->materials[i].type == (int)SPM_MAT_DONALDSON) {
-            spm_errorf(err, "material '%s' (coated) and material '%s' (fluorescent): a scene "
-                            "cannot have both types yet", s->name, sc->materials[i].name);
-            return 1;
-        }
+    if (refuse_fluor(sc, s, "coated", err))
+        return 1;
     static const char white_name[] = "coated:white";
     int white = -1;
     for (int i = 0; i < sc->ncolours && white < 0; i++)
