@@ -64,7 +64,7 @@ void spm_rgb2spec_lookup_cubic(const spm_rgb2spec_table *t, const double rgb[3],
 /* A texel as the model: value(lambda) = scale * S(coef, lambda), times D65
  * normalised to Y = 1 for an emission. The coefficients are the cubic lookup,
  * polished by the fitter where its colour is more than SPM_TEXEL_MAX_DE00
- * from the target (a few percent of colours; docs/METHODS.md).
+ * from the target (2 % of the test colours; docs/METHODS.md).
  *   reflectance: rgb clamped to [0, 1], scale 1 (0 for black);
  *   unbounded (an index, an HDR value): scale = max component m, coef for
  *     rgb / m (a grey's spectrum is then exactly m);
