@@ -125,6 +125,13 @@ static void checker_and_lod(void)
     /* lod 3.5 at a check's centre: half level 3 (1) and half level 4 (0.5) */
     spm_texture_trilinear(&t, 1.0 / 16, 1 - 1.0 / 16, sqrt(2.0) * 8 / 64, o);
     CHECK_NEAR(o[0], 0.75, 1e-5, "trilinear between levels 3 and 4");
+    /* a ray cone's footprint: world triangle of area 2, uv area 1/2, cone
+     * 0.1 wide at 60 degrees: 0.1 / 0.5 * sqrt(0.25) = 0.1 */
+    const float uv[6] = {0, 0, 1, 0, 0, 1}, p[9] = {0, 0, 0, 2, 0, 0, 0, 2, 0};
+    CHECK_NEAR(spm_texture_cone_footprint(0.1, 0.5, uv, p), 0.1, 1e-12, "cone footprint");
+    CHECK_NEAR(spm_texture_cone_footprint(0.1, -0.5, uv, p), 0.1, 1e-12, "cone from behind");
+    const float flat[9] = {0, 0, 0, 1, 1, 1, 2, 2, 2};
+    CHECK(spm_texture_cone_footprint(0.1, 0.5, uv, flat) == 0.0, "a triangle without area: 0");
     spm_texture_trilinear(&t, 0.3, 0.7, 2.0, o);
     CHECK_NEAR(o[0], 0.5, 1e-6, "a wide footprint: the mean");
     spm_texture_mean(&t, o);

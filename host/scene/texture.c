@@ -152,6 +152,23 @@ double spm_texture_lod(const spm_texture *t, double width)
     return lod < t->nlevels - 1 ? lod : t->nlevels - 1;
 }
 
+double spm_texture_cone_footprint(double cone_width, double cos_theta, const float uv[6],
+                                  const float p[9])
+{
+    /* areas as |cross products| / 2; the halves cancel in the ratio */
+    double ta = fabs((uv[2] - uv[0]) * (double)(uv[5] - uv[1]) -
+                     (uv[4] - uv[0]) * (double)(uv[3] - uv[1]));
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; k++)
+        e1[k] = p[3 + k] - p[k], e2[k] = p[6 + k] - p[k];
+    double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+           cz = e1[0] * e2[1] - e1[1] * e2[0], pa = sqrt(cx * cx + cy * cy + cz * cz);
+    double c = fabs(cos_theta);
+    if (!(pa > 0.0) || !(c > 0.0))
+        return 0.0;
+    return cone_width / c * sqrt(ta / pa);
+}
+
 void spm_texture_trilinear(const spm_texture *t, double u, double v, double width, float out[3])
 {
     double lod = spm_texture_lod(t, width);

@@ -58,6 +58,13 @@ void spm_texture_bilinear(const spm_texture *t, int level, double u, double v, f
  * triangle; Akenine-Moller et al. 2021): lod = log2(width sqrt(w h)), clamped
  * to [0, nlevels - 1]. */
 double spm_texture_lod(const spm_texture *t, double width);
+/* A ray cone's footprint in texture coordinates at a hit on a triangle:
+ * width = cone_width / |cos| * sqrt(uv area / world area), the triangle's
+ * areas from its texture coordinates uv (u0 v0 u1 v1 u2 v2) and vertices p
+ * (Akenine-Moller et al. 2021, eq. for the base level Delta). 0 for a
+ * triangle without area or a ray along it (level 0 then). */
+double spm_texture_cone_footprint(double cone_width, double cos_theta, const float uv[6],
+                                  const float p[9]);
 /* Trilinear: bilinear on the two levels around the footprint's lod, blended. */
 void spm_texture_trilinear(const spm_texture *t, double u, double v, double width, float out[3]);
 /* The image's mean (its 1 x 1 level). */
