@@ -14,6 +14,7 @@
 #include "pretest.h"
 #include "rgb2spec.h"
 #include "rgb2spec_table.h"
+#include "texture.h"
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -153,6 +154,25 @@ static void timing(const spm_rgb2spec_table *t)
     double t2 = now();
     printf("texel lift: cubic lookup and polish %.0f ns, trilinear lookup %.0f ns (sink %g)\n",
            1e9 * (t1 - t0) / N, 1e9 * (t2 - t1) / N, sink);
+    /* a 256 x 256 level lifted: 8-bit noise (nearly every texel distinct) and
+     * an 8 x 8 checker of two colours */
+    enum { S = 256 };
+    static float px[S * S * 3], lifted[S * S * 4];
+    for (int i = 0; i < S * S * 3; i++)
+        px[i] = (float)spm_srgb_decode((int)(uniform() * 255.999) / 255.0);
+    spm_texmap m = {S, S, px};
+    t0 = now();
+    long d = spm_texture_lift(t, SPM_TEXEL_REFLECTANCE, &m, lifted);
+    t1 = now();
+    printf("lift of a %dx%d level: 8-bit noise (%ld distinct) %.2f s", S, S, d, t1 - t0);
+    for (int y = 0; y < S; y++)
+        for (int x = 0; x < S; x++)
+            for (int c = 0; c < 3; c++)
+                px[3 * (y * S + x) + c] = ((x / 32 + y / 32) % 2) ? 0.8f : 0.1f * (c + 1);
+    t0 = now();
+    d = spm_texture_lift(t, SPM_TEXEL_REFLECTANCE, &m, lifted);
+    t1 = now();
+    printf(", checker (%ld distinct) %.4f s\n", d, t1 - t0);
 }
 
 typedef struct {

@@ -186,8 +186,40 @@ static void files(void)
     remove("tex_test.exr");
 }
 
+/* Lifting a level: each distinct value once, the same as each texel alone. */
+static void lift(void)
+{
+    spm_error err;
+    const spm_rgb2spec_table *t = spm_rgb2spec_srgb(&err);
+    CHECK(t != NULL, "table: %s", err.msg);
+    if (!t)
+        return;
+    enum { W = 16, H = 8 };
+    static float px[W * H * 3], out[W * H * 4];
+    const float pal[4][3] = {{0.8f, 0.1f, 0.1f}, {0.1f, 0.5f, 0.9f}, {2.0f, 1.0f, 0.5f},
+                             {0.3f, 0.3f, 0.3f}};
+    for (int i = 0; i < W * H; i++)
+        memcpy(px + 3 * i, pal[i % 7 % 4], sizeof pal[0]);
+    px[3 * 77] = 0.05f; /* one texel of its own */
+    spm_texmap m = {W, H, px};
+    for (int kind = SPM_TEXEL_REFLECTANCE; kind <= SPM_TEXEL_UNBOUNDED; kind++) {
+        long d = spm_texture_lift(t, (spm_texel_kind)kind, &m, out);
+        CHECK(d == 5, "five distinct values (%ld)", d);
+        int same = 1;
+        for (int i = 0; i < W * H; i++) {
+            double rgb[3] = {px[3 * i], px[3 * i + 1], px[3 * i + 2]}, c[3], scale;
+            spm_rgb2spec_texel(t, (spm_texel_kind)kind, rgb, c, &scale);
+            for (int k = 0; k < 3; k++)
+                same &= out[4 * i + k] == (float)c[k];
+            same &= out[4 * i + 3] == (float)scale;
+        }
+        CHECK(same, "kind %d: the lifted level is each texel's lift", kind);
+    }
+}
+
 int main(void)
 {
+    lift();
     wraps();
     bilinear();
     pyramid();

@@ -2,6 +2,7 @@
 #include "texture.h"
 #include "util.h"
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -184,4 +185,44 @@ void spm_texture_trilinear(const spm_texture *t, double u, double v, double widt
 void spm_texture_mean(const spm_texture *t, float out[3])
 {
     memcpy(out, t->lv[t->nlevels - 1].rgb, sizeof(float) * 3);
+}
+
+/* FNV-1a of a texel's three floats' bits */
+static uint64_t texel_hash(const float *p)
+{
+    uint64_t h = 1469598103934665603ull;
+    const unsigned char *b = (const unsigned char *)p;
+    for (int i = 0; i < 12; i++)
+        h = (h ^ b[i]) * 1099511628211ull;
+    return h;
+}
+
+long spm_texture_lift(const spm_rgb2spec_table *t, spm_texel_kind kind, const spm_texmap *m,
+                      float *out)
+{
+    size_t n = (size_t)m->w * m->h, cap = 16;
+    while (cap < 2 * n)
+        cap *= 2;
+    /* open addressing: slot -> index of the first texel with that value, + 1 */
+    size_t *slot = spm_xcalloc(cap, sizeof *slot);
+    long distinct = 0;
+    for (size_t i = 0; i < n; i++) {
+        const float *p = m->rgb + 3 * i;
+        size_t s = (size_t)texel_hash(p) & (cap - 1);
+        while (slot[s] && memcmp(m->rgb + 3 * (slot[s] - 1), p, 12))
+            s = (s + 1) & (cap - 1);
+        if (slot[s]) {
+            memcpy(out + 4 * i, out + 4 * (slot[s] - 1), sizeof(float) * 4);
+            continue;
+        }
+        slot[s] = i + 1;
+        distinct++;
+        double rgb[3] = {p[0], p[1], p[2]}, c[3], scale;
+        spm_rgb2spec_texel(t, kind, rgb, c, &scale);
+        for (int k = 0; k < 3; k++)
+            out[4 * i + k] = (float)c[k];
+        out[4 * i + 3] = (float)scale;
+    }
+    free(slot);
+    return distinct;
 }

@@ -16,6 +16,7 @@
 #define SPM_TEXTURE_H
 #include <stddef.h>
 #include "paths.h"
+#include "rgb2spec_table.h"
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -69,6 +70,14 @@ double spm_texture_cone_footprint(double cone_width, double cos_theta, const flo
 void spm_texture_trilinear(const spm_texture *t, double u, double v, double width, float out[3]);
 /* The image's mean (its 1 x 1 level). */
 void spm_texture_mean(const spm_texture *t, float out[3]);
+
+/* A level's texels lifted to the model: 4 floats a texel (c0, c1, c2, scale;
+ * spm_rgb2spec_texel), into out (w h 4 floats). Each distinct RGB value is
+ * lifted once (a texture's colours repeat: an 8-bit image has few distinct
+ * values per channel triple); the result is the same as lifting each texel.
+ * Returns the number of distinct values lifted. */
+long spm_texture_lift(const spm_rgb2spec_table *t, spm_texel_kind kind, const spm_texmap *m,
+                      float *out);
 
 /* Reading images through OpenImageIO (texture_io.cpp): the first three
  * channels (one or two: grey) as linear RGB, rows top to bottom; integer
