@@ -110,6 +110,12 @@ static int word_option(spm_opt_id id, const char *v, render_opts *o)
     case SPM_O_WHITE:
         o->white = v;
         return 0;
+    case SPM_O_DEFINE:
+        if (spm_scene_define(v, &e)) {
+            fprintf(stderr, "specmip render: %s\n", e.msg);
+            return SPM_EXIT_INPUT;
+        }
+        return 0;
     case SPM_O_ALLOW_PATH:
         if (spm_paths_allow(v, &e)) {
             fprintf(stderr, "specmip render: %s\n", e.msg);
