@@ -62,8 +62,10 @@ static int number(const mi_node *n, const char *attr, double *out, spm_error *er
 {
     const char *v = mi_attr(n, attr);
     if (!v || mi_numbers(v, out, 1) != 1) {
-        spm_errorf(err, "%s: <%s> '%s': %s=\"%.60s\" is not a number", n->where, n->tag,
-                   mi_attr(n, "name") ? mi_attr(n, "name") : "", attr, v ? v : "(missing)");
+        const char *name = mi_attr(n, "name");
+        spm_errorf(err, "%s: <%s%s%s%s> %s=\"%.60s\" is not a number", n->where, n->tag,
+                   name ? " name=\"" : "", name ? name : "", name ? "\"" : "", attr,
+                   v ? v : "(missing)");
         return 1;
     }
     return 0;
@@ -256,7 +258,7 @@ mi_node *mi_ref(mi_ids *ids, mi_node *ref, spm_error *err)
     int i = id ? spm_names_get(&ids->ids, id) : -1;
     ref->used = 1;
     if (i < 0) {
-        spm_errorf(err, "%s: <ref id=\"%s\">: no element has this id (before this line)",
+        spm_errorf(err, "%s: <ref id=\"%s\">: no element has this id",
                    ref->where, id ? id : "");
         return NULL;
     }
