@@ -2,7 +2,8 @@
  * Mitsuba's order, the camera's frame and fov_axis, default / $name / -D,
  * ref and id, include, the unit shapes' conventions, the BSDFs' mapping,
  * spectra (piecewise linear and zero outside, constants, rgb, blackbody),
- * emitter units, the constant background; errors naming file:line:col.
+ * emitter units, the constant background, files (spectrum, OBJ through
+ * <path>, PLY); errors naming file:line:col.
  * Scenes written here. */
 #include "colour.h"
 #include "geometry.h"
@@ -329,6 +330,46 @@ static void test_shapes(void)
     spm_scene_free(&s);
 }
 
+/* Files: a spectrum file, an OBJ (through <path>), a PLY; flip_normals turns the front */
+static void test_files(void)
+{
+    mkdir(strcat(strcpy((char[400]){0}, dir), "/sub"), 0700);
+    write_file("sub/r.spd", "# lambda value\n420 0.2\n520 0.6\n");
+    write_file("sub/tri.obj", "v 0 0 7\nv 1 0 7\nv 0 1 7\nf 1 2 3\n");
+    write_file("quad.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                           "property float y\nproperty float z\nelement face 1\n"
+                           "property list uchar int vertex_indices\nend_header\n"
+                           "0 0 8\n1 0 8\n0 1 8\n3 0 1 2\n");
+    spm_scene s;
+    spm_error err;
+    int rc = load("f.xml", "<path value=\"sub\"/>"
+                           "<shape type=\"obj\"><string name=\"filename\" value=\"tri.obj\"/>"
+                           "<bsdf type=\"diffuse\"><spectrum name=\"reflectance\" "
+                           "filename=\"sub/r.spd\"/></bsdf></shape>"
+                           "<shape type=\"ply\"><string name=\"filename\" value=\"quad.ply\"/>"
+                           "<boolean name=\"flip_normals\" value=\"true\"/></shape>", &s, &err);
+    CHECK(rc == 0, "%s", err.msg);
+    if (rc)
+        return;
+    int obj = 0, ply = 0;
+    for (int i = 0; i < s.ntris; i++) {
+        const spm_scene_tri *t = &s.tris[i];
+        double n[3];
+        normal_of(t, n);
+        if (fabs(t->p[0][2] - 7) < 1e-6) {
+            obj++;
+            CHECK(n[2] > 0, "the OBJ's winding is its front");
+            CHECK_NEAR(refl_at(&s, t, 470), 0.2 + 0.4 * 50.5 / 100, 1e-9, "spectrum file");
+            CHECK_NEAR(refl_at(&s, t, 600), 0.0, 1e-12, "zero past the file's last sample");
+        } else if (fabs(t->p[0][2] - 8) < 1e-6) {
+            ply++;
+            CHECK(n[2] < 0, "flip_normals turns the PLY's front");
+        }
+    }
+    CHECK(obj == 1 && ply == 1, "obj %d, ply %d", obj, ply);
+    spm_scene_free(&s);
+}
+
 /* Errors: exit-2 messages name file:line:col and the problem. */
 static void test_errors(void)
 {
@@ -406,6 +447,7 @@ int main(void)
     test_bsdfs();
     test_spectra();
     test_shapes();
+    test_files();
     test_errors();
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf %s", root);

@@ -72,7 +72,7 @@ int mi_to_world(mi_node *pl, double m[4][4], spm_error *err);
 int mi_numbers(const char *s, double *out, int max);
 /* "WHAT 'TYPE': parameter 'NAME'" warned for each child no code read. */
 int mi_unused(mi_node *pl, const char *what, spm_error *err);
-/* The plugin's child plugins of tag `tag` (and refs to them, resolved). */
+/* The elements with an id, and what a <ref id> names (NULL with err: none). */
 typedef struct {
     spm_names ids;            /* id -> index into nodes */
     mi_node **nodes;
@@ -118,7 +118,7 @@ int mi_shape_make(const mi_doc *doc, mi_node *s, const char *type, spm_mesh_data
 /* ---- sensor and integrator (mitsuba_sensor.c) ------------------------------ */
 
 /* The camera, image size and samples of a <sensor> (NULL: Mitsuba's default). */
-int mi_sensor(mi_spectra *ms, mi_node *s, spm_scene_builder *b, spm_error *err);
+int mi_sensor(mi_node *s, spm_scene_builder *b, spm_error *err);
 /* An <integrator>: what it asks that specmip does not do, warned. */
 int mi_integrator(mi_node *n, spm_error *err);
 #endif

@@ -7,11 +7,8 @@
 #include "mesh.h"
 #include "materials.h"
 #include "scene_parsers.h"
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-#define PI 3.14159265358979323846
 
 typedef struct {
     spm_scene_builder b;
@@ -222,7 +219,7 @@ static int walk(mi_parser *p, int *have_sensor)
         else if (!strcmp(n->tag, "sensor"))
             rc = (*have_sensor)++ ? pbrt_warn(n->where, "a second <sensor>", "the first one "
                                                                              "renders", p->err)
-                                  : mi_sensor(&p->ms, n, &p->b, p->err);
+                                  : mi_sensor(n, &p->b, p->err);
         else if (!strcmp(n->tag, "integrator"))
             rc = mi_integrator(n, p->err);
         else if (!strcmp(n->tag, "bsdf") && mi_attr(n, "id"))
@@ -259,7 +256,7 @@ int spm_scene_parse_mitsuba(const spm_file *file, spm_scene *out, spm_error *err
     }
     rc = rc || collect_ids(&p, p.doc.root) || walk(&p, &have_sensor);
     if (!rc && !have_sensor) /* Mitsuba's default sensor */
-        rc = mi_sensor(&p.ms, NULL, &p.b, err);
+        rc = mi_sensor(NULL, &p.b, err);
     if (!rc)
         pbrt_warn_summary();
     char where[SPM_PATH_MAX + 8];

@@ -142,9 +142,8 @@ static int sensor_params(mi_node *s, const char *type, double *fov, const char *
     return bad;
 }
 
-int mi_sensor(mi_spectra *ms, mi_node *s, spm_scene_builder *b, spm_error *err)
+int mi_sensor(mi_node *s, spm_scene_builder *b, spm_error *err)
 {
-    (void)ms;
     int w, h, spp;
     double fov = 45, m[4][4], tx;
     const char *axis = "x", *where = s ? s->where : b->s->path;

@@ -103,7 +103,7 @@ static int spectrum_value(const mi_node *k, const char *v, pbrt_param *pa, spm_e
     return 1;
 }
 
-/* The property as pbrt's parameter: 0, 1 absent, 2 error (pa->num malloc'd). */
+/* The property as pbrt's parameter: 0, or 2 on error; param_free frees it. */
 static int as_param(mi_spectra *ms, mi_node *k, pbrt_param *pa, spm_error *err)
 {
     const char *v = mi_attr(k, "value");
@@ -134,14 +134,12 @@ static int as_param(mi_spectra *ms, mi_node *k, pbrt_param *pa, spm_error *err)
     }
     pa->type = PP_SPECTRUM;
     const char *file = mi_attr(k, "filename");
-    if (file) {
-        static char path_buf[SPM_PATH_MAX];
-        static char *strs[1] = {path_buf};
+    if (file) { /* checked here, read by pbrt's reader by its absolute path */
         spm_file f;
         if (mi_file(ms->doc, k, file, &f, err))
             return 2;
-        snprintf(path_buf, sizeof path_buf, "%s", f.path);
-        pa->str = strs;
+        pa->str = spm_xmalloc(sizeof *pa->str);
+        pa->str[0] = spm_xstrdup(f.path);
         pa->nstr = 1;
         return 0;
     }
@@ -150,6 +148,14 @@ static int as_param(mi_spectra *ms, mi_node *k, pbrt_param *pa, spm_error *err)
         return 2;
     }
     return spectrum_value(k, v, pa, err) ? 2 : 0;
+}
+
+static void param_free(pbrt_param *pa)
+{
+    free(pa->num);
+    if (pa->nstr)
+        free(pa->str[0]);
+    free(pa->str);
 }
 
 static int blackbody(mi_node *k, mi_lift lift, spm_spectrum *out, spm_error *err)
@@ -196,7 +202,7 @@ int mi_values(mi_spectra *ms, mi_node *pl, const char *name, mi_lift lift, spm_s
                                   out) ? 2 : 0;
     }
     out->kind = lift == MI_RADIANCE ? SPM_KIND_EMISSION : SPM_KIND_REFLECTANCE;
-    free(pa.num);
+    param_free(&pa);
     return rc;
 }
 
@@ -237,7 +243,7 @@ int mi_colour(mi_spectra *ms, mi_node *pl, const char *name, mi_lift lift, int d
         int c = rc ? -2 : pbrt_spectrum_colour(&ms->sp, &pa,
                                                lift == MI_RADIANCE ? PBRT_ILLUMINANT
                                                                    : PBRT_ALBEDO, 1.0);
-        free(pa.num);
+        param_free(&pa);
         return c;
     }
     spm_spectrum s, out;
