@@ -29,9 +29,9 @@ static void usage(FILE *f)
     fprintf(f,
         "usage: specmip render [SCENE] [options]   (also: specmip SCENE [options])\n"
         "Options take their value as '--spp 16' or '--spp=16'.\n"
-        "Renders SCENE (a .scene file, a MiniLight .ml.txt file or a pbrt-v4 .pbrt file,\n"
-        "docs/PBRT.md); without SCENE the built-in Cornell box (ColorChecker walls,\n"
-        "equal-energy light).\n\n");
+        "Renders SCENE (a .scene file, a MiniLight .ml.txt file, a pbrt-v4 .pbrt file,\n"
+        "docs/PBRT.md, or a Mitsuba 3 .xml file, docs/MITSUBA.md); without SCENE the\n"
+        "built-in Cornell box (ColorChecker walls, equal-energy light).\n\n");
     spm_opt_help(f, SPM_CMD_RENDER, 25);
     fprintf(f,
         "Under mpirun every rank renders passes on its own --device/--backend; rank 0 reads\n"
@@ -109,6 +109,12 @@ static int word_option(spm_opt_id id, const char *v, render_opts *o)
         return 0;
     case SPM_O_WHITE:
         o->white = v;
+        return 0;
+    case SPM_O_DEFINE:
+        if (spm_scene_define(v, &e)) {
+            fprintf(stderr, "specmip render: %s\n", e.msg);
+            return SPM_EXIT_INPUT;
+        }
         return 0;
     case SPM_O_ALLOW_PATH:
         if (spm_paths_allow(v, &e)) {
