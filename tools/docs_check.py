@@ -6,7 +6,7 @@
                             found again in another: each text has one home.
   docs_check.py links ROOT  every relative link and image resolves to a file
                             of the repository, and a #fragment to a heading
-                            of that file (GitHub's anchor rule).
+                            of that file (GitHub's anchor rule) or an <a id> in it.
 Prints each finding as FILE:LINE: problem and exits 1 if there is any."""
 import os
 import re
@@ -75,6 +75,8 @@ def anchors(path):
             k = seen.get(s, 0)
             seen[s] = k + 1
             out.add(s if k == 0 else f"{s}-{k}")
+        if not fence:  # an explicit HTML anchor is a target too
+            out.update(re.findall(r'<a id="([^"]+)"></a>', line))
     return out
 
 

@@ -2,16 +2,24 @@
 # Renders every bundled scene (scenes/*.scene) small into docs/gallery/NAME.png
 # for README's gallery: mode ml, the scene's own aspect with its longer side
 # SIZE pixels, SPP samples, seed 1. The PNGs are tone-mapped as `render` does.
-# usage: tools/gallery.sh [SPECMIP] [SIZE] [SPP]   (build/specmip, 128, 64)
+# usage: tools/gallery.sh [SPECMIP] [SIZE] [SPP] [SCENE...]
+#   (build/specmip, 128, 64, every scene; SCENE a name under scenes/, without .scene)
 set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
 bin=${1:-$root/build/specmip}
 size=${2:-128}
 spp=${3:-64}
+shift $(($# < 3 ? $# : 3))
 [ -x "$bin" ] || { echo "gallery.sh: no binary at $bin" >&2; exit 2; }
 out=$root/docs/gallery
 mkdir -p "$out"
-for scene in "$root"/scenes/*.scene; do
+scenes=("$root"/scenes/*.scene)
+if [ $# -gt 0 ]; then
+    scenes=()
+    for name in "$@"; do scenes+=("$root/scenes/$name.scene"); done
+fi
+for scene in "${scenes[@]}"; do
+    [ -f "$scene" ] || { echo "gallery.sh: no scene $scene" >&2; exit 2; }
     name=$(basename "$scene" .scene)
     # the scene's image line (256 256 unless it says), scaled to SIZE on its longer side
     read -r w h < <(awk -v s="$size" '$1 == "image" { w = $2; h = $3 }
