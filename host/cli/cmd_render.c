@@ -110,6 +110,12 @@ static int word_option(spm_opt_id id, const char *v, render_opts *o)
     case SPM_O_WHITE:
         o->white = v;
         return 0;
+    case SPM_O_LOOK_FROM:
+        o->cfg.cam.has_from = 1;
+        return spm_arg_point("render", "--look-from", v, o->cfg.cam.from) ? SPM_EXIT_INPUT : 0;
+    case SPM_O_LOOK_AT:
+        o->cfg.cam.has_at = 1;
+        return spm_arg_point("render", "--look-at", v, o->cfg.cam.at) ? SPM_EXIT_INPUT : 0;
     case SPM_O_ALLOW_PATH:
         if (spm_paths_allow(v, &e)) {
             fprintf(stderr, "specmip render: %s\n", e.msg);
@@ -178,6 +184,7 @@ static int parse_args(int argc, char **argv, render_opts *o)
         case SPM_O_TIME: o->cfg.time_s = it.number; break;
         case SPM_O_CHECKPOINT: o->checkpoint_s = it.number; break;
         case SPM_O_FILM: o->keep_film = 1; break;
+        case SPM_O_FOV: o->cfg.cam.fov = it.number; break;
         default:
             if (word_option(it.opt->id, it.value, o))
                 return SPM_EXIT_INPUT;
