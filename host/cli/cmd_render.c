@@ -29,9 +29,11 @@ static void usage(FILE *f)
     fprintf(f,
         "usage: specmip render [SCENE] [options]   (also: specmip SCENE [options])\n"
         "Options take their value as '--spp 16' or '--spp=16'.\n"
-        "Renders SCENE (a .scene file, a MiniLight .ml.txt file or a pbrt-v4 .pbrt file,\n"
-        "docs/PBRT.md); without SCENE the built-in Cornell box (ColorChecker walls,\n"
-        "equal-energy light).\n\n");
+        "Renders SCENE (a .scene file, whose 'mesh FILE' statements import models, a\n"
+        "MiniLight .ml.txt file or a pbrt-v4 .pbrt file, docs/PBRT.md), or a model alone\n"
+        "(.glb, .gltf, .obj, .ply, .stl: framed by a camera and lit by a default light,\n"
+        "docs/SCENE_FORMAT.md); without SCENE the built-in Cornell box (ColorChecker\n"
+        "walls, equal-energy light).\n\n");
     spm_opt_help(f, SPM_CMD_RENDER, 25);
     fprintf(f,
         "Under mpirun every rank renders passes on its own --device/--backend; rank 0 reads\n"

@@ -11,4 +11,6 @@ int spm_scene_parse_text(const spm_file *file, spm_scene *out, spm_error *err);
 int spm_scene_parse_minilight(const spm_file *file, spm_scene *out, spm_error *err);
 /* pbrt-v4's .pbrt files (docs/PBRT.md), pbrt_parse.c. */
 int spm_scene_parse_pbrt(const spm_file *file, spm_scene *out, spm_error *err);
+/* A model file alone (.glb, .gltf, .obj, .ply, .stl), scene_model.c. */
+int spm_scene_parse_model(const spm_file *file, spm_scene *out, spm_error *err);
 #endif
