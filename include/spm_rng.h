@@ -19,6 +19,10 @@
 #define SPM_DIM_DIR_A 4u        /* cosine-weighted direction */
 #define SPM_DIM_DIR_B 5u
 #define SPM_DIM_HERO 0x7fffff00u  /* hero wavelength offset, shade stage only */
+/* a thin lens's point on its disk: dimensions of their own, far above the
+ * vertices' and the types', so a pinhole camera's paths draw what they drew */
+#define SPM_DIM_LENS_A 0x7ffffe00u
+#define SPM_DIM_LENS_B 0x7ffffe01u
 
 /* Dimensions of material and emitter types (host/scene/materials.c), in their
  * own range, so that a type's draws never shift the ones above: every

@@ -365,9 +365,15 @@ typedef struct {
 /* in type: the emitter emits from both faces ('twosided', host/scene/materials.c) */
 #define SPM_EMIT_TWOSIDED 0x80000000u
 
-/* MiniLight's camera, resolved on the host. Pixel (x, y) with y = 0 at the
- * top maps to direction normalise(dir + tan_half * (right * cx + up * cy * h/w))
- * with cx = 2 (x + u) / w - 1, cy = 1 - 2 (y + v) / h. */
+/* The camera, resolved on the host (host/geometry spm_camera_of_scene; its
+ * rays and importance: kernels/camera.clh, host/cpu/refcpu_camera.c).
+ * Pixel (x, y), y = 0 at the top, has film coordinates cx = 2 (x + u) / w - 1,
+ * cy = 1 - 2 (y + v) / h and the point s = tan_half (right cx + up cy h/w).
+ * Perspective: the ray from eye along normalise(dir + s); a thin lens
+ * (lens_radius > 0) moves its origin to a point of the lens disk and aims it
+ * at the same point of the plane in focus, eye + focus (dir + s).
+ * Orthographic: the ray from eye + s along dir (tan_half is then half the
+ * view's width in scene units). */
 typedef struct {
     float eye[3];
     float dir[3];
@@ -376,7 +382,10 @@ typedef struct {
     float tan_half;
     spm_i32 width;
     spm_i32 height;
-    spm_u32 pad;
+    spm_u32 ortho;       /* 1: orthographic */
+    float lens_radius;   /* 0: a pinhole */
+    float focus;         /* distance along dir of the plane in focus (lens_radius > 0) */
+    spm_u32 pad0, pad1;
 } spm_camera;
 
 /* Scene-wide constants the trace stage needs besides its buffers. */

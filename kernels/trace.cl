@@ -22,6 +22,7 @@
 #endif
 #include "bsdf.clh"
 #include "lights.clh"
+#include "camera.clh"
 
 /* Level feeler: one colour met; lvlk[c * KMAX + min(k, KMAX) - 1] (k = occurrence count). */
 inline void feel(__global const uchar *lvlk, uint c, uint k, uint by, uint *level, uint *setby)
@@ -47,18 +48,18 @@ SPM_ALWAYS_INLINE uint occurrences(const ushort *seen, uint j, uint c)
     return k;
 }
 
-/* The camera ray through a jittered point of pixel (spm_shared.h spm_camera). */
-SPM_ALWAYS_INLINE float3 camera_dir(const spm_camera *cam, spm_key k)
+/* The camera ray through a jittered point of pixel k.pixel (camera.clh);
+ * a thin lens draws its disk point from dimensions of its own. */
+SPM_ALWAYS_INLINE void camera_key_ray(const spm_camera *cam, spm_key k, float3 *o, float3 *d)
 {
     uint px = k.pixel % (uint)cam->width, py = k.pixel / (uint)cam->width;
     float w = (float)cam->width, h = (float)cam->height;
     float cx = 2.0f * ((float)px + key_rng(k, SPM_DIM_CAM_X)) / w - 1.0f;
     float cy = 1.0f - 2.0f * ((float)py + key_rng(k, SPM_DIM_CAM_Y)) / h;
-    float3 right = (float3)(cam->right[0], cam->right[1], cam->right[2]);
-    float3 up = (float3)(cam->up[0], cam->up[1], cam->up[2]);
-    float3 cdir = (float3)(cam->dir[0], cam->dir[1], cam->dir[2]);
-    float sy = cy * h / w;
-    return unit3(cdir + cam->tan_half * (right * cx + up * sy));
+    float lu = 0.5f, lv = 0.5f;
+    if (cam->lens_radius > 0.0f)
+        lu = key_rng(k, SPM_DIM_LENS_A), lv = key_rng(k, SPM_DIM_LENS_B);
+    camera_ray(cam, cx, cy, lu, lv, o, d);
 }
 
 /* The hit's shading frame, the one place a type finds it: the shading
@@ -138,7 +139,8 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                            emission it hits: < 0 not counted, 0 a delta */
     int seg = 0;        /* the last vertex records the length of its ray's segment */
     spm_camera cam = p.cam;
-    float3 o = (float3)(cam.eye[0], cam.eye[1], cam.eye[2]), d = camera_dir(&cam, key);
+    float3 o, d;
+    camera_key_ray(&cam, key, &o, &d);
 
     spm_path_head hd = {0u, SPM_END_TRUNCATED, SPM_NONE, 0.0f, SPM_NONE, 0.0f, 0u, 0u};
     uint level = init_level, setby = SPM_SETBY_NONE;

@@ -42,8 +42,8 @@ check "every mitsuba file of the corpus has a case" \
 # Warnings: one per kind, the repeats counted, parameters by name; --strict: an error.
 cat > "$T/warn.xml" <<'XML'
 <scene version="3.0.0">
-    <sensor type="thinlens">
-        <float name="aperture_radius" value="0.1"/>
+    <sensor type="perspective">
+        <float name="principal_point_offset_x" value="0.1"/>
         <float name="fov" value="40"/>
         <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film>
     </sensor>
@@ -68,11 +68,11 @@ check "the spot light named" grep -qF 'warn.xml:9:5: <emitter type="spot"> ignor
 check "the BSDF named" grep -qF 'warn.xml:12:9: <bsdf type="thindielectric"> ignored' <<< "$msg"
 check "an unread parameter named" \
   grep -qF 'warn.xml:13:9: <shape type="rectangle">: <float name="extra"> ignored' <<< "$msg"
-check "the lens named" grep -qF 'warn.xml:2:5: <sensor type="thinlens">: aperture_radius' <<< "$msg"
+check "the offset named" grep -qF 'warn.xml:2:5: <sensor>: principal_point_offset' <<< "$msg"
 msg=$("$BIN" render "$T/warn.xml" --spp 1 --strict -o "$T/strict.png" 2>&1); rc=$?
 check "--strict: exit 2 (got $rc)" [ "$rc" -eq 2 ]
 check "--strict: the first one named (got: $msg)" \
-  grep -qF 'warn.xml:2:5: <sensor type="thinlens">: aperture_radius' <<< "$msg"
+  grep -qF 'warn.xml:2:5: <sensor>: principal_point_offset' <<< "$msg"
 check "--strict: nothing written" [ ! -e "$T/strict.png" ]
 
 # -D NAME=VALUE over a <default>: the film's width

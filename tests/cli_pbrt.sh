@@ -44,7 +44,7 @@ check "every pbrt file of the corpus has a case" \
 # Warnings: one per kind, the repeats counted; --strict: an error.
 cat > "$T/warn.pbrt" <<'PBRT'
 Film "rgb" "integer xresolution" 16 "integer yresolution" 16
-Camera "perspective" "float fov" 40 "float lensradius" 0.1
+Camera "spherical"
 WorldBegin
 LightSource "point" "rgb I" [1 1 1]
 LightSource "point" "rgb I" [2 2 2]
@@ -67,13 +67,13 @@ check "its repeats counted" grep -qF 'warn.pbrt:4:1: LightSource "point": ignore
 check "the texture named" grep -qF 'warn.pbrt:7:1: Texture "checkerboard" ignored' <<< "$msg"
 check "a texture's use named" \
   grep -qF "warn.pbrt:8:20: Material \"diffuse\": a texture as 'reflectance' ignored" <<< "$msg"
-check "the lens named" grep -qF 'warn.pbrt:2:1: Camera "perspective": lensradius' <<< "$msg"
+check "the camera named" grep -qF 'warn.pbrt:2:1: Camera "spherical"' <<< "$msg"
 check "an unused parameter named" \
   grep -qF "warn.pbrt:10:43: AreaLightSource \"diffuse\": parameter 'float power' ignored" <<< "$msg"
 msg=$("$BIN" render "$T/warn.pbrt" --spp 1 --strict -o "$T/strict.png" 2>&1); rc=$?
 check "--strict: exit 2 (got $rc)" [ "$rc" -eq 2 ]
 check "--strict: the first one named (got: $msg)" \
-  grep -qF 'warn.pbrt:2:1: Camera "perspective": lensradius' <<< "$msg"
+  grep -qF 'warn.pbrt:2:1: Camera "spherical"' <<< "$msg"
 check "--strict: nothing written" [ ! -e "$T/strict.png" ]
 
 # Bitterli's Cornell box from its own file against Tungsten's render (both

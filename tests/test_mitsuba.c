@@ -128,6 +128,27 @@ static void test_camera(void)
         CHECK(s.width == 200 && s.height == 100 && s.spp == 7, "film and sampler");
         spm_scene_free(&s);
     }
+    /* thinlens: the aperture's radius and the distance in focus */
+    spm_scene s;
+    spm_error err;
+    int rc = load("t.xml",
+                  "<sensor type=\"thinlens\"><float name=\"fov\" value=\"30\"/>"
+                  "<float name=\"aperture_radius\" value=\"0.25\"/>"
+                  "<float name=\"focus_distance\" value=\"4\"/></sensor>",
+                  &s, &err);
+    CHECK(rc == 0, "%s", err.msg);
+    if (rc)
+        return;
+    CHECK_NEAR(s.aperture, 0.5, 1e-7, "thinlens: aperture diameter 2 aperture_radius");
+    CHECK_NEAR(s.focus, 4, 1e-7, "thinlens: focus_distance");
+    spm_scene_free(&s);
+    rc = load("p.xml",
+              "<sensor type=\"perspective\"><float name=\"aperture_radius\" value=\"0.25\"/>"
+              "<float name=\"focus_distance\" value=\"4\"/></sensor>",
+              &s, &err);
+    CHECK(rc == 0 && s.aperture == 0, "perspective: a pinhole whatever its aperture_radius");
+    if (!rc)
+        spm_scene_free(&s);
 }
 
 static double refl_at(const spm_scene *s, const spm_scene_tri *t, int nm)

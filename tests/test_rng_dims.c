@@ -74,5 +74,10 @@ int main(void)
                 CHECK(types[t].dims[a] != types[t].dims[b], "%s: offsets %d and %d share dimension %u",
                       types[t].type, a, b, types[t].dims[a]);
         }
+    /* a thin lens's two dimensions: past the types' range at any depth, below
+     * hero's, distinct (a pinhole's paths never draw them) */
+    CHECK(SPM_DIM_LENS_A > SPM_DIM_TYPE(SPM_MAX_DEPTH - 1, SPM_TYPE_DIMS_PER_VERTEX - 1) &&
+              SPM_DIM_LENS_B > SPM_DIM_LENS_A && SPM_DIM_LENS_B < SPM_DIM_HERO,
+          "the lens dimensions %#x, %#x overlap another range", SPM_DIM_LENS_A, SPM_DIM_LENS_B);
     TEST_END();
 }

@@ -207,6 +207,7 @@ static int open_scene(const spm_bench_plan *p, const char *path, int mode, doubl
     cfg.all_devices = p->all_devices;
     cfg.pretest = p->pretest;
     cfg.pretest.threshold = threshold;
+    cfg.cam = p->cam;
     int rc = spm_render_setup_open(&cfg, &r->s, err);
     if (rc)
         return rc;

@@ -11,6 +11,7 @@
 #include "bench_csv.h"
 #include "pretest.h"
 #include "render_run.h"
+#include "scene_camera.h"
 
 #define SPM_BENCH_MAX_SPP 16
 #define SPM_BENCH_MAX_THRESHOLDS 16
@@ -40,6 +41,7 @@ typedef struct {
     int devices[SPM_MAX_BACKENDS]; /* --device: a list (0 of them: device 0) or all */
     int ndevices, all_devices;
     spm_pretest_opts pretest;    /* the main rows' pretest (threshold) */
+    spm_camera_override cam;     /* --look-from, --look-at, --fov */
     int progress;                /* 0: quiet, 1: one updating line (terminal), 2: a line per step */
     volatile sig_atomic_t *stop;
 } spm_bench_plan;

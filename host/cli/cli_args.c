@@ -3,6 +3,7 @@
 #include "render_run.h"
 #include "scene_build.h"
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,6 +34,24 @@ int spm_arg_double(const char *cmd, const char *opt, const char *s, double lo, d
         return 1;
     }
     *out = v;
+    return 0;
+}
+
+int spm_arg_point(const char *cmd, const char *opt, const char *s, double out[3])
+{
+    const char *at = s;
+    for (int k = 0; k < 3; k++) {
+        char *end;
+        errno = 0;
+        out[k] = strtod(at, &end);
+        if (end == at || errno || !(fabs(out[k]) <= SPM_SCENE_MAX_COORD) ||
+            *end != (k < 2 ? ',' : 0)) {
+            fprintf(stderr, "specmip %s: %s needs a point X,Y,Z (three numbers within +-%g), "
+                            "not '%s'\n", cmd, opt, SPM_SCENE_MAX_COORD, s);
+            return 1;
+        }
+        at = end + 1;
+    }
     return 0;
 }
 
@@ -127,6 +146,14 @@ const spm_option spm_options[] = {
     ROW(SEED, "--seed", "S", INT, 0, 4294967295.0, R | B,
         "random seed, %R (default 1): the same seed, the same\n"
         "paths; bench's truths use S+1 and S+2, modulo 2^32"),
+    ROW(LOOK_FROM, "--look-from", "X,Y,Z", TEXT, 0, 0, R | B,
+        "the camera's position (default: the scene's; alone, the\n"
+        "direction is kept)"),
+    ROW(LOOK_AT, "--look-at", "X,Y,Z", TEXT, 0, 0, R | B,
+        "the point the camera looks at (the scene's up vector kept)"),
+    ROW(FOV, "--fov", "DEGREES", REAL, 1, 179, R | B,
+        "the field of view, %R, across the scene's fov axis\n"
+        "(horizontal unless its camera says 'vertical')"),
     {SPM_O_WIDTH, "--width", NULL, "W", SPM_ARG_INT, 1, SPM_SCENE_MAX_SIDE, R,
      "--width W, --height H",
      "image size, %R (default: the scene's); one of them alone\n"

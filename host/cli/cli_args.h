@@ -10,6 +10,8 @@
 int spm_arg_long(const char *cmd, const char *opt, const char *s, long lo, long hi, long *out);
 int spm_arg_double(const char *cmd, const char *opt, const char *s, double lo, double hi,
                    double *out);
+/* A point "X,Y,Z" of three finite numbers; otherwise prints why, returns 1. */
+int spm_arg_point(const char *cmd, const char *opt, const char *s, double out[3]);
 
 /* The options of render, bench and spectrum, one table (cli_args.c): each
  * row names an option, the kind of its value, its range, the commands that
@@ -29,7 +31,8 @@ typedef enum {
     SPM_O_WIDTH, SPM_O_HEIGHT, SPM_O_BACKEND, SPM_O_DEVICE, SPM_O_THRESHOLD, SPM_O_METRIC,
     SPM_O_COARSEST_LEVEL, SPM_O_TONEMAP, SPM_O_EXPOSURE, SPM_O_STATS, SPM_O_JSON,
     SPM_O_PROGRESS, SPM_O_QUIET, SPM_O_VERBOSE, SPM_O_ALLOW_PATH, SPM_O_WHITE, SPM_O_STRICT, SPM_O_DEFINE,
-    SPM_O_TIME, SPM_O_CHECKPOINT, SPM_O_RESUME, SPM_O_FILM,
+    SPM_O_TIME, SPM_O_CHECKPOINT, SPM_O_RESUME, SPM_O_FILM, SPM_O_LOOK_FROM, SPM_O_LOOK_AT,
+    SPM_O_FOV,
     /* bench */
     SPM_O_SCENES, SPM_O_MODES, SPM_O_TRUTH_SPP, SPM_O_SIZE, SPM_O_THRESHOLDS, SPM_O_SWEEP_SPP,
     SPM_O_BUDGETS, SPM_O_EQUAL_SPP, SPM_O_CALIB_SPP, SPM_O_BLUR, SPM_O_REPEAT, SPM_O_OUT,

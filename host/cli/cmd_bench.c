@@ -226,6 +226,13 @@ static int render_option(const spm_option *opt, const char *v, double d, options
         o->have_size = 1;
         return 0;
     case SPM_O_THRESHOLD: p->pretest.threshold = d; return 0;
+    case SPM_O_FOV: p->cam.fov = d; return 0;
+    case SPM_O_LOOK_FROM:
+        p->cam.has_from = 1;
+        return spm_arg_point("bench", "--look-from", v, p->cam.from) ? SPM_EXIT_INPUT : 0;
+    case SPM_O_LOOK_AT:
+        p->cam.has_at = 1;
+        return spm_arg_point("bench", "--look-at", v, p->cam.at) ? SPM_EXIT_INPUT : 0;
     case SPM_O_SEED: p->seed = (spm_u32)d; return 0; /* the truth's S+1, S+2 wrap modulo 2^32 */
     case SPM_O_BACKEND:
         if (!(k = spm_backend_kind_find(v)))

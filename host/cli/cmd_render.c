@@ -29,8 +29,10 @@ static void usage(FILE *f)
     fprintf(f,
         "usage: specmip render [SCENE] [options]   (also: specmip SCENE [options])\n"
         "Options take their value as '--spp 16' or '--spp=16'.\n"
-        "Renders SCENE (a .scene file, a MiniLight .ml.txt file, a pbrt-v4 .pbrt file,\n"
-        "docs/PBRT.md, or a Mitsuba 3 .xml file, docs/MITSUBA.md); without SCENE the\n"
+        "Renders SCENE (a .scene file, whose 'mesh FILE' statements import models, a\n"
+        "MiniLight .ml.txt file, a pbrt-v4 .pbrt file, docs/PBRT.md, or a Mitsuba 3 .xml\n"
+        "file, docs/MITSUBA.md), or a model alone (.glb, .gltf, .obj, .ply, .stl: framed\n"
+        "by a camera and lit by a default light, docs/SCENE_FORMAT.md); without SCENE the\n"
         "built-in Cornell box (ColorChecker walls, equal-energy light).\n\n");
     spm_opt_help(f, SPM_CMD_RENDER, 25);
     fprintf(f,
@@ -116,6 +118,12 @@ static int word_option(spm_opt_id id, const char *v, render_opts *o)
             return SPM_EXIT_INPUT;
         }
         return 0;
+    case SPM_O_LOOK_FROM:
+        o->cfg.cam.has_from = 1;
+        return spm_arg_point("render", "--look-from", v, o->cfg.cam.from) ? SPM_EXIT_INPUT : 0;
+    case SPM_O_LOOK_AT:
+        o->cfg.cam.has_at = 1;
+        return spm_arg_point("render", "--look-at", v, o->cfg.cam.at) ? SPM_EXIT_INPUT : 0;
     case SPM_O_ALLOW_PATH:
         if (spm_paths_allow(v, &e)) {
             fprintf(stderr, "specmip render: %s\n", e.msg);
@@ -184,6 +192,7 @@ static int parse_args(int argc, char **argv, render_opts *o)
         case SPM_O_TIME: o->cfg.time_s = it.number; break;
         case SPM_O_CHECKPOINT: o->checkpoint_s = it.number; break;
         case SPM_O_FILM: o->keep_film = 1; break;
+        case SPM_O_FOV: o->cfg.cam.fov = it.number; break;
         default:
             if (word_option(it.opt->id, it.value, o))
                 return SPM_EXIT_INPUT;

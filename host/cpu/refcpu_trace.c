@@ -13,6 +13,7 @@
 #include "spm_rng.h"
 #include "refcpu_bsdf.h"
 #include "refcpu_lights.h"
+#include "refcpu_camera.h"
 #include "refcpu_shading.h"
 #include <stdlib.h>
 #include <string.h>
@@ -53,20 +54,20 @@ static void feel(feeler *f, const uint8_t *lvlk, spm_u32 colour, int k, spm_u32 
         f->level = l, f->setby = who;
 }
 
-/* MiniLight's camera: jittered position in pixel (x, y), y = 0 at the top. */
+/* The camera ray of a jittered point in pixel (x, y), y = 0 at the top
+ * (refcpu_camera.c); a thin lens draws its disk point from its own dimensions. */
 static void camera_ray(const spm_camera *cam, spm_u32 seed, spm_u32 pixel, spm_u32 sample,
-                       float d[3])
+                       float o[3], float d[3])
 {
     spm_u32 w = (spm_u32)cam->width, h = (spm_u32)cam->height;
     float u = spm_rng(seed, pixel, sample, SPM_DIM_CAM_X);
     float v = spm_rng(seed, pixel, sample, SPM_DIM_CAM_Y);
     float cx = 2.0f * ((float)(pixel % w) + u) / (float)w - 1.0f;
     float cy = 1.0f - 2.0f * ((float)(pixel / w) + v) / (float)h;
-    float sy = cy * (float)h / (float)w;
-    float s[3];
-    for (int i = 0; i < 3; i++)
-        s[i] = cam->dir[i] + cam->tan_half * (cam->right[i] * cx + cam->up[i] * sy);
-    v3_normalise(d, s);
+    float lu = 0.5f, lv = 0.5f;
+    if (cam->lens_radius > 0.0f)
+        lu = spm_rng(seed, pixel, sample, SPM_DIM_LENS_A), lv = spm_rng(seed, pixel, sample, SPM_DIM_LENS_B);
+    spm_ref_camera_ray(cam, cx, cy, lu, lv, o, d);
 }
 
 _Thread_local spm_ref_ray_sink spm_ref_rays;
@@ -195,9 +196,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
     float cpdf = -1.0f; /* the last vertex's density of its sampled ray, for MIS at the
                            emission it hits (< 0: not counted, 0: a delta) */
     int seg = 0;        /* the last vertex records the length of its ray's segment */
-    for (int i = 0; i < 3; i++)
-        o[i] = p->cam.eye[i];
-    camera_ray(&p->cam, k.seed, k.pixel, k.sample, d);
+    camera_ray(&p->cam, k.seed, k.pixel, k.sample, o, d);
     spm_u32 skip = 0xFFFFFFFFu;
     for (int j = 0;; j++) {
         float t;

@@ -279,30 +279,42 @@ spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg
     return c;
 }
 
-/* A scene's camera. Without an up vector, MiniLight's frame and horizontal
- * field of view. With one (pbrt-v4): right = up x dir, or dir x up for a
- * mirrored camera, and a field of view across the shorter image side, so
- * the horizontal tan_half is tan(fov / 2) times w / h when w >= h. */
+/* tan_half of the horizontal: t the half extent across axis (fov_axis),
+ * times w / h when that axis is the vertical (or the shorter, w >= h). */
+static double horizontal_half(double t, int axis, int w, int h)
+{
+    if (axis == SPM_FOV_VERTICAL || (axis == SPM_FOV_SHORTER && w >= h))
+        t *= (double)w / h;
+    return t;
+}
+
+/* A scene's camera. Without an up vector, MiniLight's frame; with one,
+ * right = up x dir, or dir x up for a mirrored camera (pbrt-v4). The field
+ * of view (or an orthographic view's extent) lies across the axis fov_axis
+ * names; the thin lens is a disk of the aperture's diameter. */
 spm_camera spm_camera_of_scene(const spm_scene *s)
 {
-    if (s->up[0] == 0.0f && s->up[1] == 0.0f && s->up[2] == 0.0f)
-        return spm_camera_make(s->eye, s->dir, s->fov_deg, s->width, s->height);
     spm_camera c = spm_camera_make(s->eye, s->dir, 90.0f, s->width, s->height);
-    double d[3] = {s->dir[0], s->dir[1], s->dir[2]}, up[3] = {s->up[0], s->up[1], s->up[2]};
-    double right[3];
-    dnormalise(d);
-    dcross(right, up, d);
-    dnormalise(right);
-    dcross(up, d, right); /* re-orthogonalised: float storage left it a little off */
-    dnormalise(up);
-    for (int i = 0; i < 3; i++) {
-        c.dir[i] = (float)d[i];
-        c.right[i] = (float)(s->mirror ? -right[i] : right[i]);
-        c.up[i] = (float)up[i];
+    if (s->up[0] != 0.0f || s->up[1] != 0.0f || s->up[2] != 0.0f) {
+        double d[3] = {s->dir[0], s->dir[1], s->dir[2]}, up[3] = {s->up[0], s->up[1], s->up[2]};
+        double right[3];
+        dnormalise(d);
+        dcross(right, up, d);
+        dnormalise(right);
+        dcross(up, d, right); /* re-orthogonalised: float storage left it a little off */
+        dnormalise(up);
+        for (int i = 0; i < 3; i++) {
+            c.dir[i] = (float)d[i];
+            c.right[i] = (float)(s->mirror ? -right[i] : right[i]);
+            c.up[i] = (float)up[i];
+        }
     }
-    double t = tan(s->fov_deg * 0.5 * (3.14159265358979323846 / 180.0));
-    if (s->fov_axis == SPM_FOV_SHORTER && s->width >= s->height)
-        t *= (double)s->width / s->height;
-    c.tan_half = (float)t;
+    double t = s->projection == SPM_PROJ_ORTHOGRAPHIC
+                   ? 0.5 * s->ortho_size
+                   : tan(s->fov_deg * 0.5 * (3.14159265358979323846 / 180.0));
+    c.tan_half = (float)horizontal_half(t, s->fov_axis, s->width, s->height);
+    c.ortho = s->projection == SPM_PROJ_ORTHOGRAPHIC;
+    c.lens_radius = 0.5f * s->aperture;
+    c.focus = s->focus;
     return c;
 }

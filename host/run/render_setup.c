@@ -148,6 +148,8 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
     double t0 = spm_now();
     int rc = c->scene_path ? spm_scene_load(c->scene_path, &s->scene, err)
                            : spm_scene_default(&s->scene, err);
+    if (!rc)
+        rc = spm_scene_camera_override(&s->scene, &c->cam, err);
     if (rc)
         return failed();
     spm_render_size(c->width, c->height, &s->scene.width, &s->scene.height);

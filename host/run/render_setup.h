@@ -5,6 +5,7 @@
 #include "backend.h"
 #include "modes.h"
 #include "render_run.h"
+#include "scene_camera.h"
 
 typedef struct {
     const char *scene_path;   /* NULL: the built-in default scene */
@@ -29,6 +30,7 @@ typedef struct {
      * render loop's time budget (0: none). */
     const char *film_name;
     double time_s;
+    spm_camera_override cam;  /* --look-from, --look-at, --fov */
 } spm_render_config;
 
 /* Wall seconds of each stage of a render (`render --stats`); setup fills the

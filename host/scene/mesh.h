@@ -175,6 +175,9 @@ enum { SPM_MESH_SHADE_DEFAULT = 0, SPM_MESH_SHADE_SMOOTH = 1, SPM_MESH_SHADE_FLA
 
 typedef struct {
     int material;              /* scene material for unbound file materials, -1: lift RGB */
+    int fallback;              /* 1 + the scene material of triangles the file gives no
+                                  material (a glTF file's take glTF's default material);
+                                  0: none, they are an error */
     int shading;               /* SPM_MESH_SHADE_* */
     const spm_mesh_bind *binds;
     int nbinds;

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 /* m <- a m for affine 3x4 matrices (x' = A x + a_t after x' = M x + m_t). */
 static void compose(double m[3][4], const double a[3][3], const double at[3])
@@ -102,6 +103,35 @@ static int named_before(const spm_mesh_data *d, uint32_t i)
     return 0;
 }
 
+static int is_gltf(const char *file)
+{
+    size_t n = strlen(file);
+    return (n > 4 && !strcasecmp(file + n - 4, ".glb")) ||
+           (n > 5 && !strcasecmp(file + n - 5, ".gltf"));
+}
+
+/* glTF 2.0's default material, for its triangles without one: base colour
+ * 1, metallicFactor 1, roughnessFactor 1 (the specification's defaults): a
+ * rough white metal, mapped as any glTF material is (mesh_pbr.c). */
+static int gltf_default(spm_scene_builder *b, spm_mesh_cache *cache, double scale,
+                        const char *file, const char *where, spm_error *err)
+{
+    spm_mesh_material g;
+    memset(&g, 0, sizeof g);
+    snprintf(g.name, sizeof g.name, "glTF default");
+    g.format = SPM_MESH_FMT_GLTF;
+    g.has = SPM_MESH_HAS_METALLIC | SPM_MESH_HAS_ROUGHNESS;
+    g.diffuse[0] = g.diffuse[1] = g.diffuse[2] = 1.0f;
+    g.metallic = g.roughness = 1.0f;
+    g.opacity = 1.0f;
+    char mwhere[700];
+    snprintf(mwhere, sizeof mwhere, "%s: %s: triangles without a material", where, file);
+    spm_warnf("%s take glTF's default material (base colour 1, metallic 1, roughness 1: a "
+              "rough white metal, as glTF 2.0 defines it)", mwhere);
+    int r = rgb_colour(b, cache, g.diffuse, SPM_KIND_REFLECTANCE, mwhere, err);
+    return r < -1 ? -1 : spm_mesh_map_material(b, &g, r, -1, scale, mwhere, err);
+}
+
 /* The scene material of each file material that a triangle uses (-1 unused). */
 static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_data *d,
                           const spm_mesh_opts *o, const char *file, const char *where,
@@ -142,6 +172,15 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
             continue;
         }
         const spm_mesh_material *m = &d->mats[i];
+        if (!m->name[0] && is_gltf(file)) {
+            if ((map[i] = gltf_default(b, cache, scale, file, where, err)) < 0)
+                return 1;
+            continue;
+        }
+        if (!m->name[0] && o->fallback > 0) {
+            map[i] = o->fallback - 1;
+            continue;
+        }
         if (!m->name[0]) {
             spm_errorf(err, "%s: %s has triangles without a material: give the mesh one with "
                             "'material NAME'", where, file);

@@ -98,9 +98,11 @@ static int sensor_parts(mi_node *s, int *w, int *h, int *spp, spm_error *err)
     return 0;
 }
 
-/* The lens and the options of a perspective camera specmip has no use for. */
+/* The lens (a thin lens's aperture diameter and focus distance, lens[0..1];
+ * 0: a pinhole) and the options of a perspective camera specmip has no use
+ * for. */
 static int sensor_params(mi_node *s, const char *type, double *fov, const char **axis,
-                         spm_error *err)
+                         double lens[2], spm_error *err)
 {
     int bad = 0;
     *fov = mi_float(s, "fov", -1, &bad, err);
@@ -108,7 +110,7 @@ static int sensor_params(mi_node *s, const char *type, double *fov, const char *
     const char *fl = mi_string(s, "focal_length", NULL, &bad, err);
     mi_float(s, "near_clip", 0.01, &bad, err); /* clipping: not modelled, nothing is that near */
     mi_float(s, "far_clip", 1e4, &bad, err);
-    mi_float(s, "focus_distance", 0, &bad, err); /* a pinhole's: no effect */
+    lens[1] = mi_float(s, "focus_distance", 0, &bad, err); /* a pinhole's: no effect */
     if (bad)
         return 1;
     if (*fov < 0 && fl) { /* "50mm": of a 36 x 24 mm frame, across its diagonal */
@@ -128,11 +130,14 @@ static int sensor_params(mi_node *s, const char *type, double *fov, const char *
     if (strcmp(type, "perspective") && strcmp(type, "thinlens") &&
         pbrt_warn(s->where, w, "rendered as a perspective camera of the same fov", err))
         return 1;
+    /* Mitsuba's thin lens: the aperture's radius, the plane in focus at
+     * focus_distance along the view */
     double ar = mi_float(s, "aperture_radius", 0, &bad, err);
-    if (!bad && ar > 0 &&
-        pbrt_warn(s->where, "<sensor type=\"thinlens\">: aperture_radius (depth of field)",
-                  "specmip has no thin lens yet: a pinhole", err))
+    lens[0] = !bad && ar > 0 && !strcmp(type, "thinlens") ? 2.0 * ar : 0.0;
+    if (lens[0] > 0 && !(lens[1] > 0)) {
+        spm_errorf(err, "%s: a thin lens needs a focus_distance above 0", s->where);
         return 1;
+    }
     for (const char *const *o = (const char *const[]){"principal_point_offset_x",
                                                      "principal_point_offset_y", NULL};
          *o; o++)
@@ -149,7 +154,8 @@ int mi_sensor(mi_node *s, spm_scene_builder *b, spm_error *err)
     const char *axis = "x", *where = s ? s->where : b->s->path;
     if (sensor_parts(s, &w, &h, &spp, err))
         return 1;
-    if (s && (sensor_params(s, mi_attr(s, "type") ? mi_attr(s, "type") : "", &fov, &axis,
+    double lens[2] = {0, 0};
+    if (s && (sensor_params(s, mi_attr(s, "type") ? mi_attr(s, "type") : "", &fov, &axis, lens,
                             err) || mi_to_world(s, m, err)))
         return 1;
     if (!s)
@@ -172,7 +178,10 @@ int mi_sensor(mi_node *s, spm_scene_builder *b, spm_error *err)
     b->s->width = w;
     b->s->height = h;
     b->s->spp = spp;
-    return spm_sb_camera_frame(b, eye, dir, up, mirror, shorter * 180 / PI, where, err) ||
+    b->s->aperture = (float)lens[0];
+    b->s->focus = (float)lens[1];
+    return spm_sb_camera_view(b, eye, dir, up, mirror, shorter * 180 / PI, SPM_FOV_SHORTER, where,
+                              err) ||
            (s && mi_unused(s, "<sensor>", err));
 }
 

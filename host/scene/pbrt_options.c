@@ -36,15 +36,16 @@ static int dir_camera(pbrt_parser *p, const char *where)
     snprintf(p->cam_where, sizeof p->cam_where, "%s", where);
     int bad = 0, rc = 0;
     p->fov = pbrt_param_float(&ps, "fov", 90.0, &bad, p->err);
-    double lens = pbrt_param_float(&ps, "lensradius", 0.0, &bad, p->err);
-    pbrt_param_float(&ps, "focaldistance", 1e6, &bad, p->err);
+    p->lens_radius = pbrt_param_float(&ps, "lensradius", 0.0, &bad, p->err);
+    p->focal_distance = pbrt_param_float(&ps, "focaldistance", 1e6, &bad, p->err);
+    p->ortho = !strcmp(what, "Camera \"orthographic\"");
     if (bad)
         rc = 1;
-    else if (strcmp(what, "Camera \"perspective\""))
+    else if (!(p->lens_radius >= 0.0 && p->focal_distance > 0.0))
+        rc = (spm_errorf(p->err, "%s: %s: lensradius must be >= 0 and focaldistance > 0", where,
+                         what), 1);
+    else if (strcmp(what, "Camera \"perspective\"") && !p->ortho)
         rc = pbrt_warn(where, what, "rendered as a perspective camera of the same fov", p->err);
-    else if (lens > 0)
-        rc = pbrt_warn(where, "Camera \"perspective\": lensradius (depth of field)",
-                       "specmip has no thin lens yet: a pinhole", p->err);
     /* pbrt-v4 names the camera's space "camera" */
     double inv[4][4];
     if (!rc && !pbrt_mat_inverse(p->cam_ctm, inv))
@@ -214,8 +215,14 @@ int pbrt_options_finish(pbrt_parser *p, const char *where)
     s->width = p->width;
     s->height = p->height;
     s->spp = p->spp;
-    return spm_sb_camera_frame(&p->b, eye, dir, up, mirror, p->fov,
-                               p->cam_where[0] ? p->cam_where : where, p->err);
+    /* pbrt-v4's thin lens (its radius), and its orthographic screen window
+     * [-1, 1] across the shorter image side */
+    s->aperture = (float)(2.0 * p->lens_radius);
+    s->focus = (float)p->focal_distance;
+    s->projection = p->ortho ? SPM_PROJ_ORTHOGRAPHIC : SPM_PROJ_PERSPECTIVE;
+    s->ortho_size = 2.0f;
+    return spm_sb_camera_view(&p->b, eye, dir, up, mirror, p->ortho ? 90.0 : p->fov,
+                              SPM_FOV_SHORTER, p->cam_where[0] ? p->cam_where : where, p->err);
 }
 
 static int dir_world_begin(pbrt_parser *p, const char *where)

@@ -99,6 +99,7 @@ static void parser_init(pbrt_parser *p, spm_scene *out, const char *path, spm_er
     p->gs.area_colour = -1;
     p->cur_obj = -1;
     p->fov = 90.0;
+    p->focal_distance = 1e6;
     p->width = 1280;
     p->height = 720;
     p->spp = 16;

@@ -50,6 +50,8 @@ typedef struct {
     int have_camera;
     double cam_ctm[4][4];        /* camera-from-world at the Camera directive */
     double fov;
+    double lens_radius, focal_distance; /* Camera's thin lens (pbrt-v4's defaults 0, 1e6) */
+    int ortho;                         /* Camera "orthographic" */
     char cam_where[600];
     int width, height, spp;
 } pbrt_parser;

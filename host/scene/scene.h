@@ -50,7 +50,12 @@ typedef struct {
     char path[512];      /* file it came from ("<default>" for the built-in scene) */
     float eye[3], dir[3];
     float fov_deg;       /* full field of view, across the axis fov_axis names */
-    int fov_axis;        /* SPM_FOV_HORIZONTAL (MiniLight) or SPM_FOV_SHORTER (pbrt-v4) */
+    int fov_axis;        /* SPM_FOV_HORIZONTAL (MiniLight, specmip's default),
+                            SPM_FOV_VERTICAL (glTF's yfov) or SPM_FOV_SHORTER (pbrt-v4) */
+    int projection;      /* SPM_PROJ_PERSPECTIVE or SPM_PROJ_ORTHOGRAPHIC */
+    float ortho_size;    /* orthographic: the view's extent across fov_axis, scene units */
+    float aperture;      /* thin lens: the aperture's diameter, scene units (0: a pinhole) */
+    float focus;         /* thin lens: the distance along dir of the plane in focus */
     float up[3];         /* the camera's up (unit, normal to dir); zero: MiniLight's rule
                             (Y, or Z for a vertical view: host/geometry spm_camera_make) */
     int mirror;          /* 1: the image's x runs along dir x up, not up x dir (a
@@ -83,7 +88,8 @@ typedef struct {
     int ndisp;
 } spm_scene;
 
-enum { SPM_FOV_HORIZONTAL = 0, SPM_FOV_SHORTER = 1 };
+enum { SPM_FOV_HORIZONTAL = 0, SPM_FOV_SHORTER = 1, SPM_FOV_VERTICAL = 2 };
+enum { SPM_PROJ_PERSPECTIVE = 0, SPM_PROJ_ORTHOGRAPHIC = 1 };
 
 /* render --strict: what an importer would warn about as not rendered is an
  * error instead (exit 2). */

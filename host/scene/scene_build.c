@@ -252,14 +252,10 @@ void spm_sb_index_table(spm_scene_builder *b, const double n[SPM_TRUTH_BINS],
     m->p[SPM_DIEL_P_DISP] = ++s->ndisp;
 }
 
-int spm_sb_camera_frame(spm_scene_builder *b, const double eye[3], const double dir[3],
-                        const double up[3], int mirror, double fov, const char *where,
-                        spm_error *err)
+int spm_sb_camera_view(spm_scene_builder *b, const double eye[3], const double dir[3],
+                       const double up[3], int mirror, double fov, int axis, const char *where,
+                       spm_error *err)
 {
-    double c[3] = {up[1] * dir[2] - up[2] * dir[1], up[2] * dir[0] - up[0] * dir[2],
-                   up[0] * dir[1] - up[1] * dir[0]};
-    double lu = sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
-    double lc = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     if (!(fov > 0.0 && fov < 180.0)) {
         spm_errorf(err, "%s: a field of view of %g degrees (it must be inside 0..180)", where,
                    fov);
@@ -267,11 +263,19 @@ int spm_sb_camera_frame(spm_scene_builder *b, const double eye[3], const double 
     }
     if (spm_sb_camera(b, eye, dir, 90.0, where, err))
         return 1;
+    spm_scene *s = b->s;
+    s->fov_deg = (float)fov;
+    s->fov_axis = axis;
+    if (!up)
+        return 0;
+    double c[3] = {up[1] * dir[2] - up[2] * dir[1], up[2] * dir[0] - up[0] * dir[2],
+                   up[0] * dir[1] - up[1] * dir[0]};
+    double lu = sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
+    double lc = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     if (!(lc > 1e-9 * lu) || !isfinite(lc)) {
         spm_errorf(err, "%s: the camera's up vector is zero or parallel to its direction", where);
         return 1;
     }
-    spm_scene *s = b->s;
     /* up made normal to dir: (dir x up) x dir over its length */
     double d[3] = {s->dir[0], s->dir[1], s->dir[2]}, u[3];
     u[0] = (d[1] * up[2] - d[2] * up[1]);
@@ -282,8 +286,6 @@ int spm_sb_camera_frame(spm_scene_builder *b, const double eye[3], const double 
     for (int k = 0; k < 3; k++)
         s->up[k] = (float)(v[k] / lv);
     s->mirror = mirror != 0;
-    s->fov_deg = (float)fov;
-    s->fov_axis = SPM_FOV_SHORTER;
     return 0;
 }
 

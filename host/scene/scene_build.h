@@ -75,11 +75,12 @@ int spm_sb_camera(spm_scene_builder *b, const double eye[3], const double dir[3]
  * to the scene's index table, m's p[SPM_DIEL_P_DISP] = 1 + its row. */
 void spm_sb_index_table(spm_scene_builder *b, const double n[SPM_TRUTH_BINS],
                         spm_scene_material *m);
-/* A camera with an up vector (pbrt-v4): up is made normal to dir, mirror
- * (scene.h) kept, fov (0..180 degrees) across the image's shorter side. */
-int spm_sb_camera_frame(spm_scene_builder *b, const double eye[3], const double dir[3],
-                        const double up[3], int mirror, double fov, const char *where,
-                        spm_error *err);
+/* A camera without MiniLight's clamp: fov (0..180 degrees) across the axis
+ * `axis` names (scene.h SPM_FOV_*); an up vector (NULL: MiniLight's rule)
+ * made normal to dir, the mirror flag (scene.h) kept. */
+int spm_sb_camera_view(spm_scene_builder *b, const double eye[3], const double dir[3],
+                       const double up[3], int mirror, double fov, int axis, const char *where,
+                       spm_error *err);
 
 /* An optical constant (a conductor's eta or k): shape times scale, any
  * non-negative value (the loader refuses negative ones), extended as a

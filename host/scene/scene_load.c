@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 
 #define MINILIGHT_ID "#MiniLight"
@@ -34,9 +35,9 @@ int spm_scene_load(const char *path, spm_scene *out, spm_error *err)
         return 1;
     }
     char head[sizeof MINILIGHT_ID] = {0};
-    size_t n = fread(head, 1, sizeof head - 1, f);
+    size_t got = fread(head, 1, sizeof head - 1, f);
     fclose(f);
-    if (n == sizeof head - 1 && memcmp(head, MINILIGHT_ID, n) == 0)
+    if (got == sizeof head - 1 && memcmp(head, MINILIGHT_ID, got) == 0)
         return spm_scene_parse_minilight(&top, out, err);
     if (ends_with(path, ".ml.txt")) {
         spm_errorf(err, "%s:1:1: expected '%s' at the start of a MiniLight file", path,
@@ -47,5 +48,13 @@ int spm_scene_load(const char *path, spm_scene *out, spm_error *err)
         return spm_scene_parse_pbrt(&top, out, err);
     if (ends_with(path, ".xml"))
         return spm_scene_parse_mitsuba(&top, out, err);
+    /* a model file alone, by its extension (any case) */
+    static const char *const models[] = {".glb", ".gltf", ".obj", ".ply", ".stl"};
+    size_t n = strlen(path);
+    for (size_t i = 0; i < sizeof models / sizeof *models; i++) {
+        size_t m = strlen(models[i]);
+        if (n > m && strcasecmp(path + n - m, models[i]) == 0)
+            return spm_scene_parse_model(&top, out, err);
+    }
     return spm_scene_parse_text(&top, out, err);
 }

@@ -5,6 +5,7 @@
 #include "scene_build.h"
 #include "scene_parsers.h"
 #include "scene_lexer.h"
+#include "scene_camera.h"
 #include "csv.h"
 #include "mesh.h"
 #include "interrupt.h"
@@ -382,35 +383,7 @@ static int stmt_camera(parser *p)
 {
     char where[600];
     where_keyword(p, where, sizeof where);
-    if (once(p, &p->camera_line, "the camera"))
-        return 1;
-    double eye[3], dir[3], fov;
-    int have[3] = {0, 0, 0};
-    const char *keys[3] = {"position", "direction", "fov"};
-    while (p->lx.type != SPM_TOK_NEWLINE && p->lx.type != SPM_TOK_EOF) {
-        int k = 0;
-        while (k < 3 && (have[k] || !spm_lex_is(&p->lx, keys[k])))
-            k++;
-        if (k == 3)
-            return spm_lex_expected(&p->lx, p->err,
-                                    "'position', 'direction' or 'fov' (each once)");
-        have[k] = 1;
-        if (spm_lex_next(&p->lx, p->err))
-            return 1;
-        int rc = k == 0   ? vec3(p, "a coordinate", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD, eye)
-                 : k == 1 ? vec3(p, "a direction component", -HUGE_VAL, HUGE_VAL, dir)
-                          : spm_lex_number(&p->lx, "a field of view in degrees", -HUGE_VAL,
-                                           HUGE_VAL, &fov, p->err);
-        if (rc)
-            return 1;
-    }
-    for (int k = 0; k < 3; k++)
-        if (!have[k]) {
-            char what[64];
-            snprintf(what, sizeof what, "'%s'", keys[k]);
-            return spm_lex_expected(&p->lx, p->err, what);
-        }
-    if (spm_sb_camera(&p->b, eye, dir, fov, where, p->err))
+    if (once(p, &p->camera_line, "the camera") || spm_parse_camera(&p->lx, &p->b, where, p->err))
         return 1;
     return spm_lex_end_of_statement(&p->lx, p->err);
 }

@@ -13,4 +13,6 @@ int spm_scene_parse_minilight(const spm_file *file, spm_scene *out, spm_error *e
 int spm_scene_parse_pbrt(const spm_file *file, spm_scene *out, spm_error *err);
 /* Mitsuba 3's .xml files (docs/MITSUBA.md), mitsuba_parse.c. */
 int spm_scene_parse_mitsuba(const spm_file *file, spm_scene *out, spm_error *err);
+/* A model file alone (.glb, .gltf, .obj, .ply, .stl), scene_model.c. */
+int spm_scene_parse_model(const spm_file *file, spm_scene *out, spm_error *err);
 #endif

@@ -1,0 +1,159 @@
+/* A model file rendered alone, `specmip render model.glb` (.gltf, .obj,
+ * .ply, .stl): the file's triangles and materials as a `mesh` statement
+ * would import them, in a scene made around them (docs/SCENE_FORMAT.md,
+ * "A model alone"): a camera framing the bounding box, a default light, a
+ * default material for triangles the file gives none. */
+#include "scene_parsers.h"
+#include "mesh.h"
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#define MODEL_WIDTH 512
+#define MODEL_HEIGHT 384
+/* the framing: a vertical field of view across the shorter image side, the
+ * bounding sphere inside it with a margin, seen from the front right, above
+ * (+x right, +y up, +z toward the viewer: glTF's axes) */
+#define MODEL_FOV 40.0
+#define MODEL_MARGIN 1.08
+static const double model_view[3] = {0.55, 0.45, 1.0};
+/* the grey of a model whose format has no default material (glTF has one,
+ * mesh_build.c) */
+static const double model_grey[3] = {0.8, 0.8, 0.8};
+
+/* The bounding box of the scene's triangles; 1 when there is none. */
+static int bounds(const spm_scene *s, double lo[3], double hi[3])
+{
+    for (int k = 0; k < 3; k++)
+        lo[k] = HUGE_VAL, hi[k] = -HUGE_VAL;
+    for (int t = 0; t < s->ntris; t++)
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 3; k++) {
+                lo[k] = fmin(lo[k], s->tris[t].p[v][k]);
+                hi[k] = fmax(hi[k], s->tris[t].p[v][k]);
+            }
+    return s->ntris < 1;
+}
+
+/* The bounding sphere of the scene's triangles: centre c, radius r (the
+ * box's half diagonal). 1 when there is no triangle. */
+static int bounding_sphere(const spm_scene *s, double c[3], double *r)
+{
+    double lo[3], hi[3];
+    if (bounds(s, lo, hi))
+        return 1;
+    *r = 0.0;
+    for (int k = 0; k < 3; k++) {
+        c[k] = 0.5 * (lo[k] + hi[k]);
+        *r += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    }
+    *r = sqrt(*r);
+    return 0;
+}
+
+/* The camera that frames the box: its bounding sphere (centre c, radius r)
+ * fills the shorter side's field of view but for the margin, at distance
+ * r / sin(fov / 2). */
+static int frame_box(spm_scene_builder *b, const double c[3], double r, const char *where,
+                     spm_error *err)
+{
+    double n = 0.0;
+    for (int k = 0; k < 3; k++)
+        n += model_view[k] * model_view[k];
+    double dist = MODEL_MARGIN * r / sin(0.5 * MODEL_FOV * M_PI / 180.0);
+    double eye[3], dir[3];
+    for (int k = 0; k < 3; k++) {
+        eye[k] = c[k] + dist * model_view[k] / sqrt(n);
+        dir[k] = c[k] - eye[k];
+    }
+    return spm_sb_camera_view(b, eye, dir, NULL, 0, MODEL_FOV, SPM_FOV_SHORTER, where, err);
+}
+
+/* The key light: a square lamp of side 2r at 4r from the centre, up and to
+ * the left in front, facing the centre; its radiance 8 pi times the
+ * background's gives the centre twice the background's irradiance (pi):
+ * E = L A / d^2 = L (2r)^2 / (4r)^2 = L / 4. Out of the framing's view. */
+static int key_light(spm_scene_builder *b, spm_names *fits, const double c[3], double r,
+                     const char *where, spm_error *err)
+{
+    const double k0[3] = {-0.6, 1.0, 0.8}, y[3] = {0.0, 1.0, 0.0};
+    double rgb[3] = {8.0 * M_PI, 8.0 * M_PI, 8.0 * M_PI}, k[3], u[3], v[3], p[4][3];
+    double nk = sqrt(k0[0] * k0[0] + k0[1] * k0[1] + k0[2] * k0[2]);
+    for (int i = 0; i < 3; i++)
+        k[i] = k0[i] / nk;
+    /* u = unit(y x k), v = k x u: with the corners in the order below, the
+     * front face (b - a) x (c - a) = v x u points along -k, at the centre */
+    u[0] = y[1] * k[2] - y[2] * k[1], u[1] = y[2] * k[0] - y[0] * k[2],
+    u[2] = y[0] * k[1] - y[1] * k[0];
+    double nu = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (int i = 0; i < 3; i++)
+        u[i] /= nu;
+    v[0] = k[1] * u[2] - k[2] * u[1], v[1] = k[2] * u[0] - k[0] * u[2],
+    v[2] = k[0] * u[1] - k[1] * u[0];
+    const double su[4] = {-1, -1, 1, 1}, sv[4] = {-1, 1, 1, -1};
+    for (int j = 0; j < 4; j++)
+        for (int i = 0; i < 3; i++)
+            p[j][i] = c[i] + 4.0 * r * k[i] + r * (su[j] * u[i] + sv[j] * v[i]);
+    int e = spm_sb_rgb_colour(b, fits, rgb, SPM_KIND_EMISSION, where, err);
+    int m = e < 0 ? -1 : spm_sb_material(b, "key light", -1, e, where, err);
+    if (m < 0)
+        return 1;
+    double t0[3][3], t1[3][3];
+    memcpy(t0[0], p[0], sizeof t0[0]), memcpy(t0[1], p[1], sizeof t0[0]);
+    memcpy(t0[2], p[2], sizeof t0[0]);
+    memcpy(t1[0], p[0], sizeof t1[0]), memcpy(t1[1], p[2], sizeof t1[0]);
+    memcpy(t1[2], p[3], sizeof t1[0]);
+    return spm_sb_tri(b, t0, m, 1, where, err) || spm_sb_tri(b, t1, m, 1, where, err);
+}
+
+/* The default light: a uniform white background, the same radiance from
+ * every direction (RGB 1 1 1 lifted as an emission), and the key light; said
+ * in a note. */
+static int default_light(spm_scene_builder *b, spm_names *fits, const double c[3], double r,
+                         const char *where, spm_error *err)
+{
+    const double white[3] = {1.0, 1.0, 1.0};
+    int bg = spm_sb_rgb_colour(b, fits, white, SPM_KIND_EMISSION, where, err);
+    if (bg < 0 || key_light(b, fits, c, r, where, err))
+        return 1;
+    b->s->bg_up = b->s->bg_down = bg;
+    if (!spm_quiet_warnings)
+        fprintf(stderr, "specmip: %s: a model alone: lit by the default light, a uniform white "
+                        "background (RGB 1 1 1 from every direction) and a square key light "
+                        "above left, beside any light the model emits; the camera frames its "
+                        "bounding box (docs/SCENE_FORMAT.md, \"A model alone\")\n", where);
+    return 0;
+}
+
+int spm_scene_parse_model(const spm_file *file, spm_scene *out, spm_error *err)
+{
+    const char *where = file->shown;
+    spm_scene_builder b;
+    spm_mesh_cache cache;
+    spm_mesh_cache_init(&cache);
+    spm_sb_init(&b, out, where);
+    out->width = MODEL_WIDTH;
+    out->height = MODEL_HEIGHT;
+    spm_mesh_opts o = {.material = -1, .line = 1};
+    spm_mesh_identity(o.m);
+    int grey = spm_sb_rgb_colour(&b, &cache.rgb, model_grey, SPM_KIND_REFLECTANCE, where, err);
+    int rc = grey < 0;
+    if (!rc)
+        rc = (o.fallback = 1 + spm_sb_material(&b, "default", grey, -1, where, err)) < 1;
+    spm_mesh_data d;
+    if (!rc && !(rc = spm_mesh_import(file, &d, err))) {
+        spm_mesh_obj_mtl_check(file, where, &d);
+        rc = spm_mesh_add(&b, &cache, &d, &o, file->shown, where, err);
+        spm_mesh_free(&d);
+    }
+    double c[3], r = 0.0;
+    if (!rc && bounding_sphere(out, c, &r)) {
+        spm_errorf(err, "%s: the model has no triangle to render", where);
+        rc = 1;
+    }
+    rc = rc || frame_box(&b, c, r, where, err) || default_light(&b, &cache.rgb, c, r, where, err) ||
+         spm_sb_finish(&b, where, err);
+    spm_mesh_cache_free(&cache);
+    spm_sb_done(&b, !rc);
+    return rc;
+}
