@@ -140,6 +140,8 @@ static void list_emitters(const spm_scene *sc, spm_geometry *g)
     for (int i = 0; i < g->ntris; i++)
         if (material_emits(sc, (int)g->tris[i].material) && g->tris[i].area > 0.0f) {
             w[g->nemitters] = emitter_power(sc, &g->tris[i]);
+            g->emitters[g->nemitters].kind = SPM_LIGHT_AREA;
+            g->emitters[g->nemitters].colour = SPM_NONE; /* its material's */
             g->emitters[g->nemitters++].tri = (spm_u32)i;
         }
     /* an emission whose Y is 0 (all beyond the CMF's reach) still lights by its
