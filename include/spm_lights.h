@@ -27,3 +27,15 @@ SPM_LIGHT_KIND(AREA,
 SPM_LIGHT_KIND(SKY,
     .keyword = NULL,
     .define = NULL)
+
+/* a point light: intensity I = POWER / (4 pi) in every direction, a delta
+ * (no MIS; no ray hits it). POWER as pbrt-v4's `power`: the emitted
+ * power in the unit of an emission's scale (the spectrum normalised to
+ * Y = 1, as every emission is) */
+SPM_LIGHT_KIND(POINT,
+    .keyword = "point",
+    .help = "'light point X Y Z SPECTRUM POWER': a point light at (X, Y Z); POWER its total "
+            "emitted power (the spectrum at luminance 1 times POWER over 4 pi steradians)",
+    .args = "PSW",
+    .define = "SPM_WITH_LIGHT_POINT",
+    .solid = 12.566370614359172) /* 4 pi */
