@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "refcpu.h"
+#include "spm_rng.h"
 #include "backend_cl.h"
 
 typedef struct {
@@ -79,6 +80,27 @@ static inline spm_trace_params cl_test_params(const cl_test_scene *s, spm_u32 se
     p.first_sample = first;
     p.spp_per_pass = spp;
     return p;
+}
+
+/* The camera ray of path i (spm_shared.h spm_camera), in double: what a
+ * closed form recomputes independently of either backend. */
+static inline void cl_test_camera_dir(const spm_trace_params *p, size_t i, double d[3])
+{
+    spm_u32 pixel, sample;
+    spm_ref_path_key(p, i, &pixel, &sample);
+    const spm_camera *c = &p->cam;
+    double w = c->width, h = c->height;
+    double cx = 2.0 * ((pixel % (spm_u32)c->width) + (double)spm_rng(p->seed, pixel, sample,
+                                                                      SPM_DIM_CAM_X)) / w - 1.0;
+    double cy = 1.0 - 2.0 * ((pixel / (spm_u32)c->width) +
+                             (double)spm_rng(p->seed, pixel, sample, SPM_DIM_CAM_Y)) / h;
+    double l = 0.0;
+    for (int k = 0; k < 3; k++) {
+        d[k] = c->dir[k] + c->tan_half * (c->right[k] * cx + c->up[k] * cy * h / w);
+        l += d[k] * d[k];
+    }
+    for (int k = 0; k < 3; k++)
+        d[k] /= sqrt(l);
 }
 
 static inline const uint8_t *cl_test_lvlk(const spm_tables *t, int mode)

@@ -83,26 +83,6 @@ static double albedo(double a, double eta, double co, double fi, double fe, doub
     return spec + dif;
 }
 
-/* The camera ray of path i, in double (as test_cl_conductor). */
-static void camera_dir(const spm_trace_params *p, size_t i, double d[3])
-{
-    spm_u32 pixel, sample;
-    spm_ref_path_key(p, i, &pixel, &sample);
-    const spm_camera *c = &p->cam;
-    double w = c->width, h = c->height;
-    double cx = 2.0 * ((pixel % (spm_u32)c->width) + (double)spm_rng(p->seed, pixel, sample,
-                                                                      SPM_DIM_CAM_X)) / w - 1.0;
-    double cy = 1.0 - 2.0 * ((pixel / (spm_u32)c->width) +
-                             (double)spm_rng(p->seed, pixel, sample, SPM_DIM_CAM_Y)) / h;
-    double l = 0.0;
-    for (int k = 0; k < 3; k++) {
-        d[k] = c->dir[k] + c->tan_half * (c->right[k] * cx + c->up[k] * cy * h / w);
-        l += d[k] * d[k];
-    }
-    for (int k = 0; k < 3; k++)
-        d[k] /= sqrt(l);
-}
-
 /* Renders scene `path` (w x h, spp) in truth on backend `cl` (0: the CPU
  * reference), into paths and xyz (n of each). */
 static int render(cl_test_scene *s, int cl, int w, int h, int spp, spm_path *paths, float *xyz)
@@ -264,7 +244,7 @@ static void test_furnace(double a, double eta, double R)
     double *want = spm_xcalloc(n, sizeof *want);
     for (size_t i = 0; i < n; i++) {
         double d[3];
-        camera_dir(&p, i, d);
+        cl_test_camera_dir(&p, i, d);
         lo = fmin(lo, fabs(d[1]));
         hi = fmax(hi, fabs(d[1]));
     }
@@ -272,7 +252,7 @@ static void test_furnace(double a, double eta, double R)
         tab[k] = albedo(a, eta, lo + (hi - lo) * k / NTAB, fi, fe, R);
     for (size_t i = 0; i < n; i++) {
         double d[3];
-        camera_dir(&p, i, d);
+        cl_test_camera_dir(&p, i, d);
         double u = (fabs(d[1]) - lo) / (hi - lo) * NTAB;
         int k = (int)u < NTAB ? (int)u : NTAB - 1;
         want[i] = tab[k] + (u - k) * (tab[k + 1] - tab[k]);

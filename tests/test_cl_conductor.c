@@ -23,26 +23,6 @@ static double fresnel_complex(double eta, double k, double c)
     return 0.5 * (creal(rs * conj(rs)) + creal(rp * conj(rp)));
 }
 
-/* The camera ray of path i (spm_shared.h spm_camera), in double. */
-static void camera_dir(const spm_trace_params *p, size_t i, double d[3])
-{
-    spm_u32 pixel, sample;
-    spm_ref_path_key(p, i, &pixel, &sample);
-    const spm_camera *c = &p->cam;
-    double w = c->width, h = c->height;
-    double cx = 2.0 * ((pixel % (spm_u32)c->width) + (double)spm_rng(p->seed, pixel, sample,
-                                                                      SPM_DIM_CAM_X)) / w - 1.0;
-    double cy = 1.0 - 2.0 * ((pixel / (spm_u32)c->width) +
-                             (double)spm_rng(p->seed, pixel, sample, SPM_DIM_CAM_Y)) / h;
-    double l = 0.0;
-    for (int k = 0; k < 3; k++) {
-        d[k] = c->dir[k] + c->tan_half * (c->right[k] * cx + c->up[k] * cy * h / w);
-        l += d[k] * d[k];
-    }
-    for (int k = 0; k < 3; k++)
-        d[k] /= sqrt(l);
-}
-
 /* Float sums of 400 lanes and a float Fresnel (3e-6 absolute, test_conductor):
  * measured worst 1.1e-6 relative to the path's largest component; bound 1e-4. */
 #define PLANE_REL 1e-4
@@ -62,7 +42,7 @@ static void check_plane_paths(const cl_test_scene *s, const spm_trace_params *p,
     size_t bounced = 0, bad = 0;
     for (size_t i = 0; i < n; i++) {
         double d[3];
-        camera_dir(p, i, d);
+        cl_test_camera_dir(p, i, d);
         double c = fabs(d[1]); /* the plane's normal is +y */
         spm_u32 pixel, sample;
         spm_ref_path_key(p, i, &pixel, &sample);

@@ -17,26 +17,6 @@
 #define RHO 0.5
 static const double light[3] = {0.7, 1.5, 0.4};
 
-/* The camera ray of path i (spm_shared.h spm_camera), in double. */
-static void camera_dir(const spm_trace_params *p, size_t i, double d[3])
-{
-    spm_u32 pixel, sample;
-    spm_ref_path_key(p, i, &pixel, &sample);
-    const spm_camera *c = &p->cam;
-    double w = c->width, h = c->height;
-    double cx = 2.0 * ((pixel % (spm_u32)c->width) +
-                       (double)spm_rng(p->seed, pixel, sample, SPM_DIM_CAM_X)) / w - 1.0;
-    double cy = 1.0 - 2.0 * ((pixel / (spm_u32)c->width) +
-                             (double)spm_rng(p->seed, pixel, sample, SPM_DIM_CAM_Y)) / h;
-    double l = 0.0;
-    for (int k = 0; k < 3; k++) {
-        d[k] = c->dir[k] + c->tan_half * (c->right[k] * cx + c->up[k] * cy * h / w);
-        l += d[k] * d[k];
-    }
-    for (int k = 0; k < 3; k++)
-        d[k] /= sqrt(l);
-}
-
 /* Float ray arithmetic and the truth bins' sums of 400 products: measured
  * worst 1.4e-6 relative (CPU; OpenCL 1.0e-6); bound 1e-4. */
 #define PLANE_REL 1e-4
@@ -47,7 +27,7 @@ static void check_plane(const spm_trace_params *p, const float *xyz, size_t n, c
     size_t bad = 0, lit = 0;
     for (size_t i = 0; i < n; i++) {
         double d[3], x[3], v[3];
-        camera_dir(p, i, d);
+        cl_test_camera_dir(p, i, d);
         double t = -p->cam.eye[1] / d[1]; /* the plane y = 0 */
         for (int k = 0; k < 3; k++) {
             x[k] = p->cam.eye[k] + t * d[k];
