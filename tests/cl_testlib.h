@@ -103,6 +103,36 @@ static inline void cl_test_camera_dir(const spm_trace_params *p, size_t i, doubl
         d[k] /= sqrt(l);
 }
 
+/* Traces and shades every path of the scene's image (spp per pixel, seed) in
+ * truth on the OpenCL backend (cl 1) or the CPU reference (cl 0), into paths
+ * and xyz (one each per path); 0, or 1 with a line saying why. */
+static inline int cl_test_render_truth(cl_test_scene *s, spm_u32 seed, int cl, int spp,
+                                       spm_path *paths, float *xyz)
+{
+    size_t n = (size_t)s->geom.cam.width * s->geom.cam.height * spp;
+    spm_trace_params p = cl_test_params(s, seed, 0, (spm_u32)spp);
+    uint8_t *levels = spm_xcalloc(n, 1);
+    int rc = 0;
+    if (!cl) {
+        spm_ref_trace(&s->geom, s->tables.materials, NULL, &p, paths, levels);
+        memset(levels, 0, n);
+        spm_ref_shade(&s->tables, SPM_MODE_TRUTH, &p, 0, paths, levels, n, xyz);
+    } else {
+        spm_cl_renderer *r;
+        spm_error err;
+        rc = spm_cl_create(0, &s->geom, &s->tables, SPM_MODE_TRUTH, seed, &r, &err);
+        if (!rc) {
+            rc = spm_cl_trace(r, 0, (spm_u32)spp, paths, levels, &err) ||
+                 spm_cl_shade(r, 0, (spm_u32)spp, paths, levels, xyz, &err);
+            spm_cl_destroy(r);
+        }
+        if (rc)
+            printf("opencl: %s\n", err.msg);
+    }
+    free(levels);
+    return rc;
+}
+
 static inline const uint8_t *cl_test_lvlk(const spm_tables *t, int mode)
 {
     return spm_mode_lvlk(spm_mode(mode), t);

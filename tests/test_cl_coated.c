@@ -83,34 +83,6 @@ static double albedo(double a, double eta, double co, double fi, double fe, doub
     return spec + dif;
 }
 
-/* Renders scene `path` (w x h, spp) in truth on backend `cl` (0: the CPU
- * reference), into paths and xyz (n of each). */
-static int render(cl_test_scene *s, int cl, int w, int h, int spp, spm_path *paths, float *xyz)
-{
-    size_t n = (size_t)w * h * spp;
-    spm_trace_params p = cl_test_params(s, SEED, 0, (spm_u32)spp);
-    uint8_t *levels = spm_xcalloc(n, 1);
-    int rc = 0;
-    if (!cl) {
-        spm_ref_trace(&s->geom, s->tables.materials, NULL, &p, paths, levels);
-        memset(levels, 0, n);
-        spm_ref_shade(&s->tables, SPM_MODE_TRUTH, &p, 0, paths, levels, n, xyz);
-    } else {
-        spm_cl_renderer *r;
-        spm_error err;
-        rc = spm_cl_create(0, &s->geom, &s->tables, SPM_MODE_TRUTH, SEED, &r, &err);
-        if (!rc) {
-            rc = spm_cl_trace(r, 0, (spm_u32)spp, paths, levels, &err) ||
-                 spm_cl_shade(r, 0, (spm_u32)spp, paths, levels, xyz, &err);
-            spm_cl_destroy(r);
-        }
-        if (rc)
-            printf("opencl: %s\n", err.msg);
-    }
-    free(levels);
-    return rc;
-}
-
 static double bg_y(const cl_test_scene *s)
 {
     const float *bg = s->tables.truth + (size_t)s->tables.bg_up * SPM_TRUTH_BINS;
@@ -191,7 +163,7 @@ static void test_sphere(double eta, int spp)
     float *xyz = spm_xcalloc(3 * n, sizeof *xyz);
     double ybg = bg_y(&s);
     for (int cl = 0; cl < 2; cl++) {
-        if (render(&s, cl, SW, SH, spp, paths, xyz)) {
+        if (cl_test_render_truth(&s, SEED, cl, spp, paths, xyz)) {
             CHECK(0, "the sphere renders (%s)", cl ? "opencl" : "cpu");
             continue;
         }
@@ -263,7 +235,7 @@ static void test_furnace(double a, double eta, double R)
     float *xyz = spm_xcalloc(3 * n, sizeof *xyz);
     double ybg = bg_y(&s);
     for (int cl = 0; cl < 2; cl++) {
-        if (render(&s, cl, PW, PH, spp, paths, xyz)) {
+        if (cl_test_render_truth(&s, SEED, cl, spp, paths, xyz)) {
             CHECK(0, "the plane renders (%s)", cl ? "opencl" : "cpu");
             continue;
         }

@@ -74,27 +74,15 @@ static void test_plane(void)
     size_t n = (size_t)24 * 18 * spp;
     spm_trace_params p = cl_test_params(&s, SEED, 0, (spm_u32)spp);
     spm_path *paths = spm_xcalloc(n, sizeof *paths);
-    uint8_t *levels = spm_xcalloc(n, 1);
     float *xyz = spm_xcalloc(3 * n, sizeof *xyz);
-    spm_ref_trace(&s.geom, s.tables.materials, NULL, &p, paths, levels);
-    memset(levels, 0, n);
-    spm_ref_shade(&s.tables, SPM_MODE_TRUTH, &p, 0, paths, levels, n, xyz);
-    check_plane(&p, xyz, n, "cpu");
-    spm_cl_renderer *r;
-    spm_error err;
-    if (spm_cl_create(0, &s.geom, &s.tables, SPM_MODE_TRUTH, SEED, &r, &err) == 0) {
+    for (int cl = 0; cl < 2; cl++) {
         memset(xyz, 0, 3 * n * sizeof *xyz);
-        int rc = spm_cl_trace(r, 0, (spm_u32)spp, paths, levels, &err) ||
-                 spm_cl_shade(r, 0, (spm_u32)spp, paths, levels, xyz, &err);
-        CHECK(rc == 0, "opencl: %s", err.msg);
+        int rc = cl_test_render_truth(&s, SEED, cl, spp, paths, xyz);
+        CHECK(rc == 0, "%s: the render failed", cl ? "opencl" : "cpu");
         if (!rc)
-            check_plane(&p, xyz, n, "opencl");
-        spm_cl_destroy(r);
-    } else {
-        CHECK(0, "spm_cl_create: %s", err.msg);
+            check_plane(&p, xyz, n, cl ? "opencl" : "cpu");
     }
     free(paths);
-    free(levels);
     free(xyz);
     cl_test_scene_close(&s);
 }
