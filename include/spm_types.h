@@ -124,6 +124,28 @@ SPM_MATERIAL_TYPE(COATED,
     .fill = coated_fill,
     .derive = coated_derive)
 
+/* a rough diffuse reflector: the energy-preserving Oren-Nayar model (EON,
+ * Portsmouth, Kutz and Hill 2025, OpenPBR's rough diffuse), its roughness in
+ * p[SPM_ROUGH_P_R]; its multiple-scattering colour rho_ms(rho), derived into
+ * col2 (materials.c roughdiffuse_derive), is what a vertex records when it
+ * picks that term (kernels/roughdiffuse.clh) */
+#ifndef SPM_ROUGH_P_R
+#define SPM_ROUGH_P_R 0
+#endif
+SPM_MATERIAL_TYPE(ROUGHDIFFUSE,
+    .keyword = "roughdiffuse",
+    .help = "rough diffuse: 'roughdiffuse reflect SPECTRUM [SCALE] roughness R' (energy-"
+            "preserving Oren-Nayar, R in [0, 1]; 0 is the Lambertian)",
+    .params = {{.clause = "reflect", .kind = SPM_MP_REFLECTANCE, .slot = SPM_MSLOT_REFL,
+                .what = "a reflectance"},
+               {.clause = "roughness", .kind = SPM_MP_NUMBER, .slot = SPM_ROUGH_P_R, .lo = 0.0,
+                .hi = 1.0, .what = "a roughness", .required = 1}},
+    .nparams = 2,
+    .vertex_u32 = 0,
+    .rng_dims = 2, /* the term's choice, the sampler's lobe (kernels/roughdiffuse.clh) */
+    .define = "SPM_WITH_ROUGHDIFFUSE",
+    .derive = roughdiffuse_derive)
+
 /* ---- emitter types --------------------------------------------------------- */
 
 /* a triangle emitting from its front face (or both), uniformly */

@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "refcpu.h"
-#include "spm_rng.h"
 #include "backend_cl.h"
+#include "spm_rng.h"
 
 typedef struct {
     spm_scene scene;
@@ -80,57 +80,6 @@ static inline spm_trace_params cl_test_params(const cl_test_scene *s, spm_u32 se
     p.first_sample = first;
     p.spp_per_pass = spp;
     return p;
-}
-
-/* The camera ray of path i (spm_shared.h spm_camera), in double: what a
- * closed form recomputes independently of either backend. */
-static inline void cl_test_camera_dir(const spm_trace_params *p, size_t i, double d[3])
-{
-    spm_u32 pixel, sample;
-    spm_ref_path_key(p, i, &pixel, &sample);
-    const spm_camera *c = &p->cam;
-    double w = c->width, h = c->height;
-    double cx = 2.0 * ((pixel % (spm_u32)c->width) + (double)spm_rng(p->seed, pixel, sample,
-                                                                      SPM_DIM_CAM_X)) / w - 1.0;
-    double cy = 1.0 - 2.0 * ((pixel / (spm_u32)c->width) +
-                             (double)spm_rng(p->seed, pixel, sample, SPM_DIM_CAM_Y)) / h;
-    double l = 0.0;
-    for (int k = 0; k < 3; k++) {
-        d[k] = c->dir[k] + c->tan_half * (c->right[k] * cx + c->up[k] * cy * h / w);
-        l += d[k] * d[k];
-    }
-    for (int k = 0; k < 3; k++)
-        d[k] /= sqrt(l);
-}
-
-/* Traces and shades every path of the scene's image (spp per pixel, seed) in
- * truth on the OpenCL backend (cl 1) or the CPU reference (cl 0), into paths
- * and xyz (one each per path); 0, or 1 with a line saying why. */
-static inline int cl_test_render_truth(cl_test_scene *s, spm_u32 seed, int cl, int spp,
-                                       spm_path *paths, float *xyz)
-{
-    size_t n = (size_t)s->geom.cam.width * s->geom.cam.height * spp;
-    spm_trace_params p = cl_test_params(s, seed, 0, (spm_u32)spp);
-    uint8_t *levels = spm_xcalloc(n, 1);
-    int rc = 0;
-    if (!cl) {
-        spm_ref_trace(&s->geom, s->tables.materials, NULL, &p, paths, levels);
-        memset(levels, 0, n);
-        spm_ref_shade(&s->tables, SPM_MODE_TRUTH, &p, 0, paths, levels, n, xyz);
-    } else {
-        spm_cl_renderer *r;
-        spm_error err;
-        rc = spm_cl_create(0, &s->geom, &s->tables, SPM_MODE_TRUTH, seed, &r, &err);
-        if (!rc) {
-            rc = spm_cl_trace(r, 0, (spm_u32)spp, paths, levels, &err) ||
-                 spm_cl_shade(r, 0, (spm_u32)spp, paths, levels, xyz, &err);
-            spm_cl_destroy(r);
-        }
-        if (rc)
-            printf("opencl: %s\n", err.msg);
-    }
-    free(levels);
-    return rc;
 }
 
 static inline const uint8_t *cl_test_lvlk(const spm_tables *t, int mode)
@@ -204,5 +153,224 @@ static inline size_t cl_test_shade_diff(const float *ref, const float *got, size
         }
     }
     return bad;
+}
+/* ---- furnaces: an object under a uniform sky ------------------------------ */
+
+/* Renders scene s (w x h, spp, seed) in truth on backend cl (0: the CPU
+ * reference) into paths and xyz (w h spp of each). Returns 0 or 1 (said). */
+static inline int cl_test_render_truth(cl_test_scene *s, int cl, spm_u32 seed, int w, int h,
+                                       int spp, spm_path *paths, float *xyz)
+{
+    size_t n = (size_t)w * h * spp;
+    spm_trace_params p = cl_test_params(s, seed, 0, (spm_u32)spp);
+    uint8_t *levels = spm_xcalloc(n, 1);
+    int rc = 0;
+    if (!cl) {
+        spm_ref_trace(&s->geom, s->tables.materials, NULL, &p, paths, levels);
+        memset(levels, 0, n);
+        spm_ref_shade(&s->tables, SPM_MODE_TRUTH, &p, 0, paths, levels, n, xyz);
+    } else {
+        spm_cl_renderer *r;
+        spm_error err;
+        rc = spm_cl_create(0, &s->geom, &s->tables, SPM_MODE_TRUTH, seed, &r, &err);
+        if (!rc) {
+            rc = spm_cl_trace(r, 0, (spm_u32)spp, paths, levels, &err) ||
+                 spm_cl_shade(r, 0, (spm_u32)spp, paths, levels, xyz, &err);
+            spm_cl_destroy(r);
+        }
+        if (rc)
+            printf("opencl: %s\n", err.msg);
+    }
+    free(levels);
+    return rc;
+}
+
+/* The camera ray of path i, in double. */
+static inline void cl_test_camera_dir(const spm_trace_params *p, size_t i, double d[3])
+{
+    spm_u32 pixel, sample;
+    spm_ref_path_key(p, i, &pixel, &sample);
+    const spm_camera *c = &p->cam;
+    double w = c->width, h = c->height;
+    double cx = 2.0 * ((pixel % (spm_u32)c->width) + (double)spm_rng(p->seed, pixel, sample,
+                                                                      SPM_DIM_CAM_X)) / w - 1.0;
+    double cy = 1.0 - 2.0 * ((pixel / (spm_u32)c->width) +
+                             (double)spm_rng(p->seed, pixel, sample, SPM_DIM_CAM_Y)) / h;
+    double l = 0.0;
+    for (int k = 0; k < 3; k++) {
+        d[k] = c->dir[k] + c->tan_half * (c->right[k] * cx + c->up[k] * cy * h / w);
+        l += d[k] * d[k];
+    }
+    for (int k = 0; k < 3; k++)
+        d[k] /= sqrt(l);
+}
+
+/* Y of the upper background's colour */
+static inline double cl_test_bg_y(const cl_test_scene *s)
+{
+    const float *bg = s->tables.truth + (size_t)s->tables.bg_up * SPM_TRUTH_BINS;
+    double y = 0.0;
+    for (int b = 0; b < SPM_TRUTH_BINS; b++)
+        y += bg[b] * s->tables.cmf_truth[1][b];
+    return y;
+}
+
+/* The mean over the paths that meet an object of a path's Y over the
+ * background's, less want[i] (NULL: 1), its standard error, how many met. */
+static inline void cl_test_ratio_stats(const spm_path *paths, const float *xyz, size_t n,
+                                       double ybg, const double *want, double *mean, double *se,
+                                       size_t *met)
+{
+    double s = 0.0, s2 = 0.0;
+    size_t m = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (paths[i].h.nvert == 0)
+            continue;
+        double r = xyz[3 * i + 1] / ybg - (want ? want[i] : 1.0);
+        s += r;
+        s2 += r * r;
+        m++;
+    }
+    *met = m;
+    *mean = m ? s / (double)m : 0.0;
+    *se = m > 1 ? sqrt((s2 / (double)m - *mean * *mean) / (double)(m - 1)) : 1.0;
+}
+
+/* One backend's furnace: the mean over the paths that meet an object of a
+ * path's Y over the background's less want[i], its standard error, how many
+ * met, how many satisfy the caller's count (0 without one); failed: it did
+ * not render. */
+typedef struct {
+    double mean, se;
+    size_t met, counted;
+    int failed;
+} cl_test_furnace_result;
+
+/* Renders s (w x h, spp, seed) in truth on the reference (res[0]) and the
+ * kernels (res[1]) against want (NULL: 1 for every path); count (may be
+ * NULL) says whether a path counts. */
+static inline void cl_test_furnace(cl_test_scene *s, spm_u32 seed, int w, int h, int spp,
+                                   const double *want, int (*count)(const spm_path *, void *),
+                                   void *ctx, cl_test_furnace_result res[2])
+{
+    size_t n = (size_t)w * h * spp;
+    spm_path *paths = spm_xcalloc(n, sizeof *paths);
+    float *xyz = spm_xcalloc(3 * n, sizeof *xyz);
+    double ybg = cl_test_bg_y(s);
+    for (int cl = 0; cl < 2; cl++) {
+        memset(&res[cl], 0, sizeof res[cl]);
+        res[cl].failed = cl_test_render_truth(s, cl, seed, w, h, spp, paths, xyz);
+        if (res[cl].failed)
+            continue;
+        cl_test_ratio_stats(paths, xyz, n, ybg, want, &res[cl].mean, &res[cl].se, &res[cl].met);
+        for (size_t i = 0; count && i < n; i++)
+            res[cl].counted += count(&paths[i], ctx) != 0;
+    }
+    free(paths);
+    free(xyz);
+}
+
+/* The furnace's want[] for a plane y = 0 under the camera: albedo(ctx, mu)
+ * at NTAB + 1 cosines across the range of the camera rays' |d_y| (linear
+ * between), for each of the w h spp paths; *lo, *hi the range. */
+static inline double *cl_test_plane_want(const cl_test_scene *s, spm_u32 seed, int spp,
+                                         double (*albedo)(void *, double), void *ctx,
+                                         double *lo, double *hi)
+{
+    enum { NTAB = 64 };
+    spm_trace_params p = cl_test_params(s, seed, 0, (spm_u32)spp);
+    size_t n = (size_t)p.cam.width * (size_t)p.cam.height * (size_t)spp;
+    double tab[NTAB + 1];
+    double *want = spm_xcalloc(n, sizeof *want);
+    *lo = 1.0, *hi = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        double d[3];
+        cl_test_camera_dir(&p, i, d);
+        *lo = fmin(*lo, fabs(d[1]));
+        *hi = fmax(*hi, fabs(d[1]));
+    }
+    for (int k = 0; k <= NTAB; k++)
+        tab[k] = albedo(ctx, *lo + (*hi - *lo) * k / NTAB);
+    for (size_t i = 0; i < n; i++) {
+        double d[3];
+        cl_test_camera_dir(&p, i, d);
+        double u = (fabs(d[1]) - *lo) / (*hi - *lo) * NTAB;
+        int k = (int)u < NTAB ? (int)u : NTAB - 1;
+        want[i] = tab[k] + (u - k) * (tab[k + 1] - tab[k]);
+    }
+    return want;
+}
+
+/* A UV sphere of radius 1 at the origin, flat triangles of material mat, to
+ * scene file f: 24 bands of 48 quads (fans at the poles). */
+static inline void cl_test_write_sphere(FILE *f, const char *mat)
+{
+    const int nt = 24, np = 48;
+    for (int i = 0; i < nt; i++)
+        for (int k = 0; k < np; k++) {
+            double v[4][3];
+            for (int c = 0; c < 4; c++) {
+                double th = M_PI * (i + (c == 2 || c == 3)) / nt;
+                double ph = 2.0 * M_PI * (k + (c == 1 || c == 2)) / np;
+                v[c][0] = sin(th) * cos(ph), v[c][1] = cos(th), v[c][2] = sin(th) * sin(ph);
+            }
+            if (i > 0)
+                fprintf(f, "tri %s %.9g %.9g %.9g  %.9g %.9g %.9g  %.9g %.9g %.9g\n", mat,
+                        v[0][0], v[0][1], v[0][2], v[1][0], v[1][1], v[1][2], v[2][0], v[2][1],
+                        v[2][2]);
+            if (i < nt - 1)
+                fprintf(f, "tri %s %.9g %.9g %.9g  %.9g %.9g %.9g  %.9g %.9g %.9g\n", mat,
+                        v[0][0], v[0][1], v[0][2], v[2][0], v[2][1], v[2][2], v[3][0], v[3][1],
+                        v[3][2]);
+        }
+}
+/* ---- kernels against the reference, every mode --------------------------- */
+
+/* Compares the kernel's trace of the first mode's pass with the reference's
+ * records cp and level bytes cl (n paths), by the caller's CHECKs. */
+typedef void (*cl_test_trace_check)(void *ctx, const cl_test_scene *s, spm_cl_renderer *r,
+                                    const spm_path *cp, const uint8_t *cl, size_t n);
+
+/* For every mode on scene s (seed, spp, its test size): the reference traces
+ * with the mode's level table, check(ctx, ...) compares the kernel's trace in
+ * the first mode, and the shade kernel shades the reference's records against
+ * the reference's shading, each component within rel of its path's largest
+ * (cl_test_shade_diff), printed with the label what. Returns the modes that
+ * failed (a renderer not made, a shade error or a component beyond rel). */
+static inline int cl_test_modes(cl_test_scene *s, spm_u32 seed, spm_u32 spp, double rel,
+                                const char *what, cl_test_trace_check check, void *ctx)
+{
+    spm_trace_params p = cl_test_params(s, seed, 0, spp);
+    size_t n = (size_t)p.cam.width * (size_t)p.cam.height * spp;
+    spm_path *cp = spm_xcalloc(n, sizeof *cp);
+    uint8_t *cl = spm_xcalloc(n, 1);
+    float *ref = spm_xcalloc(3 * n, sizeof *ref), *got = spm_xcalloc(3 * n, sizeof *got);
+    int failed = 0;
+    for (int mode = 0; mode < SPM_MODE_COUNT; mode++) {
+        spm_cl_renderer *r;
+        spm_error err;
+        const char *name = spm_mode(mode)->name;
+        if (spm_cl_create(0, &s->geom, &s->tables, mode, seed, &r, &err)) {
+            printf("%s %s: spm_cl_create: %s\n", what, name, err.msg);
+            failed++;
+            continue;
+        }
+        spm_ref_trace(&s->geom, s->tables.materials, cl_test_lvlk(&s->tables, mode), &p, cp, cl);
+        if (mode == 0)
+            check(ctx, s, r, cp, cl, n);
+        spm_ref_shade(&s->tables, mode, &p, 0, cp, cl, n, ref);
+        int rc = spm_cl_shade(r, 0, spp, cp, cl, got, &err);
+        double worst = 0.0;
+        size_t bad = rc ? 0 : cl_test_shade_diff(ref, got, n, rel, &worst);
+        printf("%s shade %-5s: worst %.3g relative, %zu components beyond %g%s%s\n", what, name,
+               worst, bad, rel, rc ? "; spm_cl_shade: " : "", rc ? err.msg : "");
+        failed += rc || bad;
+        spm_cl_destroy(r);
+    }
+    free(cp);
+    free(cl);
+    free(ref);
+    free(got);
+    return failed;
 }
 #endif

@@ -6,7 +6,7 @@
 # usage: bash tests/cli_mesh.sh /path/to/specmip
 source "$(dirname "$0")/lib_cli.sh"
 python3 "$ROOT/tools/gen_meshes.py" "$T" || { echo "FAIL: gen_meshes.py"; exit 1; }
-R=(--backend cpu --quiet)
+R=(--backend cpu)  # not --quiet: the mesh notes (triangles, box) are checked
 avg() {  # avg IMAGE WxH+X+Y: mean of the region's first channel
     oiiotool "$1" --cut "$2" --printstats | awk '/Stats Avg/ { print $3 }'
 }

@@ -130,12 +130,14 @@ scene map.obj; refused "child: MTL map outside" "'../outside/tex.png'" "map.obj:
 
 # 4. No reader under host/scene/ opens a file but through the rule: the
 # openers below appear only on the lines listed (each takes a checked spm_file)
-openers='(^|[^_a-z])fopen\(|spm_fopen_input\(|[^_a-z]open\(|ImageInput::open|aiImportFile|spm_csv_load\(|spm_spectrum_load\(|spm_fluor_load_donaldson\(|spm_texture_mean_file\(|spm_lex_open\('
+openers='(^|[^_a-z])fopen\(|spm_fopen_input\(|[^_a-z]open\(|ImageInput::open|aiImportFile|spm_csv_load\(|spm_spectrum_load\(|spm_fluor_load_donaldson\(|spm_texture_mean_file\(|spm_texture_read_file\(|spm_lex_open\('
 allowed=(
     'mesh_import.c:.*aiImportFileEx\(file->path, aiProcess_Triangulate, &io\)'
-    'mesh_texture_io.cpp:.*ImageInput::open\(file->path\)'
-    'mesh_texture_io.cpp:.*ImageInput::open\(hint, nullptr, &mem\)'
+    'texture_io.cpp:.*ImageInput::open\(file->path\)'
+    'texture_io.cpp:.*ImageInput::open\(hint, nullptr, &mem\)'
     'mesh_texture.c:.*spm_texture_mean_file\(&file,'
+    'mesh_texture_io.cpp:.*spm_texture_read_file\(file, &rgb,'
+    'scene_texture.c:.*spm_texture_read_file\(&f, &rgb,'
     'scene_parse.c:.*spm_spectrum_load\(d->file.path,'
     'scene_parse.c:.*spm_fluor_load_donaldson\(path.path,'
     'scene_parse.c:.*spm_lex_open\(&p.lx, file, err\)'
@@ -143,6 +145,7 @@ allowed=(
     'scene_minilight.c:.*spm_lex_open\(&p.lx, file, err\)'
     'pbrt_spectra.c:.*spm_spectrum_load\(spm_data_path\(rel, path, sizeof path\)'
     'fluor.c:.*spm_csv_load\(path, &csv, err\)'
+    'rgb2spec_table.c:.*fopen\(path, "rb"\)' # the program's own cache file, no scene's reference
 )
 (cd "$ROOT/host/scene" && grep -nE "$openers" *.c *.cpp | grep -vE '^[^:]+:[0-9]+:\s*(/?\*|//)' |
     grep -vE '^[^:]+:[0-9]+:(int|FILE|static|extern) ') > "$T/opens"

@@ -83,15 +83,6 @@ static double albedo(double a, double eta, double co, double fi, double fe, doub
     return spec + dif;
 }
 
-static double bg_y(const cl_test_scene *s)
-{
-    const float *bg = s->tables.truth + (size_t)s->tables.bg_up * SPM_TRUTH_BINS;
-    double y = 0.0;
-    for (int b = 0; b < SPM_TRUTH_BINS; b++)
-        y += bg[b] * s->tables.cmf_truth[1][b];
-    return y;
-}
-
 /* ---- the invisible sphere ------------------------------------------------- */
 #define SW 48
 #define SH 48
@@ -106,48 +97,18 @@ static void write_sphere(const char *path, double eta)
                "spectrum white equal\n"
                "material coat coated reflect white ior %.17g\n"
                "background both sky 1\n", SW, SH, eta);
-    /* a UV sphere of radius 1: 24 bands of 48 quads (fans at the poles) */
-    const int nt = 24, np = 48;
-    for (int i = 0; i < nt; i++)
-        for (int k = 0; k < np; k++) {
-            double v[4][3];
-            for (int c = 0; c < 4; c++) {
-                double th = M_PI * (i + (c == 2 || c == 3)) / nt;
-                double ph = 2.0 * M_PI * (k + (c == 1 || c == 2)) / np;
-                v[c][0] = sin(th) * cos(ph), v[c][1] = cos(th), v[c][2] = sin(th) * sin(ph);
-            }
-            if (i > 0)
-                fprintf(f, "tri coat %.9g %.9g %.9g  %.9g %.9g %.9g  %.9g %.9g %.9g\n", v[0][0],
-                        v[0][1], v[0][2], v[1][0], v[1][1], v[1][2], v[2][0], v[2][1], v[2][2]);
-            if (i < nt - 1)
-                fprintf(f, "tri coat %.9g %.9g %.9g  %.9g %.9g %.9g  %.9g %.9g %.9g\n", v[0][0],
-                        v[0][1], v[0][2], v[2][0], v[2][1], v[2][2], v[3][0], v[3][1], v[3][2]);
-        }
+    cl_test_write_sphere(f, "coat");
     fclose(f);
-}
-
-/* The mean ratio of a path's Y to the background's over the paths that meet
- * the object, and its standard error. */
-static void ratio_stats(const spm_path *paths, const float *xyz, size_t n, double ybg,
-                        const double *want, double *mean, double *se, size_t *met)
-{
-    double s = 0.0, s2 = 0.0;
-    size_t m = 0;
-    for (size_t i = 0; i < n; i++) {
-        if (paths[i].h.nvert == 0)
-            continue;
-        double r = xyz[3 * i + 1] / ybg - (want ? want[i] : 1.0);
-        s += r;
-        s2 += r * r;
-        m++;
-    }
-    *met = m;
-    *mean = m ? s / (double)m : 0.0;
-    *se = m > 1 ? sqrt((s2 / (double)m - *mean * *mean) / (double)(m - 1)) : 1.0;
 }
 
 /* 4 standard errors: a render that is right fails 6 times in 10^5 */
 #define NSIGMA 4.0
+
+static int diffuse_first(const spm_path *p, void *ctx)
+{
+    spm_u32 refl = *(const spm_u32 *)ctx;
+    return p->h.nvert > 0 && p->v[0].ids != 0xFFFFFFFFu && (p->v[0].ids & 0xFFFFu) == refl;
+}
 
 static void test_sphere(double eta, int spp)
 {
@@ -159,35 +120,34 @@ static void test_sphere(double eta, int spp)
         return;
     }
     size_t n = (size_t)SW * SH * spp;
-    spm_path *paths = spm_xcalloc(n, sizeof *paths);
-    float *xyz = spm_xcalloc(3 * n, sizeof *xyz);
-    double ybg = bg_y(&s);
+    spm_u32 refl = s.tables.materials[0].refl;
+    cl_test_furnace_result res[2];
+    cl_test_furnace(&s, SEED, SW, SH, spp, NULL, diffuse_first, &refl, res);
     for (int cl = 0; cl < 2; cl++) {
-        if (cl_test_render_truth(&s, SEED, cl, spp, paths, xyz)) {
-            CHECK(0, "the sphere renders (%s)", cl ? "opencl" : "cpu");
-            continue;
-        }
-        double mean, se;
-        size_t met, diffuse = 0;
-        for (size_t i = 0; i < n; i++)
-            diffuse += paths[i].h.nvert > 0 && paths[i].v[0].ids != 0xFFFFFFFFu &&
-                       (paths[i].v[0].ids & 0xFFFFu) == s.tables.materials[0].refl;
-        ratio_stats(paths, xyz, n, ybg, NULL, &mean, &se, &met);
+        const cl_test_furnace_result *r = &res[cl];
+        CHECK(!r->failed, "the sphere renders (%s)", cl ? "opencl" : "cpu");
         printf("sphere eta %.2f (%s): %zu paths meet it (%zu diffuse), mean / background - 1 = "
-               "%.5f +- %.5f\n", eta, cl ? "opencl" : "cpu", met, diffuse, mean, se);
-        CHECK(met > n / 3 && diffuse > met / 3, "too few paths meet the sphere's base");
-        CHECK(fabs(mean) <= NSIGMA * se, "eta %.2f (%s): the sphere is not invisible: %.5f +- %.5f",
-              eta, cl ? "opencl" : "cpu", mean, se);
+               "%.5f +- %.5f\n", eta, cl ? "opencl" : "cpu", r->met, r->counted, r->mean, r->se);
+        CHECK(r->met > n / 3 && r->counted > r->met / 3, "too few paths meet the sphere's base");
+        CHECK(fabs(r->mean) <= NSIGMA * r->se, "eta %.2f (%s): the sphere is not invisible: "
+              "%.5f +- %.5f", eta, cl ? "opencl" : "cpu", r->mean, r->se);
     }
-    free(paths);
-    free(xyz);
     cl_test_scene_close(&s);
 }
 
 /* ---- the rough white furnace ------------------------------------------- */
 #define PW 16
 #define PH 12
-#define NTAB 64
+
+typedef struct {
+    double a, eta, fi, fe, R;
+} coat_model;
+
+static double coat_albedo(void *ctx, double mu)
+{
+    const coat_model *m = ctx;
+    return albedo(m->a, m->eta, mu, m->fi, m->fe, m->R);
+}
 
 static void test_furnace(double a, double eta, double R)
 {
@@ -211,46 +171,23 @@ static void test_furnace(double a, double eta, double R)
     }
     const int spp = 256;
     size_t n = (size_t)PW * PH * spp;
-    spm_trace_params p = cl_test_params(&s, SEED, 0, (spm_u32)spp);
-    double fi = fdr(1.0 / eta), fe = fdr(eta), tab[NTAB + 1], lo = 1.0, hi = 0.0;
-    double *want = spm_xcalloc(n, sizeof *want);
-    for (size_t i = 0; i < n; i++) {
-        double d[3];
-        cl_test_camera_dir(&p, i, d);
-        lo = fmin(lo, fabs(d[1]));
-        hi = fmax(hi, fabs(d[1]));
-    }
-    for (int k = 0; k <= NTAB; k++) /* the albedo at cosines across [lo, hi], linear between */
-        tab[k] = albedo(a, eta, lo + (hi - lo) * k / NTAB, fi, fe, R);
-    for (size_t i = 0; i < n; i++) {
-        double d[3];
-        cl_test_camera_dir(&p, i, d);
-        double u = (fabs(d[1]) - lo) / (hi - lo) * NTAB;
-        int k = (int)u < NTAB ? (int)u : NTAB - 1;
-        want[i] = tab[k] + (u - k) * (tab[k + 1] - tab[k]);
-    }
-    printf("furnace alpha %.2f eta %.2f base %.2f: albedo %.4f at cos %.3f, %.4f at cos %.3f\n", a, eta,
-           R, tab[0], lo, tab[NTAB], hi);
-    spm_path *paths = spm_xcalloc(n, sizeof *paths);
-    float *xyz = spm_xcalloc(3 * n, sizeof *xyz);
-    double ybg = bg_y(&s);
+    coat_model m = {a, eta, fdr(1.0 / eta), fdr(eta), R};
+    double lo, hi;
+    double *want = cl_test_plane_want(&s, SEED, spp, coat_albedo, &m, &lo, &hi);
+    printf("furnace alpha %.2f eta %.2f base %.2f: albedo %.4f at cos %.3f, %.4f at cos %.3f\n", a,
+           eta, R, coat_albedo(&m, lo), lo, coat_albedo(&m, hi), hi);
+    cl_test_furnace_result res[2];
+    cl_test_furnace(&s, SEED, PW, PH, spp, want, NULL, NULL, res);
     for (int cl = 0; cl < 2; cl++) {
-        if (cl_test_render_truth(&s, SEED, cl, spp, paths, xyz)) {
-            CHECK(0, "the plane renders (%s)", cl ? "opencl" : "cpu");
-            continue;
-        }
-        double mean, se;
-        size_t met;
-        ratio_stats(paths, xyz, n, ybg, want, &mean, &se, &met);
+        const cl_test_furnace_result *r = &res[cl];
+        CHECK(!r->failed, "the plane renders (%s)", cl ? "opencl" : "cpu");
         printf("furnace (%s): %zu paths, mean of (path / background - albedo) = %.5f +- %.5f\n",
-               cl ? "opencl" : "cpu", met, mean, se);
-        CHECK(met == n, "every path meets the plane (%zu of %zu)", met, n);
-        CHECK(fabs(mean) <= NSIGMA * se, "alpha %.2f (%s): the furnace is off its albedo: "
-              "%.5f +- %.5f", a, cl ? "opencl" : "cpu", mean, se);
+               cl ? "opencl" : "cpu", r->met, r->mean, r->se);
+        CHECK(r->met == n, "every path meets the plane (%zu of %zu)", r->met, n);
+        CHECK(fabs(r->mean) <= NSIGMA * r->se, "alpha %.2f (%s): the furnace is off its albedo: "
+              "%.5f +- %.5f", a, cl ? "opencl" : "cpu", r->mean, r->se);
     }
     free(want);
-    free(paths);
-    free(xyz);
     cl_test_scene_close(&s);
 }
 
@@ -275,6 +212,45 @@ static int ext_differs(const spm_path *a, const spm_path *b)
  * vertex adds no spectral arithmetic of its own. Bound as test_cl_conductor's. */
 #define SHADE_REL 1e-4
 
+typedef struct {
+    spm_u32 white;
+} box_ctx;
+
+static void box_trace(void *ctx, const cl_test_scene *s, spm_cl_renderer *r, const spm_path *cp,
+                      const uint8_t *cl, size_t n)
+{
+    spm_u32 white = ((const box_ctx *)ctx)->white;
+    spm_path *gp = spm_xcalloc(n, sizeof *gp);
+    uint8_t *gl = spm_xcalloc(n, 1);
+    spm_error err;
+    (void)s;
+    int rc = spm_cl_trace(r, 0, SPP, gp, gl, &err);
+    CHECK(rc == 0, "spm_cl_trace: %s", err.msg);
+    size_t diverged = 0, xdiff = 0, spec = 0, hits = 0, lights = 0, level_diff = 0;
+    for (size_t i = 0; i < n; i++) {
+        int d = cl_test_path_differs(&gp[i], &cp[i]);
+        diverged += d;
+        xdiff += !d && ext_differs(&gp[i], &cp[i]);
+        level_diff += !d && gl[i] != cl[i];
+        for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
+            int k = (cp[i].v[j].ids & 0xFFFFu) == white;
+            spec += k;
+            hits += SPM_EXT_HIT(cp[i].x[j]) != SPM_NONE;
+            lights += k && (cp[i].v[j].ids >> 16) != SPM_NONE;
+        }
+    }
+    printf("box trace: %zu paths, %zu specular coating vertices (%zu light samples, %zu "
+           "lobe hits); %zu diverged, %zu vertex words differ, %zu level bytes differ\n",
+           n, spec, lights, hits, diverged, xdiff, level_diff);
+    CHECK(spec > n / 50 && hits > 5 && lights > 50, "too little coating transport");
+    CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu paths diverged",
+          diverged);
+    CHECK(xdiff == 0, "%zu paths' vertex words differ", xdiff);
+    CHECK(level_diff == 0, "%zu level bytes differ", level_diff);
+    free(gp);
+    free(gl);
+}
+
 static void test_box(void)
 {
     char path[1024];
@@ -284,64 +260,12 @@ static void test_box(void)
         CHECK(0, "the coated box loads");
         return;
     }
-    size_t n = (size_t)W * H * SPP;
-    spm_path *gp = spm_xcalloc(n, sizeof *gp), *cp = spm_xcalloc(n, sizeof *cp);
-    uint8_t *gl = spm_xcalloc(n, 1), *cl = spm_xcalloc(n, 1);
-    float *ref = spm_xcalloc(3 * n, sizeof *ref), *got = spm_xcalloc(3 * n, sizeof *got);
-    spm_trace_params p = cl_test_params(&s, SEED, 0, SPP);
-    spm_u32 white = SPM_NONE;
+    box_ctx b = {SPM_NONE};
     for (int m = 0; m < s.tables.nmaterials; m++)
         if (SPM_MAT_TAG(s.tables.materials[m]) == SPM_MAT_COATED)
-            white = s.tables.materials[m].col2;
-    for (int mode = 0; mode < SPM_MODE_COUNT; mode++) {
-        spm_cl_renderer *r;
-        spm_error err;
-        if (spm_cl_create(0, &s.geom, &s.tables, mode, SEED, &r, &err)) {
-            CHECK(0, "spm_cl_create: %s", err.msg);
-            continue;
-        }
-        const char *name = spm_mode(mode)->name;
-        spm_ref_trace(&s.geom, s.tables.materials, cl_test_lvlk(&s.tables, mode), &p, cp, cl);
-        if (mode == 0) {
-            int rc = spm_cl_trace(r, 0, SPP, gp, gl, &err);
-            CHECK(rc == 0, "spm_cl_trace: %s", err.msg);
-            size_t diverged = 0, xdiff = 0, spec = 0, hits = 0, lights = 0, level_diff = 0;
-            for (size_t i = 0; i < n; i++) {
-                int d = cl_test_path_differs(&gp[i], &cp[i]);
-                diverged += d;
-                xdiff += !d && ext_differs(&gp[i], &cp[i]);
-                level_diff += !d && gl[i] != cl[i];
-                for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
-                    int k = (cp[i].v[j].ids & 0xFFFFu) == white;
-                    spec += k;
-                    hits += SPM_EXT_HIT(cp[i].x[j]) != SPM_NONE;
-                    lights += k && (cp[i].v[j].ids >> 16) != SPM_NONE;
-                }
-            }
-            printf("box trace: %zu paths, %zu specular coating vertices (%zu light samples, %zu "
-                   "lobe hits); %zu diverged, %zu vertex words differ, %zu level bytes differ\n",
-                   n, spec, lights, hits, diverged, xdiff, level_diff);
-            CHECK(spec > n / 50 && hits > 5 && lights > 50, "too little coating transport");
-            CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu paths diverged",
-                  diverged);
-            CHECK(xdiff == 0, "%zu paths' vertex words differ", xdiff);
-            CHECK(level_diff == 0, "%zu level bytes differ", level_diff);
-        }
-        spm_ref_shade(&s.tables, mode, &p, 0, cp, cl, n, ref);
-        int rc = spm_cl_shade(r, 0, SPP, cp, cl, got, &err);
-        CHECK(rc == 0, "%s: spm_cl_shade: %s", name, err.msg);
-        double worst = 0.0;
-        size_t bad = rc ? 0 : cl_test_shade_diff(ref, got, n, SHADE_REL, &worst);
-        printf("box shade %-5s: worst %.3g relative\n", name, worst);
-        CHECK(bad == 0, "%s: %zu components beyond %g (worst %.3g)", name, bad, SHADE_REL, worst);
-        spm_cl_destroy(r);
-    }
-    free(gp);
-    free(cp);
-    free(gl);
-    free(cl);
-    free(ref);
-    free(got);
+            b.white = s.tables.materials[m].col2;
+    int failed = cl_test_modes(&s, SEED, SPP, SHADE_REL, "box", box_trace, &b);
+    CHECK(failed == 0, "%d modes shade the box off the reference", failed);
     cl_test_scene_close(&s);
 }
 

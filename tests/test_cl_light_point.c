@@ -77,7 +77,7 @@ static void test_plane(void)
     float *xyz = spm_xcalloc(3 * n, sizeof *xyz);
     for (int cl = 0; cl < 2; cl++) {
         memset(xyz, 0, 3 * n * sizeof *xyz);
-        int rc = cl_test_render_truth(&s, SEED, cl, spp, paths, xyz);
+        int rc = cl_test_render_truth(&s, cl, SEED, 24, 18, spp, paths, xyz);
         CHECK(rc == 0, "%s: the render failed", cl ? "opencl" : "cpu");
         if (!rc)
             check_plane(&p, xyz, n, cl ? "opencl" : "cpu");

@@ -718,7 +718,9 @@ METALS_HEAD = """# Metals: the Cornell box of cornell.scene (its walls, camera a
 # at the back, smooth (mirror) blocks of gold, copper and aluminium; in front,
 # rough spheres (GGX, alpha 0.2) of the same metals. Their colours come from
 # the complex index of refraction eta + i k per wavelength (spectra/metal_*:
-# LuxPop data), so they change with the angle of incidence. The objects are
+# LuxPop data), so they change with the angle of incidence. The spheres are
+# faceted on purpose: docs/MATERIALS.md's measurements are of these triangles
+# (scenes/showcase.scene has smooth metal spheres). The objects are
 # written by tools/gen_meshes.py --metals (do not edit them here: regenerate);
 # bench/peers/mitsuba_compare.py renders it with Mitsuba 3 as a check of truth.
 # Format: docs/SCENE_FORMAT.md.
@@ -918,8 +920,10 @@ GLASS_HEAD = """# Glass: the Cornell box of cornell.scene (its walls, camera and
 # transmittance exp(-12 greenabs(lambda) d) over d scene units, about 0.3 of
 # the red through its 0.11 width); in front, a smooth clear sphere (left) and
 # a rough one (GGX, alpha 0.2, right). Tessellated: the spheres are faceted
-# (72 triangles each). Objects float 1 mm above the floor so no glass face
-# touches another surface (docs/SCENE_FORMAT.md: dielectric). Written by
+# (72 triangles each) on purpose, docs/MATERIALS.md's measurements are of
+# these triangles (scenes/materials.scene has smooth glass spheres). Objects
+# float 1 mm above the floor so no glass face touches another surface
+# (docs/SCENE_FORMAT.md: dielectric). Written by
 # tools/gen_meshes.py --glass (do not edit the objects here: regenerate);
 # bench/peers/mitsuba_compare.py renders it with Mitsuba 3 as a check of truth.
 # Format: docs/SCENE_FORMAT.md.
@@ -1115,15 +1119,17 @@ material slit  emit equal 100
 """
 
 SPHERE_HEAD = """# An N-SF11 sphere in a room: the Cornell box of cornell.scene (its walls,
-# camera and equal-energy light of luminance 1000) with a smooth sphere of
+# camera and equal-energy light of luminance 1000) with a polished sphere of
 # Schott N-SF11, a dense flint (n_d 1.785, Abbe number 25.7: n from 1.822 at
 # 420 nm to 1.770 at 700 nm), in front of a white block. Its refraction
 # fringes the edges of what is seen through it, and the light it focuses
 # onto the floor (a caustic, reached by paths that hit the lamp through the
-# glass) is split into colours. Tessellated (an 8 x 12 UV sphere: 168 facets). Objects
-# float 1 mm above the floor so no glass face touches another surface.
-# Written by tools/gen_meshes.py --dispersion (do not edit the objects here:
-# regenerate). Format: docs/SCENE_FORMAT.md.
+# glass) is split into colours. Tessellated (an 8 x 12 UV sphere: 168 facets)
+# on purpose: docs/MATERIALS.md's measurements are of these facets
+# (scenes/showcase.scene has the sphere smooth). Objects float 1 mm above
+# the floor so no glass face touches another surface. Written by
+# tools/gen_meshes.py --dispersion (do not edit the objects here: regenerate).
+# Format: docs/SCENE_FORMAT.md.
 
 image 256 256
 spp 64

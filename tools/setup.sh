@@ -21,7 +21,7 @@ fi
 # procps (pgrep) for its tests. python3-venv for the test suite's Python
 # environment (below).
 packages=(build-essential cmake pkg-config ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
-          libopenimageio-dev openimageio-tools libassimp-dev python3 python3-venv jq time gnuplot-nox
+          libopenimageio-dev openimageio-tools libassimp-dev libexpat1-dev python3 python3-venv jq time gnuplot-nox
           clinfo mesa-opencl-icd oclgrind libopenmpi-dev openmpi-bin procps "${bench[@]}")
 missing=()
 for p in "${packages[@]}"; do

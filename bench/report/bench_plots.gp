@@ -15,25 +15,51 @@ q(s) = "'".s."'"
 pick(scene, kind, mode, c) = "< ".sel." -v scene=".scene." -v kind=".kind." -v mode=".mode." -v cols=".c." ".q(csv)
 
 # 1. error against time at equal time, log-log, one curve per mode over the
-# budgets (the "equal" rows); the floor of two converged truths dotted. One more
-# panel holds the key.
+# budgets (the "equal" rows); the floor of two converged truths as a grey dashed
+# line across each panel, labelled. Panels fill the width (up to 4 a row); the
+# key is one row below them, so no panel is given to it.
 if (equal) {
-np = nsc + 1
-cols1 = np <= 4 ? 2 : 3
-rows1 = (np + cols1 - 1) / cols1
-set terminal @term size 420 * cols1, 300 * rows1 + 40
+cols1 = nsc <= 3 ? nsc : (nsc == 4 ? 2 : 4)
+rows1 = (nsc + cols1 - 1) / cols1
+pw = cols1 == 1 ? 640 : 400; ph = cols1 == 1 ? 400 : 290   # pixels: a panel
+top = 30                                    # pixels: the title
+W = pw * cols1
+kcols = W >= 800 ? 6 : 3                    # the key's entries a row (the floor is labelled in place)
+keyh = W >= 800 ? 34 : 52                   # pixels: the key's rows
+H = top + ph * rows1 + keyh
+set terminal @term size W, H
 set output out."/time_error.png"
-set multiplot layout rows1, cols1 title "Error against a converged truth (mean dE00) at equal time: each mode's spp set for the time"
+set multiplot title "Error against a converged truth at equal time, each mode's spp set for the time (lower is better)" font ",10"
 set logscale xy
-set xlabel "wall time per render [s]"
-set ylabel "mean dE00 vs converged truth"
+set xlabel "wall time per render [s]" offset 0, 0.4
+set ylabel "mean dE00 vs converged truth" offset 1, 0
 set grid
+set autoscale xfix
+set autoscale yfix
+set xtics (0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10, 20, 50, 100, 200, 500)
+set ytics (0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10, 20, 50, 100, 200)
+set offsets graph 0.05, graph 0.05, graph 0.15, graph 0.15
 unset key
+set size pw * 1.0 / W, ph * 1.0 / H
+k = 0
 do for [s in scenes] {
-    set title s
+    set origin (k % cols1) * pw * 1.0 / W, (keyh + (rows1 - 1 - int(k / cols1)) * ph) * 1.0 / H
+    set title s offset 0, -0.6
+    undefine STATS_*
+    stats pick(s, "equal", "", "wall_s,conv_floor_mean") using 2 nooutput
+    fl = exists("STATS_max") ? STATS_max : NaN   # no floor in the CSV: none drawn
+    unset label 1
+    if (fl == fl) { set label 1 "floor: two converged truths apart" at graph 0.03, first fl offset 0, 0.55 font ",8" tc "gray30" }
     plot for [m in modes] pick(s, "equal", m, "wall_s,err_mean") using 1:2 with linespoints, \
-         pick(s, "equal", "", "wall_s,conv_floor_mean") using 1:2 with lines dt 3 lc "black"
+         fl with lines dt 2 lw 1.5 lc "gray50"
+    k = k + 1
 }
+unset label 1
+set xtics autofreq
+set ytics autofreq
+# the key: one row below the panels
+set origin 0, 0
+set size 1, keyh * 1.0 / H
 unset title
 unset border
 unset tics
@@ -41,11 +67,12 @@ unset grid
 unset xlabel
 unset ylabel
 unset logscale
+unset offsets
+set autoscale xy
 set xrange [0:1]
 set yrange [0:1]
-set key center center font ",9"
-plot for [m in modes] NaN with linespoints title m, \
-     NaN with lines dt 3 lc "black" title "floor: 2 converged truths"
+set key center center horizontal maxcols kcols font ",9" samplen 2
+plot for [m in modes] NaN with linespoints title m
 unset multiplot
 set border
 set tics

@@ -3,8 +3,8 @@
 #   bench/report/update_results.sh [SPECMIP] [-- extra specmip bench options]
 # runs the default study (`specmip bench`: every bundled scene, every mode, equal
 # time included) and the operator benchmark into bench-out/, then writes
-# docs/RESULTS.md and the charts in docs/ (bench_report.sh) and copies RESULTS.md
-# into README.md between its results markers (readme_results.sh). Nothing is
+# docs/RESULTS.md and the charts in docs/ (bench_report.sh) and README's headline
+# table from it, between its results markers (readme_results.sh). Nothing is
 # written to docs/ or README.md unless both runs finish.
 set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)

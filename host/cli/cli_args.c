@@ -172,14 +172,14 @@ const spm_option spm_options[] = {
         "print the statistics as one JSON object (stdout; with --stats\n"
         "too, the text goes to stderr)"),
     {SPM_O_PROGRESS, "--progress", NULL, NULL, SPM_ARG_FLAG, 0, 0, R | B,
-     "--progress, --quiet", "progress line on stderr even when it is not a terminal,\n"
-                            "or none (default: when stderr is a terminal)"},
+     "--progress, --quiet", "progress line on stderr even when it is not a terminal\n"
+                            "(default: when it is), or none and no notes (warnings stay)"},
     ROW(QUIET, "--quiet", NULL, FLAG, 0, 0, R | B, NULL),
     ROW(VERBOSE, "--verbose", NULL, FLAG, 0, 0, R,
         "print the pretest's level table (mlc: its own)"),
     ROW(STRICT, "--strict", NULL, FLAG, 0, 0, R,
         "what a scene holds that specmip does not render is an error\n"
-        "(exit 2), not a warning (pbrt-v4 files)"),
+        "(exit 2), not a warning (pbrt-v4 and Mitsuba files)"),
     /* bench */
     ROW(OUT, "--out", "DIR", TEXT, 0, 0, B, "output directory (default bench-out)"),
     ROW(QUICK, "--quick", NULL, FLAG, 0, 0, B,
@@ -224,6 +224,8 @@ const spm_option spm_options[] = {
         "model's buffers) may also be in; repeatable. By default only\n"
         "the scene file's own folder and below, and specmip's spectra/\n"
         "and scenes/ (docs/SCENE_FORMAT.md, 'Where referenced files may be')"),
+    {SPM_O_DEFINE, "--define", "-D", "N=V", SPM_ARG_TEXT, 0, 0, R, NULL,
+     "a Mitsuba scene's parameter $N, over its <default>;\nrepeatable"},
     {SPM_O_HELP, "--help", "-h", NULL, SPM_ARG_FLAG, 0, 0, R | B | S, NULL, "this text"},
 };
 const int spm_noptions = (int)(sizeof spm_options / sizeof spm_options[0]);

@@ -264,7 +264,7 @@ static int parse_args(int argc, char **argv, options *o)
         case SPM_O_NO_CHARTS: o->charts = 0; break;
         case SPM_O_OPS: o->ops = 1; break;
         case SPM_O_PROGRESS: p->progress = 2; break;
-        case SPM_O_QUIET: p->progress = 0; break;
+        case SPM_O_QUIET: p->progress = 0; spm_quiet_notes = 1; break;
         case SPM_O_BLUR:
             if (it.number > 1 && (int)it.number % 2 == 0)
                 return fail("--blur needs an odd window (or 0 for none), not '%s'%s", it.value, "");

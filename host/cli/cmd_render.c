@@ -29,9 +29,9 @@ static void usage(FILE *f)
     fprintf(f,
         "usage: specmip render [SCENE] [options]   (also: specmip SCENE [options])\n"
         "Options take their value as '--spp 16' or '--spp=16'.\n"
-        "Renders SCENE (a .scene file, a MiniLight .ml.txt file or a pbrt-v4 .pbrt file,\n"
-        "docs/PBRT.md); without SCENE the built-in Cornell box (ColorChecker walls,\n"
-        "equal-energy light).\n\n");
+        "Renders SCENE (a .scene file, a MiniLight .ml.txt file, a pbrt-v4 .pbrt file,\n"
+        "docs/PBRT.md, or a Mitsuba 3 .xml file, docs/MITSUBA.md); without SCENE the\n"
+        "built-in Cornell box (ColorChecker walls, equal-energy light).\n\n");
     spm_opt_help(f, SPM_CMD_RENDER, 25);
     fprintf(f,
         "Under mpirun every rank renders passes on its own --device/--backend; rank 0 reads\n"
@@ -110,6 +110,12 @@ static int word_option(spm_opt_id id, const char *v, render_opts *o)
     case SPM_O_WHITE:
         o->white = v;
         return 0;
+    case SPM_O_DEFINE:
+        if (spm_scene_define(v, &e)) {
+            fprintf(stderr, "specmip render: %s\n", e.msg);
+            return SPM_EXIT_INPUT;
+        }
+        return 0;
     case SPM_O_ALLOW_PATH:
         if (spm_paths_allow(v, &e)) {
             fprintf(stderr, "specmip render: %s\n", e.msg);
@@ -172,7 +178,7 @@ static int parse_args(int argc, char **argv, render_opts *o)
         case SPM_O_STATS: o->stats = 1; break;
         case SPM_O_JSON: o->json = 1; break;
         case SPM_O_PROGRESS: o->progress = 1; break;
-        case SPM_O_QUIET: o->progress = 0; break;
+        case SPM_O_QUIET: o->progress = 0; spm_quiet_notes = 1; break;
         case SPM_O_VERBOSE: o->cfg.verbose = 1; break;
         case SPM_O_STRICT: spm_scene_strict = 1; break;
         case SPM_O_TIME: o->cfg.time_s = it.number; break;
@@ -250,12 +256,13 @@ static int check_outputs(render_opts *o)
 
 /* PoCL's kernel cache before and after the render loop: a render that
  * compiled is timed with its compiles (the CPU reference compiles nothing: a
- * cache that grew meanwhile is another process's). */
+ * cache that grew meanwhile is another process's). Said with --stats only, the
+ * times it qualifies; --json carries it as compiled_during_timing. */
 static void watch_compiles(const render_opts *o, spm_render_setup *s, const spm_pocl_cache *c0,
                            const spm_pocl_cache *c1)
 {
     s->times.compiled_in_render = o->cfg.backend->compiles ? spm_pocl_cache_grew(c0, c1) : -1;
-    if (s->times.compiled_in_render == 1) {
+    if (s->times.compiled_in_render == 1 && o->stats) { /* a note on the timing: --stats' */
         char dir[4096];
         fprintf(stderr, "specmip render: WARNING: PoCL's kernel cache %s gained %lld files "
                         "during the render: kernels were compiled (by this render, unless another "

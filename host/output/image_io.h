@@ -1,6 +1,6 @@
 /* Image files through OpenImageIO: read any image OIIO reads as linear float RGB,
- * write float or 8-bit RGB (host/output/image_io.cpp; the other C++ file of the project
- * is host/scene/mesh_texture_io.cpp, a texture's mean colour). */
+ * write float or 8-bit RGB (host/output/image_io.cpp; the project's other C++ files
+ * read textures: host/scene/texture_io.cpp and mesh_texture_io.cpp). */
 #ifndef SPM_IMAGE_IO_H
 #define SPM_IMAGE_IO_H
 #ifdef __cplusplus

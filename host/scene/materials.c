@@ -151,6 +151,23 @@ static int dielectric_derive(spm_scene *sc, spm_scene_material *s, spm_error *er
     return 0;
 }
 
+/* A type whose derived colour would follow a fluorescent material's diagonal
+ * refuses fluorescent materials in its scene: their diagonals must be the
+ * scene's last colours (the shade stage knows them by id), and their
+ * light-end walk has no case for its vertices. */
+static int refuse_fluor(const spm_scene *sc, const spm_scene_material *s, const char *type,
+                        spm_error *err)
+{
+    for (int i = 0; i < sc->nmaterials; i++)
+        if (sc->materials[i].type == (int)SPM_MAT_FLUOR ||
+            sc->materials[i].type == (int)SPM_MAT_DONALDSON) {
+            spm_errorf(err, "material '%s' (%s) and material '%s' (fluorescent): a scene "
+                            "cannot have both types yet", s->name, type, sc->materials[i].name);
+            return 1;
+        }
+    return 0;
+}
+
 /* Coated (coated.h): a Lambertian base under a smooth or GGX-rough dielectric
  * coating, Mitsuba 3's plastic / roughplastic with nonlinear true. The vertex
  * records the derived colour D (col3, the diffuse lobe) or the derived white
@@ -187,13 +204,8 @@ static void coated_fill(const spm_scene *sc, const spm_scene_material *s, spm_ma
  * the coated vertex's hit. */
 static int coated_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
 {
-    for (int i = 0; i < sc->nmaterials; i++)
-        if (sc->materials[i].type == (int)SPM_MAT_FLUOR ||
-            sc->materials[i].type == (int)SPM_MAT_DONALDSON) {
-            spm_errorf(err, "material '%s' (coated) and material '%s' (fluorescent): a scene "
-                            "cannot have both types yet", s->name, sc->materials[i].name);
-            return 1;
-        }
+    if (refuse_fluor(sc, s, "coated", err))
+        return 1;
     static const char white_name[] = "coated:white";
     int white = -1;
     for (int i = 0; i < sc->ncolours && white < 0; i++)
@@ -214,6 +226,33 @@ static int coated_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
         white = sc->ncolours++;
     }
     s->col2 = white;
+    return 0;
+}
+
+/* Rough diffuse (EON, kernels/roughdiffuse.clh): its multiple-scattering
+ * colour rho_ms = rho^2 E_avg / (1 - rho (1 - E_avg)) per 1 nm bin into col2,
+ * E_avg = A (1 + c2 r) the average albedo of its single-scattering term,
+ * A = 1 / (1 + c1 r), c1 = 1/2 - 2 / (3 pi), c2 = 2/3 - 28 / (15 pi). At
+ * roughness 0 the term is 0 (the Lambertian): no colour. */
+static int roughdiffuse_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
+{
+    double r = s->p[SPM_ROUGH_P_R];
+    if (!(r > 0.0))
+        return 0;
+    if (refuse_fluor(sc, s, "rough diffuse", err))
+        return 1;
+    double c1 = 0.5 - 2.0 / (3.0 * M_PI), c2 = 2.0 / 3.0 - 28.0 / (15.0 * M_PI);
+    double eavg = (1.0 + c2 * r) / (1.0 + c1 * r);
+    sc->colours = spm_xrealloc(sc->colours, ((size_t)sc->ncolours + 1) * sizeof *sc->colours);
+    spm_colour *c = &sc->colours[sc->ncolours];
+    memset(c, 0, sizeof *c);
+    snprintf(c->name, sizeof c->name, "%.50s:multiple", s->name);
+    c->s.kind = SPM_KIND_REFLECTANCE;
+    for (int i = 0; i < SPM_TRUTH_BINS; i++) {
+        double rho = s->refl >= 0 ? sc->colours[s->refl].s.nm1[i] : 0.0;
+        c->s.nm1[i] = rho * rho * eavg / (1.0 - rho * (1.0 - eavg));
+    }
+    s->col2 = sc->ncolours++;
     return 0;
 }
 

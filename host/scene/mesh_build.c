@@ -92,6 +92,16 @@ static double det3(const double m[3][4])
            m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
 }
 
+/* Whether material i's name is that of an earlier material (files such as
+ * exported glTF repeat names: a list names each once). */
+static int named_before(const spm_mesh_data *d, uint32_t i)
+{
+    for (uint32_t k = 0; k < i; k++)
+        if (!strcmp(d->mats[k].name, d->mats[i].name))
+            return 1;
+    return 0;
+}
+
 /* The scene material of each file material that a triangle uses (-1 unused). */
 static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_data *d,
                           const spm_mesh_opts *o, const char *file, const char *where,
@@ -113,7 +123,7 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
             char names[400] = "";
             size_t n = 0;
             for (uint32_t i = 0; i < d->nmats && n < sizeof names - 80; i++)
-                if (d->mats[i].name[0])
+                if (d->mats[i].name[0] && !named_before(d, i))
                     n += (size_t)snprintf(names + n, sizeof names - n, "%s'%s'", n ? ", " : "",
                                           d->mats[i].name);
             spm_errorf(err, "%s: bind: %s has no material '%s' (it has %s)", where, file,
@@ -357,8 +367,7 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
                   (unsigned long long)unusable, unusable == 1 ? "" : "s");
     warn_ignored(d, o, smooth || unusable, where, file);
     record_mesh(b->s, file, where, first, lo, hi);
-    if (!spm_quiet_warnings)
-        fprintf(stderr, "specmip: %s: %s: %llu triangles, bounding box (%g %g %g) to (%g %g %g)\n",
-                where, file, (unsigned long long)kept, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    spm_notef("%s: %s: %llu triangles, bounding box (%g %g %g) to (%g %g %g)", where, file,
+              (unsigned long long)kept, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
     return 0;
 }

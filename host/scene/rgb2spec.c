@@ -83,11 +83,22 @@ double spm_rgb2spec_delta_e(const spm_spectrum *r, const double rgb[3])
     return spm_delta_e_2000(a, b);
 }
 
-static void residual(const double coef[3], const double target[3], double r[3])
+/* The Lab of the model's spectrum for coef: through the renderer's colour
+ * code for one colour, through precomputed weights for the table. */
+typedef void (*lab_fn)(const double coef[3], const void *ctx, double lab[3]);
+
+static void model_lab(const double coef[3], const void *ctx, double lab[3])
 {
+    (void)ctx;
     spm_spectrum s;
     spm_rgb2spec_eval(coef, &s);
-    reflectance_lab(&s, r);
+    reflectance_lab(&s, lab);
+}
+
+static void residual(lab_fn f, const void *ctx, const double coef[3], const double target[3],
+                     double r[3])
+{
+    f(coef, ctx, r);
     for (int k = 0; k < 3; k++)
         r[k] -= target[k];
 }
@@ -130,10 +141,10 @@ static int solve3(double a[3][3], double b[3], double x[3])
 }
 
 /* Levenberg-Marquardt from coef towards target Lab; coef is updated in place. */
-static void lm(double coef[3], const double target[3])
+static void lm(lab_fn f, const void *ctx, double coef[3], const double target[3])
 {
     double r[3], mu = 1e-3;
-    residual(coef, target, r);
+    residual(f, ctx, coef, target, r);
     double cost = norm2(r);
     for (int it = 0; it < FIT_ITERS && cost > FIT_TOL2; it++) {
         double J[3][3]; /* J[i][k] = d r_i / d coef_k */
@@ -143,8 +154,8 @@ static void lm(double coef[3], const double target[3])
             memcpy(cm, coef, sizeof cm);
             cp[k] += h;
             cm[k] -= h;
-            residual(cp, target, rp);
-            residual(cm, target, rm);
+            residual(f, ctx, cp, target, rp);
+            residual(f, ctx, cm, target, rm);
             for (int i = 0; i < 3; i++)
                 J[i][k] = (rp[i] - rm[i]) / (2.0 * h);
         }
@@ -174,7 +185,7 @@ static void lm(double coef[3], const double target[3])
             }
             for (int k = 0; k < 3; k++)
                 trial[k] = coef[k] + d[k];
-            residual(trial, target, rt);
+            residual(f, ctx, trial, target, rt);
             double c2 = norm2(rt);
             if (c2 < cost) {
                 memcpy(coef, trial, sizeof trial);
@@ -207,11 +218,63 @@ double spm_rgb2spec_fit(const double rgb_in[3], double coef[3])
         for (int k = 0; k < 3; k++)
             step[k] = 0.5 + t * (rgb[k] - 0.5);
         rgb_lab(step, target);
-        lm(coef, target);
+        lm(model_lab, NULL, coef, target);
     }
     spm_spectrum sp;
     spm_rgb2spec_eval(coef, &sp);
     return spm_rgb2spec_delta_e(&sp, rgb);
+}
+
+/* Lab through weights w[k][i] = D65_i cmf_k,i * 100 / Y(D65): the same sums
+ * as reflectance_lab without building a spectrum per call. */
+static void weights_lab(const double coef[3], const void *ctx, double lab[3])
+{
+    const double (*w)[SPM_TRUTH_BINS] = ctx;
+    double xyz[3] = {0, 0, 0}, white[3];
+    for (int i = 0; i < SPM_TRUTH_BINS; i++) {
+        double x = (i + 0.5) / SPM_TRUTH_BINS;
+        double s = sigmoid((coef[0] * x + coef[1]) * x + coef[2]);
+        for (int k = 0; k < 3; k++)
+            xyz[k] += s * w[k][i];
+    }
+    white_lab_ref(white);
+    spm_xyz_to_lab(xyz, white, lab);
+}
+
+void spm_rgb2spec_weights(double w[3][SPM_TRUTH_BINS])
+{
+    const spm_spectrum *d = d65_required();
+    const double (*cmf)[SPM_TRUTH_BINS] = spm_cmf_truth();
+    double white = 0.0;
+    for (int i = 0; i < SPM_TRUTH_BINS; i++)
+        white += d->nm1[i] * cmf[1][i];
+    for (int k = 0; k < 3; k++)
+        for (int i = 0; i < SPM_TRUTH_BINS; i++)
+            w[k][i] = d->nm1[i] * cmf[k][i] * (100.0 / white);
+}
+
+void spm_rgb2spec_refine(const double w[3][SPM_TRUTH_BINS], const double from[3],
+                         const double rgb_in[3], int steps, double coef[3])
+{
+    double rgb[3];
+    clamp01(rgb_in, rgb);
+    for (int s = 1; s <= steps; s++) {
+        double t = (double)s / steps, step[3], target[3];
+        for (int k = 0; k < 3; k++)
+            step[k] = from[k] + t * (rgb[k] - from[k]);
+        rgb_lab(step, target);
+        lm(weights_lab, w, coef, target);
+    }
+}
+
+double spm_rgb2spec_delta_e_w(const double w[3][SPM_TRUTH_BINS], const double coef[3],
+                              const double rgb_in[3])
+{
+    double rgb[3], a[3], b[3];
+    clamp01(rgb_in, rgb);
+    weights_lab(coef, w, a);
+    rgb_lab(rgb, b);
+    return spm_delta_e_2000(a, b);
 }
 
 int spm_rgb_to_reflectance(const double rgb_in[3], spm_spectrum *out, double *de00,

@@ -14,6 +14,21 @@ void spm_rgb2spec_eval(const double coef[3], spm_spectrum *out);
  * to [0, 1]) in CIELAB. Returns the CIEDE2000 difference reached. */
 double spm_rgb2spec_fit(const double rgb[3], double coef[3]);
 
+/* The fit's objective through precomputed weights, for many colours (the
+ * coefficient table, rgb2spec_table.h): w[k][i] = D65 times CMF k over truth
+ * bin i, scaled so that white has Y = 100. */
+void spm_rgb2spec_weights(double w[3][SPM_TRUTH_BINS]);
+/* Fits coef (updated in place, the start) to linear sRGB rgb (clamped to
+ * [0, 1]) by the same Levenberg-Marquardt as spm_rgb2spec_fit, the target
+ * moving in `steps` steps from the colour `from` (the colour coef has). */
+void spm_rgb2spec_refine(const double w[3][SPM_TRUTH_BINS], const double from[3],
+                         const double rgb[3], int steps, double coef[3]);
+
+/* CIEDE2000 between the model's spectrum for coef under D65 (through w) and
+ * linear sRGB rgb (clamped to [0, 1]). */
+double spm_rgb2spec_delta_e_w(const double w[3][SPM_TRUTH_BINS], const double coef[3],
+                              const double rgb[3]);
+
 /* A reflectance for linear sRGB `rgb` (clamped to [0, 1]): greys, black and
  * white are exact constants, other colours the fitted model. *de00 (may be
  * NULL) receives the colour difference reached. Returns 0 or fills err

@@ -100,6 +100,9 @@ enum { SPM_FOV_HORIZONTAL = 0, SPM_FOV_SHORTER = 1 };
 /* render --strict: what an importer would warn about as not rendered is an
  * error instead (exit 2). */
 extern int spm_scene_strict;
+/* render -D NAME=VALUE: a Mitsuba scene's parameter, over its <default>
+ * (host/scene/mitsuba_xml.c). 1 with err when it is not NAME=VALUE or too many. */
+int spm_scene_define(const char *name_value, spm_error *err);
 
 /* Load a scene file: MiniLight .ml.txt (first line "#MiniLight") or the
  * project's own format. Errors: "file:line:col: what was expected". */

@@ -45,5 +45,7 @@ int spm_scene_load(const char *path, spm_scene *out, spm_error *err)
     }
     if (ends_with(path, ".pbrt"))
         return spm_scene_parse_pbrt(&top, out, err);
+    if (ends_with(path, ".xml"))
+        return spm_scene_parse_mitsuba(&top, out, err);
     return spm_scene_parse_text(&top, out, err);
 }

@@ -12,6 +12,7 @@
 #include "materials.h"
 #include "dispersion.h"
 #include "fluor.h"
+#include "scene_texture.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -52,6 +53,7 @@ typedef struct {
     int image_line, camera_line, spp_line, bg_line[2];
     int kw_line, kw_col;     /* the current statement's keyword: where it stands */
     spm_mesh_cache meshes;   /* lifted mesh colours, shared by the scene's meshes */
+    spm_scene_textures textures;
     char *reading[SPM_INCLUDE_DEPTH]; /* the files being read, outermost first (canonical) */
     int nreading;
 } parser;
@@ -291,6 +293,16 @@ static int colour_ref_as(parser *p, spm_kind kind, int shape_only, int optical)
 {
     char where[600], name[SPM_NAME_MAX], cname[SPM_NAME_MAX];
     where_now(p, where, sizeof where);
+    if (spm_lex_is(&p->lx, "texture")) {
+        if (shape_only || optical) {
+            spm_errorf(p->err, "%s: a texture gives a reflectance or an emission, not %s", where,
+                       optical ? "an optical constant" : "a spectral shape");
+            return -1;
+        }
+        if (spm_lex_next(&p->lx, p->err))
+            return -1;
+        return spm_scene_texture_colour(&p->textures, &p->lx, &p->b, kind, p->err);
+    }
     if (spm_lex_name(&p->lx, "a spectrum name", name, sizeof name, p->err))
         return -1;
     int idx = spm_names_get(&p->spectra, name);
@@ -1102,6 +1114,12 @@ static int stmt_include(parser *p)
 /* The statements: a keyword and its parser, which starts on the token after
  * the keyword (the keyword's position is p->kw_line, p->kw_col). The order is
  * the one the error for an unknown statement lists them in. */
+/* texture NAME FILE|checker ... (scene_texture.h) */
+static int stmt_texture(parser *p)
+{
+    return spm_scene_texture_statement(&p->textures, &p->lx, p->dir, p->err);
+}
+
 static const struct {
     const char *keyword;
     int (*parse)(parser *p);
@@ -1109,7 +1127,7 @@ static const struct {
     {"image", stmt_image},   {"spp", stmt_spp},   {"camera", stmt_camera},
     {"spectrum", stmt_spectrum}, {"material", stmt_material}, {"tri", stmt_tri},
     {"quad", stmt_quad},     {"mesh", stmt_mesh}, {"background", stmt_background},
-    {"include", stmt_include}, {"light", stmt_light},
+    {"include", stmt_include}, {"texture", stmt_texture}, {"light", stmt_light},
 };
 #define NSTATEMENTS ((int)(sizeof statements / sizeof statements[0]))
 
@@ -1141,6 +1159,7 @@ static void parser_free(parser *p)
     spm_names_free(&p->spectra);
     spm_names_free(&p->materials);
     spm_mesh_cache_free(&p->meshes);
+    spm_scene_textures_free(&p->textures);
     spm_lex_close(&p->lx);
     for (int i = 0; i < p->nreading; i++)
         free(p->reading[i]);
@@ -1158,6 +1177,7 @@ static int finish(parser *p)
     for (int i = 0; i < p->ndefs; i++)
         if (!p->defs[i].used)
             spm_warnf("%s: spectrum '%s' is never used", p->defs[i].where, p->defs[i].name);
+    spm_scene_textures_unused(&p->textures);
     return spm_sb_finish(&p->b, where, p->err);
 }
 
@@ -1170,6 +1190,7 @@ int spm_scene_parse_text(const spm_file *file, spm_scene *out, spm_error *err)
     spm_names_init(&p.spectra);
     spm_names_init(&p.materials);
     spm_mesh_cache_init(&p.meshes);
+    spm_scene_textures_init(&p.textures);
     spm_sb_init(&p.b, out, path);
     const char *slash = strrchr(path, '/');
     if (slash)

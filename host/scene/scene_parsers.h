@@ -11,4 +11,6 @@ int spm_scene_parse_text(const spm_file *file, spm_scene *out, spm_error *err);
 int spm_scene_parse_minilight(const spm_file *file, spm_scene *out, spm_error *err);
 /* pbrt-v4's .pbrt files (docs/PBRT.md), pbrt_parse.c. */
 int spm_scene_parse_pbrt(const spm_file *file, spm_scene *out, spm_error *err);
+/* Mitsuba 3's .xml files (docs/MITSUBA.md), mitsuba_parse.c. */
+int spm_scene_parse_mitsuba(const spm_file *file, spm_scene *out, spm_error *err);
 #endif

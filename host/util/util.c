@@ -6,6 +6,7 @@
 #include <time.h>
 
 int spm_quiet_warnings = 0;
+int spm_quiet_notes = 0;
 
 void spm_errorf(spm_error *err, const char *fmt, ...)
 {
@@ -16,15 +17,31 @@ void spm_errorf(spm_error *err, const char *fmt, ...)
     va_end(ap);
 }
 
+/* One line on stderr: the prefix, the message, a newline. */
+static void say(const char *prefix, const char *fmt, va_list ap)
+{
+    fputs(prefix, stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+}
+
 void spm_warnf(const char *fmt, ...)
 {
     if (spm_quiet_warnings)
         return;
     va_list ap;
     va_start(ap, fmt);
-    fputs("specmip: warning: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
+    say("specmip: warning: ", fmt, ap);
+    va_end(ap);
+}
+
+void spm_notef(const char *fmt, ...)
+{
+    if (spm_quiet_notes || spm_quiet_warnings)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    say("specmip: ", fmt, ap);
     va_end(ap);
 }
 

@@ -25,6 +25,10 @@ void spm_errorf(spm_error *err, const char *fmt, ...) __attribute__((format(prin
 /* Warnings go to stderr prefixed "specmip: warning: "; tests may silence them. */
 void spm_warnf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 extern int spm_quiet_warnings;
+/* Notes (what was loaded, to help place a camera) go to stderr prefixed
+ * "specmip: "; --quiet silences them, and the progress line, not warnings. */
+void spm_notef(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+extern int spm_quiet_notes;
 
 /* Allocation that aborts the program with a clear message when memory runs out. */
 void *spm_xmalloc(size_t n);

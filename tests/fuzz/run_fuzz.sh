@@ -2,7 +2,7 @@
 # Runs one libFuzzer harness until it has used CPU_SECONDS of CPU (the machine
 # is shared: one job, rounds of at most the CPU time still owed), seeded with
 # the bundled good files and tests/bad-inputs. Findings go to OUT/art_NAME/.
-# usage: bash tests/fuzz/run_fuzz.sh BUILD_DIR scene|minilight|csv|mesh|ply|gltf OUT [CPU_SECONDS]
+# usage: bash tests/fuzz/run_fuzz.sh BUILD_DIR scene|minilight|csv|mesh|ply|gltf|mitsuba OUT [CPU_SECONDS]
 # (BUILD_DIR configured with CC=clang CXX=clang++ -DSPECMIP_FUZZ=ON)
 set -u
 BUILD=$(cd "${1:?build dir}" && pwd) NAME=${2:?harness} OUT=${3:?output dir} CPU=${4:-600}
@@ -34,6 +34,7 @@ case $NAME in
           { printf "$b"; cat "$f"; } > "seed_$NAME/m$((i++))"
         done
         maxlen=8192 ;;
+  mitsuba) cp "$ROOT"/tests/bad-inputs/mitsuba_*.xml "$ROOT"/tests/data/mitsuba/box/*.xml "seed_$NAME/" ;;
   *) echo "unknown harness $NAME" >&2; exit 2 ;;
 esac
 used=0 round=0

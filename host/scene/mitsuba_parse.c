@@ -1,0 +1,275 @@
+/* Mitsuba 3 XML scenes (docs/MITSUBA.md): the walk over the document's
+ * top-level elements. Elements with an id are definitions that a <ref>
+ * names; shapes carry their BSDF and area emitter (child or ref); the
+ * other emitters go by the table below, one line each; the sensor, its
+ * film and sampler, and the integrator give the camera and the options. */
+#include "mitsuba.h"
+#include "mesh.h"
+#include "materials.h"
+#include "scene_parsers.h"
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    spm_scene_builder b;
+    mi_spectra ms;
+    mi_doc doc;
+    mi_ids ids;
+    spm_mesh_cache cache;
+    spm_error *err;
+    int bg_set;
+    mi_node **made;               /* BSDFs made, one material each (refs share it) */
+    spm_scene_material *protos;
+    int nmade;
+} mi_parser;
+
+typedef int (*mi_emitter_fn)(mi_parser *p, mi_node *e, const char *what);
+
+static int emitter_constant(mi_parser *p, mi_node *e, const char *what);
+
+/* Mitsuba's emitters and what specmip does with each: a function that
+ * renders it, or why it is warned about (area lights go with their shape). */
+static const struct {
+    const char *type;
+    mi_emitter_fn fn;
+    const char *why;
+} emitter_types[] = {
+    {"constant", emitter_constant, NULL},
+    {"point", NULL, "point lights are not rendered yet"},
+    {"spot", NULL, "spot lights are not rendered yet"},
+    {"directional", NULL, "directional lights are not rendered yet"},
+    {"envmap", NULL, "environment maps are not rendered yet"},
+    {"sunsky", NULL, "sky models are not rendered"},
+    {"projector", NULL, "projectors are not rendered"},
+    {"directionalarea", NULL, "directional area lights are not rendered"},
+};
+
+static void what_of(const mi_node *n, char *w, size_t size)
+{
+    const char *t = mi_attr(n, "type");
+    snprintf(w, size, "<%s type=\"%.40s\">", n->tag, t ? t : "");
+}
+
+static int collect_ids(mi_parser *p, mi_node *n)
+{
+    const char *id = mi_attr(n, "id");
+    if (id && strcmp(n->tag, "ref")) {
+        int i = spm_names_get(&p->ids.ids, id);
+        if (i >= 0) {
+            spm_errorf(p->err, "%s: id \"%s\" is given twice (first at %s)", n->where, id,
+                       p->ids.nodes[i]->where);
+            return 1;
+        }
+        p->ids.nodes = spm_xrealloc(p->ids.nodes, (size_t)(p->ids.n + 1) * sizeof n);
+        p->ids.nodes[p->ids.n] = n;
+        spm_names_put(&p->ids.ids, id, p->ids.n++);
+    }
+    for (int i = 0; i < n->nkids; i++)
+        if (collect_ids(p, n->kids[i]))
+            return 1;
+    return 0;
+}
+
+/* The child (or ref) of shape s that is a `tag` element; NULL when none. */
+static mi_node *part(mi_parser *p, mi_node *s, const char *tag, int *bad)
+{
+    for (int i = 0; i < s->nkids; i++) {
+        mi_node *k = s->kids[i], *t = k;
+        if (!strcmp(k->tag, "ref")) {
+            if (!(t = mi_ref(&p->ids, k, p->err))) {
+                *bad = 1;
+                return NULL;
+            }
+        }
+        if (!strcmp(t->tag, tag)) {
+            k->used = t->used = 1;
+            return t;
+        }
+    }
+    return NULL;
+}
+
+/* The shape's material: its BSDF, and its area emitter's radiance. */
+static int shape_material(mi_parser *p, mi_node *s, const char *where)
+{
+    int bad = 0;
+    mi_node *bsdf = part(p, s, "bsdf", &bad);
+    mi_node *em = bad ? NULL : part(p, s, "emitter", &bad);
+    if (bad)
+        return -1;
+    spm_scene_material m;
+    int i = 0;
+    while (i < p->nmade && p->made[i] != bsdf)
+        i++;
+    if (i < p->nmade) {
+        m = p->protos[i];
+    } else {
+        if (bsdf ? mi_bsdf_make(&p->ms, &p->ids, bsdf, &m, p->err)
+                 : (mi_bsdf_default(&p->ms, &m), 0))
+            return -1;
+        p->made = spm_xrealloc(p->made, (size_t)(p->nmade + 1) * sizeof *p->made);
+        p->protos = spm_xrealloc(p->protos, (size_t)(p->nmade + 1) * sizeof *p->protos);
+        p->made[p->nmade] = bsdf;
+        p->protos[p->nmade++] = m;
+    }
+    if (em) {
+        const char *t = mi_attr(em, "type");
+        char w[128];
+        what_of(em, w, sizeof w);
+        if (!t || strcmp(t, "area")) {
+            spm_errorf(p->err, "%s: %s inside a shape: a shape's emitter is \"area\"", em->where,
+                       w);
+            return -1;
+        }
+        m.emit = mi_colour(&p->ms, em, "radiance", MI_RADIANCE, -3, p->err);
+        if (m.emit == -3)
+            spm_errorf(p->err, "%s: %s needs a 'radiance'", em->where, w);
+        if (m.emit < -1 || mi_unused(em, w, p->err))
+            return -1;
+        m.etype = SPM_EMIT_AREA;
+        char name[SPM_NAME_MAX];
+        snprintf(name, sizeof name, "%.50s (light)", m.name);
+        snprintf(m.name, sizeof m.name, "%s", name);
+    }
+    return spm_sb_material_typed(&p->b, &m, where, p->err);
+}
+
+static int do_shape(mi_parser *p, mi_node *s)
+{
+    char what[128];
+    what_of(s, what, sizeof what);
+    const char *type = mi_attr(s, "type");
+    spm_mesh_data d;
+    double m[4][4];
+    int smooth;
+    int made = mi_shape_make(&p->doc, s, type ? type : "", &d, &smooth, m, p->err);
+    if (made == 2) {
+        for (int k = 0; k < s->nkids; k++)
+            s->kids[k]->used = 1;
+        return pbrt_warn(s->where, what, "a shape type specmip does not read yet", p->err);
+    }
+    if (made)
+        return 1;
+    int mat = shape_material(p, s, s->where);
+    int rc = mat < 0;
+    if (!rc) {
+        spm_mesh_opts o = {.material = mat,
+                           .shading = smooth ? SPM_MESH_SHADE_SMOOTH : SPM_MESH_SHADE_DEFAULT};
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 4; j++)
+                o.m[i][j] = m[i][j];
+        rc = spm_mesh_add(&p->b, &p->cache, &d, &o, what, s->where, p->err) ||
+             mi_unused(s, what, p->err);
+    }
+    spm_mesh_free(&d);
+    return rc;
+}
+
+/* constant: a uniform background, both halves. */
+static int emitter_constant(mi_parser *p, mi_node *e, const char *what)
+{
+    int c = mi_colour(&p->ms, e, "radiance", MI_RADIANCE, -3, p->err);
+    if (c == -3) { /* Mitsuba's default radiance: 1 */
+        spm_spectrum one;
+        spm_spectrum_constant(1.0, SPM_KIND_EMISSION, &one);
+        c = spm_sb_colour(&p->b, "constant 1", &one, e->where, p->err);
+    }
+    if (c < -1)
+        return 1;
+    if (p->bg_set++ && pbrt_warn(e->where, "a second <emitter type=\"constant\">",
+                                 "the last one is the background", p->err))
+        return 1;
+    p->b.s->bg_up = p->b.s->bg_down = c;
+    return mi_unused(e, what, p->err);
+}
+
+static int do_emitter(mi_parser *p, mi_node *e)
+{
+    char what[128];
+    what_of(e, what, sizeof what);
+    const char *t = mi_attr(e, "type");
+    if (t && !strcmp(t, "area"))
+        return 0; /* a definition for shapes' refs */
+    for (size_t i = 0; t && i < sizeof emitter_types / sizeof emitter_types[0]; i++)
+        if (!strcmp(emitter_types[i].type, t)) {
+            if (emitter_types[i].fn)
+                return emitter_types[i].fn(p, e, what);
+            for (int k = 0; k < e->nkids; k++)
+                e->kids[k]->used = 1;
+            return pbrt_warn(e->where, what, emitter_types[i].why, p->err);
+        }
+    spm_errorf(p->err, "%s: unknown emitter type \"%s\"", e->where, t ? t : "");
+    return 1;
+}
+
+static int walk(mi_parser *p, int *have_sensor)
+{
+    mi_node *root = p->doc.root;
+    root->used = 1;
+    for (int i = 0; i < root->nkids; i++) {
+        mi_node *n = root->kids[i];
+        int rc = 0;
+        if (n->used)
+            continue;
+        n->used = 1;
+        if (!strcmp(n->tag, "shape"))
+            rc = do_shape(p, n);
+        else if (!strcmp(n->tag, "emitter"))
+            rc = do_emitter(p, n);
+        else if (!strcmp(n->tag, "sensor"))
+            rc = (*have_sensor)++ ? pbrt_warn(n->where, "a second <sensor>", "the first one "
+                                                                             "renders", p->err)
+                                  : mi_sensor(n, &p->b, p->err);
+        else if (!strcmp(n->tag, "integrator"))
+            rc = mi_integrator(n, p->err);
+        else if (!strcmp(n->tag, "bsdf") && mi_attr(n, "id"))
+            n->used = 0; /* a definition: read where a ref names it */
+        else {
+            char what[128];
+            what_of(n, what, sizeof what);
+            rc = pbrt_warn(n->where, what, "not rendered", p->err);
+        }
+        if (rc)
+            return 1;
+    }
+    return 0;
+}
+
+int spm_scene_parse_mitsuba(const spm_file *file, spm_scene *out, spm_error *err)
+{
+    mi_parser p = {.err = err};
+    spm_sb_init(&p.b, out, file->shown);
+    p.ms.sp.b = &p.b;
+    p.ms.sp.err = err;
+    p.ms.doc = &p.doc;
+    spm_names_init(&p.ms.sp.rgb_fits);
+    spm_names_init(&p.ids.ids);
+    spm_mesh_cache_init(&p.cache);
+    int have_sensor = 0;
+    int rc = mi_doc_read(file, &p.doc, err);
+    if (!rc) {
+        const char *v = mi_attr(p.doc.root, "version");
+        if (v && atoi(v) < 2 &&
+            pbrt_warn(p.doc.root->where, "<scene version=\"0.x\">",
+                      "Mitsuba 0.6's parameter names are read as Mitsuba 3's", err))
+            rc = 1;
+    }
+    rc = rc || collect_ids(&p, p.doc.root) || walk(&p, &have_sensor);
+    if (!rc && !have_sensor) /* Mitsuba's default sensor */
+        rc = mi_sensor(NULL, &p.b, err);
+    if (!rc)
+        pbrt_warn_summary();
+    char where[SPM_PATH_MAX + 8];
+    snprintf(where, sizeof where, "%s", file->shown);
+    rc = rc || spm_sb_finish(&p.b, where, err);
+    mi_doc_free(&p.doc);
+    spm_names_free(&p.ms.sp.rgb_fits);
+    spm_names_free(&p.ids.ids);
+    free(p.ids.nodes);
+    free(p.made);
+    free(p.protos);
+    spm_mesh_cache_free(&p.cache);
+    pbrt_warn_reset();
+    spm_sb_done(&p.b, !rc);
+    return rc;
+}

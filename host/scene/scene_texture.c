@@ -1,0 +1,173 @@
+/* The scene format's textures (scene_texture.h): the statement, and a use
+ * as the texture's mean colour until the shade stage applies textures. */
+#include "scene_texture.h"
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#define MAX_TEXTURES 4096
+#define MAX_CHECKS 4096
+
+void spm_scene_textures_init(spm_scene_textures *t)
+{
+    memset(t, 0, sizeof *t);
+    spm_names_init(&t->names);
+    spm_names_init(&t->fits);
+}
+
+void spm_scene_textures_free(spm_scene_textures *t)
+{
+    free(t->v);
+    spm_names_free(&t->names);
+    spm_names_free(&t->fits);
+    memset(t, 0, sizeof *t);
+}
+
+/* The image file's mean (the pyramid's last level: the area mean). */
+static int file_mean(spm_lexer *lx, const char *dir, spm_scene_tex *x, spm_error *err)
+{
+    char where[600], why[256];
+    spm_lex_where(lx, where, sizeof where);
+    if (spm_lex_path(lx, "an image file name or 'checker'", x->source, sizeof x->source, err))
+        return 1;
+    spm_file f;
+    if (spm_path_check(dir, x->source, where, &f, err))
+        return 1;
+    struct stat st;
+    if (stat(f.path, &st) != 0 || !S_ISREG(st.st_mode)) {
+        spm_errorf(err, "%s: texture image '%s' not found (or not a regular file: %s)", where,
+                   x->source, f.shown);
+        return 1;
+    }
+    float *rgb;
+    int w, h;
+    if (spm_texture_read_file(&f, &rgb, &w, &h, why, sizeof why)) {
+        spm_errorf(err, "%s: texture image '%s' cannot be read: %s", where, x->source, why);
+        return 1;
+    }
+    spm_texture tex;
+    spm_texture_from_pixels(w, h, rgb, SPM_WRAP_REPEAT, SPM_WRAP_REPEAT, &tex);
+    free(rgb);
+    spm_texture_mean(&tex, x->mean);
+    spm_texture_free(&tex);
+    return 0;
+}
+
+/* checker COUNT R G B R G B: the mean of count^2 squares, ceil(count^2 / 2)
+ * of the first colour. */
+static int checker_mean(spm_lexer *lx, spm_scene_tex *x, spm_error *err)
+{
+    long count;
+    double c[2][3];
+    snprintf(x->source, sizeof x->source, "checker");
+    if (spm_lex_next(lx, err) ||
+        spm_lex_int(lx, "a number of squares along a side", 1, MAX_CHECKS, &count, err))
+        return 1;
+    for (int k = 0; k < 6; k++)
+        if (spm_lex_number(lx, "a linear RGB component (0 or more)", 0.0, 1e30, &c[k / 3][k % 3],
+                           err))
+            return 1;
+    double n = (double)count * count, na = ceil(n / 2);
+    for (int k = 0; k < 3; k++)
+        x->mean[k] = (float)((na * c[0][k] + (n - na) * c[1][k]) / n);
+    return 0;
+}
+
+static int options(spm_lexer *lx, spm_scene_tex *x, spm_error *err)
+{
+    int have_wrap = 0, have_scale = 0;
+    while (lx->type != SPM_TOK_NEWLINE && lx->type != SPM_TOK_EOF) {
+        if (!have_wrap && spm_lex_is(lx, "wrap")) {
+            static const char *modes[] = {"repeat", "clamp", "mirror"};
+            have_wrap = 1;
+            if (spm_lex_next(lx, err))
+                return 1;
+            int m = 0;
+            while (m < 3 && !spm_lex_is(lx, modes[m]))
+                m++;
+            if (m == 3)
+                return spm_lex_expected(lx, err, "'repeat', 'clamp' or 'mirror'");
+            x->wrap = (spm_wrap)m;
+            if (spm_lex_next(lx, err))
+                return 1;
+        } else if (!have_scale && spm_lex_is(lx, "scale")) {
+            double s;
+            have_scale = 1;
+            if (spm_lex_next(lx, err) || spm_lex_number(lx, "a scale (0 or more)", 0.0, 1e30, &s, err))
+                return 1;
+            for (int k = 0; k < 3; k++)
+                x->mean[k] = (float)(x->mean[k] * s);
+        } else {
+            return spm_lex_expected(lx, err, "'wrap' or 'scale' (each once) or the end of the line");
+        }
+    }
+    return spm_lex_end_of_statement(lx, err);
+}
+
+int spm_scene_texture_statement(spm_scene_textures *t, spm_lexer *lx, const char *dir,
+                                spm_error *err)
+{
+    spm_scene_tex x;
+    memset(&x, 0, sizeof x);
+    spm_lex_where(lx, x.where, sizeof x.where);
+    if (spm_lex_name(lx, "a texture name", x.name, sizeof x.name, err))
+        return 1;
+    if (spm_names_get(&t->names, x.name) >= 0) {
+        spm_errorf(err, "%s: texture '%s' is already defined", x.where, x.name);
+        return 1;
+    }
+    if (t->n >= MAX_TEXTURES) {
+        spm_errorf(err, "%s: more than %d textures", x.where, MAX_TEXTURES);
+        return 1;
+    }
+    int rc = spm_lex_is(lx, "checker") ? checker_mean(lx, &x, err) : file_mean(lx, dir, &x, err);
+    if (rc || options(lx, &x, err))
+        return 1;
+    if (t->n == t->cap) {
+        t->cap = t->cap ? 2 * t->cap : 8;
+        t->v = spm_xrealloc(t->v, (size_t)t->cap * sizeof *t->v);
+    }
+    t->v[t->n] = x;
+    spm_names_put(&t->names, x.name, t->n++);
+    return 0;
+}
+
+int spm_scene_texture_colour(spm_scene_textures *t, spm_lexer *lx, spm_scene_builder *b,
+                             spm_kind kind, spm_error *err)
+{
+    char where[600], name[SPM_NAME_MAX];
+    spm_lex_where(lx, where, sizeof where);
+    if (spm_lex_name(lx, "a texture name", name, sizeof name, err))
+        return -1;
+    int i = spm_names_get(&t->names, name);
+    if (i < 0) {
+        spm_errorf(err, "%s: unknown texture '%s' (define it with 'texture %s ...' first)", where,
+                   name, name);
+        return -1;
+    }
+    spm_scene_tex *x = &t->v[i];
+    x->used = 1;
+    double rgb[3] = {x->mean[0], x->mean[1], x->mean[2]};
+    if (!x->warned[kind]) {
+        x->warned[kind] = 1;
+        spm_warnf("%s: texture '%s' (%s) is applied as its mean colour (%.3g %.3g %.3g, linear):"
+                  " textures are averaged until the shade stage applies them per point",
+                  where, name, x->source, rgb[0], rgb[1], rgb[2]);
+    }
+    int c = spm_sb_rgb_colour(b, &t->fits, rgb, kind, where, err);
+    if (c == -1) { /* black */
+        spm_spectrum zero;
+        spm_spectrum_constant(0.0, kind, &zero);
+        c = spm_sb_colour(b, "black", &zero, where, err);
+    }
+    return c < 0 ? -1 : c;
+}
+
+void spm_scene_textures_unused(const spm_scene_textures *t)
+{
+    for (int i = 0; i < t->n; i++)
+        if (!t->v[i].used)
+            spm_warnf("%s: texture '%s' is never used", t->v[i].where, t->v[i].name);
+}

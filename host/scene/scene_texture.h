@@ -1,0 +1,44 @@
+/* The scene format's textures: 'texture NAME FILE [wrap MODE] [scale S]' and
+ * 'texture NAME checker COUNT R G B R G B [wrap MODE] [scale S]' define a
+ * texture (an image file, by the path rule, or a procedural checkerboard of
+ * linear RGB squares); 'texture NAME' in place of a spectrum name uses it
+ * (docs/SCENE_FORMAT.md). Until the shade stage applies textures per point,
+ * a use is the texture's mean colour, lifted as any RGB colour is, with a
+ * warning that says so. */
+#ifndef SPM_SCENE_TEXTURE_H
+#define SPM_SCENE_TEXTURE_H
+#include "scene.h"
+#include "scene_build.h"
+#include "scene_lexer.h"
+#include "scene_names.h"
+#include "texture.h"
+
+typedef struct {
+    char name[SPM_NAME_MAX];
+    char where[600];  /* the definition */
+    char source[300]; /* the file as written, or "checker" */
+    spm_wrap wrap;
+    float mean[3];    /* linear RGB, times the scale */
+    int used, warned[2];
+} spm_scene_tex;
+
+typedef struct {
+    spm_scene_tex *v;
+    int n, cap;
+    spm_names names; /* texture name -> index */
+    spm_names fits;  /* mean colours lifted, by value */
+} spm_scene_textures;
+
+void spm_scene_textures_init(spm_scene_textures *t);
+void spm_scene_textures_free(spm_scene_textures *t);
+/* The statement after its keyword, up to its end; dir is the scene file's
+ * folder. 0, or 1 with err naming where. */
+int spm_scene_texture_statement(spm_scene_textures *t, spm_lexer *lx, const char *dir,
+                                spm_error *err);
+/* After the word 'texture' in a colour's place: the name, and the colour of
+ * `kind` it gives (an index of the builder). -1 with err on error. */
+int spm_scene_texture_colour(spm_scene_textures *t, spm_lexer *lx, spm_scene_builder *b,
+                             spm_kind kind, spm_error *err);
+/* Warns about each texture never used. */
+void spm_scene_textures_unused(const spm_scene_textures *t);
+#endif

@@ -1,0 +1,89 @@
+// Image textures read through OpenImageIO 2.4 behind a C interface
+// (texture.h): linear RGB texels, rows top to bottom. The mesh importer's
+// child reads with it too (mesh_texture_io.cpp), under its resource limits.
+#include "texture.h"
+#include "mesh_texture.h" // SPM_TEXTURE_MAX_PIXELS
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <strings.h>
+#include <vector>
+
+extern "C" {
+#include "colour.h"
+}
+
+using OIIO::ImageInput;
+using OIIO::ImageSpec;
+using OIIO::TypeDesc;
+
+static int fail(char *why, size_t n, const std::string &msg)
+{
+    snprintf(why, n, "%s", msg.empty() ? "unknown format" : msg.c_str());
+    return 1;
+}
+
+static int read_linear(std::unique_ptr<ImageInput> in, float **rgb, int *w, int *h, char *why,
+                       size_t whylen)
+{
+    const ImageSpec &spec = in->spec();
+    long long npix = (long long)spec.width * spec.height;
+    if (spec.deep || spec.width <= 0 || spec.height <= 0 || spec.depth > 1 || spec.nchannels < 1 ||
+        npix > SPM_TEXTURE_MAX_PIXELS) {
+        char msg[128];
+        snprintf(msg, sizeof msg, "unsupported image (%dx%d, %d channels%s)", spec.width,
+                 spec.height, spec.nchannels, spec.deep ? ", deep" : "");
+        return fail(why, whylen, msg);
+    }
+    int nch = spec.nchannels >= 3 ? 3 : 1; // one or two channels: grey (and alpha)
+    std::vector<float> buf((size_t)npix * nch);
+    if (!in->read_image(0, 0, 0, nch, TypeDesc::FLOAT, buf.data()))
+        return fail(why, whylen, in->geterror());
+    // integer codes are sRGB-encoded unless the file says linear (as image_io.cpp
+    // reads images); float and half are linear already
+    bool encoded = !spec.format.is_floating_point() &&
+                   strcasecmp(spec.get_string_attribute("oiio:ColorSpace").c_str(), "linear") != 0;
+    float *out = (float *)malloc(sizeof(float) * 3 * (size_t)npix);
+    if (!out)
+        return fail(why, whylen, "out of memory");
+    for (long long i = 0; i < npix; i++)
+        for (int c = 0; c < 3; c++) {
+            double v = buf[(size_t)i * nch + (nch == 3 ? c : 0)];
+            v = encoded ? spm_srgb_decode(v) : v;
+            if (!std::isfinite(v)) {
+                free(out);
+                return fail(why, whylen, "pixels that are not finite numbers");
+            }
+            out[3 * i + c] = (float)v;
+        }
+    *rgb = out;
+    *w = spec.width;
+    *h = spec.height;
+    return 0;
+}
+
+extern "C" int spm_texture_read_file(const spm_file *file, float **rgb, int *w, int *h,
+                                     char *why, size_t whylen)
+{
+    OIIO::attribute("threads", 1); // a forked child: no pool threads of the parent's
+    auto in = ImageInput::open(file->path);
+    if (!in)
+        return fail(why, whylen, OIIO::geterror());
+    return read_linear(std::move(in), rgb, w, h, why, whylen);
+}
+
+extern "C" int spm_texture_read_data(const char *hint, const void *data, size_t size,
+                                     float **rgb, int *w, int *h, char *why, size_t whylen)
+{
+    OIIO::attribute("threads", 1);
+    OIIO::Filesystem::IOMemReader mem(data, size);
+    auto in = ImageInput::open(hint, nullptr, &mem);
+    if (!in)
+        return fail(why, whylen, OIIO::geterror());
+    return read_linear(std::move(in), rgb, w, h, why, whylen);
+}
