@@ -403,9 +403,29 @@ typedef struct {
                               vertex (SPM_EXT_LAMBDA); 0: dispersive glass takes n_d */
 } spm_trace_params;
 
-/* Light selection (next-event estimation). Emitter triangle i of the emitter
- * list is picked in proportion to its power, area * Y of its emission (the
- * CIE 1931 Y of the emission spectrum, scale included, over the truth bins),
+/* The light kinds (include/spm_lights.h): their tags SPM_LIGHT_NAME, one
+ * per entry in its order. */
+#define SPM_LIGHT_KIND(name, ...) SPM_LIGHT_##name,
+enum spm_light_kind {
+#include "spm_lights.h"
+    SPM_LIGHT_NKINDS
+};
+#undef SPM_LIGHT_KIND
+/* A light's own parameters (spm_emitter.p), by slot: where it is, where it
+ * points, two numbers of its kind, the factor its colour's spectrum takes
+ * (a point light's intensity per unit of the spectrum, ...). */
+#define SPM_LIGHT_PARAMS 10
+#define SPM_LIGHT_P_POS 0
+#define SPM_LIGHT_P_DIR 3
+#define SPM_LIGHT_P_A 6
+#define SPM_LIGHT_P_B 7
+#define SPM_LIGHT_P_SCALE 8
+
+/* Light selection (next-event estimation). Light i of the emitter list (an
+ * emitter triangle, or a light of another kind: spm_emitter.kind) is picked
+ * in proportion to its power, for a triangle area * Y of its emission (the
+ * CIE 1931 Y of the emission spectrum, scale included, over the truth bins;
+ * another kind's radiant power is counted in the same unit, Y / pi),
  * through a cumulative table in whole counts of 2^-24: emitter i owns the
  * integers [cdf, next emitter's cdf) of the 24-bit draw U = spm_rng_u32(..,
  * SPM_DIM_EMITTER) >> 8 (the bits spm_rng turns into its float), found by
@@ -421,10 +441,13 @@ typedef struct {
  * triangles of a quad differ in area by a few float ulps (1e-7 each). */
 #define SPM_EMIT_EQUAL_REL 1e-5
 typedef struct {
-    spm_u32 tri;       /* index into the triangles */
+    spm_u32 tri;       /* an area light's triangle (SPM_NONE: a light of another kind) */
     spm_u32 cdf;       /* first count of the 24-bit draw it owns */
     float pdf;         /* probability of picking it (count / 2^24, or 1 / n uniformly) */
     float inv_pdf;     /* 1 / pdf: the light sample's factor */
+    spm_u32 kind;      /* SPM_LIGHT_* */
+    spm_u32 colour;    /* a light not of a triangle: its emission's colour id */
+    float p[SPM_LIGHT_PARAMS]; /* its kind's parameters (SPM_LIGHT_P_*) */
 } spm_emitter;
 
 /* The emitter a 24-bit draw u24 picks from the table em[0, n) (cdf ascending,

@@ -30,8 +30,11 @@ compile() {  # compile "FILES" OPTIONS...: 0 when clang accepts the program with
 # the bundled scenes, a conductor scene (its type's kernel code) and one with
 # smooth meshes (the shading frame's: tools/gen_meshes.py smooth_box.scene)
 python3 "$ROOT/tools/gen_meshes.py" "$T/gen" > /dev/null || bad "gen_meshes.py"
+# and the light kinds of the `light` statement (their kernel files)
+printf 'image 8 8\ncamera position 0 2 -2 direction 0 -1 1 fov 40\nspectrum e equal\nmaterial w reflect e 0.5\nquad w -1 0 -1  -1 0 1  1 0 1  1 0 -1\n%s\n' \
+    'light point 0 1 0 e 3' > "$T/lights.scene"
 "$VARIANTS" "$DATA"/scenes/*.scene "$DATA"/tests/data/scenes/conductor_box.scene \
-    "$T/gen/smooth_box.scene" > "$T/variants" 2> "$T/variants.err"
+    "$T/gen/smooth_box.scene" "$T/lights.scene" > "$T/variants" 2> "$T/variants.err"
 rc=$?
 check "kernel_variants lists the programs (exit $rc: $(head -1 "$T/variants.err"))" test $rc -eq 0
 sort -u "$T/variants" > "$T/programs"
@@ -41,6 +44,7 @@ check "the list has spectral output builds" grep -q "	.*-DSPM_SPEC_BINS=" "$T/pr
 check "the list has conductor builds" grep -q "	.*-DSPM_WITH_CONDUCTOR" "$T/programs"
 check "the list has dielectric builds" grep -q "	.*-DSPM_WITH_DIELECTRIC" "$T/programs"
 check "the list has smooth-shading builds" grep -q "	.*-DSPM_WITH_SMOOTH" "$T/programs"
+check "the list has point-light builds" grep -q "	.*-DSPM_WITH_LIGHT_POINT" "$T/programs"
 check "the list has the ray replay's builds" test "$(grep -c "^kernels/rays.cl	" "$T/programs")" -eq 2
 check "the list has a program for every mode's kernel" test "$(grep -c "^kernels/trace.cl" "$T/programs")" -ge \
     "$("$BIN" modes | wc -l)"

@@ -45,6 +45,14 @@ check "--white A: r/g as neutral as D65 light ($dr/$dg)" \
 check "--white A: b/g as neutral as D65 light ($db/$dg)" \
     near "$(awk -v a="$b" -v b="$g" -v c="$db" -v d="$dg" 'BEGIN { print a / b - c / d }')" 0 1e-5
 check "auto: A's pixels" same_pixels "$T/auto.exr" "$T/A.exr"
+# a room lit by a point light of A beside a weaker area light of D65: auto
+# weighs the point light by its power (lights.h spm_light_power) and finds A
+{ room illuminant_D65_1nm.csv | sed 's/emit lamp 10/emit lamp 0.5/'
+  echo "spectrum lampA file illuminant_A.csv"
+  echo "light point 0 1 0 lampA 200"; } > "$T/point.scene"
+render "$T/point.scene" -o "$T/point-auto.exr" --white auto
+render "$T/point.scene" -o "$T/point-A.exr" --white A
+check "auto with a point light: A's pixels" same_pixels "$T/point-auto.exr" "$T/point-A.exr"
 check "D65: unchanged" same_pixels "$T/D65.exr" "$T/plain.exr"
 check "the white in the metadata" eval \
     "oiiotool --info -v '$T/A.exr' | grep -q 'specmip:white: \"A (Bradford to D65)\"'"

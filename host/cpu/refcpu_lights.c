@@ -1,7 +1,6 @@
-/* The CPU reference's lights (refcpu_lights.h). */
+/* The CPU reference's lights (refcpu_lights.h): the selection, and one
+ * switch per call on the chosen light's kind. */
 #include "refcpu_lights.h"
-#include <math.h>
-#include "geometry_vec3.h"
 #include "refcpu.h"
 
 float spm_ref_light_pmf(const spm_geometry *g, spm_u32 tri)
@@ -9,43 +8,8 @@ float spm_ref_light_pmf(const spm_geometry *g, spm_u32 tri)
     return g->light_pdf[tri];
 }
 
-/* a uniform emitter, its colour the material's emission */
-static spm_u32 light_eval_AREA(const spm_material *m, float cos_e, float *scale)
-{
-    (void)cos_e;
-    *scale = 1.0f;
-    return m->emit;
-}
-
-spm_u32 spm_ref_light_eval(const spm_material *m, float cos_e, float *scale)
-{
-    switch (SPM_EMIT_TAG(*m)) {
-#define SPM_MATERIAL_TYPE(NAME, ...)
-#define SPM_EMITTER_TYPE(NAME, ...) \
-    case SPM_EMIT_##NAME: return light_eval_##NAME(m, cos_e, scale);
-#include "spm_types.h"
-#undef SPM_MATERIAL_TYPE
-#undef SPM_EMITTER_TYPE
-    default:
-        *scale = 0.0f;
-        return SPM_NONE;
-    }
-}
-
-spm_u32 spm_ref_light_background(const spm_trace_params *p, const float d[3])
-{
-    return d[1] > 0.0f ? p->bg_up : p->bg_down; /* MiniLight: sky for an upward ray */
-}
-
-float spm_ref_light_pdf_hit(const spm_geometry *g, spm_u32 tri, float t, float ce)
-{
-    const spm_tri *tr = &g->tris[tri];
-    float d2 = t * t, d2min = SPM_D2_MIN_REL * tr->area;
-    return spm_ref_light_pmf(g, tri) * (d2 > d2min ? d2 : d2min) / (tr->area * ce);
-}
-
-/* The emitter triangle for a vertex (spm_shared.h spm_emitter): by power
- * through the table, or MiniLight's uniform pick when the powers are equal. */
+/* The light for a vertex (spm_shared.h spm_emitter): by power through the
+ * table, or MiniLight's uniform pick when the powers are equal. */
 static const spm_emitter *pick_emitter(const spm_geometry *g, const spm_ref_key *k, spm_u32 dim)
 {
     int ne = g->nemitters;
@@ -61,56 +25,45 @@ int spm_ref_light_sample(const spm_geometry *g, const spm_material *mats, const 
                          spm_u32 dim, const float x[3], spm_u32 hit, const spm_ref_hit *h,
                          spm_ref_lsample *ls)
 {
-    const spm_emitter *pe = pick_emitter(g, k, dim);
-    spm_u32 ei = pe->tri;
-    const spm_tri *em = &g->tris[ei];
-    float sqr1 = sqrtf(spm_ref_rnd(k, dim + SPM_DIM_EPOINT_A));
-    float a = 1.0f - sqr1, b = (1.0f - spm_ref_rnd(k, dim + SPM_DIM_EPOINT_B)) * sqr1;
-    float q[3], ev[3], ts;
-    for (int i = 0; i < 3; i++)
-        q[i] = em->v0[i] + (em->v1[i] - em->v0[i]) * a + (em->v2[i] - em->v0[i]) * b;
-    v3_sub(ev, q, x);
-    v3_normalise(ls->wi, ev);
-    spm_ref_record_ray(x, ls->wi, hit, ei);
-    int blocker = spm_bvh_intersect(g, x, ls->wi, hit, &ts);
-    if (blocker >= 0 && (spm_u32)blocker != ei)
+    const spm_emitter *e = pick_emitter(g, k, dim);
+    switch (e->kind) {
+#define SPM_LIGHT_KIND(NAME, ...) \
+    case SPM_LIGHT_##NAME: return spm_ref_light_sample_##NAME(g, mats, e, k, dim, x, hit, h, ls);
+#include "spm_lights.h"
+#undef SPM_LIGHT_KIND
+    default:
         return 0;
-    float cos_e = -v3_dot(ls->wi, em->n);
-    if (mats[em->material].type & SPM_EMIT_TWOSIDED)
-        cos_e = fabsf(cos_e); /* 'twosided': the back face emits too */
-    if (!(cos_e > 0.0f))
-        return 0; /* emitters emit from their front face only (unless twosided) */
-    float cos_i = v3_dot(ls->wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
-    if ((cos_i < 0.0f) != (cos_o < 0.0f))
-        return 0; /* light and viewer on different sides: no transmission */
-    float d2 = v3_dot(ev, ev), d2min = SPM_D2_MIN_REL * em->area;
-    float d2c = d2 > d2min ? d2 : d2min;
-    ls->pdf = spm_ref_light_pmf(g, ei) * d2c / (em->area * cos_e);
-    ls->g = pe->inv_pdf * cos_e * em->area / d2c;
-    ls->colour = spm_ref_light_eval(&mats[em->material], cos_e, &ls->scale);
-    ls->delta = 0;
-    return 1;
+    }
 }
 
 void spm_ref_light_sample_emission(const spm_geometry *g, spm_u32 k, const float u[4], float o[3],
                                    float d[3], float *pdf_pos, float *pdf_dir)
 {
-    const spm_tri *et = &g->tris[g->emitters[k].tri];
-    float sqr1 = sqrtf(u[0]), a = 1.0f - sqr1, b = (1.0f - u[1]) * sqr1, c[3];
-    float phi = 2.0f * SPM_PI_F * u[2], sr = sqrtf(u[3]), z = sqrtf(1.0f - u[3]);
-    v3_cross(c, et->n, et->t);
-    for (int i = 0; i < 3; i++) {
-        o[i] = et->v0[i] + (et->v1[i] - et->v0[i]) * a + (et->v2[i] - et->v0[i]) * b;
-        d[i] = et->t[i] * (cosf(phi) * sr) + c[i] * (sinf(phi) * sr) + et->n[i] * z;
+    const spm_emitter *e = &g->emitters[k];
+    switch (e->kind) {
+#define SPM_LIGHT_KIND(NAME, ...)                                              \
+    case SPM_LIGHT_##NAME:                                                     \
+        spm_ref_light_sample_emission_##NAME(g, e, u, o, d, pdf_pos, pdf_dir); \
+        return;
+#include "spm_lights.h"
+#undef SPM_LIGHT_KIND
+    default:
+        *pdf_pos = *pdf_dir = 0.0f;
     }
-    *pdf_pos = 1.0f / et->area;
-    *pdf_dir = z / SPM_PI_F;
 }
 
-void spm_ref_light_pdf_emission(const spm_geometry *g, spm_u32 tri, const float d[3],
-                                float *pdf_pos, float *pdf_dir)
+void spm_ref_light_pdf_emission(const spm_geometry *g, spm_u32 k, const float o[3],
+                                const float d[3], float *pdf_pos, float *pdf_dir)
 {
-    const spm_tri *tr = &g->tris[tri];
-    *pdf_pos = 1.0f / tr->area;
-    *pdf_dir = fmaxf(v3_dot(d, tr->n), 0.0f) / SPM_PI_F;
+    const spm_emitter *e = &g->emitters[k];
+    switch (e->kind) {
+#define SPM_LIGHT_KIND(NAME, ...)                                           \
+    case SPM_LIGHT_##NAME:                                                  \
+        spm_ref_light_pdf_emission_##NAME(g, e, o, d, pdf_pos, pdf_dir);    \
+        return;
+#include "spm_lights.h"
+#undef SPM_LIGHT_KIND
+    default:
+        *pdf_pos = *pdf_dir = 0.0f;
+    }
 }

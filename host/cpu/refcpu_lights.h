@@ -1,7 +1,7 @@
 /* The CPU reference's light contract (kernels/lights.clh has the kernels'
- * own and says what each call means): area triangles chosen through the
- * selection table, the two-colour background, the emission types' switch
- * generated from include/spm_types.h. Plain scalar float C, in the kernels'
+ * own and says what each call means): one switch per call on the selected
+ * light's kind, generated from include/spm_lights.h, each kind in a file of
+ * its own (refcpu_light_<name>.c). Plain scalar float C, in the kernels'
  * operation order. */
 #ifndef SPM_REFCPU_LIGHTS_H
 #define SPM_REFCPU_LIGHTS_H
@@ -31,13 +31,30 @@ float spm_ref_light_pdf_hit(const spm_geometry *g, spm_u32 tri, float t, float c
 int spm_ref_light_sample(const spm_geometry *g, const spm_material *mats, const spm_ref_key *k,
                          spm_u32 dim, const float x[3], spm_u32 hit, const spm_ref_hit *h,
                          spm_ref_lsample *ls);
-/* A ray leaving emitter k of the selection: a uniform point o on it
- * (*pdf_pos = 1 / area), a cosine-weighted direction d (*pdf_dir = cos / pi). */
+/* A ray leaving light k of the selection from o along d (unit), from four
+ * uniform numbers: *pdf_pos the density of the point (per area; 1 for a
+ * point light), *pdf_dir of the direction (per solid angle). */
 void spm_ref_light_sample_emission(const spm_geometry *g, spm_u32 k, const float u[4], float o[3],
                                    float d[3], float *pdf_pos, float *pdf_dir);
-/* its densities of a ray leaving triangle tri along d */
-void spm_ref_light_pdf_emission(const spm_geometry *g, spm_u32 tri, const float d[3],
-                                float *pdf_pos, float *pdf_dir);
+/* its densities of a ray leaving light k from o along d */
+void spm_ref_light_pdf_emission(const spm_geometry *g, spm_u32 k, const float o[3],
+                                const float d[3], float *pdf_pos, float *pdf_dir);
+
+/* Each kind's part (include/spm_lights.h; host/cpu/refcpu_light_<name>.c):
+ * its sample from light e of the selection, its emission ray and densities. */
+#define SPM_LIGHT_KIND(NAME, ...)                                                               \
+    int spm_ref_light_sample_##NAME(const spm_geometry *g, const spm_material *mats,           \
+                                    const spm_emitter *e, const spm_ref_key *k, spm_u32 dim,    \
+                                    const float x[3], spm_u32 hit, const spm_ref_hit *h,        \
+                                    spm_ref_lsample *ls);                                       \
+    void spm_ref_light_sample_emission_##NAME(const spm_geometry *g, const spm_emitter *e,     \
+                                              const float u[4], float o[3], float d[3],         \
+                                              float *pdf_pos, float *pdf_dir);                  \
+    void spm_ref_light_pdf_emission_##NAME(const spm_geometry *g, const spm_emitter *e,        \
+                                           const float o[3], const float d[3], float *pdf_pos, \
+                                           float *pdf_dir);
+#include "spm_lights.h"
+#undef SPM_LIGHT_KIND
 /* the ray sink's hook (refcpu.h spm_ref_rays): ray o + t d, what it asks */
 void spm_ref_record_ray(const float o[3], const float d[3], spm_u32 skip, spm_u32 emitter);
 #endif

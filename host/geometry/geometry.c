@@ -1,6 +1,7 @@
 /* Scene triangles in MiniLight's form, the emitter list and the camera. */
 #include "geometry.h"
 #include "colour.h"
+#include "lights.h"
 #include "materials.h"
 #include "util.h"
 #include <math.h>
@@ -133,15 +134,26 @@ static double emitter_power(const spm_scene *sc, const spm_tri *t)
 
 static void list_emitters(const spm_scene *sc, spm_geometry *g)
 {
-    g->emitters = spm_xcalloc((size_t)g->ntris + 1, sizeof *g->emitters);
+    size_t cap = (size_t)g->ntris + (size_t)sc->nlights + 1;
+    g->emitters = spm_xcalloc(cap, sizeof *g->emitters);
     g->light_pdf = spm_xcalloc((size_t)g->ntris + 1, sizeof *g->light_pdf);
-    double *w = spm_xcalloc((size_t)g->ntris + 1, sizeof *w);
+    double *w = spm_xcalloc(cap, sizeof *w);
     g->nemitters = 0;
     for (int i = 0; i < g->ntris; i++)
         if (material_emits(sc, (int)g->tris[i].material) && g->tris[i].area > 0.0f) {
             w[g->nemitters] = emitter_power(sc, &g->tris[i]);
+            g->emitters[g->nemitters].kind = SPM_LIGHT_AREA;
+            g->emitters[g->nemitters].colour = SPM_NONE; /* its material's */
             g->emitters[g->nemitters++].tri = (spm_u32)i;
         }
+    for (int i = 0; i < sc->nlights; i++) { /* the `light` statements' (lights.h) */
+        spm_emitter *e = &g->emitters[g->nemitters];
+        e->kind = (spm_u32)sc->lights[i].kind;
+        e->tri = 0xFFFFFFFFu;
+        e->colour = (spm_u32)sc->lights[i].colour;
+        memcpy(e->p, sc->lights[i].p, sizeof e->p);
+        w[g->nemitters++] = spm_light_power(sc, &sc->lights[i]);
+    }
     /* an emission whose Y is 0 (all beyond the CMF's reach) still lights by its
      * other wavelengths: it keeps the smallest share, as a power of 0 would
      * make it unreachable */
@@ -149,7 +161,8 @@ static void list_emitters(const spm_scene *sc, spm_geometry *g)
         w[i] = w[i] > 0.0 ? w[i] : 1e-300;
     g->emit_power = spm_emitter_table_build(g->emitters, w, g->nemitters);
     for (int i = 0; i < g->nemitters; i++)
-        g->light_pdf[g->emitters[i].tri] = g->emitters[i].pdf;
+        if (g->emitters[i].kind == SPM_LIGHT_AREA)
+            g->light_pdf[g->emitters[i].tri] = g->emitters[i].pdf;
     free(w);
 }
 

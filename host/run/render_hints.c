@@ -25,6 +25,8 @@ int spm_render_hint_emitters(const spm_scene *sc, const spm_geometry *g)
     /* per material: its emitting triangles, and how many of them are idle */
     int *count = spm_xcalloc((size_t)sc->nmaterials * 2 + 1, sizeof *count);
     for (int k = 0; k < g->nemitters; k++) {
+        if (g->emitters[k].kind != SPM_LIGHT_AREA)
+            continue; /* a light of the `light` statement has no face */
         spm_u32 e = g->emitters[k].tri;
         const spm_tri *t = &g->tris[e];
         int m = (int)t->material;

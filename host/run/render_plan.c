@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include "lights.h"
 #include "materials.h"
 
 static int colour_start(const uint8_t *lvlk, spm_u32 c, int start)
@@ -25,6 +26,9 @@ int spm_plan_level_start(const spm_geometry *g, const spm_material *mats, const 
         start = colour_start(lvlk, m->emit, start);
         start = colour_start(lvlk, m->col2, start); /* a type's second colour */
     }
+    for (int i = 0; i < g->nemitters; i++) /* the lights not of a triangle */
+        if (g->emitters[i].kind != SPM_LIGHT_AREA)
+            start = colour_start(lvlk, g->emitters[i].colour, start);
     start = colour_start(lvlk, p->bg_up, start);
     return colour_start(lvlk, p->bg_down, start);
 }
@@ -53,6 +57,9 @@ static void used_slots(spm_render_plan *p)
     p->used[p->start_level] = 1;
     use_colour(p, t->bg_up);
     use_colour(p, t->bg_down);
+    for (int i = 0; i < p->geom->nemitters; i++)
+        if (p->geom->emitters[i].kind != SPM_LIGHT_AREA)
+            use_colour(p, p->geom->emitters[i].colour);
     for (int m = 0; m < t->nmaterials; m++) {
         use_colour(p, t->materials[m].refl);
         use_colour(p, t->materials[m].emit);
@@ -93,6 +100,9 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     used_slots(p);
     int nd = spm_material_defines(t->materials, t->nmaterials, p->type_defines,
                                   sizeof p->type_defines);
+    if (nd < (int)sizeof p->type_defines) /* the light kinds in the selection */
+        nd += spm_light_defines(g->emitters, g->nemitters, p->type_defines + nd,
+                                sizeof p->type_defines - (size_t)nd);
     if (g->nvn && nd < (int)sizeof p->type_defines) /* smooth triangles: kernels/shading.clh */
         nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
                        "-DSPM_WITH_SMOOTH ");

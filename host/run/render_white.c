@@ -2,6 +2,7 @@
 #include "render_white.h"
 #include "colour.h"
 #include "csv.h"
+#include "lights.h"
 #include <math.h>
 #include <stdlib.h>
 #include <stdio.h>
@@ -10,8 +11,9 @@
 #include <unistd.h>
 
 /* The emission colour of the scene's most powerful emitter: per colour, the
- * area of its emitting triangles times its luminance Y; the background when
- * no triangle emits. -1 when nothing emits. */
+ * area of its emitting triangles times its luminance Y, and the power over pi
+ * of the `light` statements' lights; the background when no light emits. -1
+ * when nothing emits. */
 static int brightest(const spm_scene *s, const spm_geometry *g)
 {
     double *power = spm_xcalloc((size_t)s->ncolours + 1, sizeof *power);
@@ -23,6 +25,8 @@ static int brightest(const spm_scene *s, const spm_geometry *g)
             power[c] += g->tris[t].area * xyz[1];
         }
     }
+    for (int i = 0; i < s->nlights; i++) /* in the same unit (lights.h spm_light_power) */
+        power[s->lights[i].colour] += spm_light_power(s, &s->lights[i]);
     int best = -1;
     for (int c = 0; c < s->ncolours; c++)
         if (power[c] > 0 && (best < 0 || power[c] > power[best]))

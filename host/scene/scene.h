@@ -46,6 +46,16 @@ typedef struct {
     float lo[3], hi[3];
 } spm_scene_mesh;
 
+/* A light of a `light` statement (host/scene/lights.h): its kind
+ * (SPM_LIGHT_*), its emission's colour, its parameters (spm_shared.h
+ * SPM_LIGHT_P_*) and the statement, "file:line:col". */
+typedef struct {
+    int kind;
+    int colour;
+    float p[SPM_LIGHT_PARAMS];
+    char where[128];
+} spm_scene_light;
+
 typedef struct {
     char path[512];      /* file it came from ("<default>" for the built-in scene) */
     float eye[3], dir[3];
@@ -75,6 +85,8 @@ typedef struct {
     int nvnormals;
     int bg_up;           /* colour for a ray escaping upward (+y), -1 none */
     int bg_down;         /* for one escaping downward, -1 none */
+    spm_scene_light *lights; /* the `light` statements' lights, in the file's order */
+    int nlights;
     spm_scene_mesh *meshes; /* one per mesh statement, in the file's order */
     int nmeshes;
     /* Measured re-radiation matrices ('donaldson'): nrerad fluorescent parts

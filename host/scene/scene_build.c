@@ -19,6 +19,7 @@ void spm_scene_free(spm_scene *s)
     free(s->tris);
     free(s->vnormals);
     free(s->meshes);
+    free(s->lights);
     free(s->rerad);
     free(s->disp);
     memset(s, 0, sizeof *s);
@@ -354,10 +355,11 @@ static void prune(spm_scene *s)
     int nc = 0;
     spm_colour *kept = spm_xmalloc(((size_t)s->ncolours + 1) * sizeof *kept);
     int *refs[] = {&s->bg_up, &s->bg_down};
-    for (int i = 0; i < 4 * s->nmaterials + 2; i++) {
+    for (int i = 0; i < 4 * s->nmaterials + 2 + s->nlights; i++) {
         spm_scene_material *m = i < 4 * s->nmaterials ? &s->materials[i / 4] : NULL;
+        int nb = i - 4 * s->nmaterials; /* the background's two, then the lights' */
         int *r = m ? (i % 4 == 0 ? &m->refl : i % 4 == 1 ? &m->emit : i % 4 == 2 ? &m->col2 : &m->col3)
-                   : refs[i - 4 * s->nmaterials];
+                   : nb < 2 ? refs[nb] : &s->lights[nb - 2].colour;
         if (*r < 0)
             continue;
         if (cmap[*r] < 0) {
@@ -392,12 +394,12 @@ int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
             return 1;
         }
     }
-    int lit = s->bg_up >= 0 || s->bg_down >= 0;
+    int lit = s->bg_up >= 0 || s->bg_down >= 0 || s->nlights > 0;
     for (int i = 0; i < s->nmaterials && !lit; i++)
         lit = s->materials[i].emit >= 0;
     if (!lit) {
         spm_errorf(err, "%s: end of file: the scene has no light (no triangle has an emitting "
-                        "material and there is no background)", where);
+                        "material, no light and no background)", where);
         return 1;
     }
     return 0;

@@ -9,6 +9,7 @@
 #include "csv.h"
 #include "mesh.h"
 #include "interrupt.h"
+#include "lights.h"
 #include "materials.h"
 #include "dispersion.h"
 #include "fluor.h"
@@ -314,9 +315,10 @@ static int colour_ref_as(parser *p, spm_kind kind, int shape_only, int optical)
     double scale;
     const spm_spectrum *shape =
         use_spectrum(p, idx, shape_only ? SPM_KIND_EMISSION : kind, where);
+    scale = 1.0;
     if (!shape || (!shape_only && opt_scale(p, kind == SPM_KIND_EMISSION, &scale)))
         return -1;
-    if (shape_only) {
+    if (shape_only == 1) {
         double peak = spm_spectrum_max(shape);
         if (!(peak > 0.0)) {
             spm_errorf(p->err, "%s: spectrum '%s' is zero inside %d-%d nm: it has no shape", where,
@@ -341,6 +343,79 @@ static int colour_ref_as(parser *p, spm_kind kind, int shape_only, int optical)
 static int colour_ref(parser *p, spm_kind kind)
 {
     return colour_ref_as(p, kind, 0, 0);
+}
+
+/* ---- lights (host/scene/lights.h) ------------------------------------------ */
+
+/* One argument of a light's statement, its letter c (spm_light_desc.args),
+ * into l; *na counts the angles read. */
+static int light_arg(parser *p, const spm_light_desc *k, char c, spm_scene_light *l, int *na)
+{
+    double v[3], x;
+    float *q = l->p;
+    switch (c) {
+    case 'P':
+        if (vec3(p, "a coordinate", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD, v))
+            return 1;
+        for (int i = 0; i < 3; i++)
+            q[SPM_LIGHT_P_POS + i] = (float)v[i];
+        return 0;
+    case 'D':
+        if (vec3(p, "a direction component", -HUGE_VAL, HUGE_VAL, v))
+            return 1;
+        x = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        if (!(x > 0.0) || !isfinite(x))
+            return spm_lex_expected(&p->lx, p->err, "a direction that is not zero");
+        for (int i = 0; i < 3; i++)
+            q[SPM_LIGHT_P_DIR + i] = (float)(v[i] / x);
+        return 0;
+    case 'S':
+        return (l->colour = colour_ref_as(p, SPM_KIND_EMISSION, 2, 0)) < 0;
+    case 'A':
+        if (spm_lex_number(&p->lx, "an angle in degrees (above 0, at most 90)", 1e-3, 90.0, &x,
+                           p->err))
+            return 1;
+        q[*na ? SPM_LIGHT_P_B : SPM_LIGHT_P_A] = (float)cos(x * M_PI / 180.0);
+        ++*na;
+        return 0;
+    default: /* W, I, E: the factor of the spectrum */
+        if (spm_lex_number(&p->lx, c == 'W' ? "a power" : c == 'I' ? "an intensity"
+                                                                    : "an irradiance",
+                           1e-30, HUGE_VAL, &x, p->err))
+            return 1;
+        q[SPM_LIGHT_P_SCALE] = (float)(c == 'W' ? x / k->solid : x);
+        return 0;
+    }
+}
+
+/* light KIND ARGUMENTS...: a light of a kind the list names (lights.h), its
+ * arguments as its descriptor says */
+static int stmt_light(parser *p)
+{
+    char what[256] = "a light kind (";
+    const char *sep = "";
+    for (int i = 0, n = (int)strlen(what); i < spm_nlight_kinds; i++)
+        if (spm_light_kinds[i].keyword) {
+            n += snprintf(what + n, sizeof what - (size_t)n, "%s%s", sep,
+                          spm_light_kinds[i].keyword);
+            sep = ", ";
+        }
+    strncat(what, ")", sizeof what - strlen(what) - 1);
+    const spm_light_desc *k = p->lx.type == SPM_TOK_WORD ? spm_light_kind_find(p->lx.text) : NULL;
+    if (!k)
+        return spm_lex_expected(&p->lx, p->err, what);
+    spm_scene_light l = {.kind = (int)k->tag, .colour = -1};
+    where_keyword(p, l.where, sizeof l.where);
+    int na = 0;
+    if (spm_lex_next(&p->lx, p->err))
+        return 1;
+    for (const char *c = k->args; *c; c++)
+        if (light_arg(p, k, *c, &l, &na))
+            return 1;
+    spm_scene *s = p->b.s;
+    s->lights = spm_xrealloc(s->lights, ((size_t)s->nlights + 1) * sizeof *s->lights);
+    s->lights[s->nlights++] = l;
+    return spm_lex_end_of_statement(&p->lx, p->err);
 }
 
 /* ---- statements ------------------------------------------------------------ */
@@ -1025,7 +1100,7 @@ static const struct {
     {"image", stmt_image},   {"spp", stmt_spp},   {"camera", stmt_camera},
     {"spectrum", stmt_spectrum}, {"material", stmt_material}, {"tri", stmt_tri},
     {"quad", stmt_quad},     {"mesh", stmt_mesh}, {"background", stmt_background},
-    {"include", stmt_include}, {"texture", stmt_texture},
+    {"include", stmt_include}, {"texture", stmt_texture}, {"light", stmt_light},
 };
 #define NSTATEMENTS ((int)(sizeof statements / sizeof statements[0]))
 
