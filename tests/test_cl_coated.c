@@ -312,7 +312,7 @@ static int ext_differs(const spm_path *a, const spm_path *b)
 {
     for (spm_u32 j = 0; j < a->h.nvert; j++) {
         const spm_vertex_ext *x = &a->x[j], *y = &b->x[j];
-        if (x->ids != y->ids || x->cos_light != y->cos_light || x->cos_lobe != y->cos_lobe ||
+        if (x->ids != y->ids || x->light != y->light || x->lobe != y->lobe ||
             !cl_test_close_rel(x->hit_c, y->hit_c))
             return 1;
     }
@@ -362,7 +362,7 @@ static void test_box(void)
                 for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
                     int k = (cp[i].v[j].ids & 0xFFFFu) == white;
                     spec += k;
-                    hits += SPM_EXT_HIT(cp[i].x[j]) != SPM_NONE;
+                    hits += SPM_VX_HIT(cp[i].x[j]) != SPM_NONE;
                     lights += k && (cp[i].v[j].ids >> 16) != SPM_NONE;
                 }
             }

@@ -148,9 +148,9 @@ static int ext_differs(const spm_path *a, const spm_path *b)
     for (spm_u32 j = 0; j < a->h.nvert; j++) {
         const spm_vertex_ext *x = &a->x[j], *y = &b->x[j];
         int last = j + 1 == a->h.nvert && a->h.end == SPM_END_TRUNCATED; /* no bounce on the CPU */
-        if (x->ids != y->ids || !cl_test_close_rel(x->cos_light, y->cos_light) ||
+        if (x->ids != y->ids || !cl_test_close_rel(x->light, y->light) ||
             !cl_test_close_rel(x->hit_c, y->hit_c) ||
-            (!last && !cl_test_close_rel(x->cos_lobe, y->cos_lobe)))
+            (!last && !cl_test_close_rel(x->lobe, y->lobe)))
             return 1;
     }
     return 0;
@@ -196,9 +196,9 @@ static void test_box(void)
                 level_diff += !d && gl[i] != cl[i];
                 nv += cp[i].h.nvert;
                 for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
-                    int k = SPM_EXT_K(cp[i].x[j]) != SPM_NONE;
+                    int k = SPM_VX_KIND(cp[i].x[j]) == SPM_FK_FRESNEL;
                     cond += k;
-                    hits += SPM_EXT_HIT(cp[i].x[j]) != SPM_NONE;
+                    hits += SPM_VX_HIT(cp[i].x[j]) != SPM_NONE;
                     lights += k && (cp[i].v[j].ids >> 16) != SPM_NONE;
                 }
             }

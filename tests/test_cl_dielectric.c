@@ -294,7 +294,7 @@ static void test_slab_scale(void)
     } else {
         for (size_t i = 0; i < n; i++)
             for (spm_u32 j = 0; j < paths[i].h.nvert; j++)
-                inside += SPM_EXT_DIEL(paths[i].x[j]) && paths[i].x[j].cos_lobe > 0.0f;
+                inside += (SPM_VX_KIND(paths[i].x[j]) == SPM_FK_ABSORB) && paths[i].x[j].lobe > 0.0f;
         const double ks[] = {1.0 / 1024, 1024.0};
         for (int a = 0; a < 2; a++) {
             int rc = slab_render(ks[a], "glass_slab_k.scene", paths, levels, xk);
@@ -318,7 +318,7 @@ static void test_slab_scale(void)
  * a ray across an edge; 1 in 1000 is a generous ceiling */
 #define MAX_DIVERGENT_FRACTION 1e-3
 
-/* The lengths inside (cos_lobe) of two records of the same path: the largest
+/* The lengths inside (lobe) of two records of the same path: the largest
  * absolute difference, and whether one is off beyond the weights' relative
  * tolerance. A length is a difference of two hit distances, so where a ray
  * grazes a block's corner inside (lengths of 1e-5 to 1e-2) the rays' float
@@ -330,7 +330,7 @@ static double len_diff(const spm_path *a, const spm_path *b, int *off)
     double worst = 0.0;
     *off = 0;
     for (spm_u32 j = 0; j < a->h.nvert; j++) {
-        float x = a->x[j].cos_lobe, y = b->x[j].cos_lobe;
+        float x = a->x[j].lobe, y = b->x[j].lobe;
         worst = fmax(worst, fabs((double)x - y));
         *off |= !cl_test_close_rel(x, y);
     }
@@ -342,7 +342,7 @@ static int ext_differs(const spm_path *a, const spm_path *b)
 {
     for (spm_u32 j = 0; j < a->h.nvert; j++) {
         const spm_vertex_ext *x = &a->x[j], *y = &b->x[j];
-        if (x->ids != y->ids || !cl_test_close_rel(x->cos_light, y->cos_light) ||
+        if (x->ids != y->ids || !cl_test_close_rel(x->light, y->light) ||
             !cl_test_close_rel(x->hit_c, y->hit_c))
             return 1;
     }
@@ -394,11 +394,11 @@ static void test_box(void)
                 level_diff += !d && gl[i] != cl[i];
                 nv += cp[i].h.nvert;
                 for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
-                    int k = SPM_EXT_DIEL(cp[i].x[j]);
+                    int k = (SPM_VX_KIND(cp[i].x[j]) == SPM_FK_ABSORB);
                     diel += k;
-                    hits += k && SPM_EXT_HIT(cp[i].x[j]) != SPM_NONE;
+                    hits += k && SPM_VX_HIT(cp[i].x[j]) != SPM_NONE;
                     lights += k && (cp[i].v[j].ids >> 16) != SPM_NONE;
-                    inside += k && cp[i].x[j].cos_lobe > 0.0f;
+                    inside += k && cp[i].x[j].lobe > 0.0f;
                 }
             }
             printf("box trace: %zu paths, %.3f vertices a path, %zu dielectric vertices (%zu "
