@@ -15,9 +15,7 @@
  *    with a smooth and a rough coated object (records, the vertex words,
  *    level bytes), and each mode's shade kernel against the reference's
  *    shading of the same records. */
-#include "cl_testlib.h"
-#include "spm_rng.h"
-#include "testutil.h"
+#include "typebox_testlib.h"
 
 #define SEED 7u
 
@@ -81,26 +79,6 @@ static double albedo(double a, double eta, double co, double fi, double fe, doub
     }
     spec *= (1.0 / n) * (2.0 * M_PI / n);
     return spec + dif;
-}
-
-/* The camera ray of path i, in double (as test_cl_conductor). */
-static void camera_dir(const spm_trace_params *p, size_t i, double d[3])
-{
-    spm_u32 pixel, sample;
-    spm_ref_path_key(p, i, &pixel, &sample);
-    const spm_camera *c = &p->cam;
-    double w = c->width, h = c->height;
-    double cx = 2.0 * ((pixel % (spm_u32)c->width) + (double)spm_rng(p->seed, pixel, sample,
-                                                                      SPM_DIM_CAM_X)) / w - 1.0;
-    double cy = 1.0 - 2.0 * ((pixel / (spm_u32)c->width) +
-                             (double)spm_rng(p->seed, pixel, sample, SPM_DIM_CAM_Y)) / h;
-    double l = 0.0;
-    for (int k = 0; k < 3; k++) {
-        d[k] = c->dir[k] + c->tan_half * (c->right[k] * cx + c->up[k] * cy * h / w);
-        l += d[k] * d[k];
-    }
-    for (int k = 0; k < 3; k++)
-        d[k] /= sqrt(l);
 }
 
 /* Renders scene `path` (w x h, spp) in truth on backend `cl` (0: the CPU
@@ -264,7 +242,7 @@ static void test_furnace(double a, double eta, double R)
     double *want = spm_xcalloc(n, sizeof *want);
     for (size_t i = 0; i < n; i++) {
         double d[3];
-        camera_dir(&p, i, d);
+        tb_camera_dir(&p, i, d);
         lo = fmin(lo, fabs(d[1]));
         hi = fmax(hi, fabs(d[1]));
     }
@@ -272,7 +250,7 @@ static void test_furnace(double a, double eta, double R)
         tab[k] = albedo(a, eta, lo + (hi - lo) * k / NTAB, fi, fe, R);
     for (size_t i = 0; i < n; i++) {
         double d[3];
-        camera_dir(&p, i, d);
+        tb_camera_dir(&p, i, d);
         double u = (fabs(d[1]) - lo) / (hi - lo) * NTAB;
         int k = (int)u < NTAB ? (int)u : NTAB - 1;
         want[i] = tab[k] + (u - k) * (tab[k + 1] - tab[k]);
@@ -303,11 +281,6 @@ static void test_furnace(double a, double eta, double R)
 }
 
 /* ---- kernel against reference ------------------------------------------- */
-#define W 32
-#define H 32
-#define SPP 32
-#define MAX_DIVERGENT_FRACTION 1e-3 /* as test_cl_trace */
-
 static int ext_differs(const spm_path *a, const spm_path *b)
 {
     for (spm_u32 j = 0; j < a->h.nvert; j++) {
@@ -323,74 +296,43 @@ static int ext_differs(const spm_path *a, const spm_path *b)
  * vertex adds no spectral arithmetic of its own. Bound as test_cl_conductor's. */
 #define SHADE_REL 1e-4
 
+/* the specular coating's vertices (those of its white colour) in the
+ * reference's records */
+typedef struct {
+    size_t spec, hits, lights;
+} coat_counts;
+
+static void coat_count(const cl_test_scene *s, const spm_path *g, const spm_path *c, int diverged,
+                       void *ctx)
+{
+    coat_counts *k = ctx;
+    (void)g, (void)diverged;
+    spm_u32 white = SPM_NONE;
+    for (int m = 0; m < s->tables.nmaterials; m++)
+        if (SPM_MAT_TAG(s->tables.materials[m]) == SPM_MAT_COATED)
+            white = s->tables.materials[m].col2;
+    for (spm_u32 j = 0; j < c->h.nvert; j++) {
+        int is = (c->v[j].ids & 0xFFFFu) == white;
+        k->spec += is;
+        k->hits += SPM_VX_HIT(c->x[j]) != SPM_NONE;
+        k->lights += is && (c->v[j].ids >> 16) != SPM_NONE;
+    }
+}
+
+static void coat_report(size_t n, void *ctx)
+{
+    const coat_counts *k = ctx;
+    printf("box: %zu specular coating vertices (%zu light samples, %zu lobe hits)\n", k->spec,
+           k->lights, k->hits);
+    CHECK(k->spec > n / 50 && k->hits > 5 && k->lights > 50, "too little coating transport");
+}
+
 static void test_box(void)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/tests/data/scenes/coated_box.scene", SPM_SOURCE_DIR);
-    cl_test_scene s;
-    if (cl_test_scene_load(&s, path, W, H)) {
-        CHECK(0, "the coated box loads");
-        return;
-    }
-    size_t n = (size_t)W * H * SPP;
-    spm_path *gp = spm_xcalloc(n, sizeof *gp), *cp = spm_xcalloc(n, sizeof *cp);
-    uint8_t *gl = spm_xcalloc(n, 1), *cl = spm_xcalloc(n, 1);
-    float *ref = spm_xcalloc(3 * n, sizeof *ref), *got = spm_xcalloc(3 * n, sizeof *got);
-    spm_trace_params p = cl_test_params(&s, SEED, 0, SPP);
-    spm_u32 white = SPM_NONE;
-    for (int m = 0; m < s.tables.nmaterials; m++)
-        if (SPM_MAT_TAG(s.tables.materials[m]) == SPM_MAT_COATED)
-            white = s.tables.materials[m].col2;
-    for (int mode = 0; mode < SPM_MODE_COUNT; mode++) {
-        spm_cl_renderer *r;
-        spm_error err;
-        if (spm_cl_create(0, &s.geom, &s.tables, mode, SEED, &r, &err)) {
-            CHECK(0, "spm_cl_create: %s", err.msg);
-            continue;
-        }
-        const char *name = spm_mode(mode)->name;
-        spm_ref_trace(&s.geom, s.tables.materials, cl_test_lvlk(&s.tables, mode), &p, cp, cl);
-        if (mode == 0) {
-            int rc = spm_cl_trace(r, 0, SPP, gp, gl, &err);
-            CHECK(rc == 0, "spm_cl_trace: %s", err.msg);
-            size_t diverged = 0, xdiff = 0, spec = 0, hits = 0, lights = 0, level_diff = 0;
-            for (size_t i = 0; i < n; i++) {
-                int d = cl_test_path_differs(&gp[i], &cp[i]);
-                diverged += d;
-                xdiff += !d && ext_differs(&gp[i], &cp[i]);
-                level_diff += !d && gl[i] != cl[i];
-                for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
-                    int k = (cp[i].v[j].ids & 0xFFFFu) == white;
-                    spec += k;
-                    hits += SPM_VX_HIT(cp[i].x[j]) != SPM_NONE;
-                    lights += k && (cp[i].v[j].ids >> 16) != SPM_NONE;
-                }
-            }
-            printf("box trace: %zu paths, %zu specular coating vertices (%zu light samples, %zu "
-                   "lobe hits); %zu diverged, %zu vertex words differ, %zu level bytes differ\n",
-                   n, spec, lights, hits, diverged, xdiff, level_diff);
-            CHECK(spec > n / 50 && hits > 5 && lights > 50, "too little coating transport");
-            CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu paths diverged",
-                  diverged);
-            CHECK(xdiff == 0, "%zu paths' vertex words differ", xdiff);
-            CHECK(level_diff == 0, "%zu level bytes differ", level_diff);
-        }
-        spm_ref_shade(&s.tables, mode, &p, 0, cp, cl, n, ref);
-        int rc = spm_cl_shade(r, 0, SPP, cp, cl, got, &err);
-        CHECK(rc == 0, "%s: spm_cl_shade: %s", name, err.msg);
-        double worst = 0.0;
-        size_t bad = rc ? 0 : cl_test_shade_diff(ref, got, n, SHADE_REL, &worst);
-        printf("box shade %-5s: worst %.3g relative\n", name, worst);
-        CHECK(bad == 0, "%s: %zu components beyond %g (worst %.3g)", name, bad, SHADE_REL, worst);
-        spm_cl_destroy(r);
-    }
-    free(gp);
-    free(cp);
-    free(gl);
-    free(cl);
-    free(ref);
-    free(got);
-    cl_test_scene_close(&s);
+    coat_counts k = {0, 0, 0};
+    tb_box b = {"coated_box.scene", 32, 32, 32, SEED, SHADE_REL, ext_differs, coat_count,
+                coat_report, &k};
+    tb_box_run(&b);
 }
 
 int main(void)

@@ -9,9 +9,7 @@
  *    bytes), and each mode's shade kernel against the reference's shading of
  *    the same records. */
 #include <complex.h>
-#include "cl_testlib.h"
-#include "spm_rng.h"
-#include "testutil.h"
+#include "typebox_testlib.h"
 
 #define SEED 5u
 
@@ -21,26 +19,6 @@ static double fresnel_complex(double eta, double k, double c)
     double complex ct = csqrt(1.0 - (1.0 - c * c) / (n * n));
     double complex rs = (c - n * ct) / (c + n * ct), rp = (n * c - ct) / (n * c + ct);
     return 0.5 * (creal(rs * conj(rs)) + creal(rp * conj(rp)));
-}
-
-/* The camera ray of path i (spm_shared.h spm_camera), in double. */
-static void camera_dir(const spm_trace_params *p, size_t i, double d[3])
-{
-    spm_u32 pixel, sample;
-    spm_ref_path_key(p, i, &pixel, &sample);
-    const spm_camera *c = &p->cam;
-    double w = c->width, h = c->height;
-    double cx = 2.0 * ((pixel % (spm_u32)c->width) + (double)spm_rng(p->seed, pixel, sample,
-                                                                      SPM_DIM_CAM_X)) / w - 1.0;
-    double cy = 1.0 - 2.0 * ((pixel / (spm_u32)c->width) +
-                             (double)spm_rng(p->seed, pixel, sample, SPM_DIM_CAM_Y)) / h;
-    double l = 0.0;
-    for (int k = 0; k < 3; k++) {
-        d[k] = c->dir[k] + c->tan_half * (c->right[k] * cx + c->up[k] * cy * h / w);
-        l += d[k] * d[k];
-    }
-    for (int k = 0; k < 3; k++)
-        d[k] /= sqrt(l);
 }
 
 /* Float sums of 400 lanes and a float Fresnel (3e-6 absolute, test_conductor):
@@ -62,7 +40,7 @@ static void check_plane_paths(const cl_test_scene *s, const spm_trace_params *p,
     size_t bounced = 0, bad = 0;
     for (size_t i = 0; i < n; i++) {
         double d[3];
-        camera_dir(p, i, d);
+        tb_camera_dir(p, i, d);
         double c = fabs(d[1]); /* the plane's normal is +y */
         spm_u32 pixel, sample;
         spm_ref_path_key(p, i, &pixel, &sample);
@@ -136,13 +114,6 @@ static void test_plane(void)
     cl_test_scene_close(&s);
 }
 
-#define W 24
-#define H 24
-#define SPP 16
-/* as test_cl_trace: a path may diverge only where a few ulps of cos/sin move
- * a ray across an edge; 1 in 1000 is a generous ceiling */
-#define MAX_DIVERGENT_FRACTION 1e-3
-
 static int ext_differs(const spm_path *a, const spm_path *b)
 {
     for (spm_u32 j = 0; j < a->h.nvert; j++) {
@@ -162,78 +133,45 @@ static int ext_differs(const spm_path *a, const spm_path *b)
  * worst 1.5e-6 (truth) relative to the largest component; bound 1e-4. */
 #define SHADE_REL 1e-4
 
+/* the conductor's vertices in the reference's records */
+typedef struct {
+    size_t cond, hits, lights, nv;
+} cond_counts;
+
+static void cond_count(const cl_test_scene *s, const spm_path *g, const spm_path *c, int diverged,
+                       void *ctx)
+{
+    cond_counts *k = ctx;
+    (void)s, (void)g, (void)diverged;
+    k->nv += c->h.nvert;
+    for (spm_u32 j = 0; j < c->h.nvert; j++) {
+        int is = SPM_VX_KIND(c->x[j]) == SPM_FK_FRESNEL;
+        k->cond += is;
+        k->hits += SPM_VX_HIT(c->x[j]) != SPM_NONE;
+        k->lights += is && (c->v[j].ids >> 16) != SPM_NONE;
+    }
+}
+
+static void cond_report(size_t n, void *ctx)
+{
+    const cond_counts *k = ctx;
+    printf("box: %.3f vertices a path, %zu conductor vertices (%zu light samples, %zu lobe "
+           "hits)\n", (double)k->nv / (double)n, k->cond, k->lights, k->hits);
+    /* the device record a path reads and writes: its header, and per vertex
+     * spm_vertex, plus spm_vertex_ext in a scene with a conductor */
+    printf("record: %.1f bytes a path (%.1f without the conductor's words)\n",
+           sizeof(spm_dev_head) + (double)k->nv / (double)n *
+                                    (sizeof(spm_vertex) + sizeof(spm_vertex_ext)),
+           sizeof(spm_dev_head) + (double)k->nv / (double)n * sizeof(spm_vertex));
+    CHECK(k->cond > n / 10 && k->hits > 20 && k->lights > 100, "too little conductor transport");
+}
+
 static void test_box(void)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/tests/data/scenes/conductor_box.scene", SPM_SOURCE_DIR);
-    cl_test_scene s;
-    if (cl_test_scene_load(&s, path, W, H)) {
-        CHECK(0, "the conductor box loads");
-        return;
-    }
-    size_t n = (size_t)W * H * SPP;
-    spm_path *gp = spm_xcalloc(n, sizeof *gp), *cp = spm_xcalloc(n, sizeof *cp);
-    uint8_t *gl = spm_xcalloc(n, 1), *cl = spm_xcalloc(n, 1);
-    float *ref = spm_xcalloc(3 * n, sizeof *ref), *got = spm_xcalloc(3 * n, sizeof *got);
-    spm_trace_params p = cl_test_params(&s, SEED, 0, SPP);
-    for (int mode = 0; mode < SPM_MODE_COUNT; mode++) {
-        spm_cl_renderer *r;
-        spm_error err;
-        if (spm_cl_create(0, &s.geom, &s.tables, mode, SEED, &r, &err)) {
-            CHECK(0, "spm_cl_create: %s", err.msg);
-            continue;
-        }
-        const char *name = spm_mode(mode)->name;
-        spm_ref_trace(&s.geom, s.tables.materials, cl_test_lvlk(&s.tables, mode), &p, cp, cl);
-        if (mode == 0) { /* the records do not depend on the mode (test_cl_trace) */
-            int rc = spm_cl_trace(r, 0, SPP, gp, gl, &err);
-            CHECK(rc == 0, "spm_cl_trace: %s", err.msg);
-            size_t diverged = 0, xdiff = 0, cond = 0, hits = 0, lights = 0, level_diff = 0, nv = 0;
-            for (size_t i = 0; i < n; i++) {
-                int d = cl_test_path_differs(&gp[i], &cp[i]);
-                diverged += d;
-                xdiff += !d && ext_differs(&gp[i], &cp[i]);
-                level_diff += !d && gl[i] != cl[i];
-                nv += cp[i].h.nvert;
-                for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
-                    int k = SPM_VX_KIND(cp[i].x[j]) == SPM_FK_FRESNEL;
-                    cond += k;
-                    hits += SPM_VX_HIT(cp[i].x[j]) != SPM_NONE;
-                    lights += k && (cp[i].v[j].ids >> 16) != SPM_NONE;
-                }
-            }
-            printf("box trace: %zu paths, %.3f vertices a path, %zu conductor vertices (%zu light "
-                   "samples, %zu lobe hits); %zu diverged, %zu conductor words differ, %zu level "
-                   "bytes differ\n", n, (double)nv / (double)n, cond, lights, hits, diverged, xdiff,
-                   level_diff);
-            /* the device record a path reads and writes: its header, and per vertex
-             * spm_vertex, plus spm_vertex_ext in a scene with a conductor */
-            printf("record: %.1f bytes a path (%.1f without the conductor's words)\n",
-                   sizeof(spm_dev_head) + (double)nv / (double)n *
-                                            (sizeof(spm_vertex) + sizeof(spm_vertex_ext)),
-                   sizeof(spm_dev_head) + (double)nv / (double)n * sizeof(spm_vertex));
-            CHECK(cond > n / 10 && hits > 20 && lights > 100, "too little conductor transport");
-            CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu paths diverged",
-                  diverged);
-            CHECK(xdiff == 0, "%zu paths' conductor words differ", xdiff);
-            CHECK(level_diff == 0, "%zu level bytes differ", level_diff);
-        }
-        spm_ref_shade(&s.tables, mode, &p, 0, cp, cl, n, ref);
-        int rc = spm_cl_shade(r, 0, SPP, cp, cl, got, &err);
-        CHECK(rc == 0, "%s: spm_cl_shade: %s", name, err.msg);
-        double worst = 0.0;
-        size_t bad = rc ? 0 : cl_test_shade_diff(ref, got, n, SHADE_REL, &worst);
-        printf("box shade %-5s: worst %.3g relative\n", name, worst);
-        CHECK(bad == 0, "%s: %zu components beyond %g (worst %.3g)", name, bad, SHADE_REL, worst);
-        spm_cl_destroy(r);
-    }
-    free(gp);
-    free(cp);
-    free(gl);
-    free(cl);
-    free(ref);
-    free(got);
-    cl_test_scene_close(&s);
+    cond_counts k = {0, 0, 0, 0};
+    tb_box b = {"conductor_box.scene", 24, 24, 16, SEED, SHADE_REL, ext_differs, cond_count,
+                cond_report, &k};
+    tb_box_run(&b);
 }
 
 int main(void)
