@@ -98,64 +98,85 @@ typedef struct {
     spm_u32 pad0, pad1;
 } spm_path_head;
 
-/* A vertex's record beyond spm_vertex, for the types that declare words of
- * their own (host/scene/materials.c vertex_u32; the conductor, 4 words). At
- * a conductor vertex the spm_vertex's reflectance id is its eta colour and
- *   ids        1 + its k colour (low 16 bits; 0: not a conductor's vertex)
- *              | 1 + the emission colour the vertex's sampled ray hit (high
- *              16 bits; 0: none, or not counted), so that a zero record
- *              (SPM_EXT_ZERO) is a plain vertex
- *   cos_lobe   the cosine the spectral Fresnel takes for the sampled
- *              direction: wo.m (the smooth lobe: wo.n)
- *   cos_light  the one for the light sample: wo.h (0 without one)
- *   hit_c      the scalar weight of the emission hit (its MIS weight and the
- *              throughput so far folded in)
- * and shading it is
- *   if e != NONE: L += P * F(cos_light) * E[e] * c;  P *= F(cos_lobe);
- *   if hit != NONE: L += P * E[hit] * hit_c
- * with F the conductor Fresnel of (eta, k) per lane (kernels/conductor.clh,
- * host/cpu/refcpu_conductor.c). A Lambertian vertex of such a scene has a
- * zero record and shades as always. A coated vertex (SPM_MAT_COATED) is a
- * plain vertex whose record holds only the emission hit through its
- * specular lobe (k part 0, cos_lobe and cos_light 0): shading it is the plain
- * vertex's rule, then if hit != NONE: L += P * E[hit] * hit_c. */
+/* A vertex's spectral factor: a kind and a few words, for the scenes whose
+ * types declare words (host/scene/materials.c vertex_u32; 4 words). The
+ * kinds are SPM_FACTOR_KINDS below; each kind's rule, what it does to the
+ * path weight P and the radiance L at every lane, is written once per
+ * backend in the file of the type that records it (kernels/<type>.clh's
+ * shade half, host/cpu/refcpu_<type>.c) and applied through one
+ * vertex_apply (kernels/factors.clh, host/cpu/refcpu_factors.c). Fields:
+ *   ids    bits 0-13  the kind's colour word: 1 + a colour id or a 1 nm bin
+ *                     (0: none)
+ *          bits 14-15 the kind (SPM_FK_*)
+ *          bits 16-31 1 + the emission colour the vertex's sampled ray hit
+ *                     (0: none, or not counted)
+ *   lobe   the kind's argument for the sampled ray
+ *   light  the kind's argument for the light sample (or a second word)
+ *   hit_c  the scalar weight of the emission hit (its MIS weight and the
+ *          throughput so far folded in)
+ * so that a zero record (a Lambertian vertex of such a scene) is the plain
+ * kind with no hit. Every kind shades the hit the same way, after its own
+ * factor: L += P E[hit] hit_c. The spm_vertex's colour r and light-sample
+ * emission e (weight c) are the kind's too. */
 typedef struct {
     spm_u32 ids;
-    float cos_lobe;
-    float cos_light;
+    float lobe;
+    float light;
     float hit_c;
 } spm_vertex_ext;
-/* The record's kind is bit 15 of ids: clear, a conductor's record (as above:
- * its k colour in bits 0-14, so colour ids of scenes with vertex words stay
- * below SPM_EXT_KIND - 1, host/spectral/tables.c checks); set, a dielectric's
- * (SPM_MAT_DIELECTRIC), whose fields mean
- *   ids        SPM_EXT_KIND | 1 + the emission colour the sampled ray hit
- *              (high 16 bits, as above); bits 0-14 zero
- *   cos_lobe   the length d (scene units) of the sampled ray's segment when
- *              it runs inside the glass (0: outside, or it left the scene)
- *   cos_light  0 (unused)
- *   hit_c      as above
- * and the spm_vertex's reflectance id is its absorption colour sigma
- * (DENSITY * SPEC per scene unit; a zero colour for clear glass). Fresnel,
- * the reflect/refract choice, GGX and MIS are colour-independent and sit in
- * c and hit_c; shading it is
- *   if e != NONE: L += P * E[e] * c;  P *= exp(-sigma * d);
- *   if hit != NONE: L += P * E[hit] * hit_c
- * (kernels/dielectric.clh, host/cpu/refcpu_dielectric.c).
- * At a path's first dispersive vertex (a dielectric with an index table,
- * SPM_DIEL_P_DISP) the trace stage commits the path to one 1 nm bin b: bits
- * 0-14 of ids hold 1 + b (SPM_EXT_LAMBDA) and cos_light 1 / pdf of b; every
- * other record has 0 there. The shade stage shades such a path as one lane,
- * bin b of the 1 nm data, in every mode (docs/METHODS.md "Dispersion"). */
-#define SPM_EXT_KIND 0x8000u
-/* the committed bin of a dielectric record, SPM_NONE for none */
-#define SPM_EXT_LAMBDA(x) ((((x).ids & 0x7FFFu) + 0xFFFFu) & 0xFFFFu)
-#define SPM_EXT_DIEL(x) (((x).ids & SPM_EXT_KIND) != 0u)
-/* the k colour and the hit emission of a record, SPM_NONE for none (a
- * dielectric's k: none) */
-#define SPM_EXT_K(x) ((((x).ids & 0x7FFFu) + 0xFFFFu) & 0xFFFFu)
-#define SPM_EXT_HIT(x) ((((x).ids >> 16) + 0xFFFFu) & 0xFFFFu)
-#define SPM_EXT_IDS(k, hit) ((((k) + 1u) & 0xFFFFu) | (((hit) + 1u) & 0xFFFFu) << 16)
+
+/* The factor kinds, X(NAME, STORED, ...): STORED 1 when the kind is written
+ * in a record's bits 14-15 (at most 4 such), 0 when a vertex's colour says
+ * it (no record needed). The rest of the arguments are the expander's.
+ *   PLAIN    the vertex's colour R (a Lambertian's, a coated lobe's):
+ *            P *= R; L += P E[e] c
+ *   FRESNEL  a conductor (kernels/conductor.clh): r its eta colour, the
+ *            colour word its k colour, lobe wo.m and light wo.h, F of
+ *            eta + i k per lane: L += P F(light) E[e] c; P *= F(lobe)
+ *   ABSORB   a dielectric (kernels/dielectric.clh): r its absorption sigma
+ *            (per scene unit), lobe the length d of the sampled ray's
+ *            segment inside (0: outside): L += P E[e] c; P *= exp(-sigma d);
+ *            at a path's first dispersive vertex the colour word holds 1 + the
+ *            1 nm bin b the path committed to and light 1 / pdf of b: the
+ *            path is shaded as one lane, bin b, in every mode
+ *            (docs/METHODS.md "Dispersion")
+ *   REEMIT   a fluorescent vertex (kernels/fluor.clh): a colour from
+ *            SPM_FLUOR_FIRST on names the pair of its diagonal R and its
+ *            re-radiation block; such a path is walked from the light end,
+ *            A = M (E[e] c + A). A fluorescent scene's record is a
+ *            Lambertian's (no words).
+ * Room for what comes next: a stored kind whose words do not fit (a texture
+ * reference with its coordinates and footprint, an environment direction, a
+ * medium segment with its own colour) declares more words in its type's
+ * vertex_u32 and widens the record of the scenes that use it only. */
+#define SPM_FACTOR_KINDS(X, ...)    \
+    X(PLAIN, 1, __VA_ARGS__)        \
+    X(FRESNEL, 1, __VA_ARGS__)      \
+    X(ABSORB, 1, __VA_ARGS__)       \
+    X(REEMIT, 0, __VA_ARGS__)
+/* SPM_IF(c)(x): x when the condition c expands to 1, nothing at 0 (the
+ * generated switches keep the cases of what a program is built for) */
+#define SPM_IF_0(...)
+#define SPM_IF_1(...) __VA_ARGS__
+#define SPM_IF_(c) SPM_IF_##c
+#define SPM_IF(c) SPM_IF_(c)
+#define SPM_FK_ENUM_(NAME, STORED, ...) SPM_FK_##NAME,
+enum spm_factor_kind { SPM_FACTOR_KINDS(SPM_FK_ENUM_, 0) SPM_FK_NKINDS };
+#undef SPM_FK_ENUM_
+#define SPM_VX_COLBITS 14
+#define SPM_VX_COLMASK ((1u << SPM_VX_COLBITS) - 1u)
+/* a record's kind, its colour word (SPM_NONE: none), its hit (SPM_NONE: none) */
+#define SPM_VX_KIND(x) (((x).ids >> SPM_VX_COLBITS) & 3u)
+#define SPM_VX_COL(x) ((((x).ids & SPM_VX_COLMASK) + 0xFFFFu) & 0xFFFFu)
+#define SPM_VX_HIT(x) ((((x).ids >> 16) + 0xFFFFu) & 0xFFFFu)
+/* the ids of a record of kind k and colour word col (SPM_NONE: none), no hit */
+#define SPM_VX_IDS(k, col) ((((col) + 1u) & SPM_VX_COLMASK) | (spm_u32)(k) << SPM_VX_COLBITS)
+/* the hit's bits: 1 + colour hit */
+#define SPM_VX_HIT_BITS(hit) ((((hit) + 1u) & 0xFFFFu) << 16)
+/* the 1 nm bin a record committed its path to (SPM_NONE: none) */
+#define SPM_VX_LAMBDA(x) (SPM_VX_KIND(x) == SPM_FK_ABSORB ? SPM_VX_COL(x) : SPM_NONE)
+/* colour ids of scenes with records stay below this (host/spectral/tables.c) */
+#define SPM_VX_MAX_COLOURS (SPM_VX_COLMASK - 1u)
 
 /* The host's record of a path: x[] is written only in scenes whose types
  * declare vertex words (zero otherwise). */
@@ -400,7 +421,7 @@ typedef struct {
     spm_u32 first_sample;  /* sample index of this pass's first sample */
     spm_u32 emit_power;    /* 1: emitters picked by power (spm_emitter cdf); 0: uniformly */
     spm_u32 disperse;      /* 1: a path commits to a wavelength at its first dispersive
-                              vertex (SPM_EXT_LAMBDA); 0: dispersive glass takes n_d */
+                              vertex (SPM_VX_LAMBDA); 0: dispersive glass takes n_d */
 } spm_trace_params;
 
 /* The light kinds (include/spm_lights.h): their tags SPM_LIGHT_NAME, one

@@ -14,9 +14,10 @@
 #include "spm_shared.h"
 #include "spm_rng.h"
 #include "spm_kernel_args.h"
-#ifdef SPM_WITH_CONDUCTOR
-#include "conductor.clh"
-#endif
+/* the material types' shade halves: the spectral factors (kernels/factors.clh;
+ * in a program with the trace stage, bsdf.clh has included them already) */
+#include "materials.clh"
+#include "factors.clh"
 
 /* Floats of a path's record and of a pass pixel: XYZ, then with
  * -DSPM_SPEC_BINS=n the n spectral bins (the host sets both). */
@@ -32,55 +33,45 @@
 #define HSUM16(v) HSUM8((v).lo + (v).hi)
 
 #ifdef SPM_WITH_DISPERSION
-#ifdef SPM_WITH_CONDUCTOR
-COND_FRESNEL_FN(float, cond_fresnel1)
-#endif
-/* A path committed to 1 nm bin b (spm_shared.h SPM_EXT_LAMBDA): the record
+/* A path committed to 1 nm bin b (spm_shared.h SPM_VX_LAMBDA): the record
  * walked as one lane, every colour's value in bin b of the 1 nm rows t
- * (ncolours x SPM_TRUTH_BINS), by the same rules as shade_body.clh's
- * vertices (plain, conductor, dielectric, coated hit; fluorescence never
+ * (ncolours x SPM_TRUTH_BINS), by vertex_apply at width 1 (fluorescence never
  * meets dispersion, materials.c refuses the pair). Returns L at b. */
+#define SB_W 1
+#define SB_NV 1
+#define SB_VT float
+#define SB_UNROLL
+#define SB_FMA(a, b, c) ((a) * (b) + (c)) /* uncontracted below */
+#define SB_EXP(a) exp(a)
+#define SB_LOAD(c, k) t[(size_t)(c) * SPM_TRUTH_BINS]
 inline float disp_walk(spm_dev_head h, __global const spm_vertex *vp,
                        __global const spm_vertex_ext *xp, uint npaths, __global const float *t)
 {
 #pragma OPENCL FP_CONTRACT OFF /* rounds as the CPU reference */
     uint fe = h.colours & 0xFFFFu, nv = h.nvert_end & 0xFFFFu;
-    float P = 1.0f, L = fe != SPM_NONE ? t[(size_t)fe * SPM_TRUTH_BINS] * h.first_emit_c : 0.0f;
+    float P[1] = {1.0f};
+    float L[1] = {fe != SPM_NONE ? t[(size_t)fe * SPM_TRUTH_BINS] * h.first_emit_c : 0.0f};
     for (uint j = 0; j < nv; j++) {
         spm_vertex v = vp[(size_t)j * npaths];
         spm_vertex_ext x = xp[(size_t)j * npaths];
-        uint r = v.ids & 0xFFFFu, e = v.ids >> 16, hc = SPM_EXT_HIT(x);
-        if (r == SPM_NONE)
-            return L;
-        if (SPM_EXT_DIEL(x)) {
-            if (e != SPM_NONE)
-                L += P * t[(size_t)e * SPM_TRUTH_BINS] * v.c;
-            if (x.cos_lobe > 0.0f)
-                P *= exp(-t[(size_t)r * SPM_TRUTH_BINS] * x.cos_lobe);
-        } else
-#ifdef SPM_WITH_CONDUCTOR
-        if (SPM_EXT_K(x) != SPM_NONE) {
-            float eta = t[(size_t)r * SPM_TRUTH_BINS], k = t[(size_t)SPM_EXT_K(x) * SPM_TRUTH_BINS];
-            if (e != SPM_NONE)
-                L += P * cond_fresnel1(eta, k, x.cos_light) * t[(size_t)e * SPM_TRUTH_BINS] * v.c;
-            P *= cond_fresnel1(eta, k, x.cos_lobe);
-        } else
-#endif
-        {
-            P *= t[(size_t)r * SPM_TRUTH_BINS];
-            if (e != SPM_NONE)
-                L += P * t[(size_t)e * SPM_TRUTH_BINS] * v.c;
-        }
-        if (hc != SPM_NONE)
-            L += P * t[(size_t)hc * SPM_TRUTH_BINS] * x.hit_c;
+        if ((v.ids & 0xFFFFu) == SPM_NONE)
+            return L[0];
+        VERTEX_APPLY(1, SPM_VX_KIND(x), v, x, P, L);
     }
     uint bg = h.colours >> 16;
     if (bg != SPM_NONE)
-        L += P * t[(size_t)bg * SPM_TRUTH_BINS] * h.bg_c;
-    return L;
+        FACTOR_EMIT_EYE(P, L, bg, h.bg_c);
+    return L[0];
 }
+#undef SB_W
+#undef SB_NV
+#undef SB_VT
+#undef SB_UNROLL
+#undef SB_FMA
+#undef SB_EXP
+#undef SB_LOAD
 
-/* The record of path pi when it committed to a wavelength (SPM_EXT_LAMBDA at
+/* The record of path pi when it committed to a wavelength (SPM_VX_LAMBDA at
  * its first dispersive vertex): one lane at its 1 nm bin, weighed by 1 / its
  * pdf, whatever the mode, into rec (XYZ, then nspec spectral bins). Returns 0
  * when the path did not commit (shade it as the mode does). */
@@ -94,10 +85,8 @@ inline int shade_dispersed(spm_dev_head h, __global const spm_vertex *vp,
     float dw = 0.0f;
     for (uint j = 0; j < dn && db == SPM_NONE; j++) {
         spm_vertex_ext x = dx[(size_t)j * npaths];
-        if (SPM_EXT_DIEL(x) && SPM_EXT_LAMBDA(x) != SPM_NONE) {
-            db = SPM_EXT_LAMBDA(x);
-            dw = x.cos_light;
-        }
+        db = SPM_VX_LAMBDA(x);
+        dw = x.light;
     }
     if (db == SPM_NONE)
         return 0;
@@ -265,6 +254,8 @@ inline float4 hero_load(__global const float *row, uint4 b)
     return (float4)(v[b.s0], v[b.s1], v[b.s2], v[b.s3]);
 }
 #define SB_LOAD(c, k) hero_load(tab + (size_t)(c) * SPM_TRUTH_BINS, hb)
+#define SB_LOAD_PARAMS , uint4 hb
+#define SB_LOAD_ARGS , hb
 #define SB_XYZ hero_xyz(extra, hb, hw, L[0], out);
 /* for spectral records, the factor that turns a lane's radiance into its
  * share of its 5 nm bin's mean: 1 / (density lanes 5 nm) */

@@ -118,7 +118,7 @@ SPM_ALWAYS_INLINE void count_hit(float lpdf, float cpdf, float rrw, uint memit, 
     float wm = 1.0f;
     if (cpdf > 0.0f)
         wm = mis_power(cpdf, lpdf);
-    x->ids = (x->ids & 0xFFFFu) | SPM_EXT_IDS(SPM_NONE, memit);
+    x->ids = (x->ids & 0xFFFFu) | SPM_VX_HIT_BITS(memit);
     x->hit_c = rrw * wm * escale;
 }
 
@@ -177,7 +177,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         }
 #ifdef SPM_WITH_VEXT
         if (seg) /* the segment's length: a medium's absorption, in the shade stage */
-            xrec[(size_t)(j - 1u) * npaths].cos_lobe = t;
+            xrec[(size_t)(j - 1u) * npaths].lobe = t;
         /* emission the last vertex's sampled ray hit, counted there */
         if (cpdf >= 0.0f && memit != SPM_NONE && ecos > 0.0f) {
             count_hit(cpdf > 0.0f ? light_pdf_hit(light_pdf, (uint)hit, tr, t, ecos) : 0.0f, cpdf,
@@ -193,7 +193,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         spm_light_sample ls;
         if (p.nemitters > 0 && b.nee && /* next-event estimation */
             light_sample(SPM_TRACE_ARGS(SPM_KERNEL_ARG, SPM_COMMA), key, j, pos, hit, &fr, &ls))
-            eid = light_weight(m, &b, &fr, &ls, rrw, &c, &xe.cos_light);
+            eid = light_weight(m, &b, &fr, &ls, rrw, &c, &xe.light);
 
         /* the vertex; its reflectance counted per occurrence */
         float mmean, minv;
@@ -231,7 +231,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         seg = s.inside;
 #ifdef SPM_WITH_VEXT
         if (s.cos_lobe != 0.0f) /* the record holds 0 already */
-            xrec[(size_t)j * npaths].cos_lobe = s.cos_lobe;
+            xrec[(size_t)j * npaths].lobe = s.cos_lobe;
 #endif
         d = s.wi;
         o = pos;

@@ -15,9 +15,7 @@
  *    with a smooth and a rough coated object (records, the vertex words,
  *    level bytes), and each mode's shade kernel against the reference's
  *    shading of the same records. */
-#include "cl_testlib.h"
-#include "spm_rng.h"
-#include "testutil.h"
+#include "typebox_testlib.h"
 
 #define SEED 7u
 
@@ -192,16 +190,11 @@ static void test_furnace(double a, double eta, double R)
 }
 
 /* ---- kernel against reference ------------------------------------------- */
-#define W 32
-#define H 32
-#define SPP 32
-#define MAX_DIVERGENT_FRACTION 1e-3 /* as test_cl_trace */
-
 static int ext_differs(const spm_path *a, const spm_path *b)
 {
     for (spm_u32 j = 0; j < a->h.nvert; j++) {
         const spm_vertex_ext *x = &a->x[j], *y = &b->x[j];
-        if (x->ids != y->ids || x->cos_light != y->cos_light || x->cos_lobe != y->cos_lobe ||
+        if (x->ids != y->ids || x->light != y->light || x->lobe != y->lobe ||
             !cl_test_close_rel(x->hit_c, y->hit_c))
             return 1;
     }
@@ -212,61 +205,43 @@ static int ext_differs(const spm_path *a, const spm_path *b)
  * vertex adds no spectral arithmetic of its own. Bound as test_cl_conductor's. */
 #define SHADE_REL 1e-4
 
+/* the specular coating's vertices (those of its white colour) in the
+ * reference's records */
 typedef struct {
-    spm_u32 white;
-} box_ctx;
+    size_t spec, hits, lights;
+} coat_counts;
 
-static void box_trace(void *ctx, const cl_test_scene *s, spm_cl_renderer *r, const spm_path *cp,
-                      const uint8_t *cl, size_t n)
+static void coat_count(const cl_test_scene *s, const spm_path *g, const spm_path *c, int diverged,
+                       void *ctx)
 {
-    spm_u32 white = ((const box_ctx *)ctx)->white;
-    spm_path *gp = spm_xcalloc(n, sizeof *gp);
-    uint8_t *gl = spm_xcalloc(n, 1);
-    spm_error err;
-    (void)s;
-    int rc = spm_cl_trace(r, 0, SPP, gp, gl, &err);
-    CHECK(rc == 0, "spm_cl_trace: %s", err.msg);
-    size_t diverged = 0, xdiff = 0, spec = 0, hits = 0, lights = 0, level_diff = 0;
-    for (size_t i = 0; i < n; i++) {
-        int d = cl_test_path_differs(&gp[i], &cp[i]);
-        diverged += d;
-        xdiff += !d && ext_differs(&gp[i], &cp[i]);
-        level_diff += !d && gl[i] != cl[i];
-        for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
-            int k = (cp[i].v[j].ids & 0xFFFFu) == white;
-            spec += k;
-            hits += SPM_EXT_HIT(cp[i].x[j]) != SPM_NONE;
-            lights += k && (cp[i].v[j].ids >> 16) != SPM_NONE;
-        }
+    coat_counts *k = ctx;
+    (void)g, (void)diverged;
+    spm_u32 white = SPM_NONE;
+    for (int m = 0; m < s->tables.nmaterials; m++)
+        if (SPM_MAT_TAG(s->tables.materials[m]) == SPM_MAT_COATED)
+            white = s->tables.materials[m].col2;
+    for (spm_u32 j = 0; j < c->h.nvert; j++) {
+        int is = (c->v[j].ids & 0xFFFFu) == white;
+        k->spec += is;
+        k->hits += SPM_VX_HIT(c->x[j]) != SPM_NONE;
+        k->lights += is && (c->v[j].ids >> 16) != SPM_NONE;
     }
-    printf("box trace: %zu paths, %zu specular coating vertices (%zu light samples, %zu "
-           "lobe hits); %zu diverged, %zu vertex words differ, %zu level bytes differ\n",
-           n, spec, lights, hits, diverged, xdiff, level_diff);
-    CHECK(spec > n / 50 && hits > 5 && lights > 50, "too little coating transport");
-    CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu paths diverged",
-          diverged);
-    CHECK(xdiff == 0, "%zu paths' vertex words differ", xdiff);
-    CHECK(level_diff == 0, "%zu level bytes differ", level_diff);
-    free(gp);
-    free(gl);
+}
+
+static void coat_report(size_t n, void *ctx)
+{
+    const coat_counts *k = ctx;
+    printf("box: %zu specular coating vertices (%zu light samples, %zu lobe hits)\n", k->spec,
+           k->lights, k->hits);
+    CHECK(k->spec > n / 50 && k->hits > 5 && k->lights > 50, "too little coating transport");
 }
 
 static void test_box(void)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/tests/data/scenes/coated_box.scene", SPM_SOURCE_DIR);
-    cl_test_scene s;
-    if (cl_test_scene_load(&s, path, W, H)) {
-        CHECK(0, "the coated box loads");
-        return;
-    }
-    box_ctx b = {SPM_NONE};
-    for (int m = 0; m < s.tables.nmaterials; m++)
-        if (SPM_MAT_TAG(s.tables.materials[m]) == SPM_MAT_COATED)
-            b.white = s.tables.materials[m].col2;
-    int failed = cl_test_modes(&s, SEED, SPP, SHADE_REL, "box", box_trace, &b);
-    CHECK(failed == 0, "%d modes shade the box off the reference", failed);
-    cl_test_scene_close(&s);
+    coat_counts k = {0, 0, 0};
+    tb_box b = {"coated_box.scene", 32, 32, 32, SEED, SHADE_REL, ext_differs, coat_count,
+                coat_report, &k};
+    tb_box_run(&b);
 }
 
 int main(void)

@@ -9,9 +9,7 @@
  *    bytes), and each mode's shade kernel against the reference's shading of
  *    the same records. */
 #include <complex.h>
-#include "cl_testlib.h"
-#include "spm_rng.h"
-#include "testutil.h"
+#include "typebox_testlib.h"
 
 #define SEED 5u
 
@@ -116,21 +114,14 @@ static void test_plane(void)
     cl_test_scene_close(&s);
 }
 
-#define W 24
-#define H 24
-#define SPP 16
-/* as test_cl_trace: a path may diverge only where a few ulps of cos/sin move
- * a ray across an edge; 1 in 1000 is a generous ceiling */
-#define MAX_DIVERGENT_FRACTION 1e-3
-
 static int ext_differs(const spm_path *a, const spm_path *b)
 {
     for (spm_u32 j = 0; j < a->h.nvert; j++) {
         const spm_vertex_ext *x = &a->x[j], *y = &b->x[j];
         int last = j + 1 == a->h.nvert && a->h.end == SPM_END_TRUNCATED; /* no bounce on the CPU */
-        if (x->ids != y->ids || !cl_test_close_rel(x->cos_light, y->cos_light) ||
+        if (x->ids != y->ids || !cl_test_close_rel(x->light, y->light) ||
             !cl_test_close_rel(x->hit_c, y->hit_c) ||
-            (!last && !cl_test_close_rel(x->cos_lobe, y->cos_lobe)))
+            (!last && !cl_test_close_rel(x->lobe, y->lobe)))
             return 1;
     }
     return 0;
@@ -142,78 +133,45 @@ static int ext_differs(const spm_path *a, const spm_path *b)
  * worst 1.5e-6 (truth) relative to the largest component; bound 1e-4. */
 #define SHADE_REL 1e-4
 
+/* the conductor's vertices in the reference's records */
+typedef struct {
+    size_t cond, hits, lights, nv;
+} cond_counts;
+
+static void cond_count(const cl_test_scene *s, const spm_path *g, const spm_path *c, int diverged,
+                       void *ctx)
+{
+    cond_counts *k = ctx;
+    (void)s, (void)g, (void)diverged;
+    k->nv += c->h.nvert;
+    for (spm_u32 j = 0; j < c->h.nvert; j++) {
+        int is = SPM_VX_KIND(c->x[j]) == SPM_FK_FRESNEL;
+        k->cond += is;
+        k->hits += SPM_VX_HIT(c->x[j]) != SPM_NONE;
+        k->lights += is && (c->v[j].ids >> 16) != SPM_NONE;
+    }
+}
+
+static void cond_report(size_t n, void *ctx)
+{
+    const cond_counts *k = ctx;
+    printf("box: %.3f vertices a path, %zu conductor vertices (%zu light samples, %zu lobe "
+           "hits)\n", (double)k->nv / (double)n, k->cond, k->lights, k->hits);
+    /* the device record a path reads and writes: its header, and per vertex
+     * spm_vertex, plus spm_vertex_ext in a scene with a conductor */
+    printf("record: %.1f bytes a path (%.1f without the conductor's words)\n",
+           sizeof(spm_dev_head) + (double)k->nv / (double)n *
+                                    (sizeof(spm_vertex) + sizeof(spm_vertex_ext)),
+           sizeof(spm_dev_head) + (double)k->nv / (double)n * sizeof(spm_vertex));
+    CHECK(k->cond > n / 10 && k->hits > 20 && k->lights > 100, "too little conductor transport");
+}
+
 static void test_box(void)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/tests/data/scenes/conductor_box.scene", SPM_SOURCE_DIR);
-    cl_test_scene s;
-    if (cl_test_scene_load(&s, path, W, H)) {
-        CHECK(0, "the conductor box loads");
-        return;
-    }
-    size_t n = (size_t)W * H * SPP;
-    spm_path *gp = spm_xcalloc(n, sizeof *gp), *cp = spm_xcalloc(n, sizeof *cp);
-    uint8_t *gl = spm_xcalloc(n, 1), *cl = spm_xcalloc(n, 1);
-    float *ref = spm_xcalloc(3 * n, sizeof *ref), *got = spm_xcalloc(3 * n, sizeof *got);
-    spm_trace_params p = cl_test_params(&s, SEED, 0, SPP);
-    for (int mode = 0; mode < SPM_MODE_COUNT; mode++) {
-        spm_cl_renderer *r;
-        spm_error err;
-        if (spm_cl_create(0, &s.geom, &s.tables, mode, SEED, &r, &err)) {
-            CHECK(0, "spm_cl_create: %s", err.msg);
-            continue;
-        }
-        const char *name = spm_mode(mode)->name;
-        spm_ref_trace(&s.geom, s.tables.materials, cl_test_lvlk(&s.tables, mode), &p, cp, cl);
-        if (mode == 0) { /* the records do not depend on the mode (test_cl_trace) */
-            int rc = spm_cl_trace(r, 0, SPP, gp, gl, &err);
-            CHECK(rc == 0, "spm_cl_trace: %s", err.msg);
-            size_t diverged = 0, xdiff = 0, cond = 0, hits = 0, lights = 0, level_diff = 0, nv = 0;
-            for (size_t i = 0; i < n; i++) {
-                int d = cl_test_path_differs(&gp[i], &cp[i]);
-                diverged += d;
-                xdiff += !d && ext_differs(&gp[i], &cp[i]);
-                level_diff += !d && gl[i] != cl[i];
-                nv += cp[i].h.nvert;
-                for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
-                    int k = SPM_EXT_K(cp[i].x[j]) != SPM_NONE;
-                    cond += k;
-                    hits += SPM_EXT_HIT(cp[i].x[j]) != SPM_NONE;
-                    lights += k && (cp[i].v[j].ids >> 16) != SPM_NONE;
-                }
-            }
-            printf("box trace: %zu paths, %.3f vertices a path, %zu conductor vertices (%zu light "
-                   "samples, %zu lobe hits); %zu diverged, %zu conductor words differ, %zu level "
-                   "bytes differ\n", n, (double)nv / (double)n, cond, lights, hits, diverged, xdiff,
-                   level_diff);
-            /* the device record a path reads and writes: its header, and per vertex
-             * spm_vertex, plus spm_vertex_ext in a scene with a conductor */
-            printf("record: %.1f bytes a path (%.1f without the conductor's words)\n",
-                   sizeof(spm_dev_head) + (double)nv / (double)n *
-                                            (sizeof(spm_vertex) + sizeof(spm_vertex_ext)),
-                   sizeof(spm_dev_head) + (double)nv / (double)n * sizeof(spm_vertex));
-            CHECK(cond > n / 10 && hits > 20 && lights > 100, "too little conductor transport");
-            CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu paths diverged",
-                  diverged);
-            CHECK(xdiff == 0, "%zu paths' conductor words differ", xdiff);
-            CHECK(level_diff == 0, "%zu level bytes differ", level_diff);
-        }
-        spm_ref_shade(&s.tables, mode, &p, 0, cp, cl, n, ref);
-        int rc = spm_cl_shade(r, 0, SPP, cp, cl, got, &err);
-        CHECK(rc == 0, "%s: spm_cl_shade: %s", name, err.msg);
-        double worst = 0.0;
-        size_t bad = rc ? 0 : cl_test_shade_diff(ref, got, n, SHADE_REL, &worst);
-        printf("box shade %-5s: worst %.3g relative\n", name, worst);
-        CHECK(bad == 0, "%s: %zu components beyond %g (worst %.3g)", name, bad, SHADE_REL, worst);
-        spm_cl_destroy(r);
-    }
-    free(gp);
-    free(cp);
-    free(gl);
-    free(cl);
-    free(ref);
-    free(got);
-    cl_test_scene_close(&s);
+    cond_counts k = {0, 0, 0, 0};
+    tb_box b = {"conductor_box.scene", 24, 24, 16, SEED, SHADE_REL, ext_differs, cond_count,
+                cond_report, &k};
+    tb_box_run(&b);
 }
 
 int main(void)

@@ -16,9 +16,7 @@
  *    a smooth clear and a rough absorbing glass block (records, the vertex
  *    words, level bytes), and each mode's shade kernel against the
  *    reference's shading of the same records. */
-#include "cl_testlib.h"
-#include "spm_rng.h"
-#include "testutil.h"
+#include "typebox_testlib.h"
 
 #define SEED 7u
 
@@ -274,7 +272,7 @@ static void test_slab_scale(void)
     } else {
         for (size_t i = 0; i < n; i++)
             for (spm_u32 j = 0; j < paths[i].h.nvert; j++)
-                inside += SPM_EXT_DIEL(paths[i].x[j]) && paths[i].x[j].cos_lobe > 0.0f;
+                inside += (SPM_VX_KIND(paths[i].x[j]) == SPM_FK_ABSORB) && paths[i].x[j].lobe > 0.0f;
         const double ks[] = {1.0 / 1024, 1024.0};
         for (int a = 0; a < 2; a++) {
             int rc = slab_render(ks[a], "glass_slab_k.scene", paths, levels, xk);
@@ -291,14 +289,7 @@ static void test_slab_scale(void)
     free(xk);
 }
 
-#define W 24
-#define H 24
-#define SPP 16
-/* as test_cl_trace: a path may diverge only where a few ulps of cos/sin move
- * a ray across an edge; 1 in 1000 is a generous ceiling */
-#define MAX_DIVERGENT_FRACTION 1e-3
-
-/* The lengths inside (cos_lobe) of two records of the same path: the largest
+/* The lengths inside (lobe) of two records of the same path: the largest
  * absolute difference, and whether one is off beyond the weights' relative
  * tolerance. A length is a difference of two hit distances, so where a ray
  * grazes a block's corner inside (lengths of 1e-5 to 1e-2) the rays' float
@@ -310,7 +301,7 @@ static double len_diff(const spm_path *a, const spm_path *b, int *off)
     double worst = 0.0;
     *off = 0;
     for (spm_u32 j = 0; j < a->h.nvert; j++) {
-        float x = a->x[j].cos_lobe, y = b->x[j].cos_lobe;
+        float x = a->x[j].lobe, y = b->x[j].lobe;
         worst = fmax(worst, fabs((double)x - y));
         *off |= !cl_test_close_rel(x, y);
     }
@@ -322,7 +313,7 @@ static int ext_differs(const spm_path *a, const spm_path *b)
 {
     for (spm_u32 j = 0; j < a->h.nvert; j++) {
         const spm_vertex_ext *x = &a->x[j], *y = &b->x[j];
-        if (x->ids != y->ids || !cl_test_close_rel(x->cos_light, y->cos_light) ||
+        if (x->ids != y->ids || !cl_test_close_rel(x->light, y->light) ||
             !cl_test_close_rel(x->hit_c, y->hit_c))
             return 1;
     }
@@ -334,84 +325,50 @@ static int ext_differs(const spm_path *a, const spm_path *b)
  * relative to the path's largest component, as the conductor's. */
 #define SHADE_REL 1e-4
 
+/* the dielectric's vertices in the reference's records, and the lengths
+ * inside of the paths both backends took */
+typedef struct {
+    size_t diel, hits, lights, inside, len_off;
+    double len_worst;
+} diel_counts;
+
+static void diel_count(const cl_test_scene *s, const spm_path *g, const spm_path *c, int diverged,
+                       void *ctx)
+{
+    diel_counts *k = ctx;
+    (void)s;
+    int off = 0;
+    if (!diverged)
+        k->len_worst = fmax(k->len_worst, len_diff(g, c, &off));
+    k->len_off += off;
+    for (spm_u32 j = 0; j < c->h.nvert; j++) {
+        int is = SPM_VX_KIND(c->x[j]) == SPM_FK_ABSORB;
+        k->diel += is;
+        k->hits += is && SPM_VX_HIT(c->x[j]) != SPM_NONE;
+        k->lights += is && (c->v[j].ids >> 16) != SPM_NONE;
+        k->inside += is && c->x[j].lobe > 0.0f;
+    }
+}
+
+static void diel_report(size_t n, void *ctx)
+{
+    const diel_counts *k = ctx;
+    printf("box: %zu dielectric vertices (%zu light samples, %zu lobe hits, %zu segments "
+           "inside)\n", k->diel, k->lights, k->hits, k->inside);
+    CHECK(k->diel > n / 10 && k->hits > 20 && k->lights > 50 && k->inside > n / 20,
+          "too little dielectric transport");
+    printf("lengths inside: %zu paths beyond the relative tolerance, worst %.3g\n", k->len_off,
+           k->len_worst);
+    CHECK((double)k->len_off <= TB_MAX_DIVERGENT_FRACTION * (double)n && k->len_worst <= LEN_ABS,
+          "lengths inside: %zu paths off, worst %g", k->len_off, k->len_worst);
+}
+
 static void test_box(void)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/tests/data/scenes/glass_box.scene", SPM_SOURCE_DIR);
-    cl_test_scene s;
-    if (cl_test_scene_load(&s, path, W, H)) {
-        CHECK(0, "the glass box loads");
-        return;
-    }
-    size_t n = (size_t)W * H * SPP;
-    spm_path *gp = spm_xcalloc(n, sizeof *gp), *cp = spm_xcalloc(n, sizeof *cp);
-    uint8_t *gl = spm_xcalloc(n, 1), *cl = spm_xcalloc(n, 1);
-    float *ref = spm_xcalloc(3 * n, sizeof *ref), *got = spm_xcalloc(3 * n, sizeof *got);
-    spm_trace_params p = cl_test_params(&s, SEED, 0, SPP);
-    for (int mode = 0; mode < SPM_MODE_COUNT; mode++) {
-        spm_cl_renderer *r;
-        spm_error err;
-        if (spm_cl_create(0, &s.geom, &s.tables, mode, SEED, &r, &err)) {
-            CHECK(0, "spm_cl_create: %s", err.msg);
-            continue;
-        }
-        const char *name = spm_mode(mode)->name;
-        spm_ref_trace(&s.geom, s.tables.materials, cl_test_lvlk(&s.tables, mode), &p, cp, cl);
-        if (mode == 0) { /* the records do not depend on the mode (test_cl_trace) */
-            int rc = spm_cl_trace(r, 0, SPP, gp, gl, &err);
-            CHECK(rc == 0, "spm_cl_trace: %s", err.msg);
-            size_t diverged = 0, xdiff = 0, diel = 0, hits = 0, lights = 0, inside = 0;
-            size_t level_diff = 0, nv = 0, len_off = 0;
-            double len_worst = 0.0;
-            for (size_t i = 0; i < n; i++) {
-                int d = cl_test_path_differs(&gp[i], &cp[i]);
-                diverged += d;
-                xdiff += !d && ext_differs(&gp[i], &cp[i]);
-                int off = 0;
-                if (!d)
-                    len_worst = fmax(len_worst, len_diff(&gp[i], &cp[i], &off));
-                len_off += off;
-                level_diff += !d && gl[i] != cl[i];
-                nv += cp[i].h.nvert;
-                for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
-                    int k = SPM_EXT_DIEL(cp[i].x[j]);
-                    diel += k;
-                    hits += k && SPM_EXT_HIT(cp[i].x[j]) != SPM_NONE;
-                    lights += k && (cp[i].v[j].ids >> 16) != SPM_NONE;
-                    inside += k && cp[i].x[j].cos_lobe > 0.0f;
-                }
-            }
-            printf("box trace: %zu paths, %.3f vertices a path, %zu dielectric vertices (%zu "
-                   "light samples, %zu lobe hits, %zu segments inside); %zu diverged, %zu vertex "
-                   "words differ, %zu level bytes differ\n", n, (double)nv / (double)n, diel,
-                   lights, hits, inside, diverged, xdiff, level_diff);
-            CHECK(diel > n / 10 && hits > 20 && lights > 50 && inside > n / 20,
-                  "too little dielectric transport");
-            CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu paths diverged",
-                  diverged);
-            printf("lengths inside: %zu paths beyond the relative tolerance, worst %.3g\n",
-                   len_off, len_worst);
-            CHECK(xdiff == 0, "%zu paths' dielectric words differ", xdiff);
-            CHECK((double)len_off <= MAX_DIVERGENT_FRACTION * (double)n && len_worst <= LEN_ABS,
-                  "lengths inside: %zu paths off, worst %g", len_off, len_worst);
-            CHECK(level_diff == 0, "%zu level bytes differ", level_diff);
-        }
-        spm_ref_shade(&s.tables, mode, &p, 0, cp, cl, n, ref);
-        int rc = spm_cl_shade(r, 0, SPP, cp, cl, got, &err);
-        CHECK(rc == 0, "%s: spm_cl_shade: %s", name, err.msg);
-        double worst = 0.0;
-        size_t bad = rc ? 0 : cl_test_shade_diff(ref, got, n, SHADE_REL, &worst);
-        printf("box shade %-5s: worst %.3g relative\n", name, worst);
-        CHECK(bad == 0, "%s: %zu components beyond %g (worst %.3g)", name, bad, SHADE_REL, worst);
-        spm_cl_destroy(r);
-    }
-    free(gp);
-    free(cp);
-    free(gl);
-    free(cl);
-    free(ref);
-    free(got);
-    cl_test_scene_close(&s);
+    diel_counts k = {0, 0, 0, 0, 0, 0.0};
+    tb_box b = {"glass_box.scene", 24, 24, 16, SEED, SHADE_REL, ext_differs, diel_count,
+                diel_report, &k};
+    tb_box_run(&b);
 }
 
 int main(void)

@@ -36,9 +36,9 @@
 static size_t committed(const spm_path *p, spm_u32 *bin, float *iw)
 {
     for (spm_u32 j = 0; j < p->h.nvert; j++)
-        if (SPM_EXT_DIEL(p->x[j]) && SPM_EXT_LAMBDA(p->x[j]) != SPM_NONE) {
-            *bin = SPM_EXT_LAMBDA(p->x[j]);
-            *iw = p->x[j].cos_light;
+        if (SPM_VX_LAMBDA(p->x[j]) != SPM_NONE) {
+            *bin = SPM_VX_LAMBDA(p->x[j]);
+            *iw = p->x[j].light;
             return j + 1;
         }
     return 0;

@@ -130,8 +130,8 @@ static int ext_differs(const spm_path *a, const spm_path *b)
     for (spm_u32 j = 0; j < a->h.nvert; j++) {
         const spm_vertex_ext *x = &a->x[j], *y = &b->x[j];
         int last = j + 1 == a->h.nvert && a->h.end == SPM_END_TRUNCATED;
-        if (x->ids != y->ids || !cos_close(x->cos_light, y->cos_light) ||
-            !cl_test_close_rel(x->hit_c, y->hit_c) || (!last && !cos_close(x->cos_lobe, y->cos_lobe)))
+        if (x->ids != y->ids || !cos_close(x->light, y->light) ||
+            !cl_test_close_rel(x->hit_c, y->hit_c) || (!last && !cos_close(x->lobe, y->lobe)))
             return 1;
     }
     return 0;
@@ -164,10 +164,10 @@ static void test_paths(const cl_test_scene *s, const char *name, int strict)
         int xd = !d && ext_differs(&gp[i], &cp[i]);
         xdiff += xd;
         for (spm_u32 j = 0; xd && xdiff <= 3 && j < cp[i].h.nvert; j++)
-            printf("path %zu vertex %u: kernel ids %08x cos_lobe %.9g cos_light %.9g hit_c %.9g; "
-                   "reference %08x %.9g %.9g %.9g\n", i, j, gp[i].x[j].ids, gp[i].x[j].cos_lobe,
-                   gp[i].x[j].cos_light, gp[i].x[j].hit_c, cp[i].x[j].ids, cp[i].x[j].cos_lobe,
-                   cp[i].x[j].cos_light, cp[i].x[j].hit_c);
+            printf("path %zu vertex %u: kernel ids %08x lobe %.9g light %.9g hit_c %.9g; "
+                   "reference %08x %.9g %.9g %.9g\n", i, j, gp[i].x[j].ids, gp[i].x[j].lobe,
+                   gp[i].x[j].light, gp[i].x[j].hit_c, cp[i].x[j].ids, cp[i].x[j].lobe,
+                   cp[i].x[j].light, cp[i].x[j].hit_c);
         level_diff += !d && gl[i] != cl[i];
     }
     /* how many camera rays hit a smooth triangle (a fresh intersection on the host) */

@@ -1,11 +1,12 @@
 /* CPU reference shade stage: every mode on a hand-made record against the
- * shading formula evaluated in double, hero-wavelength placement and its
- * convergence to truth. Float sums of at most 400 positive terms carry a
+ * shading formula evaluated in double, a record of every stored factor kind
+ * likewise, hero-wavelength placement and its convergence to truth. Float sums of at most 400 positive terms carry a
  * relative error below 400 * 2^-24 = 2.4e-5: tolerance 1e-4 relative. */
 #include "colour.h"
 #include "spm_rng.h"
 #include "refcpu.h"
 #include "testutil.h"
+#include <complex.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -153,6 +154,68 @@ static void test_binned_modes(const spm_tables *t)
     check_xyz(xyz, ex, "rgb");
 }
 
+/* A record of every stored factor kind (spm_shared.h SPM_FACTOR_KINDS), each
+ * vertex with the hit its sampled ray counted, shaded in truth against the
+ * kinds' formulas in double: a conductor (eta colour 0, k colour 1, cosines
+ * 0.8 for its lobe and 0.6 for its light sample, whose emission 2 weighs
+ * 0.5; hit 3, 0.3), a dielectric (sigma colour 1, 0.7 inside; emission 2,
+ * 0.25; hit 2, 0.2), a plain vertex (colour 0; hit 3, 0.1, a coated lobe's),
+ * then the background 3 with weight 2. The Fresnel here is the complex
+ * formula (test_cl_conductor's), not the reference's real one. */
+static double fresnel_complex(double eta, double k, double c)
+{
+    double complex n = eta + I * k;
+    double complex ct = csqrt(1.0 - (1.0 - c * c) / (n * n));
+    double complex rs = (c - n * ct) / (c + n * ct), rp = (n * c - ct) / (n * c + ct);
+    return 0.5 * (creal(rs * conj(rs)) + creal(rp * conj(rp)));
+}
+
+static double expect_kinds(int l, int n)
+{
+    double eta = val(0, l, n), k = val(1, l, n), e = val(2, l, n), h = val(3, l, n);
+    double L = e, P = 1.0;
+    L += P * fresnel_complex(eta, k, 0.6) * e * 0.5;
+    P *= fresnel_complex(eta, k, 0.8);
+    L += P * h * 0.3;
+    L += P * e * 0.25;
+    P *= exp(-val(1, l, n) * 0.7);
+    L += P * e * 0.2;
+    P *= val(0, l, n);
+    L += P * h * 0.1;
+    return L + P * h * 2.0;
+}
+
+static void test_factor_kinds(const spm_tables *t)
+{
+    spm_path p;
+    memset(&p, 0, sizeof p);
+    p.h = (spm_path_head){3, SPM_END_ESCAPED, 2, 1.0f, 3, 2.0f, 0, 0};
+    p.v[0] = (spm_vertex){0u | (2u << 16), 0.5f};
+    p.x[0] = (spm_vertex_ext){SPM_VX_IDS(SPM_FK_FRESNEL, 1u) | SPM_VX_HIT_BITS(3u), 0.8f, 0.6f,
+                              0.3f};
+    p.v[1] = (spm_vertex){1u | (2u << 16), 0.25f};
+    p.x[1] = (spm_vertex_ext){SPM_VX_IDS(SPM_FK_ABSORB, SPM_NONE) | SPM_VX_HIT_BITS(2u), 0.7f,
+                              0.0f, 0.2f};
+    p.v[2] = (spm_vertex){0u | (SPM_NONE << 16), 0.0f};
+    p.x[2] = (spm_vertex_ext){SPM_VX_IDS(SPM_FK_PLAIN, SPM_NONE) | SPM_VX_HIT_BITS(3u), 0.0f,
+                              0.0f, 0.1f};
+    CHECK(SPM_VX_KIND(p.x[0]) == SPM_FK_FRESNEL && SPM_VX_COL(p.x[0]) == 1u &&
+              SPM_VX_HIT(p.x[0]) == 3u && SPM_VX_LAMBDA(p.x[1]) == SPM_NONE &&
+              SPM_VX_KIND(p.x[2]) == SPM_FK_PLAIN,
+          "the record's fields read back");
+    spm_trace_params tp;
+    memset(&tp, 0, sizeof tp);
+    tp.spp_per_pass = 1;
+    uint8_t level = 0;
+    float xyz[3];
+    double ex[3] = {0, 0, 0};
+    for (int ch = 0; ch < 3; ch++)
+        for (int i = 0; i < SPM_TRUTH_BINS; i++)
+            ex[ch] += expect_kinds(i, SPM_TRUTH_BINS) * weight(ch, i, SPM_TRUTH_BINS);
+    spm_ref_shade(t, SPM_MODE_TRUTH, &tp, 0, &p, &level, 1, xyz);
+    check_xyz(xyz, ex, "factor kinds (truth)");
+}
+
 /* Hero lanes land where pbrt-v4's visible density truncated to 380-780 nm
  * puts them, recomputed here in double from its closed form: lane k at
  * x = frac(u + k/4), wavelength 538 + atanh(t0 + x dt)/a; each reads the 1 nm
@@ -255,6 +318,7 @@ int main(void)
     spm_tables t;
     make_tables(&t);
     test_binned_modes(&t);
+    test_factor_kinds(&t);
     test_hero_lanes(&t);
     test_hero_index(&t);
     test_hero_converges(&t);

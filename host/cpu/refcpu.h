@@ -52,14 +52,6 @@ static inline void spm_ref_path_key(const spm_trace_params *p, size_t i, spm_u32
     *sample = p->first_sample + (spm_u32)(i % p->spp_per_pass);
 }
 
-/* Fluorescence (refcpu_fluor.c): whether path has a fluorescent vertex
- * (a reflectance colour id >= tab->fluor_first) before any black one; and
- * its lanes L (n of them, stride apart in tab's rows) walked from the light
- * end through each vertex's matrix (modes.h: the colour's diagonal and the
- * fluorescence block), docs/METHODS.md "Fluorescence". */
-int spm_ref_fluor_path(const spm_path *path, const spm_shade_table *tab);
-void spm_ref_fluor_shade(const spm_path *path, const spm_shade_table *tab, int n, float *L);
-
 /* Ray recording (`specmip bench --rays`): while set on a thread, every ray
  * that thread's reference trace casts is passed to fn as a spm_ray
  * (spm_shared.h: a shadow ray names its emitter triangle) before it is cast.

@@ -4,6 +4,7 @@
 #include <math.h>
 #include "geometry_vec3.h"
 #include "refcpu_bsdf.h"
+#include "refcpu_factors.h"
 
 void spm_ref_cond_make(const spm_tri *tri, const float d[3], float alpha, spm_ref_cond *c)
 {
@@ -137,23 +138,30 @@ float spm_ref_cond_fresnel(float eta, float k, float cin)
     return 0.5f * (rs + rp);
 }
 
-/* Each walk in its own order of roundings (the kernels' too). */
-void spm_ref_cond_vertex(const spm_vertex *v, const spm_vertex_ext *x, const float *eta,
-                         const float *k, const float *e, const float *hit, int n, int eye,
-                         float *W, float *acc)
+/* The FRESNEL factor (refcpu_factors.h): r the eta colour, the record's
+ * colour word k; toward the eye the vertex sends F(light) E[e] c + F(lobe) A,
+ * A the light arriving along its sampled ray. Camera first
+ * acc += W F(light) E[e] c; W *= F(lobe); from the light end
+ * A = F(lobe) A + F(light) E[e] c. Each walk in its own order of roundings
+ * (the kernels' too). */
+void spm_ref_factor_FRESNEL(int eye, const spm_vertex *v, const spm_vertex_ext *x,
+                            const spm_ref_lanes *ln, float *W, float *acc)
 {
-    for (int l = 0; l < n; l++) {
+    float eta[SPM_REF_MAX_LANES], k[SPM_REF_MAX_LANES], E[SPM_REF_MAX_LANES];
+    spm_u32 e = v->ids >> 16;
+    spm_ref_fetch(ln, v->ids & 0xFFFFu, eta);
+    spm_ref_fetch(ln, SPM_VX_COL(*x), k);
+    if (e != SPM_NONE)
+        spm_ref_fetch(ln, e, E);
+    for (int l = 0; l < ln->n; l++) {
         if (eye) {
-            if (e)
-                acc[l] += W[l] * spm_ref_cond_fresnel(eta[l], k[l], x->cos_light) * e[l] * v->c;
-            W[l] *= spm_ref_cond_fresnel(eta[l], k[l], x->cos_lobe);
-            if (hit)
-                acc[l] += W[l] * hit[l] * x->hit_c;
+            if (e != SPM_NONE)
+                acc[l] += W[l] * spm_ref_cond_fresnel(eta[l], k[l], x->light) * E[l] * v->c;
+            W[l] *= spm_ref_cond_fresnel(eta[l], k[l], x->lobe);
         } else {
-            float in = acc[l] + (hit ? hit[l] * x->hit_c : 0.0f);
-            acc[l] = spm_ref_cond_fresnel(eta[l], k[l], x->cos_lobe) * in;
-            if (e)
-                acc[l] += spm_ref_cond_fresnel(eta[l], k[l], x->cos_light) * e[l] * v->c;
+            acc[l] = spm_ref_cond_fresnel(eta[l], k[l], x->lobe) * acc[l];
+            if (e != SPM_NONE)
+                acc[l] += spm_ref_cond_fresnel(eta[l], k[l], x->light) * E[l] * v->c;
         }
     }
 }
@@ -232,6 +240,6 @@ spm_u32 spm_ref_record_CONDUCTOR(const spm_material *m, const spm_ref_bsdf *b,
                                  const spm_ref_walk *w, spm_vertex_ext *x)
 {
     (void)b, (void)w;
-    x->ids = SPM_EXT_IDS(m->col2, SPM_NONE);
+    x->ids = SPM_VX_IDS(SPM_FK_FRESNEL, m->col2);
     return m->col2;
 }

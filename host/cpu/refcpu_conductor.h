@@ -34,17 +34,6 @@ int spm_ref_cond_lobe(const spm_ref_cond *c, float u1, float u2, float out[3], f
 float spm_ref_cond_power(float a, float b);
 /* The conductor's exact unpolarised Fresnel reflectance (materials.c's formula). */
 float spm_ref_cond_fresnel(float eta, float k, float c);
-/* A conductor vertex v (its spm_vertex_ext x) in the shade stage, over n
- * lanes, for both walks of the record: eta and k the lanes of its two
- * colours, e those of the light sample's emission (NULL: none) and hit those
- * of the emission its lobe's ray hit (NULL: none). The one rule: toward the
- * eye it sends F(cos_light) E_e c + F(cos_lobe) (E_hit hit_c + A), A the
- * light arriving along the lobe. eye 1 (camera first) applies it to the path
- * weight W and radiance acc: acc += W F_l E_e c; W *= F_o; acc += W E_hit hit_c.
- * eye 0 (from the light end) to acc = A (W unused). */
-void spm_ref_cond_vertex(const spm_vertex *v, const spm_vertex_ext *x, const float *eta,
-                         const float *k, const float *e, const float *hit, int n, int eye,
-                         float *W, float *acc);
 /* GGX of width a in a vertex frame: Smith's Lambda at cosine z, D at m_z, a
  * visible normal m for wo from two random numbers (the formulas above) */
 float spm_ref_ggx_lambda(float a, float z);

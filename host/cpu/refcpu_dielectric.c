@@ -5,6 +5,7 @@
 #include <stdint.h>
 #include "geometry_vec3.h"
 #include "refcpu_bsdf.h"
+#include "refcpu_factors.h"
 
 float spm_ref_diel_fresnel(float ci, float e, float *ct_out)
 {
@@ -182,10 +183,33 @@ spm_u32 spm_ref_record_DIELECTRIC(const spm_material *m, const spm_ref_bsdf *b,
                                   const spm_ref_walk *w, spm_vertex_ext *x)
 {
     (void)m;
-    x->ids = SPM_EXT_KIND; /* the length inside comes with the next hit */
-    if (b->commit) {       /* the committed bin and 1 / its pdf (SPM_EXT_LAMBDA) */
-        x->ids |= w->lam + 1u;
-        x->cos_light = (float)SPM_TRUTH_BINS;
-    }
+    /* the length inside comes with the next hit; the committed bin and 1 /
+     * its pdf (spm_shared.h SPM_VX_LAMBDA) */
+    x->ids = SPM_VX_IDS(SPM_FK_ABSORB, b->commit ? w->lam : SPM_NONE);
+    if (b->commit)
+        x->light = (float)SPM_TRUTH_BINS;
     return SPM_NONE;
+}
+
+/* The ABSORB factor (refcpu_factors.h): r the absorption sigma, the
+ * record's lobe the length d inside (0: none). Camera first acc += W E[e] c;
+ * W *= exp(-sigma d); from the light end A = exp(-sigma d) A + E[e] c. */
+void spm_ref_factor_ABSORB(int eye, const spm_vertex *v, const spm_vertex_ext *x,
+                           const spm_ref_lanes *ln, float *W, float *acc)
+{
+    float S[SPM_REF_MAX_LANES];
+    spm_u32 e = v->ids >> 16;
+    if (eye && e != SPM_NONE)
+        spm_ref_emit_eye(ln, e, v->c, W, acc);
+    if (x->lobe > 0.0f) {
+        spm_ref_fetch(ln, v->ids & 0xFFFFu, S);
+        for (int l = 0; l < ln->n; l++) {
+            if (eye)
+                W[l] *= spm_ref_diel_absorb(S[l], x->lobe);
+            else
+                acc[l] = spm_ref_diel_absorb(S[l], x->lobe) * acc[l];
+        }
+    }
+    if (!eye && e != SPM_NONE)
+        spm_ref_emit_arrive(ln, e, v->c, acc);
 }

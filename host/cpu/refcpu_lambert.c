@@ -3,6 +3,7 @@
 #include <math.h>
 #include "geometry_vec3.h"
 #include "refcpu_bsdf.h"
+#include "refcpu_factors.h"
 
 void spm_ref_begin_LAMBERT(const spm_material *m, const spm_ref_hit *h, const spm_ref_key *k,
                            int j, spm_ref_walk *w, spm_ref_bsdf *b)
@@ -52,4 +53,26 @@ spm_u32 spm_ref_record_LAMBERT(const spm_material *m, const spm_ref_bsdf *b,
 {
     (void)m, (void)b, (void)w, (void)x;
     return SPM_NONE;
+}
+
+/* The PLAIN factor (refcpu_factors.h): the vertex's colour R; camera first
+ * W *= R, acc += W E[e] c; from the light end A = R (E[e] c + A). */
+void spm_ref_factor_PLAIN(int eye, const spm_vertex *v, const spm_vertex_ext *x,
+                          const spm_ref_lanes *ln, float *W, float *acc)
+{
+    (void)x;
+    float R[SPM_REF_MAX_LANES];
+    spm_u32 r = v->ids & 0xFFFFu, e = v->ids >> 16;
+    spm_ref_fetch(ln, r, R);
+    if (eye) {
+        for (int l = 0; l < ln->n; l++)
+            W[l] *= R[l];
+        if (e != SPM_NONE)
+            spm_ref_emit_eye(ln, e, v->c, W, acc);
+        return;
+    }
+    if (e != SPM_NONE)
+        spm_ref_emit_arrive(ln, e, v->c, acc);
+    for (int l = 0; l < ln->n; l++)
+        acc[l] *= R[l];
 }

@@ -5,122 +5,71 @@
 #include "refcpu.h"
 #include <math.h>
 #include "spm_rng.h"
-#include "refcpu_conductor.h"
-#include "refcpu_dielectric.h"
+#include "refcpu_factors.h"
 
-#define MAX_LANES (SPM_TRUTH_BINS + SPM_MAX_SPIKES) /* mlc at level 0 */
+#define MAX_LANES SPM_REF_MAX_LANES
+typedef spm_ref_lanes lanes;
 
-/* Colour c's lane l is base[c * stride + (idx ? idx[l] : l)]; XYZ channel ch
- * of the lanes is sum over l of lane l * w[ch][l]. */
-typedef struct {
-    const float *base;
-    size_t stride;
-    int n;
-    const int *idx;
-    const float *w[3];
-    const spm_shade_table *fluor; /* the table, when it has fluorescence blocks */
-} lanes;
-
-static void fetch(const lanes *v, spm_u32 c, float *out)
+/* The walk from the light end, for a path with a vertex whose factor mixes
+ * lanes (spm_ref_kind_of: a fluorescent colour), docs/METHODS.md
+ * "Fluorescence": A = E_bg c_bg (when the path escaped), then for
+ * j = n-1 .. 0 vertex j's factor on A (vertex_apply, eye 0); L += A.
+ * Returns 0, L untouched, for a path without one. */
+static int from_light(const spm_path *path, const lanes *v, float *L)
 {
-    const float *row = v->base + (size_t)c * v->stride;
+    const spm_path_head *h = &path->h;
+    float A[MAX_LANES];
+    spm_u32 n = h->nvert;
+    int mix = 0;
+    for (spm_u32 j = 0; j < h->nvert; j++) {
+        spm_u32 r = path->v[j].ids & 0xFFFFu;
+        if (r == SPM_NONE) {
+            n = j;
+            break;
+        }
+        mix |= spm_ref_kind_of(SPM_FK_PLAIN, r, v) != SPM_FK_PLAIN;
+    }
+    if (!mix)
+        return 0;
+    int lit = n == h->nvert && h->bg != SPM_NONE;
+    if (lit)
+        spm_ref_fetch(v, h->bg, A);
     for (int l = 0; l < v->n; l++)
-        out[l] = row[v->idx ? v->idx[l] : l];
+        A[l] = lit ? A[l] * h->bg_c : 0.0f;
+    for (spm_u32 j = n; j > 0; j--) {
+        const spm_vertex *vx = &path->v[j - 1];
+        const spm_vertex_ext *x = &path->x[j - 1];
+        spm_ref_vertex_apply(0, spm_ref_kind_of((int)SPM_VX_KIND(*x), vx->ids & 0xFFFFu, v), vx,
+                             x, v, NULL, A);
+    }
+    for (int l = 0; l < v->n; l++)
+        L[l] = L[l] + A[l];
+    return 1;
 }
 
-/* A conductor vertex j (spm_shared.h spm_vertex_ext): eta in the vertex's
- * colour, k in its own words, its lanes through spm_ref_cond_vertex. */
-static void conductor_vertex(const spm_path *path, spm_u32 j, const lanes *v, float *P, float *L)
-{
-    float eta[MAX_LANES], k[MAX_LANES], E[MAX_LANES], H[MAX_LANES];
-    const spm_vertex *vx = &path->v[j];
-    const spm_vertex_ext *x = &path->x[j];
-    spm_u32 e = vx->ids >> 16, hit = SPM_EXT_HIT(*x);
-    fetch(v, vx->ids & 0xFFFFu, eta);
-    fetch(v, SPM_EXT_K(*x), k);
-    if (e != SPM_NONE)
-        fetch(v, e, E);
-    if (hit != SPM_NONE)
-        fetch(v, hit, H);
-    spm_ref_cond_vertex(vx, x, eta, k, e != SPM_NONE ? E : NULL, hit != SPM_NONE ? H : NULL, v->n,
-                        1, P, L);
-}
-
-/* A dielectric vertex j (spm_shared.h spm_vertex_ext): its absorption sigma
- * in the vertex's colour, the length inside in cos_lobe; per lane
- *   L += P E[e] c;  P *= exp(-sigma d);  L += P E[hit] hit_c. */
-static void dielectric_vertex(const spm_path *path, spm_u32 j, const lanes *v, float *P, float *L)
-{
-    float S[MAX_LANES], X[MAX_LANES];
-    const spm_vertex *vx = &path->v[j];
-    const spm_vertex_ext *x = &path->x[j];
-    spm_u32 e = vx->ids >> 16, hit = SPM_EXT_HIT(*x);
-    if (e != SPM_NONE) {
-        fetch(v, e, X);
-        for (int l = 0; l < v->n; l++)
-            L[l] += P[l] * X[l] * vx->c;
-    }
-    if (x->cos_lobe > 0.0f) {
-        fetch(v, vx->ids & 0xFFFFu, S);
-        for (int l = 0; l < v->n; l++)
-            P[l] *= spm_ref_diel_absorb(S[l], x->cos_lobe);
-    }
-    if (hit != SPM_NONE) {
-        fetch(v, hit, X);
-        for (int l = 0; l < v->n; l++)
-            L[l] += P[l] * X[l] * x->hit_c;
-    }
-}
-
-/* P = 1; L = first_emit_c E[first]; per vertex P *= R, L += P E c (and at
- * a coated vertex L += P E[hit] hit_c); then the background. A black vertex (no reflectance colour) ends every later term. */
+/* P = 1; L = first_emit_c E[first]; per vertex its factor (vertex_apply,
+ * eye 1); then the background. A black vertex (no reflectance colour) ends
+ * every later term. */
 static void shade_lanes(const spm_path *path, const lanes *v, float *L)
 {
     float P[MAX_LANES], X[MAX_LANES];
     const spm_path_head *h = &path->h;
-    if (v->fluor && spm_ref_fluor_path(path, v->fluor)) {
-        spm_ref_fluor_shade(path, v->fluor, v->n, L);
-        return;
-    }
     for (int l = 0; l < v->n; l++)
         L[l] = 0.0f, P[l] = 1.0f;
     if (h->first_emit != SPM_NONE) {
-        fetch(v, h->first_emit, X);
+        spm_ref_fetch(v, h->first_emit, X);
         for (int l = 0; l < v->n; l++)
             L[l] = h->first_emit_c * X[l];
     }
+    if (v->fluor && from_light(path, v, L))
+        return;
     for (spm_u32 j = 0; j < h->nvert; j++) {
-        spm_u32 r = path->v[j].ids & 0xFFFFu, e = path->v[j].ids >> 16;
-        if (r == SPM_NONE)
+        if ((path->v[j].ids & 0xFFFFu) == SPM_NONE)
             return;
-        if (SPM_EXT_DIEL(path->x[j])) {
-            dielectric_vertex(path, j, v, P, L);
-            continue;
-        }
-        if (SPM_EXT_K(path->x[j]) != SPM_NONE) {
-            conductor_vertex(path, j, v, P, L);
-            continue;
-        }
-        fetch(v, r, X);
-        for (int l = 0; l < v->n; l++)
-            P[l] *= X[l];
-        if (e != SPM_NONE) {
-            fetch(v, e, X);
-            for (int l = 0; l < v->n; l++)
-                L[l] += P[l] * X[l] * path->v[j].c;
-        }
-        spm_u32 hit = SPM_EXT_HIT(path->x[j]); /* a coated vertex's specular lobe hit */
-        if (hit != SPM_NONE) {
-            fetch(v, hit, X);
-            for (int l = 0; l < v->n; l++)
-                L[l] += P[l] * X[l] * path->x[j].hit_c;
-        }
+        spm_ref_vertex_apply(1, (int)SPM_VX_KIND(path->x[j]), &path->v[j], &path->x[j], v, P, L);
     }
-    if (h->bg != SPM_NONE) {
-        fetch(v, h->bg, X);
-        for (int l = 0; l < v->n; l++)
-            L[l] += P[l] * X[l] * h->bg_c;
-    }
+    if (h->bg != SPM_NONE)
+        spm_ref_emit_eye(v, h->bg, h->bg_c, P, L);
 }
 
 static void lanes_to_xyz(const lanes *v, const float *L, float xyz[3])
@@ -204,7 +153,7 @@ static void lanes_to_bins(const spm_spec_map *map, const path_lanes *pl, int per
     }
 }
 
-/* A path committed to a wavelength (spm_shared.h SPM_EXT_LAMBDA, at its
+/* A path committed to a wavelength (spm_shared.h SPM_VX_LAMBDA, at its
  * first dispersive vertex): shaded as one lane, its 1 nm bin b of every
  * colour (tab->nm1), in every mode; XYZ truth's weights at b times 1 / pdf,
  * and (ch > 3) the spectral bin holding b its share of that bin's mean.
@@ -213,11 +162,10 @@ static int committed(const spm_path *path, const spm_shade_table *tab, int ch, f
 {
     spm_u32 b = SPM_NONE;
     float iw = 0.0f;
-    for (spm_u32 j = 0; j < path->h.nvert && b == SPM_NONE; j++)
-        if (SPM_EXT_DIEL(path->x[j]) && SPM_EXT_LAMBDA(path->x[j]) != SPM_NONE) {
-            b = SPM_EXT_LAMBDA(path->x[j]);
-            iw = path->x[j].cos_light;
-        }
+    for (spm_u32 j = 0; j < path->h.nvert && b == SPM_NONE; j++) {
+        b = SPM_VX_LAMBDA(path->x[j]);
+        iw = path->x[j].light;
+    }
     if (b == SPM_NONE)
         return 0;
     int idx = (int)b;

@@ -127,7 +127,7 @@ static void lobe_hit(const spm_geometry *g, spm_u32 tri, float ce, float t, floa
     float wm = 1.0f;
     if (cpdf > 0.0f)
         wm = spm_ref_cond_power(cpdf, mis_pick(spm_ref_light_pdf_hit(g, tri, t, ce)));
-    x->ids = (x->ids & 0xFFFFu) | SPM_EXT_IDS(SPM_NONE, memit);
+    x->ids = (x->ids & 0xFFFFu) | SPM_VX_HIT_BITS(memit);
     x->hit_c = weight * wm * escale;
     feel(f, lvlk, memit, 1, SPM_SETBY_EMITTER);
 }
@@ -213,7 +213,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         float x[3];
         v3_madd(x, o, d, t);
         if (seg && j > 0) /* the segment's length: a medium's absorption, in the shade stage */
-            path->x[j - 1].cos_lobe = t;
+            path->x[j - 1].lobe = t;
         hit_emission(g, m, hit, j, t, d, cpdf, weight, path, &f, lvlk);
         spm_ref_hit hf;
         hit_frame(g, tri, o, d, &hf);
@@ -265,7 +265,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         weight *= s.w;
         cpdf = s.pdf;
         seg = s.inside;
-        path->x[j].cos_lobe = s.cos_lobe;
+        path->x[j].lobe = s.cos_lobe;
         for (int i = 0; i < 3; i++)
             o[i] = x[i], d[i] = s.wi[i];
         skip = (spm_u32)hit;

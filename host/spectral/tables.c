@@ -206,11 +206,11 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
     }
     for (int i = 0; i < sc->nmaterials; i++)
         if (spm_material_types[sc->materials[i].type].vertex_u32 &&
-            sc->ncolours >= (int)SPM_EXT_KIND - 1) {
-            /* the vertex words keep a colour id in 15 bits (spm_vertex_ext) */
+            sc->ncolours > (int)SPM_VX_MAX_COLOURS) {
+            /* the vertex words keep a colour id in 14 bits (spm_vertex_ext) */
             spm_errorf(err, "%s: too many colours for a %s (%d, at most %u)", sc->path,
                        spm_material_types[sc->materials[i].type].keyword, sc->ncolours,
-                       SPM_EXT_KIND - 2);
+                       SPM_VX_MAX_COLOURS);
             return 1;
         }
     if (spm_cmf_init(err))
