@@ -70,16 +70,6 @@ static void camera_ray(const spm_camera *cam, spm_u32 seed, spm_u32 pixel, spm_u
     spm_ref_camera_ray(cam, cx, cy, lu, lv, o, d);
 }
 
-_Thread_local spm_ref_ray_sink spm_ref_rays;
-
-void spm_ref_record_ray(const float o[3], const float d[3], spm_u32 skip, spm_u32 emitter)
-{
-    if (!spm_ref_rays.fn)
-        return;
-    spm_ray r = {{o[0], o[1], o[2]}, skip, {d[0], d[1], d[2]}, emitter};
-    spm_ref_rays.fn(spm_ref_rays.ctx, &r);
-}
-
 /* Next-event estimation's weight, the light sample ls's at a vertex of
  * material m (BSDF b, frame h):
  *   g f |cos_i| w_mis,

@@ -26,6 +26,7 @@ typedef struct {
 typedef int (*mi_emitter_fn)(mi_parser *p, mi_node *e, const char *what);
 
 static int emitter_constant(mi_parser *p, mi_node *e, const char *what);
+static int emitter_point(mi_parser *p, mi_node *e, const char *what);
 
 /* Mitsuba's emitters and what specmip does with each: a function that
  * renders it, or why it is warned about (area lights go with their shape). */
@@ -35,7 +36,7 @@ static const struct {
     const char *why;
 } emitter_types[] = {
     {"constant", emitter_constant, NULL},
-    {"point", NULL, "point lights are not rendered yet"},
+    {"point", emitter_point, NULL},
     {"spot", NULL, "spot lights are not rendered yet"},
     {"directional", NULL, "directional lights are not rendered yet"},
     {"envmap", NULL, "environment maps are not rendered yet"},
@@ -180,6 +181,39 @@ static int emitter_constant(mi_parser *p, mi_node *e, const char *what)
                                  "the last one is the background", p->err))
         return 1;
     p->b.s->bg_up = p->b.s->bg_down = c;
+    return mi_unused(e, what, p->err);
+}
+
+/* point: specmip's point light (scene.h spm_scene_light), at `position`
+ * or to_world's origin; its `intensity` (W/sr, default 1) the light's colour
+ * as a radiance is (mi_colour), so the intensity factor is 1. */
+static int emitter_point(mi_parser *p, mi_node *e, const char *what)
+{
+    int bad = 0;
+    double m[4][4], at[3] = {0, 0, 0}, pos[3];
+    mi_node *k = mi_prop(e, "position", "point", &bad, p->err);
+    const char *xyz[3] = {"x", "y", "z"};
+    if (bad || (k && mi_vec3(k, xyz, "value", at, p->err)) || mi_to_world(e, m, p->err))
+        return 1;
+    pbrt_mat_apply(m, at, 1.0, pos);
+    int c = mi_colour(&p->ms, e, "intensity", MI_RADIANCE, -3, p->err);
+    if (c == -3) { /* Mitsuba's default intensity: 1 */
+        spm_spectrum one;
+        spm_spectrum_constant(1.0, SPM_KIND_EMISSION, &one);
+        c = spm_sb_colour(&p->b, "intensity 1", &one, e->where, p->err);
+    }
+    if (c < -1)
+        return 1;
+    if (c == -1) /* a zero intensity: no light */
+        return mi_unused(e, what, p->err);
+    spm_scene_light l = {.kind = SPM_LIGHT_POINT, .colour = c};
+    for (int i = 0; i < 3; i++)
+        l.p[SPM_LIGHT_P_POS + i] = (float)pos[i];
+    l.p[SPM_LIGHT_P_SCALE] = 1.0f;
+    snprintf(l.where, sizeof l.where, "%.127s", e->where);
+    spm_scene *s = p->b.s;
+    s->lights = spm_xrealloc(s->lights, ((size_t)s->nlights + 1) * sizeof *s->lights);
+    s->lights[s->nlights++] = l;
     return mi_unused(e, what, p->err);
 }
 
