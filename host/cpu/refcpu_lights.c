@@ -67,3 +67,13 @@ void spm_ref_light_pdf_emission(const spm_geometry *g, spm_u32 k, const float o[
         *pdf_pos = *pdf_dir = 0.0f;
     }
 }
+
+/* Duff et al. 2017's branchless orthonormal basis (b1, b2, n) */
+void spm_ref_light_to_world(const float n[3], const float l[3], float out[3])
+{
+    float sg = n[2] >= 0.0f ? 1.0f : -1.0f, a = -1.0f / (sg + n[2]), b = n[0] * n[1] * a;
+    float b1[3] = {1.0f + sg * n[0] * n[0] * a, sg * b, -sg * n[0]};
+    float b2[3] = {b, sg + n[1] * n[1] * a, -n[1]};
+    for (int i = 0; i < 3; i++)
+        out[i] = l[0] * b1[i] + l[1] * b2[i] + l[2] * n[i];
+}

@@ -55,6 +55,8 @@ void spm_ref_light_pdf_emission(const spm_geometry *g, spm_u32 k, const float o[
                                            float *pdf_dir);
 #include "spm_lights.h"
 #undef SPM_LIGHT_KIND
+/* l in the frame whose z axis is n (unit): kernels/lights.clh light_to_world */
+void spm_ref_light_to_world(const float n[3], const float l[3], float out[3]);
 /* the ray sink's hook (refcpu.h spm_ref_rays): ray o + t d, what it asks */
 void spm_ref_record_ray(const float o[3], const float d[3], spm_u32 skip, spm_u32 emitter);
 #endif
