@@ -24,12 +24,7 @@ int spm_ref_light_sample_DISTANT(const spm_geometry *g, const spm_material *mats
     spm_ref_record_ray(x, ls->wi, hit, SPM_RAY_CLOSEST);
     if (spm_bvh_intersect(g, x, ls->wi, hit, &ts) >= 0)
         return 0;
-    ls->pdf = 0.0f;
-    ls->g = e->inv_pdf;
-    ls->scale = e->p[SPM_LIGHT_P_SCALE];
-    ls->colour = e->colour;
-    ls->delta = 1;
-    return 1;
+    return spm_ref_light_delta(ls, e, e->inv_pdf, e->p[SPM_LIGHT_P_SCALE]);
 }
 
 /* along its direction (density 1) from a point uniform on the disc of

@@ -35,12 +35,7 @@ int spm_ref_light_sample_SPOT(const spm_geometry *g, const spm_material *mats,
     spm_ref_record_ray(x, ls->wi, hit, SPM_RAY_CLOSEST);
     if (spm_bvh_intersect(g, x, ls->wi, hit, &ts) >= 0 && ts < sqrtf(d2))
         return 0;
-    ls->pdf = 0.0f;
-    ls->g = e->inv_pdf / d2;
-    ls->scale = e->p[SPM_LIGHT_P_SCALE] * f;
-    ls->colour = e->colour;
-    ls->delta = 1;
-    return 1;
+    return spm_ref_light_delta(ls, e, e->inv_pdf / d2, e->p[SPM_LIGHT_P_SCALE] * f);
 }
 
 /* from the apex (density 1), uniform in the cone: cos = 1 - u3 (1 - cos c),

@@ -77,3 +77,13 @@ void spm_ref_light_to_world(const float n[3], const float l[3], float out[3])
     for (int i = 0; i < 3; i++)
         out[i] = l[0] * b1[i] + l[1] * b2[i] + l[2] * n[i];
 }
+
+int spm_ref_light_delta(spm_ref_lsample *ls, const spm_emitter *e, float g, float scale)
+{
+    ls->pdf = 0.0f;
+    ls->g = g;
+    ls->scale = scale;
+    ls->colour = e->colour;
+    ls->delta = 1;
+    return 1;
+}
