@@ -357,13 +357,14 @@ static int light_angle(parser *p, const char *what, double lo, double hi, double
     return 0;
 }
 
-/* a light's direction from v (not zero) into q[DIR] */
-static int light_dir(parser *p, const double v[3], float *q)
+/* a light's direction from v (not zero) into q[DIR]; target: v came from
+ * a target */
+static int light_dir(parser *p, const double v[3], float *q, int target)
 {
     double x = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (!(x > 0.0) || !isfinite(x))
-        return spm_lex_expected(&p->lx, p->err, "a direction that is not zero (a target "
-                                                "away from the light)");
+        return spm_lex_expected(&p->lx, p->err, target ? "a target away from the light"
+                                                       : "a direction that is not zero");
     for (int i = 0; i < 3; i++)
         q[SPM_LIGHT_P_DIR + i] = (float)(v[i] / x);
     return 0;
@@ -376,12 +377,12 @@ static int light_cone(parser *p, float *q)
     if (!spm_lex_is(&p->lx, "cone"))
         return spm_lex_expected(&p->lx, p->err, "'cone' and the cone's half-angle in degrees");
     if (spm_lex_next(&p->lx, p->err) ||
-        light_angle(p, "the cone's half-angle in degrees (above 0, at most 90)", 1e-3, 90.0, &c))
+        light_angle(p, "the cone's half-angle in degrees", 1e-3, 90.0, &c))
         return 1;
     f = c / 4.0; /* Mitsuba 3's default beam_width: 3/4 of the cutoff angle */
     if (spm_lex_is(&p->lx, "falloff") &&
         (spm_lex_next(&p->lx, p->err) ||
-         light_angle(p, "the falloff's width in degrees (0 to the cone's half-angle)", 0.0,
+         light_angle(p, "the falloff's width in degrees (at most the cone's half-angle)", 0.0,
                      c * 180.0 / M_PI, &f)))
         return 1;
     q[SPM_LIGHT_P_A] = (float)c;
@@ -406,9 +407,9 @@ static int light_arg(parser *p, char c, spm_scene_light *l, double *power)
             v[i] -= q[SPM_LIGHT_P_POS + i];
         for (int i = 0; c == 'P' && i < 3; i++)
             q[SPM_LIGHT_P_POS + i] = (float)v[i];
-        return c == 'T' ? light_dir(p, v, q) : 0;
+        return c == 'T' ? light_dir(p, v, q, 1) : 0;
     case 'D':
-        return vec3(p, "a direction component", -HUGE_VAL, HUGE_VAL, v) || light_dir(p, v, q);
+        return vec3(p, "a direction component", -HUGE_VAL, HUGE_VAL, v) || light_dir(p, v, q, 0);
     case 'S':
         return (l->colour = colour_ref_as(p, SPM_KIND_EMISSION, 2, 0)) < 0;
     case 'C':
