@@ -2,6 +2,7 @@
  * switch per call on the chosen light's kind. */
 #include "refcpu_lights.h"
 #include "refcpu.h"
+#include "geometry_vec3.h"
 
 float spm_ref_light_pmf(const spm_geometry *g, spm_u32 tri)
 {
@@ -86,4 +87,15 @@ int spm_ref_light_delta(spm_ref_lsample *ls, const spm_emitter *e, float g, floa
     ls->colour = e->colour;
     ls->delta = 1;
     return 1;
+}
+
+int spm_ref_light_toward(const spm_emitter *e, const float x[3], const spm_ref_hit *h,
+                         spm_ref_lsample *ls, float *d2)
+{
+    float ev[3];
+    v3_sub(ev, &e->p[SPM_LIGHT_P_POS], x);
+    *d2 = v3_dot(ev, ev);
+    v3_normalise(ls->wi, ev);
+    float cos_i = v3_dot(ls->wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
+    return *d2 > 0.0f && (cos_i < 0.0f) == (cos_o < 0.0f);
 }
