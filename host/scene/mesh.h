@@ -168,6 +168,13 @@ typedef struct {
     int material;
 } spm_mesh_bind;
 
+/* `smooth`'s crease angle without a `crease` clause, in degrees: above the
+ * 30 degrees between the faces of an 8 x 12 UV sphere (and the 45 of an
+ * 8-sided cylinder), so coarse tessellations of curved surfaces turn round,
+ * and below the 90 of a box's edges, which stay sharp (Houdini's normal
+ * node's default cusp angle). */
+#define SPM_MESH_DEFAULT_CREASE 60.0
+
 /* spm_mesh_opts.shading: the `smooth` and `flat` clauses. By default a
  * triangle with vertex normals shades smooth when its material's type says so
  * (materials.h spm_mtype_desc.smooth: not the diffuse types). */
@@ -179,6 +186,9 @@ typedef struct {
                                   material (a glTF file's take glTF's default material);
                                   0: none, they are an error */
     int shading;               /* SPM_MESH_SHADE_* */
+    double crease;             /* with SPM_MESH_SHADE_SMOOTH and above 0: triangles without
+                                  vertex normals get computed ones (spm_mesh_smooth_normals),
+                                  faces meeting at more than this many degrees keep their edge */
     const spm_mesh_bind *binds;
     int nbinds;
     double m[3][4];            /* scene-from-file transform (x' = M x + t) */
@@ -195,6 +205,17 @@ void spm_mesh_translate(double m[3][4], const double translate[3]);
 /* scale, then rotate, then translate */
 void spm_mesh_transform(const double scale[3], const double axis[3], double degrees,
                         const double translate[3], double m[3][4]);
+
+/* Vertex normals for the triangles that have none (d->normals NULL or a
+ * triangle's all zero; the others are copied): each corner's normal the sum of
+ * angle x unit face normal over the faces around its vertex (corners at equal
+ * positions are one vertex), taken across edges shared by exactly two faces
+ * whose normals differ by at most crease_deg, measured after the transform m.
+ * Returned as the file's own would be, for spm_mesh_add's normal map (M^T of
+ * the scene normal); *made counts the triangles given normals. NULL (and
+ * *made 0) when every triangle has its own. mesh_smooth.c */
+spm_mesh_normals *spm_mesh_smooth_normals(const spm_mesh_data *d, const double m[3][4],
+                                          double crease_deg, uint64_t *made);
 
 /* Lifted RGB colours shared across a scene's meshes (one fit per colour). */
 typedef struct {
