@@ -67,6 +67,7 @@ typedef struct {
     float atten_dist;          /* its attenuationDistance */
     float atten_colour[3];     /* its attenuationColor */
     float opacity;             /* OBJ d (1 - Tr), glTF alpha */
+    float dispersion;          /* glTF KHR_materials_dispersion: 20 / V_d (read from the JSON) */
 } spm_mesh_material;
 enum { SPM_MESH_FMT_OTHER = 0, SPM_MESH_FMT_GLTF = 1, SPM_MESH_FMT_OBJ = 2 };
 enum {
@@ -78,7 +79,8 @@ enum {
     SPM_MESH_HAS_TRANSMISSION = 1 << 5,
     SPM_MESH_HAS_VOLUME = 1 << 6,
     SPM_MESH_HAS_OPACITY = 1 << 7,
-    SPM_MESH_HAS_REFRACT = 1 << 8  /* OBJ illum 6 or 7 (refraction on), from the MTL file */
+    SPM_MESH_HAS_REFRACT = 1 << 8, /* OBJ illum 6 or 7 (refraction on), from the MTL file */
+    SPM_MESH_HAS_DISPERSION = 1 << 9
 };
 /* spm_mesh_material.texture: none; diffuse is the factor times the
  * texture's mean; the texture could not be read, diffuse is the factor */
@@ -129,6 +131,15 @@ int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err);
  * A glTF's extensionsUsed that specmip does not render go into
  * unrendered[size] (Assimp hides the extensions it does not parse). */
 int spm_mesh_refs_check(const spm_file *model, char *unrendered, size_t size, spm_error *err);
+
+/* A glTF's JSON (a .glb's JSON chunk), parsed; NULL with err filled when it
+ * cannot be read or parsed, or with err->msg empty when the file does not
+ * open (the importer says why). Free with spm_json_free. mesh_refs.c */
+struct spm_json *spm_mesh_gltf_doc(const spm_file *model, spm_error *err);
+/* What Assimp 5.2 does not read of a glTF (by the file's extension; others
+ * are left alone), from its JSON (mesh_gltf.c): each material's
+ * KHR_materials_dispersion into d's materials (Assimp keeps the file's order). */
+void spm_mesh_gltf_materials(const spm_file *model, spm_mesh_data *d);
 
 /* For an OBJ (by its extension): a warning naming each `mtllib` file that is
  * not beside it, and every material that no MTL file found defines loses its

@@ -676,5 +676,6 @@ int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err)
         return 1;
     }
     memcpy(out->extensions, unrendered, sizeof unrendered);
+    spm_mesh_gltf_materials(file, out);
     return 0;
 }
