@@ -136,10 +136,6 @@ int spm_mesh_refs_check(const spm_file *model, char *unrendered, size_t size, sp
  * cannot be read or parsed, or with err->msg empty when the file does not
  * open (the importer says why). Free with spm_json_free. mesh_refs.c */
 struct spm_json *spm_mesh_gltf_doc(const spm_file *model, spm_error *err);
-/* What Assimp 5.2 does not read of a glTF (by the file's extension; others
- * are left alone), from its JSON (mesh_gltf.c): each material's
- * KHR_materials_dispersion into d's materials (Assimp keeps the file's order). */
-void spm_mesh_gltf_materials(const spm_file *model, spm_mesh_data *d);
 
 /* For an OBJ (by its extension): a warning naming each `mtllib` file that is
  * not beside it, and every material that no MTL file found defines loses its

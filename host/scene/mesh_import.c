@@ -8,6 +8,7 @@
  * triangle). */
 #define _GNU_SOURCE /* memmem */
 #include "mesh.h"
+#include "mesh_gltf.h"
 #include "interrupt.h"
 #include "mesh_ply.h"
 #include "mesh_texture.h"
