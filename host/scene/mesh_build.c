@@ -417,8 +417,8 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
                   "number, or the three are perpendicular to the face", where, file,
                   (unsigned long long)unusable, unusable == 1 ? "" : "s");
     if (made)
-        spm_notef("%s: %s: 'smooth': vertex normals computed for %llu triangle%s without "
-                  "(crease %g degrees)", where, file, (unsigned long long)made,
+        spm_notef("%s: %s: 'smooth': vertex normals computed for %llu triangle%s the file "
+                  "gives none (crease %g degrees)", where, file, (unsigned long long)made,
                   made == 1 ? "" : "s", o->crease);
     warn_ignored(d, o, smooth || unusable, where, file);
     record_mesh(b->s, file, where, first, lo, hi);
