@@ -76,6 +76,8 @@ for backend in cpu opencl; do
 done
 check "the first camera is used and named, the other one mentioned" \
     grep -q "cams.gltf: the file's camera 'front' (1 of 2; --camera NAME|INDEX chooses another)" "$T/front.err"
+check "with the file's camera the note does not say the view frames the model" \
+    eval '! grep -q "camera frames its bounding box" "$T/front.err"'
 check "a camera that is used is not said to be ignored" eval '! grep -q "cameras ignored" "$T/front.err"'
 "$BIN" render "$T/cams.gltf" --camera 1 --backend cpu --width 128 --spp 4 -o "$T/one.exr" 2> "$T/err" ||
   bad "--camera 1: $(cat "$T/err")"

@@ -179,7 +179,7 @@ static int key_light(spm_scene_builder *b, spm_names *fits, const double c[3], d
  * every direction (RGB 1 1 1 lifted as an emission), and the key light; said
  * in a note. */
 static int default_light(spm_scene_builder *b, spm_names *fits, const double c[3], double r,
-                         const char *where, spm_error *err)
+                         int framed, const char *where, spm_error *err)
 {
     const double white[3] = {1.0, 1.0, 1.0};
     int bg = spm_sb_rgb_colour(b, fits, white, SPM_KIND_EMISSION, where, err);
@@ -189,8 +189,9 @@ static int default_light(spm_scene_builder *b, spm_names *fits, const double c[3
     if (!spm_quiet_warnings)
         fprintf(stderr, "specmip: %s: a model alone: lit by the default light, a uniform white "
                         "background (RGB 1 1 1 from every direction) and a square key light "
-                        "above left, beside any light the model emits; the camera frames its "
-                        "bounding box (docs/SCENE_FORMAT.md, \"A model alone\")\n", where);
+                        "above left, beside any light the model emits%s (docs/SCENE_FORMAT.md, "
+                        "\"A model alone\")\n", where,
+                framed ? "; the camera frames its bounding box" : "");
     return 0;
 }
 
@@ -227,7 +228,7 @@ int spm_scene_parse_model(const spm_file *file, spm_scene *out, spm_error *err)
     }
     rc = rc || (ncams ? file_camera(&b, cams, ncams, pick, where, err)
                       : frame_box(&b, c, r, where, err)) ||
-         default_light(&b, &cache.rgb, c, r, where, err) || spm_sb_finish(&b, where, err);
+         default_light(&b, &cache.rgb, c, r, !ncams, where, err) || spm_sb_finish(&b, where, err);
     spm_mesh_cache_free(&cache);
     spm_sb_done(&b, !rc);
     return rc;
