@@ -71,6 +71,8 @@ else
     kind=stand-in
 fi
 echo "rendering the scenes as: $kind"
+# the spheres the scenes place, beside the copies written here
+cp "$DATA/scenes/materials_sphere.ply" "$T/"
 for f in "$DATA"/scenes/metals.scene "$DATA"/scenes/copper_sodium.scene; do
     b=$(basename "$f" .scene)
     if [ "$kind" = conductor ]; then

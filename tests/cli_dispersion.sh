@@ -20,6 +20,8 @@ PY=${SPECMIP_PYTHON:-$(cd "$(dirname "$BIN")" && pwd)/pyenv/bin/python}
 "$PY" -c 'import OpenImageIO, numpy' 2>/dev/null || { echo "SKIP: no Python with OpenImageIO and numpy ($PY)"; exit 77; }
 hash_of() { oiiotool --hash "$1" | sed -n 's/.*SHA-1: *//p'; }
 
+# the spheres the scenes place, beside the copies written here
+cp "$DATA/scenes/materials_sphere.ply" "$T/"
 # 1. generated scenes, every mode on both backends, glass in view
 python3 "$ROOT/tools/gen_meshes.py" --dispersion "$T/gen" > "$T/gen.list" ||
     { echo "FAIL: gen_meshes.py --dispersion"; exit 1; }

@@ -25,6 +25,8 @@ for f in "$T"/gen/*.scene; do
 done
 check "gen_meshes.py --glass wrote 2 scenes ($n)" test "$n" -eq 2
 
+# the spheres the scenes place, beside the copies written here
+cp "$DATA/scenes/materials_sphere.ply" "$T/"
 # 2. Rendering, glass in view, ml against truth, rgb on the failure scene.
 for b in glass glass_deep; do
     f="$DATA/scenes/$b.scene"

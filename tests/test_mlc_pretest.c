@@ -320,8 +320,9 @@ static void dielectric_transmittance(const char *scene, int spiky)
         char cmd[3000];
         snprintf(cmd, sizeof cmd,
                  "sed -e '/^spectrum equal/a spectrum f11 file illuminant_F11.csv' "
-                 "-e 's/emit equal 1000/emit f11 1000/' '%s' > %s/spiky.scene",
-                 path, tmp);
+                 "-e 's/emit equal 1000/emit f11 1000/' '%s' > %s/spiky.scene && "
+                 "cp \"$(dirname '%s')/materials_sphere.ply\" %s/",
+                 path, tmp, path, tmp);
         CHECK(system(cmd) == 0, "%s", cmd);
         snprintf(path, sizeof path, "%s/spiky.scene", tmp);
     }

@@ -662,6 +662,12 @@ def outward(c, tri):
     return tri if sum(n[k] * g[k] for k in range(3)) > 0 else (p, r, q)
 
 
+def sphere_mesh(mat, c, r):
+    """A smooth sphere of centre c and radius r: materials_sphere.ply (a unit
+    sphere of 528 triangles with its vertex normals, bundled beside the scenes)."""
+    return 'mesh materials_sphere.ply material %s scale %g translate %g %g %g\n' % (mat, r, *c)
+
+
 def uv_sphere(c, r, rings=4, segs=8):
     """A sphere of 2 segs (rings - 1) triangles: poles as single vertices."""
     def pt(i, j):
@@ -719,9 +725,9 @@ METALS_HEAD = """# Metals: the Cornell box of cornell.scene (its walls, camera a
 # rough spheres (GGX, alpha 0.2) of the same metals. Their colours come from
 # the complex index of refraction eta + i k per wavelength (spectra/metal_*:
 # LuxPop data), so they change with the angle of incidence. The spheres are
-# faceted on purpose: docs/MATERIALS.md's measurements are of these triangles
-# (scenes/showcase.scene has smooth metal spheres). The objects are
-# written by tools/gen_meshes.py --metals (do not edit them here: regenerate);
+# smooth (materials_sphere.ply, with its vertex normals); docs/MATERIALS.md's
+# and docs/VALIDATION.md's measurements were made when they were faceted
+# (8 x 4 UV spheres). The objects are written by tools/gen_meshes.py --metals (do not edit them here: regenerate);
 # bench/peers/mitsuba_compare.py renders it with Mitsuba 3 as a check of truth.
 # Format: docs/SCENE_FORMAT.md.
 
@@ -801,7 +807,7 @@ def metals_scenes(out):
         s += tri_lines(m + '_smooth', block(x, 0.42, 0.055, h, deg))
     s += '\n# rough spheres in front, on the floor: gold (left), copper, aluminium (right)\n'
     for m, x in (('gold', 0.13), ('copper', 0.28), ('aluminium', 0.43)):
-        s += tri_lines(m + '_rough', uv_sphere((x, 0.06, 0.17), 0.06))
+        s += sphere_mesh(m + '_rough', (x, 0.06, 0.17), 0.06)
     paths = [os.path.join(out, 'metals.scene'), os.path.join(out, 'copper_sodium.scene')]
     w(paths[0], s)
     s = SODIUM_HEAD + metal_spectra(('copper',)) + '\n'
@@ -919,9 +925,9 @@ GLASS_HEAD = """# Glass: the Cornell box of cornell.scene (its walls, camera and
 # and a green, absorbing glass block (Beer-Lambert, 'absorb greenabs 12': a
 # transmittance exp(-12 greenabs(lambda) d) over d scene units, about 0.3 of
 # the red through its 0.11 width); in front, a smooth clear sphere (left) and
-# a rough one (GGX, alpha 0.2, right). Tessellated: the spheres are faceted
-# (72 triangles each) on purpose, docs/MATERIALS.md's measurements are of
-# these triangles (scenes/materials.scene has smooth glass spheres). Objects
+# a rough one (GGX, alpha 0.2, right), smooth (materials_sphere.ply, with
+# its vertex normals; docs/MATERIALS.md's and docs/VALIDATION.md's
+# measurements were made when they were faceted, 72 triangles each). Objects
 # float 1 mm above the floor so no glass face touches another surface
 # (docs/SCENE_FORMAT.md: dielectric). Written by
 # tools/gen_meshes.py --glass (do not edit the objects here: regenerate);
@@ -978,8 +984,8 @@ def glass_scenes(out):
     s += tri_lines('clear', closed_block(0.17, 0.001, 0.33, 0.055, 0.20, -20))
     s += tri_lines('greenglass', closed_block(0.40, 0.001, 0.40, 0.055, 0.25, 25))
     s += '\n# in front: a smooth clear sphere (left), a rough one (right)\n'
-    s += tri_lines('clear', uv_sphere((0.16, 0.071, 0.15), 0.07, 5, 9))
-    s += tri_lines('rough', uv_sphere((0.40, 0.071, 0.15), 0.07, 5, 9))
+    s += sphere_mesh('clear', (0.16, 0.071, 0.15), 0.07)
+    s += sphere_mesh('rough', (0.40, 0.071, 0.15), 0.07)
     paths = [os.path.join(out, 'glass.scene'), os.path.join(out, 'glass_deep.scene')]
     w(paths[0], s)
     s = DEEP_HEAD + '\n'
@@ -1124,9 +1130,9 @@ SPHERE_HEAD = """# An N-SF11 sphere in a room: the Cornell box of cornell.scene 
 # 420 nm to 1.770 at 700 nm), in front of a white block. Its refraction
 # fringes the edges of what is seen through it, and the light it focuses
 # onto the floor (a caustic, reached by paths that hit the lamp through the
-# glass) is split into colours. Tessellated (an 8 x 12 UV sphere: 168 facets)
-# on purpose: docs/MATERIALS.md's measurements are of these facets
-# (scenes/showcase.scene has the sphere smooth). Objects float 1 mm above
+# glass) is split into colours. The sphere is smooth (materials_sphere.ply,
+# with its vertex normals); docs/MATERIALS.md's measurements were made when
+# it was faceted (an 8 x 12 UV sphere). Objects float 1 mm above
 # the floor so no glass face touches another surface. Written by
 # tools/gen_meshes.py --dispersion (do not edit the objects here: regenerate).
 # Format: docs/SCENE_FORMAT.md.
@@ -1204,7 +1210,7 @@ def dispersion_scenes(out):
     s = SPHERE_HEAD + '\n' + ROOM % ('red', 'green') + '\n# at the back: a white block\n'
     s += tri_lines('white', block(0.36, 0.40, 0.07, 0.30, 25))
     s += '\n# in front: the N-SF11 sphere\n'
-    s += tri_lines('sf11', uv_sphere((0.24, 0.111, 0.22), 0.11, 8, 12))
+    s += sphere_mesh('sf11', (0.24, 0.111, 0.22), 0.11)
     w(paths[1], s)
     return paths
 

@@ -154,6 +154,9 @@ const spm_option spm_options[] = {
     ROW(FOV, "--fov", "DEGREES", REAL, 1, 179, R | B,
         "the field of view, %R, across the scene's fov axis\n"
         "(horizontal unless its camera says 'vertical')"),
+    ROW(CAMERA, "--camera", "NAME|N", TEXT, 0, 0, R,
+        "a model file's own camera by its name or index from 0\n"
+        "(default: its first; a model without one is framed)"),
     {SPM_O_WIDTH, "--width", NULL, "W", SPM_ARG_INT, 1, SPM_SCENE_MAX_SIDE, R,
      "--width W, --height H",
      "image size, %R (default: the scene's); one of them alone\n"

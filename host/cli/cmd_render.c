@@ -118,6 +118,8 @@ static int word_option(spm_opt_id id, const char *v, render_opts *o)
             return SPM_EXIT_INPUT;
         }
         return 0;
+    case SPM_O_CAMERA:
+        return spm_scene_model_camera(v);
     case SPM_O_LOOK_FROM:
         o->cfg.cam.has_from = 1;
         return spm_arg_point("render", "--look-from", v, o->cfg.cam.from) ? SPM_EXIT_INPUT : 0;

@@ -67,6 +67,7 @@ typedef struct {
     float atten_dist;          /* its attenuationDistance */
     float atten_colour[3];     /* its attenuationColor */
     float opacity;             /* OBJ d (1 - Tr), glTF alpha */
+    float dispersion;          /* glTF KHR_materials_dispersion: 20 / V_d (read from the JSON) */
 } spm_mesh_material;
 enum { SPM_MESH_FMT_OTHER = 0, SPM_MESH_FMT_GLTF = 1, SPM_MESH_FMT_OBJ = 2 };
 enum {
@@ -78,7 +79,8 @@ enum {
     SPM_MESH_HAS_TRANSMISSION = 1 << 5,
     SPM_MESH_HAS_VOLUME = 1 << 6,
     SPM_MESH_HAS_OPACITY = 1 << 7,
-    SPM_MESH_HAS_REFRACT = 1 << 8  /* OBJ illum 6 or 7 (refraction on), from the MTL file */
+    SPM_MESH_HAS_REFRACT = 1 << 8, /* OBJ illum 6 or 7 (refraction on), from the MTL file */
+    SPM_MESH_HAS_DISPERSION = 1 << 9
 };
 /* spm_mesh_material.texture: none; diffuse is the factor times the
  * texture's mean; the texture could not be read, diffuse is the factor */
@@ -130,6 +132,11 @@ int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err);
  * unrendered[size] (Assimp hides the extensions it does not parse). */
 int spm_mesh_refs_check(const spm_file *model, char *unrendered, size_t size, spm_error *err);
 
+/* A glTF's JSON (a .glb's JSON chunk), parsed; NULL with err filled when it
+ * cannot be read or parsed, or with err->msg empty when the file does not
+ * open (the importer says why). Free with spm_json_free. mesh_refs.c */
+struct spm_json *spm_mesh_gltf_doc(const spm_file *model, spm_error *err);
+
 /* For an OBJ (by its extension): a warning naming each `mtllib` file that is
  * not beside it, and every material that no MTL file found defines loses its
  * name, so the rule for a mesh without materials applies to those triangles;
@@ -168,6 +175,13 @@ typedef struct {
     int material;
 } spm_mesh_bind;
 
+/* `smooth`'s crease angle without a `crease` clause, in degrees: above the
+ * 30 degrees between the faces of an 8 x 12 UV sphere (and the 45 of an
+ * 8-sided cylinder), so coarse tessellations of curved surfaces turn round,
+ * and below the 90 of a box's edges, which stay sharp (Houdini's normal
+ * node's default cusp angle). */
+#define SPM_MESH_DEFAULT_CREASE 60.0
+
 /* spm_mesh_opts.shading: the `smooth` and `flat` clauses. By default a
  * triangle with vertex normals shades smooth when its material's type says so
  * (materials.h spm_mtype_desc.smooth: not the diffuse types). */
@@ -179,6 +193,9 @@ typedef struct {
                                   material (a glTF file's take glTF's default material);
                                   0: none, they are an error */
     int shading;               /* SPM_MESH_SHADE_* */
+    double crease;             /* with SPM_MESH_SHADE_SMOOTH and above 0: triangles without
+                                  vertex normals get computed ones (spm_mesh_smooth_normals),
+                                  faces meeting at more than this many degrees keep their edge */
     const spm_mesh_bind *binds;
     int nbinds;
     double m[3][4];            /* scene-from-file transform (x' = M x + t) */
@@ -195,6 +212,17 @@ void spm_mesh_translate(double m[3][4], const double translate[3]);
 /* scale, then rotate, then translate */
 void spm_mesh_transform(const double scale[3], const double axis[3], double degrees,
                         const double translate[3], double m[3][4]);
+
+/* Vertex normals for the triangles that have none (d->normals NULL or a
+ * triangle's all zero; the others are copied): each corner's normal the sum of
+ * angle x unit face normal over the faces around its vertex (corners at equal
+ * positions are one vertex), taken across edges shared by exactly two faces
+ * whose normals differ by at most crease_deg, measured after the transform m.
+ * Returned as the file's own would be, for spm_mesh_add's normal map (M^T of
+ * the scene normal); *made counts the triangles given normals. NULL (and
+ * *made 0) when every triangle has its own. mesh_smooth.c */
+spm_mesh_normals *spm_mesh_smooth_normals(const spm_mesh_data *d, const double m[3][4],
+                                          double crease_deg, uint64_t *made);
 
 /* Lifted RGB colours shared across a scene's meshes (one fit per colour). */
 typedef struct {

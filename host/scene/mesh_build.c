@@ -256,6 +256,29 @@ static int tri_normals(const double nm[3][3], const float *q[3], const double p[
     return 1;
 }
 
+/* A triangle's smooth shading: its vertex normals sn (the file's, or computed
+ * by `smooth`), used if `smooth` or its material's type says so, unless
+ * `flat`. 1 smooth, 0 flat, -1 flat as its normals are unusable. */
+static int add_normals(spm_scene_builder *b, const spm_mesh_opts *o, const spm_mesh_normals *sn,
+                       int material, const double nm[3][3], int flip, const double p[3][3])
+{
+    int tsmooth = spm_material_types[b->s->materials[material].type].smooth;
+    int want = sn && o->shading != SPM_MESH_SHADE_FLAT && tsmooth >= 0 &&
+               (o->shading == SPM_MESH_SHADE_SMOOTH || tsmooth);
+    if (!want || !(sn->n[0][0] != 0 || sn->n[0][1] != 0 || sn->n[0][2] != 0 ||
+                   sn->n[1][0] != 0 || sn->n[1][1] != 0 || sn->n[1][2] != 0 ||
+                   sn->n[2][0] != 0 || sn->n[2][1] != 0 || sn->n[2][2] != 0))
+        return 0;
+    const float *q[3];
+    for (int v = 0; v < 3; v++)
+        q[v] = sn->n[flip && v ? 3 - v : v];
+    float vn[9];
+    if (!tri_normals(nm, q, p, vn))
+        return -1;
+    spm_sb_tri_normals(b, vn);
+    return 1;
+}
+
 /* The statement's triangles, for the set-up's hints (scene_hints.h). */
 static void record_mesh(spm_scene *s, const char *file, const char *where, int first,
                         const double lo[3], const double hi[3])
@@ -324,7 +347,11 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
     int flip = det < 0; /* a mirror keeps each face's front side */
     double nm[3][3];
     normal_matrix(m, det, nm);
-    uint64_t skipped = 0, kept = 0, smooth = 0, unusable = 0;
+    uint64_t skipped = 0, kept = 0, smooth = 0, unusable = 0, made = 0;
+    spm_mesh_normals *computed = NULL;
+    if (o->shading == SPM_MESH_SHADE_SMOOTH && o->crease > 0)
+        computed = spm_mesh_smooth_normals(d, o->m, o->crease, &made);
+    const spm_mesh_normals *normals = computed ? computed : d->normals;
     double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     int rc = 0, first = b->s->ntris;
     for (uint64_t t = 0; t < d->ntris && !rc; t++) {
@@ -367,28 +394,13 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
             break;
         }
         kept++;
-        /* smooth: the file's normals, if `smooth` or the material's type says so, unless `flat` */
-        const spm_mesh_normals *sn = d->normals ? &d->normals[t] : NULL;
-        int tsmooth = spm_material_types[b->s->materials[map[src->mat]].type].smooth;
-        int want = sn && o->shading != SPM_MESH_SHADE_FLAT && tsmooth >= 0 &&
-                   (o->shading == SPM_MESH_SHADE_SMOOTH || tsmooth);
-        if (want && (sn->n[0][0] != 0 || sn->n[0][1] != 0 || sn->n[0][2] != 0 ||
-                     sn->n[1][0] != 0 || sn->n[1][1] != 0 || sn->n[1][2] != 0 ||
-                     sn->n[2][0] != 0 || sn->n[2][1] != 0 || sn->n[2][2] != 0)) {
-            const float *q[3];
-            for (int v = 0; v < 3; v++)
-                q[v] = sn->n[flip && v ? 3 - v : v];
-            float vn[9];
-            if (tri_normals(nm, q, p, vn)) {
-                spm_sb_tri_normals(b, vn);
-                smooth++;
-            } else {
-                unusable++;
-            }
-        }
+        int r = add_normals(b, o, normals ? &normals[t] : NULL, map[src->mat], nm, flip, p);
+        smooth += r > 0;
+        unusable += r < 0;
         grow_box(lo, hi, f);
     }
     free(map);
+    free(computed);
     if (rc)
         return 1;
     if (kept == 0) {
@@ -404,6 +416,10 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
         spm_warnf("%s: %s: %llu triangle%s shade flat: a vertex normal is zero or not a finite "
                   "number, or the three are perpendicular to the face", where, file,
                   (unsigned long long)unusable, unusable == 1 ? "" : "s");
+    if (made)
+        spm_notef("%s: %s: 'smooth': vertex normals computed for %llu triangle%s the file "
+                  "gives none (crease %g degrees)", where, file, (unsigned long long)made,
+                  made == 1 ? "" : "s", o->crease);
     warn_ignored(d, o, smooth || unusable, where, file);
     record_mesh(b->s, file, where, first, lo, hi);
     spm_notef("%s: %s: %llu triangles, bounding box (%g %g %g) to (%g %g %g)", where, file,

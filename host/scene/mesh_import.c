@@ -8,6 +8,7 @@
  * triangle). */
 #define _GNU_SOURCE /* memmem */
 #include "mesh.h"
+#include "mesh_gltf.h"
 #include "interrupt.h"
 #include "mesh_ply.h"
 #include "mesh_texture.h"
@@ -676,5 +677,6 @@ int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err)
         return 1;
     }
     memcpy(out->extensions, unrendered, sizeof unrendered);
+    spm_mesh_gltf_materials(file, out);
     return 0;
 }

@@ -46,7 +46,7 @@ static int gltf_uri(const char *dir, const char *uri, const char *where, spm_err
  * lights and emissive strengths have warnings of their own (SPM_MESH_IGN_*). */
 static const char *const gltf_rendered[] = {
     "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior",
-    "KHR_lights_punctual", "KHR_materials_emissive_strength"};
+    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_dispersion"};
 
 static void gltf_extensions(const spm_json *doc, char *out, size_t size)
 {
@@ -144,16 +144,15 @@ static int glb_json(const spm_file *model, FILE *f, char **json, size_t *len, sp
     return 0;
 }
 
-static int gltf_check(const spm_file *model, int binary, char *unrendered, size_t size,
-                      spm_error *err)
+spm_json *spm_mesh_gltf_doc(const spm_file *model, spm_error *err)
 {
     FILE *f = spm_path_fopen(model, "rb");
     if (!f)
-        return 0; /* the importer says why */
+        return NULL; /* the importer says why */
     char *text = NULL;
     size_t len = 0;
     int rc = 0;
-    if (binary) {
+    if (ends_with(model->shown, ".glb")) {
         rc = glb_json(model, f, &text, &len, err);
     } else {
         fseek(f, 0, SEEK_END);
@@ -169,19 +168,25 @@ static int gltf_check(const spm_file *model, int binary, char *unrendered, size_
         }
     }
     fclose(f);
+    spm_json *doc = NULL;
     if (!rc) {
         char why[200];
-        spm_json *doc = spm_json_parse(text, len, why, sizeof why);
-        if (!doc) {
+        if (!(doc = spm_json_parse(text, len, why, sizeof why)))
             spm_errorf(err, "%s: its JSON: %s", model->shown, why);
-            rc = 1;
-        } else {
-            rc = gltf_uris(model, doc, err);
-            gltf_extensions(doc, unrendered, size);
-            spm_json_free(doc);
-        }
     }
     free(text);
+    return doc;
+}
+
+static int gltf_check(const spm_file *model, char *unrendered, size_t size, spm_error *err)
+{
+    err->msg[0] = '\0';
+    spm_json *doc = spm_mesh_gltf_doc(model, err);
+    if (!doc)
+        return err->msg[0] != '\0';
+    int rc = gltf_uris(model, doc, err);
+    gltf_extensions(doc, unrendered, size);
+    spm_json_free(doc);
     return rc;
 }
 
@@ -255,7 +260,7 @@ int spm_mesh_refs_check(const spm_file *model, char *unrendered, size_t size, sp
 {
     unrendered[0] = '\0';
     if (ends_with(model->shown, ".gltf") || ends_with(model->shown, ".glb"))
-        return gltf_check(model, ends_with(model->shown, ".glb"), unrendered, size, err);
+        return gltf_check(model, unrendered, size, err);
     if (ends_with(model->shown, ".obj"))
         return text_refs(model, 1, err);
     return 0;

@@ -110,6 +110,10 @@ extern int spm_scene_strict;
  * (host/scene/mitsuba_xml.c). 1 with err when it is not NAME=VALUE or too many. */
 int spm_scene_define(const char *name_value, spm_error *err);
 
+/* render --camera NAME|INDEX: which of a model file's own cameras renders
+ * (host/scene/scene_model.c; checked when the model loads). 0. */
+int spm_scene_model_camera(const char *name_or_index);
+
 /* Load a scene file: MiniLight .ml.txt (first line "#MiniLight") or the
  * project's own format. Errors: "file:line:col: what was expected". */
 int spm_scene_load(const char *path, spm_scene *out, spm_error *err);

@@ -21,6 +21,14 @@ int spm_scene_load(const char *path, spm_scene *out, spm_error *err)
 {
     memset(out, 0, sizeof *out); /* a failed load leaves an empty scene to free */
     out->bg_up = out->bg_down = -1;
+    static const char *const models[] = {".glb", ".gltf", ".obj", ".ply", ".stl"};
+    int model = 0;
+    for (size_t i = 0; i < sizeof models / sizeof *models; i++) {
+        size_t n = strlen(path), m = strlen(models[i]);
+        model |= n > m && strcasecmp(path + n - m, models[i]) == 0;
+    }
+    if (!model && spm_scene_model_camera_unused(path, err))
+        return 1;
     struct stat st;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
         spm_errorf(err, "%s: is a directory, not a scene file", path);
@@ -49,12 +57,5 @@ int spm_scene_load(const char *path, spm_scene *out, spm_error *err)
     if (ends_with(path, ".xml"))
         return spm_scene_parse_mitsuba(&top, out, err);
     /* a model file alone, by its extension (any case) */
-    static const char *const models[] = {".glb", ".gltf", ".obj", ".ply", ".stl"};
-    size_t n = strlen(path);
-    for (size_t i = 0; i < sizeof models / sizeof *models; i++) {
-        size_t m = strlen(models[i]);
-        if (n > m && strcasecmp(path + n - m, models[i]) == 0)
-            return spm_scene_parse_model(&top, out, err);
-    }
-    return spm_scene_parse_text(&top, out, err);
+    return model ? spm_scene_parse_model(&top, out, err) : spm_scene_parse_text(&top, out, err);
 }

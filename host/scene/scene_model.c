@@ -1,12 +1,14 @@
 /* A model file rendered alone, `specmip render model.glb` (.gltf, .obj,
  * .ply, .stl): the file's triangles and materials as a `mesh` statement
  * would import them, in a scene made around them (docs/SCENE_FORMAT.md,
- * "A model alone"): a camera framing the bounding box, a default light, a
- * default material for triangles the file gives none. */
+ * "A model alone"): the file's camera (--camera chooses among several) or
+ * one framing the bounding box, a default light, a default material for
+ * triangles the file gives none. */
 #include "scene_parsers.h"
-#include "mesh.h"
+#include "mesh_gltf.h"
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define MODEL_WIDTH 512
@@ -69,6 +71,73 @@ static int frame_box(spm_scene_builder *b, const double c[3], double r, const ch
     return spm_sb_camera_view(b, eye, dir, NULL, 0, MODEL_FOV, SPM_FOV_SHORTER, where, err);
 }
 
+static const char *model_camera; /* --camera NAME|INDEX, or NULL */
+
+int spm_scene_model_camera(const char *name_or_index)
+{
+    model_camera = name_or_index;
+    return 0;
+}
+
+int spm_scene_model_camera_unused(const char *path, spm_error *err)
+{
+    if (!model_camera)
+        return 0;
+    spm_errorf(err, "%s: --camera %s chooses among a model file's own cameras (.glb, .gltf): "
+                    "this is a scene file (--look-from, --look-at and --fov move its camera)",
+               path, model_camera);
+    return 1;
+}
+
+/* The camera --camera names among the file's n: by name first, then as an
+ * index from 0; without --camera the first. -1 with err when none matches. */
+static int pick_camera(const spm_gltf_camera *c, int n, const char *where, spm_error *err)
+{
+    if (!model_camera)
+        return 0;
+    for (int i = 0; i < n; i++)
+        if (!strcmp(c[i].name, model_camera))
+            return i;
+    char *end;
+    long k = strtol(model_camera, &end, 10);
+    if (*model_camera && !*end && k >= 0 && k < n)
+        return (int)k;
+    char list[600] = "";
+    size_t len = 0;
+    for (int i = 0; i < n && len < sizeof list - 100; i++)
+        len += (size_t)snprintf(list + len, sizeof list - len, "%s%d '%s'", i ? ", " : "", i,
+                                c[i].name);
+    spm_errorf(err, "%s: --camera %s: %s", where, model_camera,
+               n ? "no camera of that name or index; the file's cameras are " : "the file has no "
+               "camera (a glTF's cameras can be chosen; without one the view frames the model)");
+    if (n)
+        snprintf(err->msg + strlen(err->msg), sizeof err->msg - strlen(err->msg), "%s", list);
+    return -1;
+}
+
+/* The file's camera k of n as the scene's: glTF's yfov is vertical; an
+ * aspect ratio the camera gives sets the image's height (the width kept). */
+static int file_camera(spm_scene_builder *b, const spm_gltf_camera *cams, int n, int k,
+                       const char *where, spm_error *err)
+{
+    const spm_gltf_camera *c = &cams[k];
+    spm_scene *s = b->s;
+    if (c->aspect > 0) {
+        double h = round(s->width / c->aspect);
+        s->height = h < 1 ? 1 : h > SPM_SCENE_MAX_SIDE ? SPM_SCENE_MAX_SIDE : (int)h;
+    }
+    if (spm_sb_camera_view(b, c->eye, c->dir, c->up, 0, c->ortho ? 40.0 : c->yfov,
+                           SPM_FOV_VERTICAL, where, err))
+        return 1;
+    if (c->ortho) {
+        s->projection = SPM_PROJ_ORTHOGRAPHIC;
+        s->ortho_size = (float)(2.0 * c->ymag);
+    }
+    spm_notef("%s: the file's camera '%s' (%d of %d%s)", where, c->name, k + 1, n,
+              n > 1 ? "; --camera NAME|INDEX chooses another" : "");
+    return 0;
+}
+
 /* The key light: a square lamp of side 2r at 4r from the centre, up and to
  * the left in front, facing the centre; its radiance 8 pi times the
  * background's gives the centre twice the background's irradiance (pi):
@@ -110,7 +179,7 @@ static int key_light(spm_scene_builder *b, spm_names *fits, const double c[3], d
  * every direction (RGB 1 1 1 lifted as an emission), and the key light; said
  * in a note. */
 static int default_light(spm_scene_builder *b, spm_names *fits, const double c[3], double r,
-                         const char *where, spm_error *err)
+                         int framed, const char *where, spm_error *err)
 {
     const double white[3] = {1.0, 1.0, 1.0};
     int bg = spm_sb_rgb_colour(b, fits, white, SPM_KIND_EMISSION, where, err);
@@ -120,8 +189,9 @@ static int default_light(spm_scene_builder *b, spm_names *fits, const double c[3
     if (!spm_quiet_warnings)
         fprintf(stderr, "specmip: %s: a model alone: lit by the default light, a uniform white "
                         "background (RGB 1 1 1 from every direction) and a square key light "
-                        "above left, beside any light the model emits; the camera frames its "
-                        "bounding box (docs/SCENE_FORMAT.md, \"A model alone\")\n", where);
+                        "above left, beside any light the model emits%s (docs/SCENE_FORMAT.md, "
+                        "\"A model alone\")\n", where,
+                framed ? "; the camera frames its bounding box" : "");
     return 0;
 }
 
@@ -140,9 +210,14 @@ int spm_scene_parse_model(const spm_file *file, spm_scene *out, spm_error *err)
     int rc = grey < 0;
     if (!rc)
         rc = (o.fallback = 1 + spm_sb_material(&b, "default", grey, -1, where, err)) < 1;
+    static spm_gltf_camera cams[SPM_GLTF_MAX_CAMERAS];
+    int ncams = rc ? 0 : spm_mesh_gltf_cameras(file, cams, err), pick = 0;
+    rc = rc || ncams < 0 || (pick = pick_camera(cams, ncams, where, err)) < 0;
     spm_mesh_data d;
     if (!rc && !(rc = spm_mesh_import(file, &d, err))) {
         spm_mesh_obj_mtl_check(file, where, &d);
+        if (ncams)
+            d.ignored &= ~(uint32_t)SPM_MESH_IGN_CAMERAS;
         rc = spm_mesh_add(&b, &cache, &d, &o, file->shown, where, err);
         spm_mesh_free(&d);
     }
@@ -151,8 +226,9 @@ int spm_scene_parse_model(const spm_file *file, spm_scene *out, spm_error *err)
         spm_errorf(err, "%s: the model has no triangle to render", where);
         rc = 1;
     }
-    rc = rc || frame_box(&b, c, r, where, err) || default_light(&b, &cache.rgb, c, r, where, err) ||
-         spm_sb_finish(&b, where, err);
+    rc = rc || (ncams ? file_camera(&b, cams, ncams, pick, where, err)
+                      : frame_box(&b, c, r, where, err)) ||
+         default_light(&b, &cache.rgb, c, r, !ncams, where, err) || spm_sb_finish(&b, where, err);
     spm_mesh_cache_free(&cache);
     spm_sb_done(&b, !rc);
     return rc;

@@ -979,7 +979,21 @@ static int mesh_path(parser *p, const char *file, const char *fwhere, spm_file *
     return 1;
 }
 
-/* mesh FILE [material NAME] [bind FILE_MATERIAL NAME]... [smooth | flat]
+/* The smooth clause's crease: SPM_MESH_DEFAULT_CREASE unless `crease DEG`
+ * (given at crease_line) says otherwise; a crease without `smooth` is an error. */
+static int mesh_crease(parser *p, spm_mesh_opts *o, int crease_line, const char *where)
+{
+    if (crease_line && o->shading != SPM_MESH_SHADE_SMOOTH) {
+        spm_errorf(p->err, "%s: 'crease' (line %d) applies to the normals 'smooth' computes: "
+                           "add 'smooth'", where, crease_line);
+        return 1;
+    }
+    if (!crease_line)
+        o->crease = SPM_MESH_DEFAULT_CREASE;
+    return 0;
+}
+
+/* mesh FILE [material NAME] [bind FILE_MATERIAL NAME]... [smooth | flat] [crease DEG]
  * [scale S | scale SX SY SZ]... [rotate AX AY AZ DEGREES]... [translate X Y Z]...:
  * clauses in any order, the transforms applied in the order written. */
 static int stmt_mesh(parser *p)
@@ -991,13 +1005,19 @@ static int stmt_mesh(parser *p)
     where_now(p, fwhere, sizeof fwhere);
     if (spm_lex_path(&p->lx, "a mesh file name", file, sizeof file, p->err))
         return 1;
-    int rc = 0, nbinds = 0, have_material = 0;
+    int rc = 0, nbinds = 0, have_material = 0, crease_line = 0;
     spm_mesh_bind *binds = NULL;
     spm_mesh_opts o = {.material = -1, .line = line};
     spm_mesh_identity(o.m);
     while (!rc && p->lx.type != SPM_TOK_NEWLINE && p->lx.type != SPM_TOK_EOF) {
         if (spm_lex_is(&p->lx, "bind")) {
             rc = mesh_bind(p, &binds, &nbinds);
+            continue;
+        }
+        if (spm_lex_is(&p->lx, "crease") && !crease_line) {
+            crease_line = p->lx.tline;
+            rc = spm_lex_next(&p->lx, p->err) ||
+                 spm_lex_number(&p->lx, "a crease angle in degrees", 1, 180, &o.crease, p->err);
             continue;
         }
         int sh = spm_lex_is(&p->lx, "smooth") ? SPM_MESH_SHADE_SMOOTH
@@ -1012,8 +1032,8 @@ static int stmt_mesh(parser *p)
                 : spm_lex_is(&p->lx, "material") && !have_material ? 0 : -1;
         if (k < 0) {
             rc = spm_lex_expected(&p->lx, p->err, "'material' (once), 'bind', 'smooth' or "
-                                                  "'flat' (once), 'scale', 'rotate' or "
-                                                  "'translate'");
+                                                  "'flat' (once), 'crease' (once), 'scale', "
+                                                  "'rotate' or 'translate'");
             break;
         }
         have_material |= k == 0;
@@ -1023,7 +1043,7 @@ static int stmt_mesh(parser *p)
               : k == 2 ? mesh_rotate(p, o.m)
                        : mesh_translate(p, o.m));
     }
-    rc = rc || mesh_path(p, file, fwhere, &path) ||
+    rc = rc || mesh_crease(p, &o, crease_line, where) || mesh_path(p, file, fwhere, &path) ||
          spm_lex_end_of_statement(&p->lx, p->err);
     if (!rc) {
         spm_mesh_data d;

@@ -15,4 +15,7 @@ int spm_scene_parse_pbrt(const spm_file *file, spm_scene *out, spm_error *err);
 int spm_scene_parse_mitsuba(const spm_file *file, spm_scene *out, spm_error *err);
 /* A model file alone (.glb, .gltf, .obj, .ply, .stl), scene_model.c. */
 int spm_scene_parse_model(const spm_file *file, spm_scene *out, spm_error *err);
+/* 1 with err when --camera was given (spm_scene_model_camera) for a file
+ * that is not a model file alone. */
+int spm_scene_model_camera_unused(const char *path, spm_error *err);
 #endif
