@@ -22,7 +22,7 @@
 #include <math.h>
 #include <string.h>
 #include "materials.h"
-#include "refcpu_bsdf.h"
+#include "bsdf_testlib.h"
 #include "scene.h"
 #include "spectrum.h"
 #include "geometry_vec3.h"
@@ -54,18 +54,6 @@ static spm_material material(spm_u32 tag)
     return m;
 }
 
-/* a flat hit, normal +z, viewed from wo */
-static spm_ref_hit hit_from(const float wo[3])
-{
-    spm_ref_hit h = {{0, 0, 1}, {1, 0, 0}, {-wo[0], -wo[1], -wo[2]}, {0, 0, 1}, {0, 0, 1}, 0};
-    return h;
-}
-
-static float value(spm_ref_eval e)
-{
-    return e.k * e.f / e.div / e.post;
-}
-
 static const char *name(spm_u32 tag)
 {
     return spm_material_types[tag].keyword ? spm_material_types[tag].keyword : "lambert";
@@ -88,7 +76,7 @@ static double eval_vs_sample(spm_u32 tag)
 {
     spm_material m = material(tag);
     const float *wo = WO;
-    spm_ref_hit h = hit_from(wo);
+    spm_ref_hit h = bt_hit_from(wo);
     spm_ref_walk w = {NULL, 0, SPM_NONE};
     int n = 0, bad = 0, badpdf = 0, kept = 0;
     double worst = 0.0;
@@ -115,7 +103,7 @@ static double eval_vs_sample(spm_u32 tag)
         if (pdf == 0.0f) /* a delta lobe */
             continue;
         n++;
-        double r = value(e) / pdf / total;
+        double r = bt_value(e) / pdf / total;
         worst = fmax(worst, fabs(r - 1.0));
         bad += !(fabs(r - 1.0) < 1e-4);
         if (tag != SPM_MAT_COATED && bs.pdf > 0.0f) /* the type's pdf, one lobe */
@@ -134,12 +122,12 @@ static double eval_vs_sample(spm_u32 tag)
 static float f_cos(spm_u32 tag, spm_u32 key, const float wo[3], const float wi[3])
 {
     spm_material m = material(tag);
-    spm_ref_hit h = hit_from(wo);
+    spm_ref_hit h = bt_hit_from(wo);
     spm_ref_walk w = {NULL, 0, SPM_NONE};
     spm_ref_key k = {1, 2, key};
     spm_ref_bsdf b;
     spm_ref_begin(&m, &h, &k, 0, &w, &b);
-    return value(spm_ref_eval_bsdf(&m, &b, &h, wi, SPM_REF_RADIANCE));
+    return bt_value(spm_ref_eval_bsdf(&m, &b, &h, wi, SPM_REF_RADIANCE));
 }
 
 /* direction pair i of the 200 (wo, wi), spread over the hemisphere */
@@ -196,7 +184,7 @@ static double pdf_integral(spm_u32 tag)
 {
     spm_material m = material(tag);
     const float *wo = WO;
-    spm_ref_hit h = hit_from(wo);
+    spm_ref_hit h = bt_hit_from(wo);
     spm_ref_walk w = {NULL, 0, SPM_NONE};
     spm_ref_key k = {1, 2, 3};
     spm_ref_bsdf b;

@@ -21,7 +21,7 @@
  *    Lambertian; its sampler's chi-squared against its density. */
 #include "chi2_testlib.h"
 #include "cl_testlib.h"
-#include "refcpu_bsdf.h"
+#include "bsdf_testlib.h"
 #include "testutil.h"
 
 #define SEED 11u
@@ -67,18 +67,6 @@ static spm_material rough_material(double r, double rho)
     return m;
 }
 
-/* a flat hit, normal +z, viewed from wo */
-static spm_ref_hit hit_from(const float wo[3])
-{
-    spm_ref_hit h = {{0, 0, 1}, {1, 0, 0}, {-wo[0], -wo[1], -wo[2]}, {0, 0, 1}, {0, 0, 1}, 0};
-    return h;
-}
-
-static float value(spm_ref_eval e)
-{
-    return e.k * e.f / e.div / e.post;
-}
-
 /* EON's multiple-scattering colour for a grey rho at roughness r, from the
  * paper: rho^2 E_avg / (1 - rho (1 - E_avg)), E_avg = (1 + c2 r) / (1 + c1 r) */
 static double eon_rho_ms(double rho, double r)
@@ -93,7 +81,7 @@ static double eon_rho_ms(double rho, double r)
 static double eon_f_cos(double r, double rho, const float wo[3], const float wi[3])
 {
     spm_material m = rough_material(r, rho);
-    spm_ref_hit h = hit_from(wo);
+    spm_ref_hit h = bt_hit_from(wo);
     spm_ref_walk w = {NULL, 0, SPM_NONE};
     spm_ref_key k = {1, 2, 3};
     spm_ref_bsdf b;
@@ -103,7 +91,7 @@ static double eon_f_cos(double r, double rho, const float wo[3], const float wi[
         b.lobe = lobe;
         b.ps = 1.0f;
         f += (lobe ? eon_rho_ms(rho, r) : rho) *
-             value(spm_ref_eval_bsdf(&m, &b, &h, wi, SPM_REF_RADIANCE));
+             bt_value(spm_ref_eval_bsdf(&m, &b, &h, wi, SPM_REF_RADIANCE));
     }
     return f;
 }
@@ -189,7 +177,7 @@ static int eon_sample(void *ctx, const double wo[3], const double u[3], double w
     eon_ctx *e = ctx;
     spm_material m = rough_material(e->r, 0.5);
     float wf[3] = {(float)wo[0], (float)wo[1], (float)wo[2]};
-    spm_ref_hit h = hit_from(wf);
+    spm_ref_hit h = bt_hit_from(wf);
     spm_ref_key k = {0x5eedu, 3u, e->next++};
     spm_ref_walk wk = {NULL, 0, SPM_NONE};
     spm_ref_bsdf b;
