@@ -5,6 +5,8 @@
  *  - kernels/lights.clh and host/cpu/refcpu_lights.c expand them into one
  *    switch per call of the light contract, a case per kind calling the
  *    kind's own file (kernels/light_<name>.clh, host/cpu/refcpu_light_<name>.c);
+ *  - kernels/light_kinds.clh includes each kind's kernel file, which its
+ *    entry names under SPM_KERNEL_FILES (a line above the entry);
  *  - host/scene/lights.c expands the fields into the descriptors (lights.h
  *    spm_light_desc): the `light` statement's keyword and arguments, the
  *    kernel define that compiles the kind in, and how its power is found for
@@ -17,6 +19,9 @@
 
 /* triangles of an emitting material (spm_types.h's emitter types): chosen by
  * power (area x Y of the emission), reached by rays too */
+#ifdef SPM_KERNEL_FILES
+#include "light_area.clh"
+#endif
 SPM_LIGHT_KIND(AREA,
     .keyword = NULL, /* made by materials with 'emit', not by a statement */
     .define = NULL)  /* always compiled in */
@@ -24,6 +29,9 @@ SPM_LIGHT_KIND(AREA,
 /* the background: two colours by hemisphere (MiniLight's sky above, ground
  * below), the 'background' statement; met only by escaping rays, so not in
  * the selection (sampling it would change every image that has one) */
+#ifdef SPM_KERNEL_FILES
+#include "light_sky.clh"
+#endif
 SPM_LIGHT_KIND(SKY,
     .keyword = NULL,
     .define = NULL)
@@ -32,6 +40,9 @@ SPM_LIGHT_KIND(SKY,
  * (no MIS; no ray hits it). POWER as pbrt-v4's `power`: the emitted
  * power in the unit of an emission's scale (the spectrum normalised to
  * Y = 1, as every emission is) */
+#ifdef SPM_KERNEL_FILES
+#include "light_point.clh"
+#endif
 SPM_LIGHT_KIND(POINT,
     .keyword = "point",
     .help = "'light point X Y Z SPECTRUM POWER': a point light at (X, Y Z); POWER its total "
@@ -45,6 +56,9 @@ SPM_LIGHT_KIND(POINT,
  * angle, linear in theta down to 0 at the cone's edge, 0 beyond; a delta.
  * p[A] the cone's half-angle, p[B] the beam's (radians), p[C] the cone's
  * cosine. POWER: the intensity's integral over the cone */
+#ifdef SPM_KERNEL_FILES
+#include "light_spot.clh"
+#endif
 SPM_LIGHT_KIND(SPOT,
     .keyword = "spot",
     .help = "'light spot X Y Z TX TY TZ SPECTRUM POWER|intensity I cone DEG [falloff DEG]': a "
@@ -59,6 +73,9 @@ SPM_LIGHT_KIND(SPOT,
  * a surface facing it; a delta. Its power is E over the disc of the scene's
  * bounding sphere (pi r^2 E), the sphere's centre in p[POS], r in p[A]
  * (spm_light_place), the disc its emission rays leave from */
+#ifdef SPM_KERNEL_FILES
+#include "light_distant.clh"
+#endif
 SPM_LIGHT_KIND(DISTANT,
     .keyword = "distant",
     .help = "'light distant DX DY DZ SPECTRUM IRRADIANCE': parallel light travelling along "

@@ -5,9 +5,13 @@
  *  - host/scene/materials.c expands the same entries into the descriptors
  *    (materials.h spm_mtype_desc: the fields after the name), so the scene
  *    parser, the tables, the render plan and the kernel options read them.
+ *  - kernels/materials.clh includes each type's kernel file, which its entry
+ *    names under SPM_KERNEL_FILES (a line above the entry);
+ *  - a type's host code, the functions its fields name (fill, derive), is
+ *    written above its entry under SPM_TYPE_HOST_CODE, which materials.c
+ *    alone defines (a type without a fill takes the generic one, materials.c
+ *    spm_material_fill; the older types' functions are materials.c's).
  * The fields are host-only C initialisers; the kernels' expansion drops them.
- * A field's functions (fill, derive) are materials.c's; a type without a
- * fill takes the generic one (materials.c spm_material_fill).
  * docs/ADDING_A_MATERIAL.md says how to add a type.
  *
  * No include guard: the includer defines SPM_MATERIAL_TYPE(NAME, ...) and
@@ -16,6 +20,9 @@
 /* ---- material types -------------------------------------------------------- */
 
 /* MiniLight's diffuse reflector: its colour, survival its mean reflectance */
+#ifdef SPM_KERNEL_FILES
+#include "lambert.clh"
+#endif
 SPM_MATERIAL_TYPE(LAMBERT,
     .keyword = NULL, /* the default type */
     .help = "diffuse: 'reflect SPECTRUM [SCALE]' (default black)",
@@ -27,6 +34,9 @@ SPM_MATERIAL_TYPE(LAMBERT,
     .define = "SPM_WITH_LAMBERT")
 
 /* a metal: Fresnel of eta + i k, smooth or GGX-rough */
+#ifdef SPM_KERNEL_FILES
+#include "conductor.clh"
+#endif
 SPM_MATERIAL_TYPE(CONDUCTOR,
     .keyword = "conductor",
     .help = "metal: 'conductor ETA_SPECTRUM K_SPECTRUM [alpha A]' (complex index eta + i k; "
@@ -45,6 +55,9 @@ SPM_MATERIAL_TYPE(CONDUCTOR,
     .fill = conductor_fill)
 
 /* a diffuse fluorescent surface (re-radiation matrix, fluor.h) */
+#ifdef SPM_KERNEL_FILES
+#include "fluor.clh"
+#endif
 SPM_MATERIAL_TYPE(FLUOR,
     .keyword = "fluoresce",
     .help = "fluorescent, diffuse: 'fluoresce ABSORB EMIT YIELD [reflect SPECTRUM [SCALE]]' "
@@ -77,6 +90,9 @@ SPM_MATERIAL_TYPE(DONALDSON,
     .derive = fluor_derive)
 
 /* glass: one index, smooth or GGX-rough, Beer-Lambert inside */
+#ifdef SPM_KERNEL_FILES
+#include "dielectric.clh"
+#endif
 SPM_MATERIAL_TYPE(DIELECTRIC,
     .keyword = "dielectric",
     .help = "glass: 'dielectric IOR [absorb SPECTRUM DENSITY] [alpha A]', IOR one of 'ior N', "
@@ -105,6 +121,9 @@ SPM_MATERIAL_TYPE(DIELECTRIC,
     .derive = dielectric_derive)
 
 /* a Lambertian base under a smooth or GGX-rough dielectric coating */
+#ifdef SPM_KERNEL_FILES
+#include "coated.clh"
+#endif
 SPM_MATERIAL_TYPE(COATED,
     .keyword = "coated",
     .help = "paint, plastic: 'coated reflect SPECTRUM [SCALE] ior N [alpha A]' (a diffuse "
@@ -127,10 +146,40 @@ SPM_MATERIAL_TYPE(COATED,
 /* a rough diffuse reflector: the energy-preserving Oren-Nayar model (EON,
  * Portsmouth, Kutz and Hill 2025, OpenPBR's rough diffuse), its roughness in
  * p[SPM_ROUGH_P_R]; its multiple-scattering colour rho_ms(rho), derived into
- * col2 (materials.c roughdiffuse_derive), is what a vertex records when it
+ * col2 (roughdiffuse_derive, below), is what a vertex records when it
  * picks that term (kernels/roughdiffuse.clh) */
 #ifndef SPM_ROUGH_P_R
 #define SPM_ROUGH_P_R 0
+#endif
+#ifdef SPM_KERNEL_FILES
+#include "roughdiffuse.clh"
+#elif defined(SPM_TYPE_HOST_CODE)
+/* Rough diffuse (EON, kernels/roughdiffuse.clh): its multiple-scattering
+ * colour rho_ms = rho^2 E_avg / (1 - rho (1 - E_avg)) per 1 nm bin into col2,
+ * E_avg = A (1 + c2 r) the average albedo of its single-scattering term,
+ * A = 1 / (1 + c1 r), c1 = 1/2 - 2 / (3 pi), c2 = 2/3 - 28 / (15 pi). At
+ * roughness 0 the term is 0 (the Lambertian): no colour. */
+static int roughdiffuse_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
+{
+    double r = s->p[SPM_ROUGH_P_R];
+    if (!(r > 0.0))
+        return 0;
+    if (refuse_fluor(sc, s, "rough diffuse", err))
+        return 1;
+    double c1 = 0.5 - 2.0 / (3.0 * M_PI), c2 = 2.0 / 3.0 - 28.0 / (15.0 * M_PI);
+    double eavg = (1.0 + c2 * r) / (1.0 + c1 * r);
+    sc->colours = spm_xrealloc(sc->colours, ((size_t)sc->ncolours + 1) * sizeof *sc->colours);
+    spm_colour *c = &sc->colours[sc->ncolours];
+    memset(c, 0, sizeof *c);
+    snprintf(c->name, sizeof c->name, "%.50s:multiple", s->name);
+    c->s.kind = SPM_KIND_REFLECTANCE;
+    for (int i = 0; i < SPM_TRUTH_BINS; i++) {
+        double rho = s->refl >= 0 ? sc->colours[s->refl].s.nm1[i] : 0.0;
+        c->s.nm1[i] = rho * rho * eavg / (1.0 - rho * (1.0 - eavg));
+    }
+    s->col2 = sc->ncolours++;
+    return 0;
+}
 #endif
 SPM_MATERIAL_TYPE(ROUGHDIFFUSE,
     .keyword = "roughdiffuse",

@@ -57,8 +57,10 @@ SPM_ALWAYS_INLINE void camera_key_ray(const spm_camera *cam, spm_key k, float3 *
     float cx = 2.0f * ((float)px + key_rng(k, SPM_DIM_CAM_X)) / w - 1.0f;
     float cy = 1.0f - 2.0f * ((float)py + key_rng(k, SPM_DIM_CAM_Y)) / h;
     float lu = 0.5f, lv = 0.5f;
+#ifdef SPM_WITH_LENS
     if (cam->lens_radius > 0.0f)
         lu = key_rng(k, SPM_DIM_LENS_A), lv = key_rng(k, SPM_DIM_LENS_B);
+#endif
     camera_ray(cam, cx, cy, lu, lv, o, d);
 }
 

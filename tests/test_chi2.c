@@ -10,11 +10,6 @@
  *  - the coated material's specular lobe, chosen with ps = Fo s / (Fo s +
  *    (1 - Fo)(1 - s)) (its diffuse choice gives no direction here: the
  *    cosine bounce is the trace loop's);
- *  - the rough diffuse type's sampler (EON's: uniform with probability
- *    P_u, else the clipped LTC), drawn through the contract's sample, against
- *    its density computed here with M's inverse: wh = M^-1 w / |M^-1 w|,
- *    pdf = P_u / (2 pi) + (1 - P_u) wh_z / (pi k) |det M^-1| / |M^-1 w|^3
- *    (Portsmouth, Kutz and Hill 2025, section 4);
  *  - light sampling by power (the pick table of emitter triangles) and the
  *    committed wavelength of dispersive glass (uniform over the 1 nm bins):
  *    counts per choice against their probabilities;
@@ -25,7 +20,8 @@
  * Each with fixed seeds; the level is corrected for the number of tests
  * (Sidak, ALPHA overall). The samplers are reached through small adapters
  * (sample, pdf, eval), so a material's sample/pdf of its own plugs in the
- * same way. */
+ * same way; a newer type's own sampler is checked in its own test
+ * (tests/test_cl_<type>.c). */
 #include <string.h>
 #include "chi2_testlib.h"
 #include "geomtest_scene.h"
@@ -39,7 +35,7 @@
 #define ALPHA 0.01
 #define N_DIR 400000L
 #define N_PICK 1000000L
-#define NTESTS 17 /* chi-squared tests run below */
+#define NTESTS 14 /* chi-squared tests run below */
 
 /* --- GGX in double (Trowbridge-Reitz, Smith's height-correlated G2) */
 static double d_ggx(double a, double mz)
@@ -229,64 +225,6 @@ static double coat_eval(void *ctx, const double wo[3], const double wi[3])
     return fresnel(dot3(wo, m), l->eta) * cond_eval(ctx, wo, wi);
 }
 
-/* --- the rough diffuse type (EON), its sampler through the contract */
-typedef struct {
-    double r;
-    spm_u32 next; /* the key's sample: each draw its own numbers */
-} eon_ctx;
-
-static int eon_sample(void *ctx, const double wo[3], const double u[3], double wi[3], double *pdf,
-                      double *w)
-{
-    (void)u;
-    eon_ctx *e = ctx;
-    spm_material m;
-    memset(&m, 0, sizeof m);
-    m.type = SPM_MAT_ROUGHDIFFUSE;
-    m.refl = 1;
-    m.col2 = 2;
-    m.mean = 0.5f;
-    m.p[SPM_ROUGH_P_R] = (float)e->r;
-    spm_ref_hit h = {{0, 0, 1}, {1, 0, 0}, {(float)-wo[0], (float)-wo[1], (float)-wo[2]},
-                     {0, 0, 1}, {0, 0, 1}, 0};
-    spm_ref_key k = {0x5eedu, 3u, e->next++};
-    spm_ref_walk wk = {NULL, 0, SPM_NONE};
-    spm_ref_bsdf b;
-    spm_ref_bsample s;
-    spm_ref_begin(&m, &h, &k, 0, &wk, &b);
-    if (!spm_ref_sample(&m, &b, &h, &k, 0, SPM_REF_RADIANCE, &s))
-        return 0;
-    for (int i = 0; i < 3; i++)
-        wi[i] = s.wi[i];
-    *pdf = 0.0; /* no MIS density: the harness's pdf alone */
-    *w = s.w;
-    return 1;
-}
-
-static double eon_pdf(void *ctx, const double wo[3], const double wi[3])
-{
-    const eon_ctx *e = ctx;
-    double r = e->r, mu = wo[2];
-    if (!(wi[2] > 0.0))
-        return 0.0;
-    double a = 1.0 + r * (0.303392 + (-0.518982 + 0.111709 * mu) * mu +
-                          (-0.276266 + 0.335918 * mu) * r);
-    double b = r * (-1.16407 + 1.15859 * mu + (0.150815 - 0.150105 * mu) * r) /
-               (mu * mu * mu - 1.43545);
-    double c = 1.0 + (0.20013 + (-0.506373 + 0.261777 * mu) * mu) * r;
-    double d = (0.540852 + (-1.01625 + 0.475392 * mu) * mu) * r / (-1.0743 + mu * (0.0725628 + mu));
-    /* wi in the LTC frame (x: wo's azimuth), then M^-1 of M = [[a 0 b] [0 c 0] [d 0 1]] */
-    double l = hypot(wo[0], wo[1]), x[2] = {l > 0 ? wo[0] / l : 1.0, l > 0 ? wo[1] / l : 0.0};
-    double w[3] = {x[0] * wi[0] + x[1] * wi[1], -x[1] * wi[0] + x[0] * wi[1], wi[2]};
-    double det = c * (a - b * d); /* det M, the x-z block's a - b d times c */
-    double v[3] = {(w[0] - b * w[2]) / (a - b * d), w[1] / c, (a * w[2] - d * w[0]) / (a - b * d)};
-    double len = sqrt(dot3(v, v));
-    double k = 0.5 * (1.0 + 1.0 / sqrt(d * d + 1.0));
-    double cltc = v[2] > 0.0 ? v[2] / len / (M_PI * k) / (det * len * len * len) : 0.0;
-    double pu = pow(r, 0.1) * (0.162925 + mu * (-0.372058 + (0.538233 - 0.290822 * mu) * mu));
-    return pu / (2.0 * M_PI) + (1.0 - pu) * cltc;
-}
-
 static void wo_at(double theta_deg, double wo[3])
 {
     double t = theta_deg * M_PI / 180.0, p = 0.7; /* off the tangent: no symmetry to hide behind */
@@ -323,19 +261,6 @@ static void directions(double alpha_test)
         double wo[3];
         wo_at(cases[i].theta, wo);
         chi2_run(&s, wo, N_DIR, 0x5eed0000u + i, alpha_test);
-        ntests++;
-    }
-    const struct {
-        const char *name;
-        double theta, r;
-    } eon[] = {{"roughdiffuse r 0.3", 30.0, 0.3}, {"roughdiffuse r 1", 60.0, 1.0},
-               {"roughdiffuse r 0.7", 80.0, 0.7}};
-    for (size_t i = 0; i < sizeof eon / sizeof eon[0]; i++) {
-        eon_ctx e = {eon[i].r, 0u};
-        chi2_sampler s = {eon[i].name, &e, eon_sample, eon_pdf, NULL};
-        double wo[3];
-        wo_at(eon[i].theta, wo);
-        chi2_run(&s, wo, N_DIR, 0x5eed0100u + i, alpha_test);
         ntests++;
     }
 }

@@ -103,6 +103,12 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     if (nd < (int)sizeof p->type_defines) /* the light kinds in the selection */
         nd += spm_light_defines(g->emitters, g->nemitters, p->type_defines + nd,
                                 sizeof p->type_defines - (size_t)nd);
+    if (g->cam.ortho && nd < (int)sizeof p->type_defines) /* kernels/camera.clh */
+        nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
+                       "-DSPM_WITH_ORTHO ");
+    if (g->cam.lens_radius > 0.0f && nd < (int)sizeof p->type_defines)
+        nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
+                       "-DSPM_WITH_LENS ");
     if (g->nvn && nd < (int)sizeof p->type_defines) /* smooth triangles: kernels/shading.clh */
         nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
                        "-DSPM_WITH_SMOOTH ");

@@ -229,32 +229,15 @@ static int coated_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
     return 0;
 }
 
-/* Rough diffuse (EON, kernels/roughdiffuse.clh): its multiple-scattering
- * colour rho_ms = rho^2 E_avg / (1 - rho (1 - E_avg)) per 1 nm bin into col2,
- * E_avg = A (1 + c2 r) the average albedo of its single-scattering term,
- * A = 1 / (1 + c1 r), c1 = 1/2 - 2 / (3 pi), c2 = 2/3 - 28 / (15 pi). At
- * roughness 0 the term is 0 (the Lambertian): no colour. */
-static int roughdiffuse_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
-{
-    double r = s->p[SPM_ROUGH_P_R];
-    if (!(r > 0.0))
-        return 0;
-    if (refuse_fluor(sc, s, "rough diffuse", err))
-        return 1;
-    double c1 = 0.5 - 2.0 / (3.0 * M_PI), c2 = 2.0 / 3.0 - 28.0 / (15.0 * M_PI);
-    double eavg = (1.0 + c2 * r) / (1.0 + c1 * r);
-    sc->colours = spm_xrealloc(sc->colours, ((size_t)sc->ncolours + 1) * sizeof *sc->colours);
-    spm_colour *c = &sc->colours[sc->ncolours];
-    memset(c, 0, sizeof *c);
-    snprintf(c->name, sizeof c->name, "%.50s:multiple", s->name);
-    c->s.kind = SPM_KIND_REFLECTANCE;
-    for (int i = 0; i < SPM_TRUTH_BINS; i++) {
-        double rho = s->refl >= 0 ? sc->colours[s->refl].s.nm1[i] : 0.0;
-        c->s.nm1[i] = rho * rho * eavg / (1.0 - rho * (1.0 - eavg));
-    }
-    s->col2 = sc->ncolours++;
-    return 0;
-}
+/* The types' own host code, written in their entries (SPM_TYPE_HOST_CODE):
+ * the functions their descriptors name, which may use the helpers above. */
+#define SPM_TYPE_HOST_CODE
+#define SPM_MATERIAL_TYPE(name, ...)
+#define SPM_EMITTER_TYPE(name, ...)
+#include "spm_types.h"
+#undef SPM_MATERIAL_TYPE
+#undef SPM_EMITTER_TYPE
+#undef SPM_TYPE_HOST_CODE
 
 /* The descriptors: spm_types.h's entries, each at its tag. */
 #define SPM_MATERIAL_TYPE(name, ...) [SPM_MAT_##name] = {.tag = SPM_MAT_##name, __VA_ARGS__},
