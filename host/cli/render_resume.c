@@ -13,6 +13,8 @@ void spm_render_print(const spm_render_config *c, const spm_render_setup *s, spm
     const spm_mode_desc *m = spm_mode(c->mode);
     spm_film_print_add(p, 1, "scene", "%016" PRIx64, spm_prepared_hash(&s->geom, &s->tables));
     spm_film_print_add(p, 1, "mode", "%s", m->name);
+    if (c->integrator != SPM_INTEGRATOR_PATH) /* a path render's film reads as it always did */
+        spm_film_print_add(p, 1, "integrator", "%s", spm_integrator_name(c->integrator));
     spm_film_print_add(p, 1, "size", "%dx%d", s->scene.width, s->scene.height);
     spm_film_print_add(p, 1, "seed", "%u", c->seed);
     if (s->plan.nspec)

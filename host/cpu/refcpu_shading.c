@@ -70,3 +70,24 @@ void spm_ref_cond_frame(const float n[3], const float t[3], const float d[3], fl
     c->wo[2] = v3_dot(c->back, c->n);
     c->alpha = alpha;
 }
+
+/* The hit's shading frame, the one place a type finds it: the normal n on
+ * the viewer's side and tangent t every type shades with; gn, the geometric
+ * normal on the viewer's side (MiniLight: dot(n, -d) < 0 flips n), decides
+ * which side a direction is on. A flat triangle's is gn and its own tangent
+ * (refcpu_shading.h). */
+void spm_ref_hit_frame(const spm_geometry *g, const spm_tri *tri, const float o[3],
+                      const float d[3], spm_ref_hit *h)
+{
+    for (int i = 0; i < 3; i++)
+        h->gn[i] = h->ng[i] = tri->n[i], h->d[i] = d[i];
+    if (v3_dot(h->gn, d) > 0.0f)
+        h->gn[0] = -h->gn[0], h->gn[1] = -h->gn[1], h->gn[2] = -h->gn[2];
+    h->smooth = tri->vn != 0u;
+    if (h->smooth)
+        spm_ref_shading_frame(tri, &g->vnormals[9 * (size_t)(tri->vn - 1u)], o, d, h->gn, h->n,
+                              h->t);
+    else
+        for (int i = 0; i < 3; i++)
+            h->n[i] = h->gn[i], h->t[i] = tri->t[i];
+}

@@ -6,6 +6,8 @@
 #define SPM_REFCPU_SHADING_H
 #include "spm_shared.h"
 #include "refcpu_conductor.h"
+#include "refcpu_bsdf.h"
+#include "geometry.h"
 
 /* The shading normal sn (the viewer's side, bent so that the viewer's mirror
  * reflection stays above the geometric surface) and a unit tangent st
@@ -17,4 +19,8 @@ void spm_ref_shading_frame(const spm_tri *tr, const float vn[9], const float o[3
  * tangent t perpendicular to it (spm_ref_cond_make's, for a shading frame). */
 void spm_ref_cond_frame(const float n[3], const float t[3], const float d[3], float alpha,
                         spm_ref_cond *c);
+/* The hit's shading frame on tri of ray o + t d (refcpu_bsdf.h spm_ref_hit):
+ * the one place a type finds it, for both integrators. */
+void spm_ref_hit_frame(const spm_geometry *g, const spm_tri *tri, const float o[3],
+                       const float d[3], spm_ref_hit *h);
 #endif
