@@ -30,10 +30,12 @@ static spm_u32 film_pixel(const spm_camera *cam, const float film[2])
 }
 
 /* The camera seen from p (leaving triangle skip) with the lens sample of
- * dimensions dim, dim + 1: We / pdf (pdf sample_Wi's density in solid angle
- * at p) times the pixel count, as We integrates to 1 over the whole film and
- * a pixel's estimate is the sum of its splats over its samples; wi toward the
- * lens and the pixel. 0 when the camera does not see p or something is between. */
+ * dimensions dim, dim + 1: We / pdf, pdf sample_Wi's density in solid angle
+ * at p; wi toward the lens and the pixel. 0 when the camera does not see p
+ * or something is between. A pass traces npix spp subpaths and a pixel's
+ * importance is npix We (We integrates to 1 over the whole film), so a
+ * pixel's estimate, its splats' sum over spp like a camera path's, needs no
+ * other factor. */
 static float camera_link(const spm_camera *cam, const spm_geometry *g, const spm_ref_key *k,
                          spm_u32 dim, const float p[3], spm_u32 skip, float wi[3], spm_u32 *px)
 {
@@ -46,7 +48,7 @@ static float camera_link(const spm_camera *cam, const spm_geometry *g, const spm
     if (spm_bvh_intersect(g, p, wi, skip, &t) >= 0 && t < dist)
         return 0.0f;
     *px = film_pixel(cam, film);
-    return we / pdf * (float)(cam->width * cam->height);
+    return we / pdf;
 }
 
 /* The light's emission along d leaving o: its colour and *scale (Le for an
@@ -91,7 +93,7 @@ static void light_vertex(const spm_geometry *g, const spm_material *mats, const 
 }
 
 /* The vertex's connection to the camera: the splat weight
- *   beta f |cos_i| We / pdf_Wi (npix folded into camera_link's),
+ *   beta f |cos_i| We / pdf_Wi,
  * f |cos_i| the type's in importance mode (its colour applied by the shade
  * stage's vertex_apply, which reads cos_light); 0: none. */
 static float vertex_link(const spm_geometry *g, const spm_material *m, const spm_ref_bsdf *b,
