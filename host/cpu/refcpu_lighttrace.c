@@ -155,21 +155,16 @@ static uint8_t trace_light_path(const spm_geometry *g, const spm_material *mats,
     feel(&f, lvlk, colour, 1, SPM_SETBY_EMITTER);
     int seg = 0;
     for (int j = 0;; j++) {
-        float t;
-        spm_ref_record_ray(o, d, skip, SPM_RAY_CLOSEST);
-        int hit = spm_bvh_intersect(g, o, d, skip, &t);
+        float t, x[3];
+        spm_ref_hit hf;
+        int hit = spm_ref_next_vertex(g, o, d, skip, &t, x, &hf);
         if (hit < 0) {
             h->end = SPM_END_ESCAPED;
             break;
         }
-        const spm_tri *tri = &g->tris[hit];
-        const spm_material *m = &mats[tri->material];
-        float x[3];
-        v3_madd(x, o, d, t);
-        if (seg && j > 0) /* the segment's length: a medium's absorption, in the shade stage */
+        const spm_material *m = &mats[g->tris[hit].material];
+        if (seg && j > 0) /* the segment's length inside: its absorption, in the shade stage */
             path->x[j - 1].lobe = t;
-        spm_ref_hit hf;
-        spm_ref_hit_frame(g, tri, o, d, &hf);
         spm_ref_bsdf b;
         spm_ref_begin(m, &hf, &k, j, &walk, &b);
         float mmean, minv;
@@ -195,8 +190,7 @@ static uint8_t trace_light_path(const spm_geometry *g, const spm_material *mats,
         }
         beta *= minv;
         spm_ref_bsample s;
-        if (!spm_ref_sample(m, &b, &hf, &k, j, SPM_REF_IMPORTANCE, &s) ||
-            (hf.smooth && (s.refract ? !(v3_dot(s.wi, hf.gn) < 0.0f) : !(v3_dot(s.wi, hf.gn) > 0.0f))))
+        if (!spm_ref_sample_sided(m, &b, &hf, &k, j, SPM_REF_IMPORTANCE, &s))
             break;
         beta *= s.wt;
         beta *= s.w;

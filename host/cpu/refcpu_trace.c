@@ -142,9 +142,9 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
     camera_ray(&p->cam, k.seed, k.pixel, k.sample, o, d);
     spm_u32 skip = 0xFFFFFFFFu;
     for (int j = 0;; j++) {
-        float t;
-        spm_ref_record_ray(o, d, skip, SPM_RAY_CLOSEST);
-        int hit = spm_bvh_intersect(g, o, d, skip, &t);
+        float t, x[3];
+        spm_ref_hit hf;
+        int hit = spm_ref_next_vertex(g, o, d, skip, &t, x, &hf);
         if (hit < 0) {
             escape(p, d, weight, path);
             if (h->bg != SPM_NONE)
@@ -153,13 +153,9 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         }
         const spm_tri *tri = &g->tris[hit];
         const spm_material *m = &mats[tri->material];
-        float x[3];
-        v3_madd(x, o, d, t);
         if (seg && j > 0) /* the segment's length: a medium's absorption, in the shade stage */
             path->x[j - 1].lobe = t;
         hit_emission(g, m, hit, j, t, d, cpdf, weight, path, &f, lvlk);
-        spm_ref_hit hf;
-        spm_ref_hit_frame(g, tri, o, d, &hf);
         spm_ref_bsdf b;
         spm_ref_begin(m, &hf, &k, j, &walk, &b);
         spm_u32 dim = SPM_DIM_VERTEX(j);
@@ -199,8 +195,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         /* a sampled direction on the wrong side of its frame, or on the other
          * side of the geometric surface than of the shading one (a reflection
          * under it, a refraction over it): the path ends */
-        if (!spm_ref_sample(m, &b, &hf, &k, j, SPM_REF_RADIANCE, &s) ||
-            (hf.smooth && (s.refract ? !(v3_dot(s.wi, hf.gn) < 0.0f) : !(v3_dot(s.wi, hf.gn) > 0.0f)))) {
+        if (!spm_ref_sample_sided(m, &b, &hf, &k, j, SPM_REF_RADIANCE, &s)) {
             h->end = SPM_END_ABSORBED;
             break;
         }
