@@ -4,7 +4,7 @@
 # (a render resumed from its film equals one straight through), and the
 # refusals, each with its reason and exit 2 and nothing written: a backend
 # that does not trace light subpaths, an unknown integrator, a background, a
-# dispersive glass, an orthographic camera, a resumed film of the other
+# dispersive glass, a rough dielectric, an orthographic camera, a resumed film of the other
 # integrator. How it converges to the path tracer is tests/test_light_integrator.c.
 source "$(dirname "$0")/lib_cli.sh"
 attr() { oiiotool --info -v "$1" | sed -n "s/^ *$2: \"\{0,1\}\([^\"]*\)\"\{0,1\}$/\1/p"; }
@@ -35,7 +35,9 @@ check "light, resumed: the pixels of a straight render" same_pixels "$T/s.exr" "
 check "a light film resumed by the path integrator: refused" test $? -eq 2
 check "a light film resumed by the path integrator: names the integrator" grep -q integrator "$T/rp.err"
 
-# refusals: exit 2, the reason, nothing written
+# refusals: exit 2, the reason, nothing written (a rough dielectric: the light
+# integrator rendered a Cornell box with a rough glass box 7 % darker than the
+# path tracer, as its eval has no transmission)
 refused() { # refused NAME PATTERN ARGS...: exit 2, PATTERN on stderr, no output
     local name=$1 pat=$2
     shift 2
@@ -53,6 +55,10 @@ refused "background" "background is no light a subpath starts from" \
     render "$T/sky.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 refused "dispersive glass" "does not commit to a wavelength" \
     render "$DATA/scenes/prism.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
+sed 's/^material tall_box  reflect blue_sky/material tall_box  dielectric ior 1.5 alpha 0.3/' \
+    "$CORNELL" > "$T/rough.scene"
+refused "rough dielectric" "rough dielectric's eval has no transmission" \
+    render "$T/rough.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 sed 's/^camera position \(.*\) fov 40$/camera position \1 orthographic 0.6/' "$CORNELL" > "$T/ortho.scene"
 if grep -q orthographic "$T/ortho.scene"; then
     refused "orthographic camera" "orthographic camera" \
