@@ -58,7 +58,7 @@ static spm_u32 emission(const spm_geometry *g, const spm_material *mats, const s
                         const float d[3], float *scale, float *cos_o)
 {
     *cos_o = 1.0f;
-    if (e->tri == SPM_NONE) {
+    if (e->kind != SPM_LIGHT_AREA) {
         *scale = e->p[SPM_LIGHT_P_SCALE];
         return e->colour;
     }
@@ -83,7 +83,7 @@ static void light_vertex(const spm_geometry *g, const spm_material *mats, const 
 {
     float wi[3], scale, cos_o;
     spm_u32 px = SPM_NONE;
-    if (e->tri == SPM_NONE)
+    if (e->kind != SPM_LIGHT_AREA)
         return;
     float w = camera_link(&g->cam, g, k, SPM_DIM_LT_LENS, o, e->tri, wi, &px);
     if (!(w > 0.0f) || emission(g, mats, e, wi, &scale, &cos_o) == SPM_NONE)
@@ -129,7 +129,7 @@ static int start(const spm_geometry *g, const spm_material *mats, const spm_ref_
     if (*colour == SPM_NONE)
         return 0;
     *beta = scale * cos_o / (e->pdf * pp * pd);
-    *skip = e->tri == SPM_NONE ? 0xFFFFFFFFu : e->tri;
+    *skip = e->kind == SPM_LIGHT_AREA ? e->tri : 0xFFFFFFFFu;
     lp->p.h.first_emit = *colour;
     light_vertex(g, mats, e, k, o, pp, lp);
     return 1;
