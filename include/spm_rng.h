@@ -18,7 +18,14 @@
 #define SPM_DIM_RR 3u           /* Russian roulette */
 #define SPM_DIM_DIR_A 4u        /* cosine-weighted direction */
 #define SPM_DIM_DIR_B 5u
-#define SPM_DIM_HERO 0x7fffff00u  /* hero wavelength offset, shade stage only */
+#define SPM_DIM_HERO 0x7fffff00u
+/* A light subpath (--integrator light): the light by vertex 0's
+ * SPM_DIM_EMITTER, its ray's four numbers and the lens point of the light's
+ * own vertex from the vertex slot after the last (no path reaches it); a
+ * surface vertex j's lens point from its SPM_DIM_EPOINT_A/B (it takes no
+ * light sample), its bounce and roulette from its own as on a camera path. */
+#define SPM_DIM_LT_EMIT SPM_DIM_VERTEX(SPM_MAX_DEPTH)
+#define SPM_DIM_LT_LENS (SPM_DIM_VERTEX(SPM_MAX_DEPTH) + 4u)  /* hero wavelength offset, shade stage only */
 /* a thin lens's point on its disk: dimensions of their own, far above the
  * vertices' and the types', so a pinhole camera's paths draw what they drew */
 #define SPM_DIM_LENS_A 0x7ffffe00u

@@ -48,6 +48,20 @@ SPECMIP_TEST_REFUSE_SCENE_FILES=all "$BIN" "${R[@]}" -o "$T/refused.exr" 2> "$T/
 check "refusing hook: the render fails (exit 2)" test $? -eq 2
 check "refusing hook: says so" grep -q "rank 0 refuses to open .*cornell_spiky.scene" "$T/refused.err"
 
+# The light integrator (the CPU reference, splats summed per chunk in fixed
+# point): two ranks give the one process's pixels bit for bit; rank 1's own
+# command line asks for the path integrator, which rank 0's overrides. 64x48
+# at 84 spp: 21 spp per pass, 4 passes; the ranks meet at their first pass.
+LR=(render "$DATA/scenes/cornell.scene" --backend cpu --width 64 --height 48 --spp 84 --seed 3 --quiet)
+"$BIN" "${LR[@]}" --integrator light -o "$T/light1.exr"
+check "light, one process: exit 0" test $? -eq 0
+SPECMIP_TEST_MEET=2 "${MPI[@]}" -np 1 "$BIN" "${LR[@]}" --integrator light --json \
+    -o "$T/light2.exr" : -np 1 "$BIN" "${LR[@]}" > "$T/light2.json" 2> "$T/light2.err"
+check "light, -np 2: exit 0" test $? -eq 0
+check "light, -np 2: same EXR as one process" same_pixels "$T/light1.exr" "$T/light2.exr"
+check "light, -np 2: every rank took passes" \
+    test "$(jq '[.devices[] | select(.passes >= 1)] | length' "$T/light2.json")" = 2
+
 # Dynamic split: rank 2 waits 2 s after each pass (longer than a pass of the
 # others takes even with three ranks on two loaded cores); its own command line
 # asks for another mode and seed, which rank 0's override. The ranks meet at

@@ -56,7 +56,7 @@ static void round_trip(const char *rel)
     sc.height = 12;
     CHECK(spm_geometry_build(&sc, &g, &err) == 0, "%s", err.msg);
     CHECK(spm_tables_build(&sc, &po, &t, &err) == 0, "%s", err.msg);
-    spm_prepared_info in = {sc.width, sc.height, 40, SPM_MODE_ML, 5}, out;
+    spm_prepared_info in = {sc.width, sc.height, 40, SPM_MODE_ML, 5, SPM_INTEGRATOR_LIGHT}, out;
     size_t n;
     unsigned char *buf = spm_prepared_pack(&g, &t, &in, &n);
     CHECK(spm_prepared_unpack(buf, n, &g2, &t2, &out, &err) == 0, "%s: %s", rel, err.msg);

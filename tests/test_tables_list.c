@@ -56,7 +56,7 @@ int main(void)
     t.test_extra = keep;
 
     /* it arrives on another rank, as does every other array of the list */
-    spm_prepared_info in = {sc.width, sc.height, 4, 0, 5}, out;
+    spm_prepared_info in = {sc.width, sc.height, 4, 0, 5, 0}, out;
     size_t n;
     unsigned char *buf = spm_prepared_pack(&g, &t, &in, &n);
     CHECK(spm_prepared_unpack(buf, n, &g2, &t2, &out, &err) == 0, "%s", err.msg);

@@ -76,6 +76,10 @@ const spm_option spm_options[] = {
         "bin width of a .spectral.exr: 5 (default) or, in truth mode, 1"),
     ROW(MODE, "--mode", "M", TEXT, 0, 0, R,
         "spectral mode (default ml; 'specmip modes' lists them):"),
+    ROW(INTEGRATOR, "--integrator", "I", TEXT, 0, 0, R,
+        "path (default: camera paths with next-event estimation) |\n"
+        "light (subpaths from the lights, each vertex splatted into\n"
+        "the pixel that sees it; the CPU reference, --backend cpu)"),
     ROW(SPP, "--spp", "N", INT, 1, SPM_SCENE_MAX_SPP, R,
         "samples per pixel, %R (default: the scene's, else 16)"),
     ROW(TIME, "--time", "SECONDS", REAL, 0.01, 1e7, R,

@@ -13,6 +13,7 @@ void spm_render_print(const spm_render_config *c, const spm_render_setup *s, spm
     const spm_mode_desc *m = spm_mode(c->mode);
     spm_film_print_add(p, 1, "scene", "%016" PRIx64, spm_prepared_hash(&s->geom, &s->tables));
     spm_film_print_add(p, 1, "mode", "%s", m->name);
+    spm_film_print_add(p, 1, "integrator", "%s", spm_integrator_name(c->integrator));
     spm_film_print_add(p, 1, "size", "%dx%d", s->scene.width, s->scene.height);
     spm_film_print_add(p, 1, "seed", "%u", c->seed);
     if (s->plan.nspec)
@@ -62,6 +63,8 @@ int spm_resume_load(const char *exr, const spm_film_print *now, int spp, int pas
     int saved_pass = 0;
     if (spm_film_load(path, film, &saved, &saved_pass, err))
         return SPM_EXIT_INPUT;
+    if (!spm_film_print_get(&saved, "integrator")) /* a film from before the light integrator */
+        spm_film_print_add(&saved, 1, "integrator", "%s", spm_integrator_name(SPM_INTEGRATOR_PATH));
     char diff[2048];
     if (spm_film_print_diff(&saved, now, "scene", diff, sizeof diff)) {
         const char *was = spm_film_print_get(&saved, "scene-path");

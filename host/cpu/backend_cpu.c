@@ -14,6 +14,12 @@ typedef struct {
     float *xyz;
     size_t cap;
     int ch; /* floats a path record and a pass pixel hold (render_plan.h pix_ch) */
+    /* the light integrator's: one chunk's subpaths, their splats, the
+     * fixed-point sums (film_splat.h) */
+    spm_light_path *lpaths;
+    uint8_t *llevels;
+    spm_splats splats;
+    spm_splat_acc acc;
 } cpu_impl;
 
 /* Room for n paths; only grows. */
@@ -30,11 +36,56 @@ static void reserve(cpu_impl *c, size_t n)
     c->cap = n;
 }
 
+/* A pass of the light integrator: npix spp subpaths in chunks of
+ * SPM_SPLAT_CHUNK (film_splat.h), each traced, shaded into its splats and
+ * added to the pass image in fixed point. */
+static int cpu_light_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
+                          spm_pass_stats *st)
+{
+    cpu_impl *c = b->impl;
+    const spm_render_plan *pl = c->plan;
+    size_t n = pl->npix * spp;
+    if (!c->lpaths) {
+        c->lpaths = spm_xmalloc(SPM_SPLAT_CHUNK * sizeof *c->lpaths);
+        c->llevels = spm_xmalloc(SPM_SPLAT_CHUNK);
+        spm_splats_init(&c->splats, c->ch);
+        spm_splat_acc_init(&c->acc, pl->npix, c->ch);
+    }
+    memset(pass_xyz, 0, pl->npix * (size_t)c->ch * sizeof *pass_xyz);
+    spm_trace_params p = spm_plan_pass_params(pl, first_sample, spp);
+    for (size_t c0 = 0; c0 < n; c0 += SPM_SPLAT_CHUNK) {
+        size_t nb = n - c0 < SPM_SPLAT_CHUNK ? n - c0 : SPM_SPLAT_CHUNK;
+        double t0 = spm_now();
+        spm_ref_light_trace_range(pl->geom, pl->tables->materials, pl->lvlk, (int)pl->start_level,
+                                  &p, c0, c0 + nb, c->lpaths, c->llevels);
+        double t1 = spm_now();
+        c->splats.n = 0;
+        spm_ref_shade_splats(pl->mode, pl->shade, pl->spec, c->ch, &p, c0, c->lpaths, c->llevels,
+                             nb, &c->splats);
+        double t2 = spm_now();
+        spm_splats_add_chunk(&c->acc, &c->splats, pass_xyz, &st->nonfinite);
+        size_t hist[256] = {0};
+        for (size_t i = 0; i < nb; i++) {
+            hist[c->llevels[i]]++;
+            st->truncated += c->lpaths[i].p.h.end == SPM_END_TRUNCATED;
+        }
+        spm_count_levels_hist(pl->mode, hist, nb, st);
+        st->trace_s += t1 - t0;
+        st->shade_s += t2 - t1;
+        st->accum_s += spm_now() - t2;
+        if (c0 + nb < n && spm_pass_batch_end(&b->ctl, c0 + nb))
+            return SPM_PASS_STOPPED;
+    }
+    return 0;
+}
+
 static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                     spm_pass_stats *st, spm_error *err)
 {
     (void)err;
     cpu_impl *c = b->impl;
+    if (c->plan->integrator == SPM_INTEGRATOR_LIGHT)
+        return spp ? cpu_light_pass(b, first_sample, spp, pass_xyz, st) : 0;
     const spm_render_plan *pl = c->plan;
     size_t npix = pl->npix;
     if (spp == 0)
@@ -81,6 +132,10 @@ static void cpu_destroy(spm_backend *b)
     free(c->paths);
     free(c->levels);
     free(c->xyz);
+    free(c->lpaths);
+    free(c->llevels);
+    spm_splats_free(&c->splats);
+    spm_splat_acc_free(&c->acc);
     free(c);
     free(b);
 }
@@ -106,4 +161,4 @@ static spm_backend *create_kind(int device, const spm_render_plan *plan, spm_err
     return spm_backend_cpu_create(plan, err);
 }
 
-const spm_backend_kind spm_backend_kind_cpu = {.name = "cpu", .create = create_kind};
+const spm_backend_kind spm_backend_kind_cpu = {.name = "cpu", .light = 1, .create = create_kind};

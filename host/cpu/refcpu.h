@@ -8,6 +8,7 @@
 #include "geometry.h"
 #include "modes.h"
 #include "tables.h"
+#include "film_splat.h"
 
 /* Trace one pass: npix * p->spp_per_pass paths; path i belongs to pixel
  * i / spp_per_pass and sample p->first_sample + i % spp_per_pass. Writes the
@@ -68,4 +69,29 @@ extern _Thread_local spm_ref_ray_sink spm_ref_rays;
 void spm_ref_trace_range(const spm_geometry *g, const spm_material *mats, const uint8_t *lvlk,
                          int start_level, const spm_trace_params *p, size_t begin, size_t end,
                          spm_path *paths, uint8_t *levels);
+
+/* A light subpath's record (--integrator light; docs/ARCHITECTURE.md "Light
+ * subpaths"): p is a path record read from the light: h.first_emit the
+ * light's emission colour and h.first_emit_c the splat weight of the light's
+ * own vertex; vertex j its colour, the light's emission colour as its
+ * emitter and c the splat weight of its connection to the camera (f |cos|
+ * We / pdf_Wi times the throughput so far and the light's Le / pdf), x[j]
+ * the factor's words as a camera path's. px[0] is the pixel the light's own
+ * splat lands in, px[j + 1] vertex j's (SPM_NONE: no splat). */
+typedef struct {
+    spm_path p;
+    spm_u32 px[SPM_MAX_DEPTH + 1];
+} spm_light_path;
+
+/* Light subpaths [begin, end) of a pass (subpath i keyed as camera path i,
+ * spm_ref_path_key) into paths and levels, as spm_ref_trace_range. */
+void spm_ref_light_trace_range(const spm_geometry *g, const spm_material *mats,
+                               const uint8_t *lvlk, int start_level, const spm_trace_params *p,
+                               size_t begin, size_t end, spm_light_path *paths, uint8_t *levels);
+/* Shades n light subpaths into their splats (ch floats each, as a camera
+ * path's record) appended to out (film_splat.h). */
+void spm_ref_shade_splats(const spm_mode_desc *m, const spm_shade_table *tabs,
+                          const spm_spec_map *maps, int ch, const spm_trace_params *p,
+                          size_t first, const spm_light_path *paths, const uint8_t *levels,
+                          size_t n, spm_splats *out);
 #endif

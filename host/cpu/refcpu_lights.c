@@ -11,7 +11,7 @@ float spm_ref_light_pmf(const spm_geometry *g, spm_u32 tri)
 
 /* The light for a vertex (spm_shared.h spm_emitter): by power through the
  * table, or MiniLight's uniform pick when the powers are equal. */
-static const spm_emitter *pick_emitter(const spm_geometry *g, const spm_ref_key *k, spm_u32 dim)
+const spm_emitter *spm_ref_light_pick(const spm_geometry *g, const spm_ref_key *k, spm_u32 dim)
 {
     int ne = g->nemitters;
     if (g->emit_power) {
@@ -26,7 +26,7 @@ int spm_ref_light_sample(const spm_geometry *g, const spm_material *mats, const 
                          spm_u32 dim, const float x[3], spm_u32 hit, const spm_ref_hit *h,
                          spm_ref_lsample *ls)
 {
-    const spm_emitter *e = pick_emitter(g, k, dim);
+    const spm_emitter *e = spm_ref_light_pick(g, k, dim);
     switch (e->kind) {
 #define SPM_LIGHT_KIND(NAME, ...) \
     case SPM_LIGHT_##NAME: return spm_ref_light_sample_##NAME(g, mats, e, k, dim, x, hit, h, ls);

@@ -18,6 +18,8 @@ typedef struct {
 
 /* the selection's probability of triangle tri (0: not a light) */
 float spm_ref_light_pmf(const spm_geometry *g, spm_u32 tri);
+/* the light the selection picks with vertex dimension dim's number */
+const spm_emitter *spm_ref_light_pick(const spm_geometry *g, const spm_ref_key *k, spm_u32 dim);
 /* the emission of material m toward cosine cos_e > 0 to its face: its colour
  * and *scale (SPM_NONE: none) */
 spm_u32 spm_ref_light_eval(const spm_material *m, float cos_e, float *scale);

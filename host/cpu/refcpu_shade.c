@@ -220,6 +220,64 @@ void spm_ref_shade_spectral(const spm_mode_desc *m, const spm_shade_table *tabs,
     }
 }
 
+/* One splat: lanes L (ch > 3: and their bins) into a splat of pixel px. */
+static void splat(const lanes *v, const spm_spec_map *map, const path_lanes *pl, int per_path,
+                  int ch, const float *L, spm_u32 px, spm_splats *out)
+{
+    float *o = spm_splats_push(out, px);
+    lanes_to_xyz(v, L, o);
+    if (ch > 3)
+        lanes_to_bins(map, pl, per_path, ch - 3, L, o + 3);
+}
+
+/* A light subpath's splats (refcpu.h spm_light_path), read from the light:
+ * the light's own, E[first] first_emit_c; then W = 1 and per vertex j its
+ * factor as a camera path applies it with the light's emission as the
+ * vertex's emitter (vertex_apply, eye 1, into lanes of its own): W picks up
+ * the factors of the vertices before and the splat is W f E[light] c_j. A
+ * black vertex ends the walk. */
+static void shade_light_path(const spm_light_path *lp, const lanes *v, const spm_spec_map *map,
+                             const path_lanes *pl, int per_path, int ch, spm_splats *out)
+{
+    float W[MAX_LANES], L[MAX_LANES];
+    const spm_path *path = &lp->p;
+    if (path->h.first_emit != SPM_NONE && lp->px[0] != SPM_NONE) {
+        spm_ref_fetch(v, path->h.first_emit, L);
+        for (int l = 0; l < v->n; l++)
+            L[l] *= path->h.first_emit_c;
+        splat(v, map, pl, per_path, ch, L, lp->px[0], out);
+    }
+    for (int l = 0; l < v->n; l++)
+        W[l] = 1.0f;
+    for (spm_u32 j = 0; j < path->h.nvert; j++) {
+        if ((path->v[j].ids & 0xFFFFu) == SPM_NONE)
+            return;
+        for (int l = 0; l < v->n; l++)
+            L[l] = 0.0f;
+        spm_ref_vertex_apply(1, (int)SPM_VX_KIND(path->x[j]), &path->v[j], &path->x[j], v, W, L);
+        if (lp->px[j + 1] != SPM_NONE)
+            splat(v, map, pl, per_path, ch, L, lp->px[j + 1], out);
+    }
+}
+
+void spm_ref_shade_splats(const spm_mode_desc *m, const spm_shade_table *tabs,
+                          const spm_spec_map *maps, int ch, const spm_trace_params *p,
+                          size_t first, const spm_light_path *paths, const uint8_t *levels,
+                          size_t n, spm_splats *out)
+{
+    path_lanes pl;
+    for (size_t i = 0; i < n; i++) {
+        int slot = spm_mode_slot(m, levels[i]);
+        lanes v = table_lanes(&tabs[slot]);
+        if (m->per_path) {
+            spm_u32 pixel, sample;
+            spm_ref_path_key(p, first + i, &pixel, &sample);
+            v = hero_path(&tabs[0], spm_rng(p->seed, pixel, sample, SPM_DIM_HERO), &pl);
+        }
+        shade_light_path(&paths[i], &v, maps ? &maps[slot] : NULL, &pl, m->per_path, ch, out);
+    }
+}
+
 void spm_ref_shade(const spm_tables *t, int mode, const spm_trace_params *p, size_t first,
                    const spm_path *paths, const uint8_t *levels, size_t n, float *xyz)
 {

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <string.h>
 #include "geometry_vec3.h"
+#include "refcpu_lights.h"
 
 /* Barycentrics (Moeller and Trumbore 1997): e1 = v1 - v0, e2 = v2 - v0,
  * s = o - v0, q = d x e2, u = s.q / e1.q, v = d.(s x e1) / e1.q, clamped into
@@ -69,4 +70,48 @@ void spm_ref_cond_frame(const float n[3], const float t[3], const float d[3], fl
     c->wo[1] = v3_dot(c->back, c->b);
     c->wo[2] = v3_dot(c->back, c->n);
     c->alpha = alpha;
+}
+
+/* The hit's shading frame, the one place a type finds it: the normal n on
+ * the viewer's side and tangent t every type shades with; gn, the geometric
+ * normal on the viewer's side (MiniLight: dot(n, -d) < 0 flips n), decides
+ * which side a direction is on. A flat triangle's is gn and its own tangent
+ * (refcpu_shading.h). */
+void spm_ref_hit_frame(const spm_geometry *g, const spm_tri *tri, const float o[3],
+                      const float d[3], spm_ref_hit *h)
+{
+    for (int i = 0; i < 3; i++)
+        h->gn[i] = h->ng[i] = tri->n[i], h->d[i] = d[i];
+    if (v3_dot(h->gn, d) > 0.0f)
+        h->gn[0] = -h->gn[0], h->gn[1] = -h->gn[1], h->gn[2] = -h->gn[2];
+    h->smooth = tri->vn != 0u;
+    if (h->smooth)
+        spm_ref_shading_frame(tri, &g->vnormals[9 * (size_t)(tri->vn - 1u)], o, d, h->gn, h->n,
+                              h->t);
+    else
+        for (int i = 0; i < 3; i++)
+            h->n[i] = h->gn[i], h->t[i] = tri->t[i];
+}
+
+int spm_ref_sample_sided(const spm_material *m, const spm_ref_bsdf *b, const spm_ref_hit *h,
+                         const spm_ref_key *k, int j, int mode, spm_ref_bsample *s)
+{
+    if (!spm_ref_sample(m, b, h, k, j, mode, s))
+        return 0;
+    if (!h->smooth)
+        return 1;
+    float c = v3_dot(s->wi, h->gn);
+    return s->refract ? c < 0.0f : c > 0.0f;
+}
+
+int spm_ref_next_vertex(const spm_geometry *g, const float o[3], const float d[3], spm_u32 skip,
+                        float *t, float x[3], spm_ref_hit *h)
+{
+    spm_ref_record_ray(o, d, skip, SPM_RAY_CLOSEST);
+    int hit = spm_bvh_intersect(g, o, d, skip, t);
+    if (hit < 0)
+        return hit;
+    v3_madd(x, o, d, *t);
+    spm_ref_hit_frame(g, &g->tris[hit], o, d, h);
+    return hit;
 }

@@ -6,6 +6,8 @@
 #define SPM_REFCPU_SHADING_H
 #include "spm_shared.h"
 #include "refcpu_conductor.h"
+#include "refcpu_bsdf.h"
+#include "geometry.h"
 
 /* The shading normal sn (the viewer's side, bent so that the viewer's mirror
  * reflection stays above the geometric surface) and a unit tangent st
@@ -17,4 +19,18 @@ void spm_ref_shading_frame(const spm_tri *tr, const float vn[9], const float o[3
  * tangent t perpendicular to it (spm_ref_cond_make's, for a shading frame). */
 void spm_ref_cond_frame(const float n[3], const float t[3], const float d[3], float alpha,
                         spm_ref_cond *c);
+/* The hit's shading frame on tri of ray o + t d (refcpu_bsdf.h spm_ref_hit):
+ * the one place a type finds it, for both integrators. */
+void spm_ref_hit_frame(const spm_geometry *g, const spm_tri *tri, const float o[3],
+                       const float d[3], spm_ref_hit *h);
+/* The next vertex of a walk: the ray o + t d leaving triangle skip (told to
+ * a ray sink, refcpu.h), the triangle it hits (< 0: none), its point x and
+ * frame h. */
+int spm_ref_next_vertex(const spm_geometry *g, const float o[3], const float d[3], spm_u32 skip,
+                        float *t, float x[3], spm_ref_hit *h);
+/* The type's sampled direction (spm_ref_sample) unless it lies on the wrong
+ * side of the geometric surface for a smooth hit (a reflection under it, a
+ * refraction over it): 0 then, and the path ends. */
+int spm_ref_sample_sided(const spm_material *m, const spm_ref_bsdf *b, const spm_ref_hit *h,
+                         const spm_ref_key *k, int j, int mode, spm_ref_bsample *s);
 #endif

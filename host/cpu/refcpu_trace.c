@@ -15,6 +15,7 @@
 #include "refcpu_lights.h"
 #include "refcpu_camera.h"
 #include "refcpu_shading.h"
+#include "refcpu_feeler.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -34,24 +35,6 @@ static int strategy_from_env(void)
 {
     const char *s = getenv("SPECMIP_TEST_STRATEGY");
     return !s ? 0 : !strcmp(s, "light") ? 1 : !strcmp(s, "lobe") ? 2 : 0;
-}
-
-/* The level feeler: the finest (smallest) level among the colours met,
- * starting from the coarsest level in use; a colour lowers it only when
- * strictly finer, so "set by" names the first colour that needed it. */
-typedef struct {
-    int level;
-    spm_u32 setby;
-} feeler;
-
-static void feel(feeler *f, const uint8_t *lvlk, spm_u32 colour, int k, spm_u32 who)
-{
-    if (!lvlk)
-        return;
-    int kk = k < SPM_PRETEST_KMAX ? k : SPM_PRETEST_KMAX;
-    int l = lvlk[colour * SPM_PRETEST_KMAX + (spm_u32)(kk - 1)];
-    if (l < f->level)
-        f->level = l, f->setby = who;
 }
 
 /* The camera ray of a jittered point in pixel (x, y), y = 0 at the top
@@ -93,15 +76,6 @@ static spm_u32 light_weight(const spm_material *m, const spm_ref_bsdf *b, const 
     return ls->colour;
 }
 
-/* Occurrences of reflectance colour r among vertices 0..j of the record. */
-static int occurrences(const spm_path *path, int j, spm_u32 r)
-{
-    int k = 0;
-    for (int i = 0; i <= j; i++)
-        k += (path->v[i].ids & 0xFFFFu) == r;
-    return k;
-}
-
 /* Emission hit by the sampled ray of the last vertex, of density cpdf (0: a
  * delta): counted there, into its record x, with the throughput so far and
  * the power heuristic against the light sample's density of the same point
@@ -128,27 +102,6 @@ static void escape(const spm_trace_params *p, const float d[3], float weight, sp
     path->h.end = SPM_END_ESCAPED;
     path->h.bg = bg;
     path->h.bg_c = bg != SPM_NONE ? weight : 0.0f;
-}
-
-/* The hit's shading frame, the one place a type finds it: the normal n on
- * the viewer's side and tangent t every type shades with; gn, the geometric
- * normal on the viewer's side (MiniLight: dot(n, -d) < 0 flips n), decides
- * which side a direction is on. A flat triangle's is gn and its own tangent
- * (refcpu_shading.h). */
-static void hit_frame(const spm_geometry *g, const spm_tri *tri, const float o[3],
-                      const float d[3], spm_ref_hit *h)
-{
-    for (int i = 0; i < 3; i++)
-        h->gn[i] = h->ng[i] = tri->n[i], h->d[i] = d[i];
-    if (v3_dot(h->gn, d) > 0.0f)
-        h->gn[0] = -h->gn[0], h->gn[1] = -h->gn[1], h->gn[2] = -h->gn[2];
-    h->smooth = tri->vn != 0u;
-    if (h->smooth)
-        spm_ref_shading_frame(tri, &g->vnormals[9 * (size_t)(tri->vn - 1u)], o, d, h->gn, h->n,
-                              h->t);
-    else
-        for (int i = 0; i < 3; i++)
-            h->n[i] = h->gn[i], h->t[i] = tri->t[i];
 }
 
 /* The hit's emission: the first hit's (an emitting face towards the viewer),
@@ -189,9 +142,9 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
     camera_ray(&p->cam, k.seed, k.pixel, k.sample, o, d);
     spm_u32 skip = 0xFFFFFFFFu;
     for (int j = 0;; j++) {
-        float t;
-        spm_ref_record_ray(o, d, skip, SPM_RAY_CLOSEST);
-        int hit = spm_bvh_intersect(g, o, d, skip, &t);
+        float t, x[3];
+        spm_ref_hit hf;
+        int hit = spm_ref_next_vertex(g, o, d, skip, &t, x, &hf);
         if (hit < 0) {
             escape(p, d, weight, path);
             if (h->bg != SPM_NONE)
@@ -200,13 +153,9 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         }
         const spm_tri *tri = &g->tris[hit];
         const spm_material *m = &mats[tri->material];
-        float x[3];
-        v3_madd(x, o, d, t);
         if (seg && j > 0) /* the segment's length: a medium's absorption, in the shade stage */
             path->x[j - 1].lobe = t;
         hit_emission(g, m, hit, j, t, d, cpdf, weight, path, &f, lvlk);
-        spm_ref_hit hf;
-        hit_frame(g, tri, o, d, &hf);
         spm_ref_bsdf b;
         spm_ref_begin(m, &hf, &k, j, &walk, &b);
         spm_u32 dim = SPM_DIM_VERTEX(j);
@@ -246,8 +195,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         /* a sampled direction on the wrong side of its frame, or on the other
          * side of the geometric surface than of the shading one (a reflection
          * under it, a refraction over it): the path ends */
-        if (!spm_ref_sample(m, &b, &hf, &k, j, SPM_REF_RADIANCE, &s) ||
-            (hf.smooth && (s.refract ? !(v3_dot(s.wi, hf.gn) < 0.0f) : !(v3_dot(s.wi, hf.gn) > 0.0f)))) {
+        if (!spm_ref_sample_sided(m, &b, &hf, &k, j, SPM_REF_RADIANCE, &s)) {
             h->end = SPM_END_ABSORBED;
             break;
         }

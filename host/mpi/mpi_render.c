@@ -297,6 +297,7 @@ int spm_mpi_worker(spm_mpi *m, spm_render_config *c)
         c->spp = pi.spp; /* what rank 0 renders, whatever this rank's command line says */
         c->mode = pi.mode;
         c->seed = pi.seed;
+        c->integrator = pi.integrator;
         info.rc = spm_render_setup_backends(c, &s, &info.err);
     }
     free(buf);
@@ -408,7 +409,7 @@ int spm_mpi_share(spm_mpi *m, int rc, const spm_render_config *c, spm_render_set
     if (rc)
         return rc;
     spm_prepared_info pi = {s->scene.width, s->scene.height, spm_render_spp(c, &s->scene),
-                            c->mode, c->seed};
+                            c->mode, c->seed, c->integrator};
     size_t n;
     void *buf = spm_prepared_pack(&s->geom, &s->tables, &pi, &n);
     uint64_t n64 = n;

@@ -14,6 +14,7 @@ typedef struct {
     int width, height, spp; /* the image and samples per pixel the render uses */
     int mode;               /* the spectral mode (modes.h) */
     spm_u32 seed;
+    int integrator;         /* render_plan.h SPM_INTEGRATOR_* */
 } spm_prepared_info;
 
 /* A malloc'ed block (*n bytes) holding g, t and info. */

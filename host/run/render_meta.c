@@ -56,6 +56,8 @@ void spm_render_meta_make(const spm_render_config *c, const spm_render_setup *s,
     add_string(m, "specmip:version", SPM_VERSION);
     add_string(m, "specmip:scene", s->scene.path);
     add_string(m, "specmip:mode", mode);
+    if (c->integrator != SPM_INTEGRATOR_PATH)
+        add_string(m, "specmip:integrator", spm_integrator_name(c->integrator));
     add_int(m, "samplesPerPixel", r->spp_done);
     if (!(c->time_s > 0 && spp == SPM_SCENE_MAX_SPP))
         add_int(m, "specmip:samplesPerPixelRequested", spp);

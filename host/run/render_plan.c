@@ -128,6 +128,66 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     return 0;
 }
 
+static const char *const integrator_names[SPM_INTEGRATOR_COUNT] = {"path", "light"};
+
+const char *spm_integrator_name(int integrator)
+{
+    return integrator >= 0 && integrator < SPM_INTEGRATOR_COUNT ? integrator_names[integrator]
+                                                                : "?";
+}
+
+int spm_integrator_parse(const char *name)
+{
+    for (int i = 0; i < SPM_INTEGRATOR_COUNT; i++)
+        if (!strcmp(name, integrator_names[i]))
+            return i;
+    return -1;
+}
+
+/* A rough dielectric: its eval has the reflection alone (its transmission
+ * reaches camera paths through their sampled rays only), and a light
+ * subpath's connection to the camera through it needs the transmission. */
+static int rough_dielectric(const spm_tables *t)
+{
+    for (int m = 0; m < t->nmaterials; m++)
+        if (SPM_MAT_TAG(t->materials[m]) == SPM_MAT_DIELECTRIC &&
+            t->materials[m].p[SPM_DIEL_P_ALPHA] > 0.0f)
+            return 1;
+    return 0;
+}
+
+/* What the light integrator does not render yet, each with its reason. */
+int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err)
+{
+    const spm_trace_params *tp = &p->params;
+    const char *why = NULL;
+    if (i == SPM_INTEGRATOR_LIGHT) {
+        if (tp->cam.ortho)
+            why = "an orthographic camera sees along one direction only, which no vertex's "
+                  "connection to the camera meets";
+        else if (tp->bg_up != SPM_NONE || tp->bg_down != SPM_NONE)
+            why = "the background is no light a subpath starts from (it has no emission "
+                  "sampling), and the camera seeing it is a camera path's";
+        else if (p->tables->nfluor)
+            why = "fluorescence along a light subpath (re-radiation in light-flow order) is "
+                  "not implemented";
+        else if (tp->disperse)
+            why = "a light subpath does not commit to a wavelength at dispersive glass yet";
+        else if (rough_dielectric(p->tables))
+            why = "a rough dielectric's eval has no transmission, which a vertex's connection to "
+                  "the camera through it needs";
+        else if (tp->nemitters == 0)
+            why = "the scene has no light to start a subpath from";
+    }
+    if (why) {
+        spm_errorf(err, "--integrator %s cannot render this scene: %s", spm_integrator_name(i),
+                   why);
+        return 1;
+    }
+    p->integrator = i;
+    return 0;
+}
+
 int spm_render_plan_spectral(spm_render_plan *p, int nm, spm_error *err)
 {
     if (!spm_mode_spec_ok(p->mode, nm)) {

@@ -35,12 +35,24 @@ typedef struct {
      * path vertex's record (spm_vertex plus the fields those types declare). */
     char type_defines[256];
     size_t vertex_bytes;
+    int integrator; /* SPM_INTEGRATOR_* (spm_render_plan_integrator) */
 } spm_render_plan;
+
+/* The integrators: camera paths with next-event estimation (the default),
+ * or subpaths from the lights splatted into the pixels they are seen in
+ * (docs/ARCHITECTURE.md "Light subpaths"). */
+enum { SPM_INTEGRATOR_PATH, SPM_INTEGRATOR_LIGHT, SPM_INTEGRATOR_COUNT };
+/* the integrator's name (--integrator), and the index of a name (-1: none) */
+const char *spm_integrator_name(int integrator);
+int spm_integrator_parse(const char *name);
 
 /* 0, or 1 with err filled (unknown mode, empty image or BVH, missing tables). */
 int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_tables *t, int mode,
                          spm_u32 seed, spm_error *err);
 void spm_render_plan_free(spm_render_plan *p);
+/* Renders with integrator i (before any backend is made from the plan):
+ * 0, or 1 with err saying why the scene cannot be rendered so. */
+int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err);
 /* Asks for spectral output in bins of nm nm (before any backend is made from
  * the plan). 0, or 1 with err filled when the mode writes none at nm. */
 int spm_render_plan_spectral(spm_render_plan *p, int nm, spm_error *err);

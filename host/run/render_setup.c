@@ -186,6 +186,13 @@ int spm_render_setup_backends(const spm_render_config *c, spm_render_setup *s, s
     int rc;
     if (spm_render_plan_init(&s->plan, &s->geom, &s->tables, c->mode, c->seed, err))
         return SPM_EXIT_INPUT;
+    if (c->integrator != SPM_INTEGRATOR_PATH && !c->backend->light) {
+        spm_errorf(err, "--integrator %s runs on the CPU reference only so far (--backend cpu)",
+                   spm_integrator_name(c->integrator));
+        return SPM_EXIT_INPUT;
+    }
+    if (spm_render_plan_integrator(&s->plan, c->integrator, err))
+        return SPM_EXIT_INPUT;
     if (c->spec_nm) {
         int nb = !c->backend->per_device ? 1
                  : c->all_devices        ? SPM_MAX_BACKENDS

@@ -31,6 +31,7 @@ typedef struct {
     const char *film_name;
     double time_s;
     spm_camera_override cam;  /* --look-from, --look-at, --fov */
+    int integrator;           /* --integrator (render_plan.h SPM_INTEGRATOR_*; 0: path) */
 } spm_render_config;
 
 /* Wall seconds of each stage of a render (`render --stats`); setup fills the

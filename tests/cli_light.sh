@@ -1,0 +1,69 @@
+#!/bin/bash
+# specmip render --integrator light (the CPU reference): a render of the
+# Cornell box that records its integrator, the same pixels whatever the passes
+# (a render resumed from its film equals one straight through), and the
+# refusals, each with its reason and exit 2 and nothing written: a backend
+# that does not trace light subpaths, an unknown integrator, a background, a
+# dispersive glass, a rough dielectric, an orthographic camera, a resumed film of the other
+# integrator. How it converges to the path tracer is tests/test_light_integrator.c.
+source "$(dirname "$0")/lib_cli.sh"
+attr() { oiiotool --info -v "$1" | sed -n "s/^ *$2: \"\{0,1\}\([^\"]*\)\"\{0,1\}$/\1/p"; }
+CORNELL=$DATA/scenes/cornell.scene
+L=(render "$CORNELL" --backend cpu --integrator light --width 48 --height 48 --seed 5 --quiet)
+
+"$BIN" "${L[@]}" --spp 8 -o "$T/a.exr" -o "$T/a.png" 2> "$T/a.err"
+check "light: exit 0" test $? -eq 0
+check "light: records its integrator" test "$(attr "$T/a.exr" specmip:integrator)" = light
+check "light: not black" test "$(iinfo --stats "$T/a.exr" | sed -n 's/^ *Stats Avg: *\([0-9.e+-]*\).*/\1/p' | awk '{print ($1 > 0)}')" = 1
+"$BIN" "${L[@]}" --spp 8 -o "$T/b.exr" 2> "$T/b.err"
+check "light: the same pixels again" same_pixels "$T/a.exr" "$T/b.exr"
+"$BIN" render "$CORNELL" --backend cpu --width 48 --height 48 --seed 5 --quiet --spp 8 -o "$T/p.exr"
+check "path (the default): no integrator recorded" test -z "$(attr "$T/p.exr" specmip:integrator)"
+check "path and light: other pixels" other_pixels "$T/a.exr" "$T/p.exr"
+
+# a render of 58 spp resumed from its film of 29 (one pass of 48 x 48: spm_spp_per_pass)
+# equals the one of 58 straight through
+"$BIN" "${L[@]}" --spp 58 -o "$T/s.exr" 2> "$T/s.err"
+"$BIN" "${L[@]}" --spp 29 --film -o "$T/r.exr" 2> "$T/r29.err"
+check "light, 29 spp with its film: exit 0" test $? -eq 0
+"$BIN" "${L[@]}" --spp 58 --resume "$T/r.exr" -o "$T/r.exr" 2> "$T/r58.err"
+check "light, resumed to 58 spp: exit 0" test $? -eq 0
+check "light, resumed: no warning" test ! -s "$T/r58.err"
+check "light, resumed: the pixels of a straight render" same_pixels "$T/s.exr" "$T/r.exr"
+"$BIN" render "$CORNELL" --backend cpu --width 48 --height 48 --seed 5 --quiet --spp 87 \
+    --resume "$T/r.exr" -o "$T/r.exr" 2> "$T/rp.err"
+check "a light film resumed by the path integrator: refused" test $? -eq 2
+check "a light film resumed by the path integrator: names the integrator" grep -q integrator "$T/rp.err"
+
+# refusals: exit 2, the reason, nothing written (a rough dielectric: the light
+# integrator rendered a Cornell box with a rough glass box 7 % darker than the
+# path tracer, as its eval has no transmission)
+refused() { # refused NAME PATTERN ARGS...: exit 2, PATTERN on stderr, no output
+    local name=$1 pat=$2
+    shift 2
+    "$BIN" "$@" -o "$T/no.exr" 2> "$T/no.err"
+    check "$name: exit 2" test $? -eq 2
+    check "$name: says why" grep -q "$pat" "$T/no.err"
+    check "$name: nothing written" test ! -e "$T/no.exr"
+}
+refused "OpenCL backend" "CPU reference only so far (--backend cpu)" \
+    render "$CORNELL" --integrator light --width 8 --height 8 --spp 1
+refused "unknown integrator" "integrator is path or light, not 'bdpt'" \
+    render "$CORNELL" --backend cpu --integrator bdpt --width 8 --height 8 --spp 1
+{ cat "$CORNELL"; echo "background up equal 1"; } > "$T/sky.scene"
+refused "background" "background is no light a subpath starts from" \
+    render "$T/sky.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
+refused "dispersive glass" "does not commit to a wavelength" \
+    render "$DATA/scenes/prism.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
+sed 's/^material tall_box  reflect blue_sky/material tall_box  dielectric ior 1.5 alpha 0.3/' \
+    "$CORNELL" > "$T/rough.scene"
+refused "rough dielectric" "rough dielectric's eval has no transmission" \
+    render "$T/rough.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
+sed 's/^camera position \(.*\) fov 40$/camera position \1 orthographic 0.6/' "$CORNELL" > "$T/ortho.scene"
+if grep -q orthographic "$T/ortho.scene"; then
+    refused "orthographic camera" "orthographic camera" \
+        render "$T/ortho.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
+else
+    bad "could not make an orthographic camera from $CORNELL"
+fi
+finish
