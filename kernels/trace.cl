@@ -23,6 +23,9 @@
 #include "bsdf.clh"
 #include "lights.clh"
 #include "camera.clh"
+#ifdef SPM_WITH_TEXTURE
+#include "texture.clh"
+#endif
 
 /* Level feeler: one colour met; lvlk[c * KMAX + min(k, KMAX) - 1] (k = occurrence count). */
 inline void feel(__global const uchar *lvlk, uint c, uint k, uint by, uint *level, uint *setby)
@@ -147,6 +150,11 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
     ushort seen[SPM_MAX_DEPTH]; /* reflectance ids so far: occurrence counts */
     float rrw = 1.0f;           /* product of the weights over earlier vertices */
     uint skip = 0xFFFFFFFFu;
+#ifdef SPM_WITH_TEXTURE
+    /* the ray cone's width at a hit: a pixel's angle times the path's length
+     * so far (an orthographic pixel's width, constant) */
+    float spread = 2.0f * cam.tan_half / (float)cam.width, cone = cam.ortho ? spread : 0.0f;
+#endif
 
     uint j = 0;
     for (; j < SPM_MAX_DEPTH; j++) {
@@ -198,6 +206,11 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         /* the vertex; its reflectance counted per occurrence */
         float mmean, minv;
         uint refl = bsdf_lobe(m, &b, &mmean, &minv);
+#ifdef SPM_WITH_TEXTURE
+        if (!cam.ortho)
+            cone += spread * t;
+        refl = texture_colour(tex, uvs, tr->material, (uint)hit, tr, pos, d, cone, key, j, refl);
+#endif
         if (refl != SPM_NONE)
             feel(lvlk, refl, occurrences(seen, j, refl), SPM_SETBY_REFLECTOR, &level, &setby);
         if (eid != SPM_NONE)
