@@ -403,16 +403,44 @@ static void prune(spm_scene *s)
     free(cmap);
 }
 
-int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
+/* Prunes once; prune's array holds the colours kept and no more, so the
+ * capacity follows it (a colour added after prune grows it). */
+static int prune_once(spm_scene_builder *b, const char *where, spm_error *err)
 {
     spm_scene *s = b->s;
     if (s->ntris == 0) {
         spm_errorf(err, "%s: end of file: the scene has no triangles", where);
         return 1;
     }
-    prune(s);
-    b->cap_colours = s->ncolours; /* prune's array holds that many */
-    if (spm_sb_texture_palette(b, where, err)) /* the textures' colours, after the pruning */
+    if (!b->pruned)
+        prune(s);
+    b->pruned = 1;
+    b->cap_colours = s->ncolours;
+    return 0;
+}
+
+int spm_sb_prune(spm_scene_builder *b, const char *where, spm_error *err)
+{
+    if (b->pruned)
+        return 0;
+    if (prune_once(b, where, err))
+        return 1;
+    spm_scene *s = b->s;
+    spm_names_free(&b->colour_index); /* the kept colours' new indices, for sharing */
+    spm_names_init(&b->colour_index);
+    for (int i = 0; i < s->ncolours; i++) {
+        char key[64];
+        spectrum_key(&s->colours[i].s, key, sizeof key);
+        if (spm_names_get(&b->colour_index, key) < 0)
+            spm_names_put(&b->colour_index, key, i);
+    }
+    return 0;
+}
+
+int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
+{
+    spm_scene *s = b->s;
+    if (prune_once(b, where, err))
         return 1;
     /* colours a type derives, last (materials.h derive) */
     for (int i = 0; i < s->nmaterials; i++) {

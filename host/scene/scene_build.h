@@ -31,6 +31,7 @@
 typedef struct {
     spm_scene *s;
     int cap_colours, cap_materials, cap_tris, cap_vnormals, cap_uvs, cap_textures;
+    int pruned;                /* spm_sb_prune has run */
     spm_names colour_index;    /* colour content key -> index (sharing) */
     spm_names material_index;  /* "refl emit" -> index (sharing) */
 } spm_scene_builder;
@@ -61,7 +62,12 @@ int spm_sb_tri_uv(spm_scene_builder *b, const float uv[6]);
 /* A texture into the scene (moved: *t is left empty); its index. */
 struct spm_texture_s;
 int spm_sb_texture(spm_scene_builder *b, struct spm_texture_s *t);
-/* The colour grid of the scene's textures (scene.h palette; texture_palette.c):
+/* Drops what no triangle uses (spm_sb_finish does it first unless it ran):
+ * a parser that adds colours for what is left calls it, adds them, then
+ * spm_sb_finish. 0, or 1 with err (no triangles). */
+int spm_sb_prune(spm_scene_builder *b, const char *where, spm_error *err);
+/* The colour grid of the scene's textures (scene.h palette; texture_palette.c),
+ * called by a parser between spm_sb_prune and spm_sb_finish:
  * each grid node some texel's lift can pick, a colour; a textured material's
  * reflectance colour the palette's of the largest mean (Russian roulette's
  * survival: any bound works, the weight is its inverse). 0, or 1 with err. */
