@@ -3,6 +3,7 @@
 #include "refcpu_texture.h"
 #include "geometry_vec3.h"
 #include "spm_rng.h"
+#include "texture.h"
 #include <math.h>
 #include <string.h>
 
@@ -23,19 +24,6 @@ static float wrap_coord(float u, spm_u32 mode)
     if (mode == 2u)
         return u - 2.0f * floorf(0.5f * u);
     return fminf(fmaxf(u, -1.0f), 2.0f);
-}
-
-static int wrap_index(int i, int n, spm_u32 mode)
-{
-    if (mode == 1u)
-        return i < 0 ? 0 : i >= n ? n - 1 : i;
-    if (mode == 2u) {
-        int p = i % (2 * n);
-        p = p < 0 ? p + 2 * n : p;
-        return p < n ? p : 2 * n - 1 - p;
-    }
-    int p = i % n;
-    return p < 0 ? p + n : p;
 }
 
 /* floor(x - 1/2), or the next texel with probability the fraction */
@@ -99,8 +87,10 @@ spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, 
     int w = (int)lv[1], ht = (int)lv[2];
     u = wrap_coord(u, h[1]);
     v = wrap_coord(v, h[2]);
-    int ix = wrap_index(tap(u * (float)w, spm_ref_rnd(k, SPM_DIM_TEX(j, 1))), w, h[1]);
-    int iy = wrap_index(tap((1.0f - v) * (float)ht, spm_ref_rnd(k, SPM_DIM_TEX(j, 2))), ht, h[2]);
+    int ix = spm_wrap_index(tap(u * (float)w, spm_ref_rnd(k, SPM_DIM_TEX(j, 1))), w,
+                            (spm_wrap)h[1]);
+    int iy = spm_wrap_index(tap((1.0f - v) * (float)ht, spm_ref_rnd(k, SPM_DIM_TEX(j, 2))), ht,
+                            (spm_wrap)h[2]);
     const spm_u32 *t = tex + lv[0] + 3u * ((spm_u32)iy * (spm_u32)w + (spm_u32)ix);
     const spm_u32 *nodes = tex + tex[SPM_TEXD_NODES];
     float r = spm_ref_rnd(k, SPM_DIM_TEX(j, 3));
