@@ -8,7 +8,7 @@
 #include <sys/stat.h>
 
 #define MAX_TEXTURES 4096
-#define MAX_CHECKS 4096
+#define MAX_CHECKS 512 /* at most 512 x 512 texels: 4 MB with the pyramid */
 
 void spm_scene_textures_init(spm_scene_textures *t)
 {
