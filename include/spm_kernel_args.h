@@ -22,7 +22,9 @@
  * vnormals: the smooth triangles' vertex normals (spm_tri.vn; a placeholder
  * in a scene without them, never read).
  * disp: the dispersive glasses' index tables (spm_geometry disp; a
- * placeholder in a scene without them). */
+ * placeholder in a scene without them).
+ * tex, uvs: the textures' words and the triangles' texture coordinates
+ * (spm_shared.h SPM_TEXD_*; placeholders in a scene without textures). */
 #define SPM_TRACE_ARGS(X, S)                                            \
     X(__global const spm_tri *, cl_mem, tris) S                         \
     X(__global const spm_bvh4_node *, cl_mem, nodes) S                  \
@@ -32,6 +34,8 @@
     X(__global const float *, cl_mem, light_pdf) S                      \
     X(__global const float *, cl_mem, vnormals) S                       \
     X(__global const float *, cl_mem, disp) S                           \
+    X(__global const uint *, cl_mem, tex) S                             \
+    X(__global const float *, cl_mem, uvs) S                            \
     X(const spm_trace_params, spm_trace_params, p) S                    \
     X(uint, spm_u32, init_level) S                                      \
     X(uint, spm_u32, npaths) S                                          \

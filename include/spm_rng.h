@@ -68,6 +68,12 @@
 #define SPM_DIM_DIEL_M_B 1u
 #define SPM_DIM_DIEL_CHOICE 2u
 #define SPM_DIM_DIEL_LAMBDA 3u
+/* A texture lookup's range (spm_shared.h SPM_TEX_GRID): vertex j draws
+ * SPM_DIM_TEX(j, 0 .. 3), the level, the texel along x and along y, the grid
+ * corner; above every type's range (2^30 + SPM_MAX_DEPTH * 8) and below the
+ * lens's and hero's. */
+#define SPM_DIM_TEX_BASE 0x60000000u
+#define SPM_DIM_TEX(j, k) (SPM_DIM_TEX_BASE + 4u * (spm_u32)(j) + (spm_u32)(k))
 
 /* "lowbias32" integer mixer (Wellons): full avalanche, cheap. Its steps on x
  * of any unsigned 32-bit integer type (the kernels also mix 16 keys at once). */

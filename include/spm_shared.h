@@ -541,6 +541,35 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
 #define SPM_D2_MIN_REL 1e-6f
 #define SPM_PI_F 3.14159265358979323846f
 
+/* Image textures on a reflectance (kernels/texture.clh, host/cpu/refcpu_texture.c,
+ * host/geometry/geometry_texture.c; docs/METHODS.md "Textures"). A textured
+ * vertex records a colour of the scene, as any vertex does: the trace stage
+ * picks one texel of the trilinear filter's eight at random in proportion to
+ * its weight (stochastic texture filtering, Pharr et al. 2024), and one
+ * corner of the colour grid's cell around the texel's linear RGB in
+ * proportion to its trilinear weight; each corner is a scene colour, lifted
+ * once. The expected colour is the filtered one, every mode and level shades
+ * the texture from its colours' rows, and the record does not grow.
+ * The grid's nodes: SPM_TEX_GRID per axis, linear values of the sRGB codes
+ * 255 k / (SPM_TEX_GRID - 1) (8-bit colours that are nodes are met exactly).
+ * The scene's texture words (one uint buffer; floats as their bits):
+ *   [SPM_TEXD_MATS]    offset of a word per material: 1 + its texture, 0 none
+ *   [SPM_TEXD_PALETTE] offset of SPM_TEX_GRID^3 colour ids, node (r, g, b) at
+ *                      (r G + g) G + b (SPM_NONE: no texel uses it)
+ *   [SPM_TEXD_NODES]   offset of the SPM_TEX_GRID node values (floats)
+ *   [SPM_TEXD_TEXS]    offset of a word per texture: its header's offset
+ * a header: nlevels, wrap along u, wrap along v (spm_wrap), 0, then per level
+ * its texels' offset, width, height, 0; texels 3 floats (linear RGB), rows top
+ * to bottom. Texture coordinates: 6 floats per triangle (u, v at each vertex),
+ * in the triangles' order, only in scenes with textures. */
+#define SPM_TEX_GRID 16
+#define SPM_TEXD_MATS 0
+#define SPM_TEXD_PALETTE 1
+#define SPM_TEXD_NODES 2
+#define SPM_TEXD_TEXS 3
+#define SPM_TEXD_HEAD 4
+#define SPM_TEX_HEADER(nlevels) (4 + 4 * (nlevels))
+
 /* Smooth shading (kernels/shading.clh, host/cpu/refcpu_shading.c): where the
  * mirror reflection of the viewer about the interpolated normal falls below
  * the geometric surface, the reflection is lifted to this cosine above it

@@ -23,6 +23,7 @@
 #include "bsdf.clh"
 #include "lights.clh"
 #include "camera.clh"
+#include "texture.clh"
 
 /* Level feeler: one colour met; lvlk[c * KMAX + min(k, KMAX) - 1] (k = occurrence count). */
 inline void feel(__global const uchar *lvlk, uint c, uint k, uint by, uint *level, uint *setby)
@@ -149,7 +150,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
     ushort seen[SPM_MAX_DEPTH]; /* reflectance ids so far: occurrence counts */
     float rrw = 1.0f;           /* product of the weights over earlier vertices */
     uint skip = 0xFFFFFFFFu;
-
+    TEXTURE_CONE(cam); /* a textured scene's ray cone (texture.clh) */
     uint j = 0;
     for (; j < SPM_MAX_DEPTH; j++) {
         float t;
@@ -191,15 +192,15 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         bsdf_begin(m, &fr, key, j, &walk, &b);
         spm_vertex_ext xe = {0u, 0.0f, 0.0f, 0.0f};
         uint eid = SPM_NONE;
-        float c = 0.0f;
+        float c = 0.0f, mmean, minv;
         spm_light_sample ls;
         if (p.nemitters > 0 && b.nee && /* next-event estimation */
             light_sample(SPM_TRACE_ARGS(SPM_KERNEL_ARG, SPM_COMMA), key, j, pos, hit, &fr, &ls))
             eid = light_weight(m, &b, &fr, &ls, rrw, &c, &xe.light);
 
         /* the vertex; its reflectance counted per occurrence */
-        float mmean, minv;
         uint refl = bsdf_lobe(m, &b, &mmean, &minv);
+        TEXTURE_PICK(cam, t, refl, tex, uvs, tr->material, (uint)hit, tr, pos, d, key, j);
         if (refl != SPM_NONE)
             feel(lvlk, refl, occurrences(seen, j, refl), SPM_SETBY_REFLECTOR, &level, &setby);
         if (eid != SPM_NONE)

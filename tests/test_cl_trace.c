@@ -1,7 +1,9 @@
 /* The trace kernel against the CPU reference (same scene, seed, samples):
  * per path the record's ids, counts and ending must be equal, its weights
  * close, its level byte equal; and the records do not depend on the mode.
- * Also on MiniLight's Cornell box lit by a sun 1.5e11 away. */
+ * Also on MiniLight's Cornell box lit by a sun 1.5e11 away, and on the
+ * textured box (scenes/textured.scene), whose vertices record colours the
+ * texture lookup picks (kernels/texture.clh, host/cpu/refcpu_texture.c). */
 #include "cl_testlib.h"
 #include "testutil.h"
 
@@ -119,6 +121,41 @@ int main(void)
         }
     } else {
         CHECK(0, "the far-sun scene loads");
+    }
+    cl_test_scene_close(&s);
+
+    /* textures: the records' colour ids are the lookups' picks, which must be
+     * the reference's; and they must be picks, many colours beyond the
+     * materials' own */
+    snprintf(path, sizeof path, "%s/scenes/textured.scene", SPM_SOURCE_DIR);
+    if (cl_test_scene_load(&s, path, W, H) == 0) {
+        CHECK(s.geom.ntex > 0 && s.geom.uvs, "the textured scene has texture words");
+        if (spm_cl_create(0, &s.geom, &s.tables, SPM_MODE_ML, SEED, &r, &err) == 0) {
+            compare_pass(&s, r, SPM_MODE_ML, 0);
+            spm_cl_destroy(r);
+        } else {
+            CHECK(0, "spm_cl_create (textured): %s", err.msg);
+        }
+        size_t n = (size_t)W * H * SPP;
+        spm_path *cp = spm_xcalloc(n, sizeof *cp);
+        uint8_t *cl = spm_xcalloc(n, 1), *seen = spm_xcalloc(SPM_NONE, 1);
+        spm_trace_params p = cl_test_params(&s, SEED, 0, SPP);
+        spm_ref_trace(&s.geom, s.tables.materials, cl_test_lvlk(&s.tables, SPM_MODE_ML), &p, cp, cl);
+        int distinct = 0;
+        for (size_t i = 0; i < n; i++)
+            for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
+                spm_u32 c = cp[i].v[j].ids & 0xFFFFu;
+                distinct += c != SPM_NONE && !seen[c];
+                seen[c] = 1;
+            }
+        printf("textured: %d distinct reflectance colours recorded, %d materials\n", distinct,
+               s.tables.nmaterials);
+        CHECK(distinct > 2 * s.tables.nmaterials, "the textures picked %d colours", distinct);
+        free(cp);
+        free(cl);
+        free(seen);
+    } else {
+        CHECK(0, "the textured scene loads");
     }
     cl_test_scene_close(&s);
 

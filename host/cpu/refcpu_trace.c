@@ -16,6 +16,7 @@
 #include "refcpu_camera.h"
 #include "refcpu_shading.h"
 #include "refcpu_feeler.h"
+#include "refcpu_texture.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -141,6 +142,9 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
     int seg = 0;        /* the last vertex records the length of its ray's segment */
     camera_ray(&p->cam, k.seed, k.pixel, k.sample, o, d);
     spm_u32 skip = 0xFFFFFFFFu;
+    /* a textured vertex's ray cone (texture.clh): a pixel's angle times the
+     * path's length so far, an orthographic pixel's width constant */
+    float spread = 2.0f * p->cam.tan_half / (float)p->cam.width, cone = p->cam.ortho ? spread : 0.0f;
     for (int j = 0;; j++) {
         float t, x[3];
         spm_ref_hit hf;
@@ -167,6 +171,11 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
             e = light_weight(m, &b, &hf, &ls, &c, &cos_light);
         float mmean, minv;
         spm_u32 refl = spm_ref_lobe(m, &b, &mmean, &minv);
+        if (g->ntex) {
+            if (!p->cam.ortho)
+                cone += spread * t;
+            refl = spm_ref_texture_colour(g, tri->material, (spm_u32)hit, x, d, cone, &k, j, refl);
+        }
         spm_vertex *vx = &path->v[j];
         vx->ids = (refl & 0xFFFFu) | (e << 16);
         vx->c = c * weight;

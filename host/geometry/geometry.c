@@ -194,6 +194,8 @@ static int build(spm_scene *owned, void (*beside)(const spm_scene *), const spm_
         rc = make_tri(scene, &scene->tris[i], &g->tris[i], err);
     if (threaded)
         pthread_join(th, NULL);
+    if (!rc)
+        spm_geometry_textures(scene, g);
     if (rc) {
         spm_geometry_free(g);
         return 1;
@@ -244,6 +246,8 @@ void spm_geometry_free(spm_geometry *g)
     free(g->light_pdf);
     free(g->vnormals);
     free(g->disp);
+    free(g->uvs);
+    free(g->tex);
     memset(g, 0, sizeof *g);
 }
 

@@ -29,6 +29,9 @@ typedef struct {
     int nvn;                /* smooth triangles: 0 in a scene without vertex normals */
     float *disp;            /* the dispersive glasses' index tables (scene.h disp), NULL when none */
     int ndisp;              /* their count: 0 in a scene without dispersive glass */
+    float *uvs;             /* textured scenes: 6 floats per triangle (spm_shared.h), else NULL */
+    spm_u32 *tex;           /* the textures' words (spm_shared.h SPM_TEXD_*), NULL when none */
+    size_t ntex;            /* their count: 0 in a scene without textures */
     spm_camera cam;
     spm_bvh_stats bvh;
 } spm_geometry;
@@ -49,6 +52,11 @@ void spm_geometry_free(spm_geometry *g);
  * fields are set, for their powers w[0, n) (each > 0); fills cdf, pdf and
  * inv_pdf and returns 1 when picking by power, 0 when the powers are equal
  * (or too many emitters for the 24-bit table) and the pick is uniform. */
+/* The textures' words and the triangles' texture coordinates, in the
+ * scene's triangle order (geometry_texture.c); nothing in a scene without a
+ * textured material. The BVH build puts the coordinates into its order. */
+void spm_geometry_textures(const spm_scene *scene, spm_geometry *g);
+void spm_geometry_uvs_permute(spm_geometry *g, const int *perm);
 int spm_emitter_table_build(spm_emitter *em, const double *w, int n);
 spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg, int w, int h);
 /* The camera of scene s: spm_camera_make, or the frame its up vector, mirror

@@ -29,6 +29,8 @@ int spm_plan_level_start(const spm_geometry *g, const spm_material *mats, const 
     for (int i = 0; i < g->nemitters; i++) /* the lights not of a triangle */
         if (g->emitters[i].kind != SPM_LIGHT_AREA)
             start = colour_start(lvlk, g->emitters[i].colour, start);
+    for (int i = 0; g->ntex && i < SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID; i++)
+        start = colour_start(lvlk, g->tex[g->tex[SPM_TEXD_PALETTE] + (size_t)i], start);
     start = colour_start(lvlk, p->bg_up, start);
     return colour_start(lvlk, p->bg_down, start);
 }
@@ -60,6 +62,9 @@ static void used_slots(spm_render_plan *p)
     for (int i = 0; i < p->geom->nemitters; i++)
         if (p->geom->emitters[i].kind != SPM_LIGHT_AREA)
             use_colour(p, p->geom->emitters[i].colour);
+    const spm_geometry *g = p->geom; /* the colours textured vertices record */
+    for (int i = 0; g->ntex && i < SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID; i++)
+        use_colour(p, g->tex[g->tex[SPM_TEXD_PALETTE] + (size_t)i]);
     for (int m = 0; m < t->nmaterials; m++) {
         use_colour(p, t->materials[m].refl);
         use_colour(p, t->materials[m].emit);
@@ -112,6 +117,9 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     if (g->nvn && nd < (int)sizeof p->type_defines) /* smooth triangles: kernels/shading.clh */
         nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
                        "-DSPM_WITH_SMOOTH ");
+    if (g->ntex && nd < (int)sizeof p->type_defines) /* textured materials: kernels/texture.clh */
+        nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
+                       "-DSPM_WITH_TEXTURE ");
     /* dispersive glass: committed paths, in both stages (docs/METHODS.md "Dispersion");
      * a mode whose lanes are no wavelengths traces it at n_d and commits none */
     tp->disperse = g->ndisp && !p->mode->one_index;

@@ -28,6 +28,7 @@ typedef struct {
     double p[SPM_MAT_PARAMS]; /* a type's numbers */
     double ep[SPM_EMIT_PARAMS]; /* its emitter type's numbers */
     unsigned flags; /* a type's words without a value (materials.h SPM_MP_FLAG): bit `slot` */
+    int tex;        /* 1 + the scene texture on its reflectance (Lambertian), 0 none */
 } spm_scene_material;
 
 typedef struct {
@@ -35,6 +36,7 @@ typedef struct {
     int material;
     int line;  /* source line, for messages */
     int vn;    /* 0: flat; k > 0: smooth, its vertex normals are vnormals[k - 1] */
+    int uv;    /* 0: none; k > 0: its texture coordinates are uvs[k - 1] */
 } spm_scene_tri;
 
 /* The triangles a mesh statement added, tris[first, first + n), and their
@@ -83,6 +85,16 @@ typedef struct {
      * n2 (in its vertices' order, oriented to its front face's side) */
     float (*vnormals)[9];
     int nvnormals;
+    /* per triangle with texture coordinates (spm_scene_tri.uv): u, v at its
+     * three vertices, in their order (v = 0 at an image's bottom row) */
+    float (*uvs)[6];
+    int nuvs;
+    /* the textures materials use (spm_scene_material.tex; host/scene/texture.h)
+     * and the colour grid their texels are lifted on (SPM_TEX_GRID^3 colour
+     * indices, -1 where no texel needs the node; texture_palette.c) */
+    struct spm_texture_s *textures;
+    int ntextures;
+    int *palette;
     int bg_up;           /* colour for a ray escaping upward (+y), -1 none */
     int bg_down;         /* for one escaping downward, -1 none */
     spm_scene_light *lights; /* the `light` statements' lights, in the file's order */

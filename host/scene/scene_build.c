@@ -5,6 +5,7 @@
 #include "scene_build.h"
 #include "colour.h"
 #include "materials.h"
+#include "texture.h"
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -18,6 +19,11 @@ void spm_scene_free(spm_scene *s)
     free(s->materials);
     free(s->tris);
     free(s->vnormals);
+    free(s->uvs);
+    for (int i = 0; i < s->ntextures; i++)
+        spm_texture_free(&s->textures[i]);
+    free(s->textures);
+    free(s->palette);
     free(s->meshes);
     free(s->lights);
     free(s->rerad);
@@ -143,6 +149,8 @@ int spm_sb_material_typed(spm_scene_builder *b, const spm_scene_material *proto,
         for (int i = 0; i < SPM_MAT_PARAMS; i++)
             n += snprintf(key + n, sizeof key - (size_t)n, " %a", proto->p[i]);
     }
+    if (proto->tex) /* a textured reflectance is not its mean */
+        n += snprintf(key + n, sizeof key - (size_t)n, " t%d", proto->tex);
     if (proto->flags) /* a two-sided light is not a one-sided one */
         n += snprintf(key + n, sizeof key - (size_t)n, " f%x", proto->flags);
     int i = spm_names_get(&b->material_index, key);
@@ -221,6 +229,26 @@ int spm_sb_tri_normals(spm_scene_builder *b, const float n[9])
     memcpy(s->vnormals[s->nvnormals++], n, sizeof *s->vnormals);
     s->tris[s->ntris - 1].vn = s->nvnormals;
     return 0;
+}
+
+int spm_sb_tri_uv(spm_scene_builder *b, const float uv[6])
+{
+    spm_scene *s = b->s;
+    if (s->ntris < 1 || s->tris[s->ntris - 1].uv)
+        return 1;
+    s->uvs = reserve(s->uvs, s->nuvs, &b->cap_uvs, sizeof *s->uvs);
+    memcpy(s->uvs[s->nuvs++], uv, sizeof *s->uvs);
+    s->tris[s->ntris - 1].uv = s->nuvs;
+    return 0;
+}
+
+int spm_sb_texture(spm_scene_builder *b, spm_texture *t)
+{
+    spm_scene *s = b->s;
+    s->textures = reserve(s->textures, s->ntextures, &b->cap_textures, sizeof *s->textures);
+    s->textures[s->ntextures] = *t;
+    memset(t, 0, sizeof *t);
+    return s->ntextures++;
 }
 
 int spm_sb_camera(spm_scene_builder *b, const double eye[3], const double dir[3], double fov,
@@ -375,14 +403,45 @@ static void prune(spm_scene *s)
     free(cmap);
 }
 
-int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
+/* Prunes once; prune's array holds the colours kept and no more, so the
+ * capacity follows it (a colour added after prune grows it). */
+static int prune_once(spm_scene_builder *b, const char *where, spm_error *err)
 {
     spm_scene *s = b->s;
     if (s->ntris == 0) {
         spm_errorf(err, "%s: end of file: the scene has no triangles", where);
         return 1;
     }
-    prune(s);
+    if (!b->pruned)
+        prune(s);
+    b->pruned = 1;
+    b->cap_colours = s->ncolours;
+    return 0;
+}
+
+int spm_sb_prune(spm_scene_builder *b, const char *where, spm_error *err)
+{
+    if (b->pruned)
+        return 0;
+    if (prune_once(b, where, err))
+        return 1;
+    spm_scene *s = b->s;
+    spm_names_free(&b->colour_index); /* the kept colours' new indices, for sharing */
+    spm_names_init(&b->colour_index);
+    for (int i = 0; i < s->ncolours; i++) {
+        char key[64];
+        spectrum_key(&s->colours[i].s, key, sizeof key);
+        if (spm_names_get(&b->colour_index, key) < 0)
+            spm_names_put(&b->colour_index, key, i);
+    }
+    return 0;
+}
+
+int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
+{
+    spm_scene *s = b->s;
+    if (prune_once(b, where, err))
+        return 1;
     /* colours a type derives, last (materials.h derive) */
     for (int i = 0; i < s->nmaterials; i++) {
         const spm_mtype_desc *t = &spm_material_types[s->materials[i].type];

@@ -30,7 +30,8 @@
 
 typedef struct {
     spm_scene *s;
-    int cap_colours, cap_materials, cap_tris, cap_vnormals;
+    int cap_colours, cap_materials, cap_tris, cap_vnormals, cap_uvs, cap_textures;
+    int pruned;                /* spm_sb_prune has run */
     spm_names colour_index;    /* colour content key -> index (sharing) */
     spm_names material_index;  /* "refl emit" -> index (sharing) */
 } spm_scene_builder;
@@ -55,6 +56,22 @@ int spm_sb_material(spm_scene_builder *b, const char *name, int refl, int emit,
 /* A material of any type (materials.h), shared with an identical one. */
 int spm_sb_material_typed(spm_scene_builder *b, const spm_scene_material *proto,
                           const char *where, spm_error *err);
+/* The last triangle's texture coordinates (u, v at its three vertices): 0,
+ * or 1 when it has them already or there is none. */
+int spm_sb_tri_uv(spm_scene_builder *b, const float uv[6]);
+/* A texture into the scene (moved: *t is left empty); its index. */
+struct spm_texture_s;
+int spm_sb_texture(spm_scene_builder *b, struct spm_texture_s *t);
+/* Drops what no triangle uses (spm_sb_finish does it first unless it ran):
+ * a parser that adds colours for what is left calls it, adds them, then
+ * spm_sb_finish. 0, or 1 with err (no triangles). */
+int spm_sb_prune(spm_scene_builder *b, const char *where, spm_error *err);
+/* The colour grid of the scene's textures (scene.h palette; texture_palette.c),
+ * called by a parser between spm_sb_prune and spm_sb_finish:
+ * each grid node some texel's lift can pick, a colour; a textured material's
+ * reflectance colour the palette's of the largest mean (Russian roulette's
+ * survival: any bound works, the weight is its inverse). 0, or 1 with err. */
+int spm_sb_texture_palette(spm_scene_builder *b, const char *where, spm_error *err);
 /* Appends a triangle; zero-area or degenerate (collinear) triangles, huge
  * coordinates and too many triangles are errors. */
 int spm_sb_tri(spm_scene_builder *b, const double p[3][3], int material, int line,

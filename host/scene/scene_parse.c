@@ -55,6 +55,8 @@ typedef struct {
     int kw_line, kw_col;     /* the current statement's keyword: where it stands */
     spm_mesh_cache meshes;   /* lifted mesh colours, shared by the scene's meshes */
     spm_scene_textures textures;
+    int texture_ok;          /* a texture may be applied per point here (a reflectance) */
+    char texture_where[600]; /* where the material's reflectance named a texture */
     char *reading[SPM_INCLUDE_DEPTH]; /* the files being read, outermost first (canonical) */
     int nreading;
 } parser;
@@ -302,7 +304,14 @@ static int colour_ref_as(parser *p, spm_kind kind, int shape_only, int optical)
         }
         if (spm_lex_next(&p->lx, p->err))
             return -1;
-        return spm_scene_texture_colour(&p->textures, &p->lx, &p->b, kind, p->err);
+        p->textures.last = 0;
+        int c = spm_scene_texture_colour(&p->textures, &p->lx, &p->b, kind, p->err);
+        if (c >= 0 && !p->texture_ok)
+            spm_scene_texture_as_mean(&p->textures, p->textures.last - 1, kind, where,
+                                      "textures are applied per point to a reflectance");
+        if (c >= 0 && p->texture_ok)
+            snprintf(p->texture_where, sizeof p->texture_where, "%s", where);
+        return c;
     }
     if (spm_lex_name(&p->lx, "a spectrum name", name, sizeof name, p->err))
         return -1;
@@ -663,8 +672,13 @@ static int material_param(parser *p, const spm_mparam *pa, spm_scene_material *m
         *(pa->kind == SPM_MP_NUMBER ? &m->p[pa->slot] : &m->ep[pa->slot]) = v; /* an emitter's: ep */
         return 0;
     }
+    p->texture_ok = pa->slot == SPM_MSLOT_REFL && pa->kind == SPM_MP_REFLECTANCE;
+    p->textures.last = 0;
     int c = colour_ref_as(p, pa->kind == SPM_MP_EMISSION ? SPM_KIND_EMISSION : SPM_KIND_REFLECTANCE,
                           pa->kind == SPM_MP_SHAPE, pa->kind == SPM_MP_OPTICAL);
+    if (p->texture_ok)
+        m->tex = p->textures.last; /* 1 + the parser's texture: the material decides */
+    p->texture_ok = 0;
     if (c < 0)
         return 1;
     *(pa->slot == SPM_MSLOT_REFL   ? &m->refl
@@ -816,6 +830,13 @@ static int stmt_material(parser *p)
             return 1;
         }
     }
+    if (m.tex && m.type != SPM_MAT_LAMBERT) {
+        spm_scene_texture_as_mean(&p->textures, m.tex - 1, SPM_KIND_REFLECTANCE, p->texture_where,
+                                  "only a Lambertian reflectance is textured per point so far");
+        m.tex = 0;
+    } else if (m.tex) {
+        m.tex = spm_scene_texture_adopt(&p->textures, m.tex - 1, &p->b);
+    }
     int idx = spm_sb_material_typed(&p->b, &m, where, p->err);
     if (idx < 0)
         return 1;
@@ -844,6 +865,19 @@ static int stmt_polygon(parser *p, int nverts)
     for (int i = 0; i < nverts; i++)
         if (vec3(p, "a vertex coordinate", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD, v[i]))
             return 1;
+    /* texture coordinates: 'uv U V' per vertex, else the unit square's corners
+     * in order (a triangle: pbrt's (0 0) (1 0) (1 1)) */
+    float uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    if (spm_lex_is(&p->lx, "uv")) {
+        if (spm_lex_next(&p->lx, p->err))
+            return 1;
+        for (int i = 0; i < 2 * nverts; i++) {
+            double x;
+            if (spm_lex_number(&p->lx, "a texture coordinate", -1e6, 1e6, &x, p->err))
+                return 1;
+            uv[i / 2][i % 2] = (float)x;
+        }
+    }
     if (spm_lex_end_of_statement(&p->lx, p->err))
         return 1;
     double t[3][3];
@@ -857,6 +891,11 @@ static int stmt_polygon(parser *p, int nverts)
             snprintf(where, sizeof where, "%s:%d:%d", p->lx.path, line, col);
             spm_errorf(p->err, "%s%s", where, inner.msg);
             return 1;
+        }
+        if (p->b.s->materials[m].tex) {
+            float tuv[6] = {uv[0][0], uv[0][1], uv[tri + 1][0], uv[tri + 1][1], uv[tri + 2][0],
+                            uv[tri + 2][1]};
+            spm_sb_tri_uv(&p->b, tuv);
         }
     }
     return 0;
@@ -1216,6 +1255,9 @@ static int finish(parser *p)
         if (!p->defs[i].used)
             spm_warnf("%s: spectrum '%s' is never used", p->defs[i].where, p->defs[i].name);
     spm_scene_textures_unused(&p->textures);
+    if (p->b.s->ntextures && /* the textures' colours: of what is left, before derived ones */
+        (spm_sb_prune(&p->b, where, p->err) || spm_sb_texture_palette(&p->b, where, p->err)))
+        return 1;
     return spm_sb_finish(&p->b, where, p->err);
 }
 

@@ -1,5 +1,5 @@
-/* The scene format's textures (scene_texture.h): the statement, and a use
- * as the texture's mean colour until the shade stage applies textures. */
+/* The scene format's textures (scene_texture.h): the statement, a use per
+ * point (moved into the scene) or as the texture's mean colour. */
 #include "scene_texture.h"
 #include <math.h>
 #include <stdio.h>
@@ -8,7 +8,7 @@
 #include <sys/stat.h>
 
 #define MAX_TEXTURES 4096
-#define MAX_CHECKS 4096
+#define MAX_CHECKS 512 /* at most 512 x 512 texels: 4 MB with the pyramid */
 
 void spm_scene_textures_init(spm_scene_textures *t)
 {
@@ -19,14 +19,16 @@ void spm_scene_textures_init(spm_scene_textures *t)
 
 void spm_scene_textures_free(spm_scene_textures *t)
 {
+    for (int i = 0; i < t->n; i++)
+        spm_texture_free(&t->v[i].tex);
     free(t->v);
     spm_names_free(&t->names);
     spm_names_free(&t->fits);
     memset(t, 0, sizeof *t);
 }
 
-/* The image file's mean (the pyramid's last level: the area mean). */
-static int file_mean(spm_lexer *lx, const char *dir, spm_scene_tex *x, spm_error *err)
+/* The image file's pyramid. */
+static int file_texture(spm_lexer *lx, const char *dir, spm_scene_tex *x, spm_error *err)
 {
     char where[600], why[256];
     spm_lex_where(lx, where, sizeof where);
@@ -47,17 +49,17 @@ static int file_mean(spm_lexer *lx, const char *dir, spm_scene_tex *x, spm_error
         spm_errorf(err, "%s: texture image '%s' cannot be read: %s", where, x->source, why);
         return 1;
     }
-    spm_texture tex;
-    spm_texture_from_pixels(w, h, rgb, SPM_WRAP_REPEAT, SPM_WRAP_REPEAT, &tex);
+    spm_texture_from_pixels(w, h, rgb, SPM_WRAP_REPEAT, SPM_WRAP_REPEAT, &x->tex);
     free(rgb);
-    spm_texture_mean(&tex, x->mean);
-    spm_texture_free(&tex);
+    spm_texture_mean(&x->tex, x->mean);
     return 0;
 }
 
-/* checker COUNT R G B R G B: the mean of count^2 squares, ceil(count^2 / 2)
- * of the first colour. */
-static int checker_mean(spm_lexer *lx, spm_scene_tex *x, spm_error *err)
+/* checker COUNT R G B R G B: count^2 squares of CHECKER_TEXELS / count texels
+ * (at least 1) a side, the first colour's at the top-left; the mean exactly
+ * that of the squares, ceil(count^2 / 2) of the first colour. */
+#define CHECKER_TEXELS 512
+static int checker_texture(spm_lexer *lx, spm_scene_tex *x, spm_error *err)
 {
     long count;
     double c[2][3];
@@ -70,9 +72,22 @@ static int checker_mean(spm_lexer *lx, spm_scene_tex *x, spm_error *err)
                            err))
             return 1;
     double n = (double)count * count, na = ceil(n / 2);
-    for (int k = 0; k < 3; k++)
+    float a[3], b[3];
+    for (int k = 0; k < 3; k++) {
         x->mean[k] = (float)((na * c[0][k] + (n - na) * c[1][k]) / n);
+        a[k] = (float)c[0][k], b[k] = (float)c[1][k];
+    }
+    int res = CHECKER_TEXELS / (int)count;
+    spm_texture_checker((int)count, res > 1 ? res : 1, a, b, SPM_WRAP_REPEAT, &x->tex);
     return 0;
+}
+
+/* every texel times s */
+static void scale_texture(spm_texture *t, double s)
+{
+    for (int l = 0; l < t->nlevels; l++)
+        for (size_t i = 0; i < (size_t)3 * t->lv[l].w * t->lv[l].h; i++)
+            t->lv[l].rgb[i] = (float)(t->lv[l].rgb[i] * s);
 }
 
 static int options(spm_lexer *lx, spm_scene_tex *x, spm_error *err)
@@ -89,7 +104,7 @@ static int options(spm_lexer *lx, spm_scene_tex *x, spm_error *err)
                 m++;
             if (m == 3)
                 return spm_lex_expected(lx, err, "'repeat', 'clamp' or 'mirror'");
-            x->wrap = (spm_wrap)m;
+            x->wrap = x->tex.wrap[0] = x->tex.wrap[1] = (spm_wrap)m;
             if (spm_lex_next(lx, err))
                 return 1;
         } else if (!have_scale && spm_lex_is(lx, "scale")) {
@@ -99,6 +114,7 @@ static int options(spm_lexer *lx, spm_scene_tex *x, spm_error *err)
                 return 1;
             for (int k = 0; k < 3; k++)
                 x->mean[k] = (float)(x->mean[k] * s);
+            scale_texture(&x->tex, s);
         } else {
             return spm_lex_expected(lx, err, "'wrap' or 'scale' (each once) or the end of the line");
         }
@@ -122,9 +138,12 @@ int spm_scene_texture_statement(spm_scene_textures *t, spm_lexer *lx, const char
         spm_errorf(err, "%s: more than %d textures", x.where, MAX_TEXTURES);
         return 1;
     }
-    int rc = spm_lex_is(lx, "checker") ? checker_mean(lx, &x, err) : file_mean(lx, dir, &x, err);
-    if (rc || options(lx, &x, err))
+    int rc = spm_lex_is(lx, "checker") ? checker_texture(lx, &x, err)
+                                       : file_texture(lx, dir, &x, err);
+    if (rc || options(lx, &x, err)) {
+        spm_texture_free(&x.tex);
         return 1;
+    }
     if (t->n == t->cap) {
         t->cap = t->cap ? 2 * t->cap : 8;
         t->v = spm_xrealloc(t->v, (size_t)t->cap * sizeof *t->v);
@@ -149,13 +168,8 @@ int spm_scene_texture_colour(spm_scene_textures *t, spm_lexer *lx, spm_scene_bui
     }
     spm_scene_tex *x = &t->v[i];
     x->used = 1;
+    t->last = i + 1;
     double rgb[3] = {x->mean[0], x->mean[1], x->mean[2]};
-    if (!x->warned[kind]) {
-        x->warned[kind] = 1;
-        spm_warnf("%s: texture '%s' (%s) is applied as its mean colour (%.3g %.3g %.3g, linear):"
-                  " textures are averaged until the shade stage applies them per point",
-                  where, name, x->source, rgb[0], rgb[1], rgb[2]);
-    }
     int c = spm_sb_rgb_colour(b, &t->fits, rgb, kind, where, err);
     if (c == -1) { /* black */
         spm_spectrum zero;
@@ -163,6 +177,25 @@ int spm_scene_texture_colour(spm_scene_textures *t, spm_lexer *lx, spm_scene_bui
         c = spm_sb_colour(b, "black", &zero, where, err);
     }
     return c < 0 ? -1 : c;
+}
+
+void spm_scene_texture_as_mean(spm_scene_textures *t, int i, spm_kind kind, const char *where,
+                               const char *why)
+{
+    spm_scene_tex *x = &t->v[i];
+    if (x->warned[kind])
+        return;
+    x->warned[kind] = 1;
+    spm_warnf("%s: texture '%s' (%s) is applied as its mean colour (%.3g %.3g %.3g, linear): %s",
+              where, x->name, x->source, x->mean[0], x->mean[1], x->mean[2], why);
+}
+
+int spm_scene_texture_adopt(spm_scene_textures *t, int i, spm_scene_builder *b)
+{
+    spm_scene_tex *x = &t->v[i];
+    if (!x->scene_index)
+        x->scene_index = 1 + spm_sb_texture(b, &x->tex);
+    return x->scene_index;
 }
 
 void spm_scene_textures_unused(const spm_scene_textures *t)

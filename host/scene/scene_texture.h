@@ -2,9 +2,10 @@
  * 'texture NAME checker COUNT R G B R G B [wrap MODE] [scale S]' define a
  * texture (an image file, by the path rule, or a procedural checkerboard of
  * linear RGB squares); 'texture NAME' in place of a spectrum name uses it
- * (docs/SCENE_FORMAT.md). Until the shade stage applies textures per point,
- * a use is the texture's mean colour, lifted as any RGB colour is, with a
- * warning that says so. */
+ * (docs/SCENE_FORMAT.md). A Lambertian reflectance is textured per point
+ * (the texture moves into the scene: scene.h textures); any other use is the
+ * texture's mean colour, lifted as any RGB colour is, with a warning that
+ * says so. */
 #ifndef SPM_SCENE_TEXTURE_H
 #define SPM_SCENE_TEXTURE_H
 #include "scene.h"
@@ -20,6 +21,8 @@ typedef struct {
     spm_wrap wrap;
     float mean[3];    /* linear RGB, times the scale */
     int used, warned[2];
+    spm_texture tex;  /* the pyramid, until a use moves it into the scene */
+    int scene_index;  /* 1 + its index in the scene once moved, 0 before */
 } spm_scene_tex;
 
 typedef struct {
@@ -27,6 +30,7 @@ typedef struct {
     int n, cap;
     spm_names names; /* texture name -> index */
     spm_names fits;  /* mean colours lifted, by value */
+    int last;        /* 1 + the texture the last use named (0: none) */
 } spm_scene_textures;
 
 void spm_scene_textures_init(spm_scene_textures *t);
@@ -36,9 +40,17 @@ void spm_scene_textures_free(spm_scene_textures *t);
 int spm_scene_texture_statement(spm_scene_textures *t, spm_lexer *lx, const char *dir,
                                 spm_error *err);
 /* After the word 'texture' in a colour's place: the name, and the colour of
- * `kind` it gives (an index of the builder). -1 with err on error. */
+ * `kind` its mean gives (an index of the builder), with t->last set to 1 +
+ * the texture. -1 with err on error. */
 int spm_scene_texture_colour(spm_scene_textures *t, spm_lexer *lx, spm_scene_builder *b,
                              spm_kind kind, spm_error *err);
+/* Texture i applied as its mean colour (a use that is not textured per
+ * point): warned once per kind, naming where. */
+void spm_scene_texture_as_mean(spm_scene_textures *t, int i, spm_kind kind, const char *where,
+                               const char *why);
+/* Texture i on a reflectance per point: 1 + its index in the scene (moved
+ * there at the first use). */
+int spm_scene_texture_adopt(spm_scene_textures *t, int i, spm_scene_builder *b);
 /* Warns about each texture never used. */
 void spm_scene_textures_unused(const spm_scene_textures *t);
 #endif

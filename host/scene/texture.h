@@ -17,6 +17,7 @@
 #include <stddef.h>
 #include "paths.h"
 #include "rgb2spec_table.h"
+#include "spm_shared.h"
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -30,7 +31,7 @@ typedef struct {
     float *rgb; /* 3 floats a texel, rows top to bottom */
 } spm_texmap;
 
-typedef struct {
+typedef struct spm_texture_s {
     int nlevels;
     spm_texmap lv[SPM_TEXTURE_MAX_LEVELS];
     spm_wrap wrap[2]; /* along u, along v */
@@ -78,6 +79,12 @@ void spm_texture_mean(const spm_texture *t, float out[3]);
  * Returns the number of distinct values lifted. */
 long spm_texture_lift(const spm_rgb2spec_table *t, spm_texel_kind kind, const spm_texmap *m,
                       float *out);
+
+/* The colour grid's nodes (spm_shared.h SPM_TEX_GRID) and the cell of x in
+ * [0, 1]: the largest k <= SPM_TEX_GRID - 2 with nodes[k] <= x
+ * (texture_palette.c; the kernels' texture.clh has its own). */
+void spm_tex_grid_nodes(float nodes[SPM_TEX_GRID]);
+int spm_tex_grid_cell(const float nodes[SPM_TEX_GRID], float x);
 
 /* Reading images through OpenImageIO (texture_io.cpp): the first three
  * channels (one or two: grey) as linear RGB, rows top to bottom; integer

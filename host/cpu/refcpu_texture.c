@@ -1,0 +1,101 @@
+/* CPU reference, a textured vertex's colour (refcpu_texture.h): the
+ * kernel's operations in the same order, in plain scalar float C. */
+#include "refcpu_texture.h"
+#include "geometry_vec3.h"
+#include "spm_rng.h"
+#include "texture.h"
+#include <math.h>
+#include <string.h>
+
+static float word_float(spm_u32 w)
+{
+    float f;
+    memcpy(&f, &w, sizeof f);
+    return f;
+}
+
+/* one period of the wrap mode (repeat, clamp within [-1, 2], mirror); NaN 0 */
+static float wrap_coord(float u, spm_u32 mode)
+{
+    if (!isfinite(u))
+        return 0.0f;
+    if (mode == 0u)
+        return u - floorf(u);
+    if (mode == 2u)
+        return u - 2.0f * floorf(0.5f * u);
+    return fminf(fmaxf(u, -1.0f), 2.0f);
+}
+
+/* floor(x - 1/2), or the next texel with probability the fraction */
+static int tap(float x, float r)
+{
+    float c = x - 0.5f, f = floorf(c);
+    return (int)f + (r < c - f ? 1 : 0);
+}
+
+/* the cell's lower grid node, or its upper one with probability the fraction;
+ * *r rescaled for the next axis */
+static spm_u32 grid_pick(const spm_u32 *nodes, float x, float *r)
+{
+    x = fminf(fmaxf(x, 0.0f), 1.0f);
+    spm_u32 lo = 0u, hi = SPM_TEX_GRID - 1u;
+    while (hi - lo > 1u) {
+        spm_u32 mid = (lo + hi) / 2u;
+        if (word_float(nodes[mid]) <= x)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    float a = word_float(nodes[lo]), f = (x - a) / (word_float(nodes[lo + 1u]) - a);
+    if (*r < f) {
+        *r = *r / f;
+        return lo + 1u;
+    }
+    *r = (*r - f) / (1.0f - f);
+    return lo;
+}
+
+spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, const float x[3],
+                               const float d[3], float cone, const spm_ref_key *k, int j,
+                               spm_u32 refl)
+{
+    const spm_u32 *tex = g->tex;
+    spm_u32 tx = g->ntex ? tex[tex[SPM_TEXD_MATS] + mat] : 0u;
+    if (tx == 0u)
+        return refl;
+    const spm_u32 *h = tex + tex[tex[SPM_TEXD_TEXS] + tx - 1u];
+    const float *uv = g->uvs + 6u * hit;
+    const spm_tri *tr = &g->tris[hit];
+    float e1[3], e2[3], q[3];
+    v3_sub(e1, tr->v1, tr->v0);
+    v3_sub(e2, tr->v2, tr->v0);
+    v3_sub(q, x, tr->v0);
+    float d11 = v3_dot(e1, e1), d12 = v3_dot(e1, e2), d22 = v3_dot(e2, e2);
+    float q1 = v3_dot(q, e1), q2 = v3_dot(q, e2), den = d11 * d22 - d12 * d12;
+    float b1 = (d22 * q1 - d12 * q2) / den, b2 = (d11 * q2 - d12 * q1) / den;
+    float b0 = 1.0f - b1 - b2;
+    float u = b0 * uv[0] + b1 * uv[2] + b2 * uv[4], v = b0 * uv[1] + b1 * uv[3] + b2 * uv[5];
+    float ta = fabsf((uv[2] - uv[0]) * (uv[5] - uv[1]) - (uv[4] - uv[0]) * (uv[3] - uv[1]));
+    float width = cone / fabsf(v3_dot(d, tr->n)) * sqrtf(ta / (2.0f * tr->area));
+    spm_u32 nl = h[0];
+    float lod = log2f(width * sqrtf((float)h[5] * (float)h[6]));
+    lod = lod > 0.0f ? fminf(lod, (float)(nl - 1u)) : 0.0f;
+    spm_u32 l = (spm_u32)lod;
+    if (spm_ref_rnd(k, SPM_DIM_TEX(j, 0)) < lod - (float)l)
+        l++;
+    const spm_u32 *lv = h + 4u + 4u * l;
+    int w = (int)lv[1], ht = (int)lv[2];
+    u = wrap_coord(u, h[1]);
+    v = wrap_coord(v, h[2]);
+    int ix = spm_wrap_index(tap(u * (float)w, spm_ref_rnd(k, SPM_DIM_TEX(j, 1))), w,
+                            (spm_wrap)h[1]);
+    int iy = spm_wrap_index(tap((1.0f - v) * (float)ht, spm_ref_rnd(k, SPM_DIM_TEX(j, 2))), ht,
+                            (spm_wrap)h[2]);
+    const spm_u32 *t = tex + lv[0] + 3u * ((spm_u32)iy * (spm_u32)w + (spm_u32)ix);
+    const spm_u32 *nodes = tex + tex[SPM_TEXD_NODES];
+    float r = spm_ref_rnd(k, SPM_DIM_TEX(j, 3));
+    spm_u32 nr = grid_pick(nodes, word_float(t[0]), &r);
+    spm_u32 ng = grid_pick(nodes, word_float(t[1]), &r);
+    spm_u32 nb = grid_pick(nodes, word_float(t[2]), &r);
+    return tex[tex[SPM_TEXD_PALETTE] + (nr * SPM_TEX_GRID + ng) * SPM_TEX_GRID + nb];
+}

@@ -1,0 +1,13 @@
+/* CPU reference: a textured vertex's colour (kernels/texture.clh has the
+ * kernels' own and the formulas; spm_shared.h SPM_TEXD_* the layout). */
+#ifndef SPM_REFCPU_TEXTURE_H
+#define SPM_REFCPU_TEXTURE_H
+#include "geometry.h"
+#include "refcpu_bsdf.h"
+
+/* The colour vertex j records on triangle `hit` (material mat; refl without
+ * a texture) at x, seen along d by a ray cone of width `cone` there. */
+spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, const float x[3],
+                               const float d[3], float cone, const spm_ref_key *k, int j,
+                               spm_u32 refl);
+#endif

@@ -1,0 +1,90 @@
+/* The textures as the trace stage reads them (geometry.h
+ * spm_geometry_textures; the layout: spm_shared.h SPM_TEXD_*). */
+#include "geometry.h"
+#include "texture.h"
+#include <stdlib.h>
+#include <string.h>
+
+static spm_u32 fbits(float f)
+{
+    spm_u32 u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+/* words of the whole layout, for the scene's materials and textures */
+static size_t count_words(const spm_scene *s)
+{
+    size_t n = SPM_TEXD_HEAD + (size_t)s->nmaterials + SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID +
+               SPM_TEX_GRID + (size_t)s->ntextures;
+    for (int t = 0; t < s->ntextures; t++) {
+        n += SPM_TEX_HEADER(s->textures[t].nlevels);
+        for (int l = 0; l < s->textures[t].nlevels; l++)
+            n += 3 * (size_t)s->textures[t].lv[l].w * s->textures[t].lv[l].h;
+    }
+    return n;
+}
+
+/* texture t's header and texels from word w on; the word after them */
+static size_t put_texture(const spm_texture *t, spm_u32 *x, size_t w)
+{
+    size_t h = w, texels = w + SPM_TEX_HEADER(t->nlevels);
+    x[h] = (spm_u32)t->nlevels, x[h + 1] = (spm_u32)t->wrap[0], x[h + 2] = (spm_u32)t->wrap[1];
+    for (int l = 0; l < t->nlevels; l++) {
+        const spm_texmap *m = &t->lv[l];
+        size_t n = 3 * (size_t)m->w * m->h;
+        x[h + 4 + 4 * l] = (spm_u32)texels;
+        x[h + 5 + 4 * l] = (spm_u32)m->w;
+        x[h + 6 + 4 * l] = (spm_u32)m->h;
+        for (size_t i = 0; i < n; i++)
+            x[texels + i] = fbits(m->rgb[i]);
+        texels += n;
+    }
+    return texels;
+}
+
+void spm_geometry_textures(const spm_scene *s, spm_geometry *g)
+{
+    int any = 0;
+    for (int m = 0; m < s->nmaterials; m++)
+        any |= s->materials[m].tex != 0;
+    if (!any || !s->palette)
+        return;
+    g->uvs = spm_xcalloc((size_t)g->ntris * 6 + 1, sizeof *g->uvs);
+    for (int i = 0; i < s->ntris; i++)
+        if (s->tris[i].uv > 0 && s->tris[i].uv <= s->nuvs)
+            memcpy(g->uvs + 6 * (size_t)i, s->uvs[s->tris[i].uv - 1], 6 * sizeof *g->uvs);
+    g->ntex = count_words(s);
+    spm_u32 *x = g->tex = spm_xcalloc(g->ntex, sizeof *g->tex);
+    const size_t ngrid = SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID;
+    size_t w = SPM_TEXD_HEAD;
+    x[SPM_TEXD_MATS] = (spm_u32)w;
+    for (int m = 0; m < s->nmaterials; m++)
+        x[w++] = (spm_u32)s->materials[m].tex;
+    x[SPM_TEXD_PALETTE] = (spm_u32)w;
+    for (size_t i = 0; i < ngrid; i++)
+        x[w++] = s->palette[i] >= 0 ? (spm_u32)s->palette[i] : SPM_NONE;
+    x[SPM_TEXD_NODES] = (spm_u32)w;
+    float nodes[SPM_TEX_GRID];
+    spm_tex_grid_nodes(nodes);
+    for (int k = 0; k < SPM_TEX_GRID; k++)
+        x[w++] = fbits(nodes[k]);
+    x[SPM_TEXD_TEXS] = (spm_u32)w;
+    size_t offs = w;
+    w += (size_t)s->ntextures;
+    for (int t = 0; t < s->ntextures; t++) {
+        x[offs + (size_t)t] = (spm_u32)w;
+        w = put_texture(&s->textures[t], x, w);
+    }
+}
+
+void spm_geometry_uvs_permute(spm_geometry *g, const int *perm)
+{
+    if (!g->uvs)
+        return;
+    float *to = spm_xmalloc(((size_t)g->ntris * 6 + 1) * sizeof *to);
+    for (int i = 0; i < g->ntris; i++)
+        memcpy(to + 6 * (size_t)i, g->uvs + 6 * (size_t)perm[i], 6 * sizeof *to);
+    free(g->uvs);
+    g->uvs = to;
+}
