@@ -59,6 +59,8 @@ sed 's/^material tall_box  reflect blue_sky/material tall_box  dielectric ior 1.
     "$CORNELL" > "$T/rough.scene"
 refused "rough dielectric" "rough dielectric's eval has no transmission" \
     render "$T/rough.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
+refused "textures" "does not look up textures" \
+    render "$DATA/scenes/textured.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 sed 's/^camera position \(.*\) fov 40$/camera position \1 orthographic 0.6/' "$CORNELL" > "$T/ortho.scene"
 if grep -q orthographic "$T/ortho.scene"; then
     refused "orthographic camera" "orthographic camera" \
