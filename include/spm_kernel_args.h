@@ -22,7 +22,9 @@
  * vnormals: the smooth triangles' vertex normals (spm_tri.vn; a placeholder
  * in a scene without them, never read).
  * disp: the dispersive glasses' index tables (spm_geometry disp; a
- * placeholder in a scene without them). */
+ * placeholder in a scene without them).
+ * envmap: the environment map's texels and distribution (spm_shared.h
+ * SPM_ENV_*; a placeholder in a scene without one). */
 #define SPM_TRACE_ARGS(X, S)                                            \
     X(__global const spm_tri *, cl_mem, tris) S                         \
     X(__global const spm_bvh4_node *, cl_mem, nodes) S                  \
@@ -32,6 +34,7 @@
     X(__global const float *, cl_mem, light_pdf) S                      \
     X(__global const float *, cl_mem, vnormals) S                       \
     X(__global const float *, cl_mem, disp) S                           \
+    X(__global const float *, cl_mem, envmap) S                         \
     X(const spm_trace_params, spm_trace_params, p) S                    \
     X(uint, spm_u32, init_level) S                                      \
     X(uint, spm_u32, npaths) S                                          \

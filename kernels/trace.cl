@@ -122,6 +122,15 @@ SPM_ALWAYS_INLINE void count_hit(float lpdf, float cpdf, float rrw, uint memit, 
     x->hit_c = rrw * wm * escale;
 }
 
+/* The MIS weight of an escaping ray's emission that light_sample reaches too
+ * (density lpdf), the last vertex's sampled ray of density cpdf: the power
+ * heuristic; 1 after a delta (cpdf 0); 0 when the vertex's sampled rays count
+ * no emission (cpdf < 0: its light sample weighed 1). */
+SPM_ALWAYS_INLINE float escape_mis(float cpdf, float lpdf)
+{
+    return cpdf < 0.0f ? 0.0f : cpdf > 0.0f ? mis_power(cpdf, lpdf) : 1.0f;
+}
+
 /* One batch of a pass; parameters: spm_kernel_args.h SPM_TRACE_ARGS. */
 __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 {
@@ -152,10 +161,17 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
     for (; j < SPM_MAX_DEPTH; j++) {
         float t;
         int hit = intersect(nodes, tris, o, d, skip, &t, counters);
-        if (hit < 0) { /* the background: MiniLight's sky for an upward ray */
+        if (hit < 0) { /* the background: MiniLight's sky for an upward ray, or the map */
+            float bscale, bpdf;
             hd.end = SPM_END_ESCAPED;
-            hd.bg = light_background(&p, d);
-            hd.bg_c = hd.bg != SPM_NONE ? rrw : 0.0f;
+            hd.bg = light_escape(&p, emitters, envmap, d, &bscale, &bpdf);
+#if SPM_ON_LIGHT_ENVMAP
+            if (bpdf > 0.0f && j > 0u) /* the map, which light_sample reaches too */
+                bscale *= escape_mis(cpdf, bpdf);
+            if (!(bscale > 0.0f))
+                hd.bg = SPM_NONE;
+#endif
+            hd.bg_c = hd.bg != SPM_NONE ? rrw * bscale : 0.0f;
             if (hd.bg != SPM_NONE)
                 feel(lvlk, hd.bg, 1u, SPM_SETBY_EMITTER, &level, &setby);
             break;

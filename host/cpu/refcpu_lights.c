@@ -67,3 +67,13 @@ void spm_ref_light_pdf_emission(const spm_geometry *g, spm_u32 k, const float o[
         *pdf_pos = *pdf_dir = 0.0f;
     }
 }
+
+spm_u32 spm_ref_light_escape(const spm_geometry *g, const spm_trace_params *p, const float d[3],
+                             float *scale, float *pdf)
+{
+    if (g->nemitters > 0 && g->emitters[g->nemitters - 1].kind == SPM_LIGHT_ENVMAP)
+        return spm_ref_light_escape_ENVMAP(g, &g->emitters[g->nemitters - 1], d, scale, pdf);
+    *scale = 1.0f;
+    *pdf = 0.0f;
+    return spm_ref_light_background(p, d);
+}

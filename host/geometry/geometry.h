@@ -29,6 +29,9 @@ typedef struct {
     int nvn;                /* smooth triangles: 0 in a scene without vertex normals */
     float *disp;            /* the dispersive glasses' index tables (scene.h disp), NULL when none */
     int ndisp;              /* their count: 0 in a scene without dispersive glass */
+    float *env;             /* the environment map's texels and distribution (spm_shared.h
+                               SPM_ENV_*), NULL when none; its light is the last emitter */
+    size_t nenv;            /* its floats */
     spm_camera cam;
     spm_bvh_stats bvh;
 } spm_geometry;

@@ -122,6 +122,7 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
     gs.light_pdf = NULL;
     gs.vnormals = NULL;
     gs.disp = NULL;
+    gs.env = NULL;
     put(&w, &gs, sizeof gs);
     put_array(&w, g->tris, (size_t)g->ntris * sizeof *g->tris);
     put_array(&w, g->nodes, (size_t)g->nnodes * sizeof *g->nodes);
@@ -129,6 +130,7 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
     put_array(&w, g->light_pdf, (size_t)g->ntris * sizeof *g->light_pdf);
     put_array(&w, g->vnormals, (size_t)g->nvn * 9 * sizeof *g->vnormals);
     put_array(&w, g->disp, (size_t)g->ndisp * SPM_TRUTH_BINS * sizeof *g->disp);
+    put_array(&w, g->env, g->nenv * sizeof *g->env);
     spm_tables ts = *t, *clr = &ts;
     SPM_TABLES_ARRAYS(CLEAR_A, CLEAR_L)
     put(&w, &ts, sizeof ts);
@@ -163,6 +165,7 @@ int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *
     g->light_pdf = get_array(&r, (size_t)ntris * sizeof *g->light_pdf);
     g->vnormals = get_array(&r, (size_t)nvn * 9 * sizeof *g->vnormals);
     g->disp = get_array(&r, (size_t)ndisp * SPM_TRUTH_BINS * sizeof *g->disp);
+    g->env = get_array(&r, g->nenv * sizeof *g->env);
     get(&r, t, sizeof *t);
     spm_tables *clr = t; /* no address from another process */
     SPM_TABLES_ARRAYS(CLEAR_A, CLEAR_L)

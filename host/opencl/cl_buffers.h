@@ -34,6 +34,7 @@
     X(light_pdf, "light pdfs", (size_t)g->ntris * sizeof(float), g->light_pdf)      \
     X(vnormals, "vertex normals", (size_t)g->nvn * 9 * sizeof(float), g->vnormals)  \
     X(disp, "dispersive indices", (size_t)g->ndisp * SPM_TRUTH_BINS * sizeof(float), g->disp) \
+    X(envmap, "environment map", (size_t)g->nenv * sizeof(float), g->env)           \
     X(dtab, "1 nm colour table", g->ndisp ? (size_t)t->ncolours * SPM_TRUTH_BINS * sizeof(float) : 0, \
       t->truth)                                                                     \
     X(dcmf, "1 nm XYZ weights", g->ndisp ? 3 * SPM_TRUTH_BINS * sizeof(float) : 0,  \

@@ -5,6 +5,7 @@
 #include "scene_build.h"
 #include "colour.h"
 #include "materials.h"
+#include "envmap.h"
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -22,6 +23,7 @@ void spm_scene_free(spm_scene *s)
     free(s->lights);
     free(s->rerad);
     free(s->disp);
+    spm_envmap_free(s->env);
     memset(s, 0, sizeof *s);
     s->bg_up = s->bg_down = -1;
 }
@@ -383,6 +385,8 @@ int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
         return 1;
     }
     prune(s);
+    if (spm_envmap_palette(s, err)) /* the map's colours, after the scene's own */
+        return 1;
     /* colours a type derives, last (materials.h derive) */
     for (int i = 0; i < s->nmaterials; i++) {
         const spm_mtype_desc *t = &spm_material_types[s->materials[i].type];
@@ -394,7 +398,7 @@ int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
             return 1;
         }
     }
-    int lit = s->bg_up >= 0 || s->bg_down >= 0 || s->nlights > 0;
+    int lit = s->bg_up >= 0 || s->bg_down >= 0 || s->nlights > 0 || s->env;
     for (int i = 0; i < s->nmaterials && !lit; i++)
         lit = s->materials[i].emit >= 0;
     if (!lit) {
