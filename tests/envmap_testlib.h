@@ -57,7 +57,7 @@ static inline void envmap_white(int i, int j, int w, int h, float rgb[3])
     rgb[0] = rgb[1] = rgb[2] = 1.0f;
 }
 
-/* a blue sky over a brown ground, a small bright sun (a 2 x 2 texel patch
+/* a blue sky (redder toward u = 1) over a brown ground, a small bright sun (a 2 x 2 texel patch
  * at u 0.3, v 0.25 of a 64 x 32 map, 500 times the sky) and a black band
  * (v in [0.55, 0.65]) */
 static inline void envmap_sun(int i, int j, int w, int h, float rgb[3])
@@ -68,7 +68,7 @@ static inline void envmap_sun(int i, int j, int w, int h, float rgb[3])
     } else if (v >= 0.55f && v < 0.65f) {
         rgb[0] = rgb[1] = rgb[2] = 0.0f;
     } else if (v < 0.5f) {
-        rgb[0] = 0.3f + 0.4f * v, rgb[1] = 0.45f + 0.3f * v, rgb[2] = 0.9f - 0.2f * v;
+        rgb[0] = 0.3f + 0.4f * v + 0.3f * u, rgb[1] = 0.45f + 0.3f * v, rgb[2] = 0.9f - 0.2f * v;
     } else {
         rgb[0] = 0.35f, rgb[1] = 0.25f, rgb[2] = 0.15f;
     }
