@@ -100,14 +100,14 @@ int spm_envmap_statement(spm_scene *s, spm_lexer *lx, const char *dir, spm_error
 }
 
 /* The palette cell of a shape: the face of its largest component l, the
- * next two components (in the order l+1, l+2) in SPM_ENVMAP_GRID steps;
+ * next two components (in the order l+1, l+2) in q steps;
  * -1 for black. */
-static int cell_of(const float rgb[3])
+static int cell_of(const float rgb[3], int q)
 {
     float m = fmaxf(rgb[0], fmaxf(rgb[1], rgb[2]));
     if (!(m > 0.0f))
         return -1;
-    int l = rgb[0] >= rgb[1] && rgb[0] >= rgb[2] ? 0 : rgb[1] >= rgb[2] ? 1 : 2, q = SPM_ENVMAP_GRID;
+    int l = rgb[0] >= rgb[1] && rgb[0] >= rgb[2] ? 0 : rgb[1] >= rgb[2] ? 1 : 2;
     int a = (int)(rgb[(l + 1) % 3] / m * (float)q), b = (int)(rgb[(l + 2) % 3] / m * (float)q);
     a = a < q ? a : q - 1;
     b = b < q ? b : q - 1;
@@ -157,14 +157,14 @@ static int add_colour(spm_scene *s, const spm_rgb2spec_table *tab, int c, const 
 /* Each texel's colour and luminance; the palette's chromaticity error: the
  * distance in u'v' of each texel's own colour (its linear sRGB) from its
  * cell's lifted spectrum, the largest and the luminance-weighted mean. */
-static void assign(spm_scene_envmap *e, const int *cells, const double (*uv)[2])
+static void assign(spm_scene_envmap *e, int q, const int *cells, const double (*uv)[2])
 {
     size_t n = (size_t)e->w * e->h;
     double wsum = 0.0, dsum = 0.0;
     e->duv_max = 0.0;
     for (size_t i = 0; i < n; i++) {
         const float *rgb = &e->rgb[3 * i];
-        int c = cell_of(rgb);
+        int c = cell_of(rgb, q);
         double y = c >= 0 ? luminance(rgb) : 0.0;
         e->colour[i] = c >= 0 && y > 0.0 ? cells[c] : -1;
         e->lum[i] = e->colour[i] >= 0 ? (float)(y * e->scale) : 0.0f;
@@ -184,19 +184,24 @@ static void assign(spm_scene_envmap *e, const int *cells, const double (*uv)[2])
 
 int spm_envmap_palette(spm_scene *s, spm_error *err)
 {
+    return spm_envmap_palette_grid(s, SPM_ENVMAP_GRID, err);
+}
+
+int spm_envmap_palette_grid(spm_scene *s, int q, spm_error *err)
+{
     spm_scene_envmap *e = s->env;
     if (!e || !e->rgb)
         return 0;
     const spm_rgb2spec_table *tab = spm_rgb2spec_srgb(err);
     if (!tab)
         return 1;
-    int ncells = 3 * SPM_ENVMAP_GRID * SPM_ENVMAP_GRID, rc = 0;
+    int ncells = 3 * q * q, rc = 0;
     size_t n = (size_t)e->w * e->h;
     double (*sum)[4] = spm_xcalloc((size_t)ncells, sizeof *sum), (*uv)[2];
     int *cells = spm_xmalloc((size_t)ncells * sizeof *cells);
     for (size_t i = 0; i < n; i++) {
         const float *rgb = &e->rgb[3 * i];
-        int c = cell_of(rgb);
+        int c = cell_of(rgb, q);
         double y = c >= 0 ? luminance(rgb) : 0.0;
         if (!(y > 0.0))
             continue;
@@ -218,7 +223,7 @@ int spm_envmap_palette(spm_scene *s, spm_error *err)
     if (!rc) {
         e->colour = spm_xmalloc(n * sizeof *e->colour);
         e->lum = spm_xmalloc(n * sizeof *e->lum);
-        assign(e, cells, (const double (*)[2])uv);
+        assign(e, q, cells, (const double (*)[2])uv);
         free(e->rgb);
         e->rgb = NULL;
     }

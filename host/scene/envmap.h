@@ -20,9 +20,9 @@
 #include "scene.h"
 #include "scene_lexer.h"
 
-/* steps of the palette grid per component: at most 3 x 32^2 colours
+/* steps of the palette grid per component: at most 3 x 16^2 colours
  * (docs/METHODS.md: the chromaticity error and the colours it takes) */
-#define SPM_ENVMAP_GRID 32
+#define SPM_ENVMAP_GRID 16
 
 /* The statement after 'background': lx on 'map'. Reads FILE (relative to
  * dir, through the path rule), the options, and sets s->env. */
@@ -36,6 +36,8 @@ void spm_envmap_from_pixels(spm_scene *s, int w, int h, const float *rgb, double
 /* The palette: appends its colours to s's (after the scene's own, once they
  * are pruned) and sets each texel's colour and luminance. */
 int spm_envmap_palette(spm_scene *s, spm_error *err);
+/* the same on a grid of q steps (bench/envmap_palette.c) */
+int spm_envmap_palette_grid(spm_scene *s, int q, spm_error *err);
 /* The trace stage's buffer (spm_shared.h SPM_ENV_*) of a map whose palette
  * is made: *n floats (malloc'd); *mean the mean over (u, v) of luminance x
  * sin(theta), the distribution's integral (0: a black map). */
