@@ -122,13 +122,26 @@ SPM_ALWAYS_INLINE void count_hit(float lpdf, float cpdf, float rrw, uint memit, 
     x->hit_c = rrw * wm * escale;
 }
 
-/* The MIS weight of an escaping ray's emission that light_sample reaches too
- * (density lpdf), the last vertex's sampled ray of density cpdf: the power
- * heuristic; 1 after a delta (cpdf 0); 0 when the vertex's sampled rays count
- * no emission (cpdf < 0: its light sample weighed 1). */
-SPM_ALWAYS_INLINE float escape_mis(float cpdf, float lpdf)
+/* The ray of direction d leaving the scene after vertex j - 1 (whose sampled
+ * ray had density cpdf; throughput rrw): what it meets, into the header. The
+ * map, which light_sample reaches too (density lpdf), takes the power
+ * heuristic; 1 after a delta (cpdf 0) and for the camera's ray, 0 when the
+ * vertex's sampled rays count no emission (cpdf < 0: its light sample
+ * weighed 1). The two-colour background weighs 1. */
+SPM_ALWAYS_INLINE void escape(const spm_trace_params *p, __global const spm_emitter *emitters,
+                              __global const float *envmap, float3 d, uint j, float cpdf,
+                              float rrw, spm_path_head *hd)
 {
-    return cpdf < 0.0f ? 0.0f : cpdf > 0.0f ? mis_power(cpdf, lpdf) : 1.0f;
+    float scale, lpdf;
+    hd->end = SPM_END_ESCAPED;
+    hd->bg = light_escape(p, emitters, envmap, d, &scale, &lpdf);
+#if SPM_ON_LIGHT_ENVMAP
+    if (lpdf > 0.0f && j > 0u)
+        scale *= cpdf < 0.0f ? 0.0f : cpdf > 0.0f ? mis_power(cpdf, lpdf) : 1.0f;
+    if (!(scale > 0.0f))
+        hd->bg = SPM_NONE;
+#endif
+    hd->bg_c = hd->bg != SPM_NONE ? rrw * scale : 0.0f;
 }
 
 /* One batch of a pass; parameters: spm_kernel_args.h SPM_TRACE_ARGS. */
@@ -162,16 +175,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         float t;
         int hit = intersect(nodes, tris, o, d, skip, &t, counters);
         if (hit < 0) { /* the background: MiniLight's sky for an upward ray, or the map */
-            float bscale, bpdf;
-            hd.end = SPM_END_ESCAPED;
-            hd.bg = light_escape(&p, emitters, envmap, d, &bscale, &bpdf);
-#if SPM_ON_LIGHT_ENVMAP
-            if (bpdf > 0.0f && j > 0u) /* the map, which light_sample reaches too */
-                bscale *= escape_mis(cpdf, bpdf);
-            if (!(bscale > 0.0f))
-                hd.bg = SPM_NONE;
-#endif
-            hd.bg_c = hd.bg != SPM_NONE ? rrw * bscale : 0.0f;
+            escape(&p, emitters, envmap, d, j, cpdf, rrw, &hd);
             if (hd.bg != SPM_NONE)
                 feel(lvlk, hd.bg, 1u, SPM_SETBY_EMITTER, &level, &setby);
             break;
