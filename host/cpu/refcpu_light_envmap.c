@@ -3,10 +3,24 @@
  * met by escaping rays and sampled by the 2-D distribution of luminance x
  * sin(theta) in g->env (spm_shared.h SPM_ENV_*); the selection's last entry. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #include "geometry_vec3.h"
 #include "refcpu.h"
 #include "refcpu_lights.h"
+
+/* SPECMIP_BENCH_ENV_UNIFORM=1 (bench/envmap_nee.sh): the map sampled
+ * uniformly over the sphere instead of by its distribution, light samples
+ * and MIS alike, the baseline its importance sampling is measured against. */
+static int uniform(void)
+{
+    static _Thread_local int u = -1;
+    if (u < 0) {
+        const char *s = getenv("SPECMIP_BENCH_ENV_UNIFORM");
+        u = s && !strcmp(s, "1");
+    }
+    return u;
+}
 
 static spm_u32 env_w(const spm_emitter *e) { return (spm_u32)e->p[SPM_LIGHT_P_A]; }
 static spm_u32 env_h(const spm_emitter *e) { return (spm_u32)e->p[SPM_LIGHT_P_B]; }
@@ -84,7 +98,21 @@ spm_u32 spm_ref_light_escape_ENVMAP(const spm_geometry *g, const spm_emitter *e,
     *scale = g->env[SPM_ENV_LUM(w, h) + t];
     *pdf = st > 0.0f ? e->pdf * g->env[SPM_ENV_PDF(w, h) + t] / (2.0f * SPM_PI_F * SPM_PI_F * st)
                      : 0.0f;
+    if (uniform())
+        *pdf = e->pdf / (4.0f * SPM_PI_F);
     return env_id(g, e, t);
+}
+
+/* the uniform baseline's direction: z = 1 - 2 u1, phi = 2 pi u2; its
+ * texel *t; returns its density 1 / (4 pi) */
+static float uniform_dir(const spm_emitter *e, float u1, float u2, float d[3], spm_u32 *t)
+{
+    float z = 1.0f - 2.0f * u1, r = sqrtf(fmaxf(0.0f, 1.0f - z * z)), st;
+    d[0] = r * cosf(2.0f * SPM_PI_F * u2);
+    d[1] = z;
+    d[2] = r * sinf(2.0f * SPM_PI_F * u2);
+    *t = env_texel(e, d, &st);
+    return 1.0f / (4.0f * SPM_PI_F);
 }
 
 int spm_ref_light_sample_ENVMAP(const spm_geometry *g, const spm_material *mats,
@@ -95,16 +123,18 @@ int spm_ref_light_sample_ENVMAP(const spm_geometry *g, const spm_material *mats,
     (void)mats;
     spm_u32 t;
     float st, ts;
-    float puv = env_sample_dir(g, e, spm_ref_rnd(k, dim + SPM_DIM_EPOINT_A),
-                               spm_ref_rnd(k, dim + SPM_DIM_EPOINT_B), ls->wi, &t, &st);
+    float u1 = spm_ref_rnd(k, dim + SPM_DIM_EPOINT_A), u2 = spm_ref_rnd(k, dim + SPM_DIM_EPOINT_B);
+    float puv = env_sample_dir(g, e, u1, u2, ls->wi, &t, &st);
+    float pdf_sa = puv > 0.0f && st > 0.0f ? puv / (2.0f * SPM_PI_F * SPM_PI_F * st) : 0.0f;
+    if (uniform())
+        pdf_sa = uniform_dir(e, u1, u2, ls->wi, &t);
     spm_u32 colour = env_id(g, e, t);
     float cos_i = v3_dot(ls->wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
-    if (!(puv > 0.0f && st > 0.0f) || colour == SPM_NONE || (cos_i < 0.0f) != (cos_o < 0.0f))
+    if (!(pdf_sa > 0.0f) || colour == SPM_NONE || (cos_i < 0.0f) != (cos_o < 0.0f))
         return 0;
     spm_ref_record_ray(x, ls->wi, hit, SPM_RAY_CLOSEST);
     if (spm_bvh_intersect(g, x, ls->wi, hit, &ts) >= 0)
         return 0;
-    float pdf_sa = puv / (2.0f * SPM_PI_F * SPM_PI_F * st);
     ls->pdf = e->pdf * pdf_sa;
     ls->g = e->inv_pdf / pdf_sa;
     ls->scale = g->env[SPM_ENV_LUM(env_w(e), env_h(e)) + t];
