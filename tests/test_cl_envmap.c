@@ -40,6 +40,14 @@ static void write_sphere(FILE *f, const char *m, int n, double r, double cx, dou
         }
 }
 
+/* the scene file `scene` to write, once the map is written (NULL: failed) */
+static FILE *open_scene(const char *scene, const char *map, int w, int h, envmap_texel_fn fn)
+{
+    FILE *f = envmap_write_hdr(map, w, h, fn) ? NULL : fopen(scene, "w");
+    CHECK(f != NULL, "cannot write %s and %s", map, scene);
+    return f;
+}
+
 /* 1 % of the map, as the issue asks; the estimate's standard error at
  * 48 x 48 x 192 paths is 0.23 % (printed: 1.29 a path, over the sphere's) */
 #define FURNACE_REL 0.01
@@ -47,13 +55,9 @@ static void write_sphere(FILE *f, const char *m, int n, double r, double cx, dou
 static void test_furnace(void)
 {
     const int w = 48, h = 48, spp = 192;
-    FILE *f = fopen("envmap_furnace.scene", "w");
-    if (!f || envmap_write_hdr("envmap_white.hdr", 16, 8, envmap_white)) {
-        CHECK(0, "cannot write the furnace");
-        if (f)
-            fclose(f);
+    FILE *f = open_scene("envmap_furnace.scene", "envmap_white.hdr", 16, 8, envmap_white);
+    if (!f)
         return;
-    }
     fprintf(f, "image %d %d\ncamera position 0 0 -3 direction 0 0 1 fov 40\n"
                "spectrum white equal\nmaterial white reflect white 1\n"
                "background map envmap_white.hdr scale 1.5\n", w, h);
@@ -107,13 +111,9 @@ static void test_furnace(void)
 
 static void test_trace(void)
 {
-    FILE *f = fopen("envmap_trace.scene", "w");
-    if (!f || envmap_write_hdr("envmap_sun.hdr", 64, 32, envmap_sun)) {
-        CHECK(0, "cannot write the scene");
-        if (f)
-            fclose(f);
+    FILE *f = open_scene("envmap_trace.scene", "envmap_sun.hdr", 64, 32, envmap_sun);
+    if (!f)
         return;
-    }
     fprintf(f, "image %d %d\ncamera position 0 1.2 -4.5 direction 0 -0.2 1 fov 50\n"
                "spectrum white equal\nmaterial floor reflect white 0.6\n"
                "material paint coated reflect white 0.5 ior 1.5 alpha 0.2\n"
@@ -128,45 +128,26 @@ static void test_trace(void)
         CHECK(0, "the trace scene loads");
         return;
     }
-    size_t n = (size_t)W * H * SPP;
-    spm_path *gp = spm_xcalloc(n, sizeof *gp), *cp = spm_xcalloc(n, sizeof *cp);
-    uint8_t *gl = spm_xcalloc(n, 1), *cl = spm_xcalloc(n, 1);
-    spm_trace_params p = cl_test_params(&s, SEED, 0, SPP);
-    spm_ref_trace(&s.geom, s.tables.materials, cl_test_lvlk(&s.tables, 0), &p, cp, cl);
-    spm_cl_renderer *r;
-    spm_error err;
-    if (spm_cl_create(0, &s.geom, &s.tables, 0, SEED, &r, &err) == 0) {
-        int rc = spm_cl_trace(r, 0, SPP, gp, gl, &err);
-        CHECK(rc == 0, "spm_cl_trace: %s", err.msg);
-        size_t diverged = 0, level_diff = 0, mapped = 0, escaped = 0;
-        spm_u32 first = (spm_u32)s.scene.env->first, last = first + (spm_u32)s.scene.env->ncolours;
-        for (size_t i = 0; !rc && i < n; i++) {
-            int d = cl_test_path_differs(&gp[i], &cp[i]);
-            diverged += d;
-            level_diff += !d && gl[i] != cl[i];
-            for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
-                spm_u32 e = cp[i].v[j].ids >> 16;
-                mapped += e >= first && e < last;
-            }
-            escaped += cp[i].h.nvert > 0 && cp[i].h.bg != SPM_NONE;
+    size_t n = (size_t)W * H * SPP, diverged, level_diff, mapped = 0, escaped = 0;
+    spm_path *cp = spm_xcalloc(n, sizeof *cp);
+    int rc = cl_test_trace_diff(&s, SEED, SPP, cp, &diverged, &level_diff);
+    CHECK(rc == 0, "the kernels traced");
+    spm_u32 first = (spm_u32)s.scene.env->first, last = first + (spm_u32)s.scene.env->ncolours;
+    for (size_t i = 0; !rc && i < n; i++) {
+        for (spm_u32 j = 0; j < cp[i].h.nvert; j++) {
+            spm_u32 e = cp[i].v[j].ids >> 16;
+            mapped += e >= first && e < last;
         }
-        printf("trace: %zu paths, %zu vertices lit by the map, %zu paths escaping into it after "
-               "a bounce, %zu diverged, %zu level bytes differ\n", n, mapped, escaped, diverged,
-               level_diff);
-        CHECK(mapped > n / 4 && escaped > n / 400, "too little of the map (%zu, %zu)", mapped,
-              escaped);
-        CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu of %zu paths diverged",
-              diverged, n);
-        CHECK(level_diff == 0, "%zu paths with equal records have different level bytes",
-              level_diff);
-        spm_cl_destroy(r);
-    } else {
-        CHECK(0, "spm_cl_create: %s", err.msg);
+        escaped += cp[i].h.nvert > 0 && cp[i].h.bg != SPM_NONE;
     }
-    free(gp);
+    printf("trace: %zu paths, %zu vertices lit by the map, %zu paths escaping into it after "
+           "a bounce, %zu diverged, %zu level bytes differ\n", n, mapped, escaped, diverged,
+           level_diff);
+    CHECK(mapped > n / 4 && escaped > n / 400, "too little of the map (%zu, %zu)", mapped, escaped);
+    CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu of %zu paths diverged",
+          diverged, n);
+    CHECK(level_diff == 0, "%zu paths with equal records have different level bytes", level_diff);
     free(cp);
-    free(gl);
-    free(cl);
     cl_test_scene_close(&s);
 }
 

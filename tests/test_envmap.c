@@ -40,6 +40,15 @@ static int load(const char *map, const char *opts, spm_scene *s, spm_geometry *g
     return 0;
 }
 
+/* load() under a map of w x h texels fn writes first; 1 (a failure) when either fails */
+static int write_load(const char *map, int w, int h, envmap_texel_fn fn, const char *opts,
+                      spm_scene *s, spm_geometry *g)
+{
+    int rc = envmap_write_hdr(map, w, h, fn) || load(map, opts, s, g);
+    CHECK(rc == 0, "the scene under %s loads", map);
+    return rc;
+}
+
 static void grey_ramp(int i, int j, int w, int h, float rgb[3])
 {
     (void)h;
@@ -117,13 +126,10 @@ static void two_colours(int i, int j, int w, int h, float rgb[3])
 
 static void test_palette(void)
 {
-    CHECK(envmap_write_hdr("envmap_two.hdr", 8, 4, two_colours) == 0, "write the map");
     spm_scene s;
     spm_geometry g;
-    if (load("envmap_two.hdr", "", &s, &g)) {
-        CHECK(0, "the two-colour scene loads");
+    if (write_load("envmap_two.hdr", 8, 4, two_colours, "", &s, &g))
         return;
-    }
     printf("palette: %d colours, u'v' error max %.2e, mean %.2e\n", s.env->ncolours,
            s.env->duv_max, s.env->duv_mean);
     CHECK(s.env->ncolours == 2, "two colours, %d in the palette", s.env->ncolours);
@@ -163,13 +169,10 @@ static double pdf_map(void *ctx, const double wo[3], const double wi[3])
 
 static void test_chi2(void)
 {
-    CHECK(envmap_write_hdr("envmap_sun.hdr", 64, 32, envmap_sun) == 0, "write the map");
     spm_scene s;
     spm_geometry g;
-    if (load("envmap_sun.hdr", "rotate 30", &s, &g)) {
-        CHECK(0, "the sun scene loads");
+    if (write_load("envmap_sun.hdr", 64, 32, envmap_sun, "rotate 30", &s, &g))
         return;
-    }
     env_ctx c = {&g, g.nemitters - 1};
     chi2_sampler smp = {"environment map", &c, sample_map, pdf_map, NULL};
     double wo[3] = {0.0, 0.0, 1.0};
