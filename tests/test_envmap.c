@@ -10,12 +10,19 @@
  *    contract's light_sample_emission) against the density an escaping ray
  *    is given for MIS (light_escape / the selection's pmf), whose integral
  *    over the sphere must be 1, on a map with a small sun, a black band and
- *    a rotation (tests/chi2_testlib.h). */
+ *    a rotation (tests/chi2_testlib.h);
+ *  - strategies: under a map with a soft sun, a rough gold and a rough coated
+ *    sphere on a rough diffuse floor render the same mean with MIS, light
+ *    samples alone and the materials' sampling alone (SPECMIP_TEST_STRATEGY,
+ *    as tests/test_strategies.c), which sees an MIS weight at an escape that
+ *    does not match the light sample's density. */
 #include <string.h>
 #include "chi2_testlib.h"
 #include "envmap_testlib.h"
 #include "geometry.h"
 #include "refcpu_lights.h"
+#include "render_testlib.h"
+#include <unistd.h>
 
 /* a scene of one small far triangle (a scene needs one) under the map */
 static int load(const char *map, const char *opts, spm_scene *s, spm_geometry *g)
@@ -181,10 +188,77 @@ static void test_chi2(void)
     spm_scene_free(&s);
 }
 
+#define STRAT_SEEDS 6
+#define STRAT_SPP 48
+#define STRAT_SIZE 24
+/* a strategy's mean against MIS's: within Z_MAX standard errors of their
+ * per-seed difference (normal, 6 seeds: 4.5 leaves 1 in 100000 of a correct
+ * estimator failing) */
+#define Z_MAX 4.5
+
+static void test_strategies(void)
+{
+    FILE *f = envmap_write_hdr("envmap_soft.hdr", 64, 32, envmap_soft_sun) ? NULL
+                                                                           : fopen("envmap_strat.scene", "w");
+    char cwd[512], path[700];
+    if (!f || !getcwd(cwd, sizeof cwd)) {
+        CHECK(0, "cannot write the strategies' scene");
+        if (f)
+            fclose(f);
+        return;
+    }
+    fprintf(f, "image 24 24\ncamera position 0 1.1 -4  direction 0 -0.2 1  fov 40\nspectrum grey equal\n"
+               "spectrum au_eta file metal_Au_eta.csv\nspectrum au_k file metal_Au_k.csv\n"
+               "material floor roughdiffuse reflect grey 0.5 roughness 0.5\n"
+               "material gold conductor au_eta au_k alpha 0.3\n"
+               "material paint coated reflect grey 0.6 ior 1.5 alpha 0.2\n"
+               "background map envmap_soft.hdr rotate 40\n"
+               "quad floor  -60 0 -60  -60 0 60  60 0 60  60 0 -60\n"
+               "mesh %s/scenes/materials_sphere.ply material gold scale 0.6 translate -0.7 0.6 0.3\n"
+               "mesh %s/scenes/materials_sphere.ply material paint scale 0.6 translate 0.7 0.6 0.3\n",
+            SPM_SOURCE_DIR, SPM_SOURCE_DIR);
+    fclose(f);
+    snprintf(path, sizeof path, "%s/envmap_strat.scene", cwd);
+    static const char *const names[3] = {NULL, "light", "lobe"};
+    double mean[3][STRAT_SEEDS];
+    for (int st = 0; st < 3; st++)
+        for (int k = 0; k < STRAT_SEEDS; k++) {
+            if (names[st])
+                setenv("SPECMIP_TEST_STRATEGY", names[st], 1);
+            else
+                unsetenv("SPECMIP_TEST_STRATEGY");
+            rt_render_job j = {path, SPM_MODE_RGB, STRAT_SPP, 11u + (spm_u32)k, STRAT_SIZE, 0.0, "cpu"};
+            rt_render_out o;
+            mean[st][k] = 0.0;
+            if (rt_render(&j, &o, NULL, NULL)) {
+                CHECK(0, "the strategies' scene renders");
+                return;
+            }
+            for (int p = 0; p < STRAT_SIZE * STRAT_SIZE; p++)
+                mean[st][k] += (0.2126 * o.img.rgb[3 * p] + 0.7152 * o.img.rgb[3 * p + 1] +
+                                0.0722 * o.img.rgb[3 * p + 2]) / (STRAT_SIZE * STRAT_SIZE);
+            free(o.img.rgb);
+        }
+    unsetenv("SPECMIP_TEST_STRATEGY");
+    for (int st = 1; st < 3; st++) {
+        double s = 0.0, s2 = 0.0;
+        for (int k = 0; k < STRAT_SEEDS; k++) {
+            double d = mean[st][k] - mean[0][k];
+            s += d, s2 += d * d;
+        }
+        double m = s / STRAT_SEEDS, se = sqrt((s2 / STRAT_SEEDS - m * m) / (STRAT_SEEDS - 1));
+        printf("strategies: %s alone - MIS %.5f (se %.5f) of a mean %.4f\n", names[st], m, se,
+               mean[0][0]);
+        CHECK(se > 0.0 && fabs(m) <= Z_MAX * se, "%s alone differs from MIS by %.4f (%.1f se)",
+              names[st], m, se > 0.0 ? fabs(m) / se : 0.0);
+    }
+}
+
 int main(void)
 {
     test_mapping();
     test_palette();
     test_chi2();
+    test_strategies();
     TEST_END();
 }
