@@ -38,7 +38,36 @@ SPM_LIGHT_KIND(POINT,
             "emitted power (the spectrum at luminance 1 times POWER over 4 pi steradians)",
     .args = "PSW",
     .define = "SPM_WITH_LIGHT_POINT",
-    .solid = 12.566370614359172) /* 4 pi */
+    .power = spm_light_power_point)
+
+/* a spot light: a point light whose intensity I f(theta) falls with the
+ * angle theta to its axis as Mitsuba 3's `spot` does: f = 1 inside the beam
+ * angle, linear in theta down to 0 at the cone's edge, 0 beyond; a delta.
+ * p[A] the cone's half-angle, p[B] the beam's (radians), p[C] the cone's
+ * cosine. POWER: the intensity's integral over the cone */
+SPM_LIGHT_KIND(SPOT,
+    .keyword = "spot",
+    .help = "'light spot X Y Z TX TY TZ SPECTRUM POWER|intensity I cone DEG [falloff DEG]': a "
+            "spot light at (X, Y, Z) aimed at (TX, TY, TZ); cone the half-angle of its edge, "
+            "falloff the width (degrees) inside it over which the intensity falls linearly "
+            "to 0 (default a quarter of the cone)",
+    .args = "PTSWC",
+    .define = "SPM_WITH_LIGHT_SPOT",
+    .power = spm_light_power_spot)
+
+/* a distant light: parallel light travelling along p[DIR], irradiance E on
+ * a surface facing it; a delta. Its power is E over the disc of the scene's
+ * bounding sphere (pi r^2 E), the sphere's centre in p[POS], r in p[A]
+ * (spm_light_place), the disc its emission rays leave from */
+SPM_LIGHT_KIND(DISTANT,
+    .keyword = "distant",
+    .help = "'light distant DX DY DZ SPECTRUM IRRADIANCE': parallel light travelling along "
+            "(DX, DY, DZ), IRRADIANCE on a surface facing it (the spectrum at luminance 1 times "
+            "IRRADIANCE)",
+    .args = "DSE",
+    .define = "SPM_WITH_LIGHT_DISTANT",
+    .power = spm_light_power_distant,
+    .place = spm_light_place_distant)
 
 /* an environment map: an equirectangular image around the scene (the
  * 'background map' statement), met by escaping rays and sampled by a 2-D

@@ -452,6 +452,7 @@ enum spm_light_kind {
 #define SPM_LIGHT_P_A 6
 #define SPM_LIGHT_P_B 7
 #define SPM_LIGHT_P_SCALE 8
+#define SPM_LIGHT_P_C 9
 
 /* Light selection (next-event estimation). Light i of the emitter list (an
  * emitter triangle, or a light of another kind: spm_emitter.kind) is picked

@@ -11,7 +11,11 @@
  *    densities) onto a diffuse floor, binned by the pixel that sees where
  *    they land; the floor's radiance rho E / pi per pixel against the path
  *    tracer's render of the same floor (spm_ref_trace, next-event
- *    estimation), within their joint standard error. */
+ *    estimation), within their joint standard error; a spot among the
+ *    lights, its falloff written here;
+ *  - chi-squared of the spot's emission directions against the uniform
+ *    cone, and of the distant light's emission origins against the uniform
+ *    disc of the scene's bounding sphere. */
 #include <string.h>
 #include "chi2_testlib.h"
 #include "geomtest_scene.h"
@@ -29,12 +33,32 @@ static const struct {
     double h, x0, x1, z0, z1, e;
 } lights[2] = {{1.0, -0.8, -0.2, -0.3, 0.3, 1.0}, {0.6, 0.3, 0.7, -0.2, 0.4, 4.0}};
 static const float point_pos[3] = {0.1f, 0.8f, -0.1f};
+/* the spot: at spot_pos aimed along spot_axis (unit), cone 45 degrees (on
+ * a boundary of chi2_testlib's theta cells, whose midpoint rule would miss
+ * 0.2 % of the density at an edge inside one), its falloff from 30,
+ * intensity SPOT_I */
+static const float spot_pos[3] = {-0.3f, 0.7f, 0.2f};
+static const double spot_axis[3] = {0.26726124191242440, -0.80178372573727319,
+                                    -0.53452248382484879}; /* (1, -3, -2) / sqrt(14) */
+#define SPOT_I 0.4
+#define SPOT_CONE (45.0 * M_PI / 180.0)
+#define SPOT_BEAM (30.0 * M_PI / 180.0)
 
-/* The floor y = 0, the lights, a point light of intensity POINT_I (colour
- * Y 1) and, with blocker, a black quad under the second light. */
+/* Mitsuba 3's spot falloff, written here from its definition: 1 to the
+ * beam angle, linear in the angle to 0 at the cone's edge */
+static double spot_falloff(const float d[3])
+{
+    double c = d[0] * spot_axis[0] + d[1] * spot_axis[1] + d[2] * spot_axis[2];
+    double th = acos(fmin(1.0, fmax(-1.0, c)));
+    return th <= SPOT_BEAM ? 1.0 : th < SPOT_CONE ? (SPOT_CONE - th) / (SPOT_CONE - SPOT_BEAM) : 0.0;
+}
+
+/* The floor y = 0, the lights, a point light of intensity POINT_I and a
+ * spot (colours Y 1) and, with blocker, a black quad under the second
+ * light. */
 static int build(spm_scene *s, spm_geometry *g, spm_tables *t, int blocker, float eye_y)
 {
-    static spm_scene_light pl;
+    static spm_scene_light pl[2];
     ts_init(s);
     s->width = s->height = 6;
     s->fov_deg = 100.0f;
@@ -54,11 +78,20 @@ static int build(spm_scene *s, spm_geometry *g, spm_tables *t, int blocker, floa
         ts_quad(s, ts_material(s, -1, -1), (float[]){0.1f, 0.3f, 0.0f},
                 (float[]){0.35f, 0.3f, 0.0f}, (float[]){0.35f, 0.3f, 0.3f},
                 (float[]){0.1f, 0.3f, 0.3f});
-    pl = (spm_scene_light){.kind = SPM_LIGHT_POINT, .colour = ts_colour(s, SPM_KIND_EMISSION, 1.0)};
-    memcpy(&pl.p[SPM_LIGHT_P_POS], point_pos, sizeof point_pos);
-    pl.p[SPM_LIGHT_P_SCALE] = (float)POINT_I;
-    s->lights = &pl;
-    s->nlights = 1;
+    int white = ts_colour(s, SPM_KIND_EMISSION, 1.0);
+    pl[0] = (spm_scene_light){.kind = SPM_LIGHT_POINT, .colour = white};
+    memcpy(&pl[0].p[SPM_LIGHT_P_POS], point_pos, sizeof point_pos);
+    pl[0].p[SPM_LIGHT_P_SCALE] = (float)POINT_I;
+    pl[1] = (spm_scene_light){.kind = SPM_LIGHT_SPOT, .colour = white};
+    memcpy(&pl[1].p[SPM_LIGHT_P_POS], spot_pos, sizeof spot_pos);
+    for (int i = 0; i < 3; i++)
+        pl[1].p[SPM_LIGHT_P_DIR + i] = (float)spot_axis[i];
+    pl[1].p[SPM_LIGHT_P_A] = (float)SPOT_CONE;
+    pl[1].p[SPM_LIGHT_P_B] = (float)SPOT_BEAM;
+    pl[1].p[SPM_LIGHT_P_C] = (float)cos(SPOT_CONE);
+    pl[1].p[SPM_LIGHT_P_SCALE] = (float)SPOT_I;
+    s->lights = pl;
+    s->nlights = 2;
     spm_error err;
     if (spm_geometry_build(s, g, &err)) {
         CHECK(0, "build: %s", err.msg);
@@ -194,6 +227,7 @@ static void light_trace(const spm_geometry *g, const spm_tables *t, double *l, d
             cos_o = fabs(d[0] * tr->n[0] + d[1] * tr->n[1] + d[2] * tr->n[2]);
         } else {
             le = t->truth[e->colour * SPM_TRUTH_BINS] * e->p[SPM_LIGHT_P_SCALE];
+            le *= e->kind == SPM_LIGHT_SPOT ? spot_falloff(d) : 1.0;
         }
         double beta = le * cos_o / ((double)e->pdf * pp * pd);
         int hit = spm_bvh_intersect(g, o, d, e->tri, &tt);
@@ -250,9 +284,154 @@ static void light_tracer(void)
     scene_free(&s, &g, &t);
 }
 
+/* ---- chi-squared of the spot's emission directions ------------------------ */
+
+typedef struct {
+    const spm_geometry *g;
+    spm_u32 k;       /* the spot's entry in the selection */
+    double b1[3], b2[3]; /* a frame about its axis */
+} spot_ctx;
+
+static int spot_sample(void *ctx, const double wo[3], const double u[3], double wi[3],
+                       double *pdf, double *w)
+{
+    (void)wo;
+    const spot_ctx *c = ctx;
+    float uf[4] = {0.5f, 0.5f, (float)u[0], (float)u[1]}, o[3], d[3], pp, pd;
+    spm_ref_light_sample_emission(c->g, c->k, uf, o, d, &pp, &pd);
+    double l[3] = {0, 0, 0};
+    for (int i = 0; i < 3; i++) {
+        l[0] += d[i] * c->b1[i];
+        l[1] += d[i] * c->b2[i];
+        l[2] += d[i] * spot_axis[i];
+    }
+    double n = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    for (int i = 0; i < 3; i++)
+        wi[i] = l[i] / n;
+    *pdf = pd;
+    *w = 0.0;
+    return pp == 1.0f;
+}
+
+/* uniform in the cone, written here: 1 / (2 pi (1 - cos c)) inside */
+static double spot_pdf(void *ctx, const double wo[3], const double wi[3])
+{
+    (void)ctx, (void)wo;
+    return wi[2] >= cos(SPOT_CONE) ? 1.0 / (2.0 * M_PI * (1.0 - cos(SPOT_CONE))) : 0.0;
+}
+
+static void chi2_spot_emission(double alpha_test)
+{
+    spm_scene s;
+    spm_geometry g;
+    spm_tables t;
+    if (build(&s, &g, &t, 0, 0.5f))
+        return;
+    spot_ctx c = {&g, 0, {0}, {0}};
+    for (int i = 0; i < g.nemitters; i++)
+        c.k = g.emitters[i].kind == SPM_LIGHT_SPOT ? (spm_u32)i : c.k;
+    /* b1 = normalise(axis x y), b2 = axis x b1 */
+    double a[3] = {spot_axis[0], spot_axis[1], spot_axis[2]}, y[3] = {0, 1, 0};
+    c.b1[0] = a[1] * y[2] - a[2] * y[1], c.b1[1] = a[2] * y[0] - a[0] * y[2];
+    c.b1[2] = a[0] * y[1] - a[1] * y[0];
+    double n = sqrt(c.b1[0] * c.b1[0] + c.b1[1] * c.b1[1] + c.b1[2] * c.b1[2]);
+    for (int i = 0; i < 3; i++)
+        c.b1[i] /= n;
+    c.b2[0] = a[1] * c.b1[2] - a[2] * c.b1[1], c.b2[1] = a[2] * c.b1[0] - a[0] * c.b1[2];
+    c.b2[2] = a[0] * c.b1[1] - a[1] * c.b1[0];
+    double wo[3] = {0.0, 0.0, 1.0};
+    chi2_sampler smp = {"spot light_sample_emission", &c, spot_sample, spot_pdf, NULL};
+    chi2_run(&smp, wo, 400000L, 7, alpha_test);
+    scene_free(&s, &g, &t);
+}
+
+/* ---- the distant light's emission disc ------------------------------------ */
+
+/* Its rays leave from the disc of the scene's bounding sphere (centre c,
+ * radius r) one radius before c, along its direction w: each origin o has
+ * (o - c).w = -r and |o - c + r w| <= r, and the origins are uniform on the
+ * disc: counts in 8 rings of equal area x 16 sectors against n / 128,
+ * Pearson's chi-squared; pdf_pos 1 / (pi r^2). */
+#define DISC_RINGS 8
+#define DISC_SECTORS 16
+static void distant_disc(double alpha_test)
+{
+    spm_scene s;
+    spm_geometry g;
+    spm_tables t;
+    ts_init(&s);
+    s.width = s.height = 4;
+    s.fov_deg = 60.0f;
+    memcpy(s.eye, (float[]){0.0f, 3.0f, 0.0f}, sizeof s.eye);
+    memcpy(s.dir, (float[]){0.0f, -1.0f, 0.0f}, sizeof s.dir);
+    int m = ts_material(&s, ts_colour(&s, SPM_KIND_REFLECTANCE, RHO), -1);
+    ts_quad(&s, m, (float[]){-1, 0, -2}, (float[]){-1, 0, 2}, (float[]){3, 0, 2},
+            (float[]){3, 0, -2});
+    static spm_scene_light dl;
+    dl = (spm_scene_light){.kind = SPM_LIGHT_DISTANT, .colour = ts_colour(&s, SPM_KIND_EMISSION, 1.0)};
+    const double w[3] = {0.48, -0.8, 0.36}; /* unit */
+    for (int i = 0; i < 3; i++)
+        dl.p[SPM_LIGHT_P_DIR + i] = (float)w[i];
+    dl.p[SPM_LIGHT_P_SCALE] = 2.0f;
+    s.lights = &dl;
+    s.nlights = 1;
+    spm_error err;
+    if (spm_geometry_build(&s, &g, &err)) {
+        CHECK(0, "build: %s", err.msg);
+        return;
+    }
+    ts_tables(&s, &t);
+    /* the box [-1, 3] x [0, 0] x [-2, 2]: centre (1, 0, 0), r = sqrt(8) */
+    const double c[3] = {1.0, 0.0, 0.0}, r = sqrt(8.0);
+    /* a frame of the disc's plane: b1 = normalise(w x y), b2 = w x b1 */
+    double b1[3] = {-w[2], 0.0, w[0]}, nb = sqrt(w[0] * w[0] + w[2] * w[2]);
+    for (int i = 0; i < 3; i++)
+        b1[i] /= nb;
+    double b2[3] = {w[1] * b1[2] - w[2] * b1[1], w[2] * b1[0] - w[0] * b1[2],
+                    w[0] * b1[1] - w[1] * b1[0]};
+    static double cnt[DISC_RINGS * DISC_SECTORS];
+    const long n = 256000;
+    uint64_t seed = 5;
+    double worst_plane = 0.0, worst_pdf = 0.0;
+    long outside = 0;
+    for (long k = 0; k < n; k++) {
+        float u[4] = {(float)chi2_u01(&seed), (float)chi2_u01(&seed), 0.5f, 0.5f}, o[3], d[3],
+              pp, pd;
+        spm_ref_light_sample_emission(&g, 0, u, o, d, &pp, &pd);
+        double v[3] = {o[0] - c[0], o[1] - c[1], o[2] - c[2]}, along = 0.0, x = 0.0, y = 0.0;
+        for (int i = 0; i < 3; i++)
+            along += v[i] * w[i], x += v[i] * b1[i], y += v[i] * b2[i];
+        worst_plane = fmax(worst_plane, fabs(along + r) / r);
+        worst_pdf = fmax(worst_pdf, fabs(pp * M_PI * r * r - 1.0));
+        double q = (x * x + y * y) / (r * r), phi = atan2(y, x) + M_PI;
+        outside += q > 1.0 + 1e-5;
+        int ring = (int)(fmin(q, 0.999999) * DISC_RINGS);
+        int sec = (int)fmin(phi / (2.0 * M_PI) * DISC_SECTORS, DISC_SECTORS - 1);
+        cnt[ring * DISC_SECTORS + sec] += 1.0;
+    }
+    double e = (double)n / (DISC_RINGS * DISC_SECTORS), stat = 0.0;
+    for (int i = 0; i < DISC_RINGS * DISC_SECTORS; i++)
+        stat += (cnt[i] - e) * (cnt[i] - e) / e;
+    double pval = st_chi2_sf(stat, DISC_RINGS * DISC_SECTORS - 1);
+    printf("distant light's disc: %ld origins, chi2 %.1f over %d cells, p %.3g; off its plane "
+           "%.2g r, pdf_pos off %.2g, %ld outside\n", n, stat, DISC_RINGS * DISC_SECTORS, pval,
+           worst_plane, worst_pdf, outside);
+    CHECK(pval >= alpha_test, "the disc's origins not uniform: p %.3g", pval);
+    /* float positions of size r: measured 1e-7 r; bound 1e-5 */
+    CHECK(worst_plane <= 1e-5 && outside == 0, "origins off the disc (%.2g r, %ld outside)",
+          worst_plane, outside);
+    CHECK(worst_pdf <= 1e-5, "pdf_pos off 1 / (pi r^2) by %.2g", worst_pdf);
+    s.lights = NULL;
+    spm_tables_free(&t);
+    spm_geometry_free(&g);
+    ts_free(&s);
+}
+
 int main(void)
 {
-    chi2_light_sample(st_sidak(ALPHA, 1));
+    chi2_light_sample(st_sidak(ALPHA, 3));
+    chi2_spot_emission(st_sidak(ALPHA, 3));
+    distant_disc(st_sidak(ALPHA, 3));
     light_tracer();
     TEST_END();
 }

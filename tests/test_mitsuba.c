@@ -465,10 +465,10 @@ static void test_errors(void)
     }
     /* what is not rendered is a warning, and an error under --strict */
     const char *warned[] = {"<shape type=\"cube\"><bsdf type=\"thindielectric\"/></shape>",
-                            "<emitter type=\"spot\"/>", "<shape type=\"serialized\"/>",
+                            "<emitter type=\"projector\"/>", "<shape type=\"serialized\"/>",
                             "<shape type=\"cube\"><bsdf type=\"mask\"><bsdf type=\"diffuse\"/>"
                             "</bsdf></shape>"};
-    const char *named[] = {"<bsdf type=\"thindielectric\">", "<emitter type=\"spot\">",
+    const char *named[] = {"<bsdf type=\"thindielectric\">", "<emitter type=\"projector\">",
                            "<shape type=\"serialized\">", "<bsdf type=\"mask\">"};
     for (int i = 0; i < 4; i++) {
         spm_scene s;

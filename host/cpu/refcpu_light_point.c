@@ -13,22 +13,13 @@ int spm_ref_light_sample_POINT(const spm_geometry *g, const spm_material *mats,
                                spm_ref_lsample *ls)
 {
     (void)mats, (void)k, (void)dim;
-    float ev[3], ts;
-    v3_sub(ev, &e->p[SPM_LIGHT_P_POS], x);
-    float d2 = v3_dot(ev, ev);
-    v3_normalise(ls->wi, ev);
-    float cos_i = v3_dot(ls->wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
-    if (!(d2 > 0.0f) || (cos_i < 0.0f) != (cos_o < 0.0f))
-        return 0; /* light and viewer on different sides: no transmission */
+    float d2, ts;
+    if (!spm_ref_light_toward(e, x, h, ls, &d2))
+        return 0;
     spm_ref_record_ray(x, ls->wi, hit, SPM_RAY_CLOSEST);
     if (spm_bvh_intersect(g, x, ls->wi, hit, &ts) >= 0 && ts < sqrtf(d2))
         return 0;
-    ls->pdf = 0.0f;
-    ls->g = e->inv_pdf / d2;
-    ls->scale = e->p[SPM_LIGHT_P_SCALE];
-    ls->colour = e->colour;
-    ls->delta = 1;
-    return 1;
+    return spm_ref_light_delta(ls, e, e->inv_pdf / d2, e->p[SPM_LIGHT_P_SCALE]);
 }
 
 /* from the point (density 1), a uniform direction (density 1 / (4 pi)) */

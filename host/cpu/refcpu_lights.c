@@ -2,6 +2,7 @@
  * switch per call on the chosen light's kind. */
 #include "refcpu_lights.h"
 #include "refcpu.h"
+#include "geometry_vec3.h"
 
 float spm_ref_light_pmf(const spm_geometry *g, spm_u32 tri)
 {
@@ -66,6 +67,37 @@ void spm_ref_light_pdf_emission(const spm_geometry *g, spm_u32 k, const float o[
     default:
         *pdf_pos = *pdf_dir = 0.0f;
     }
+}
+
+/* Duff et al. 2017's branchless orthonormal basis (b1, b2, n) */
+void spm_ref_light_to_world(const float n[3], const float l[3], float out[3])
+{
+    float sg = n[2] >= 0.0f ? 1.0f : -1.0f, a = -1.0f / (sg + n[2]), b = n[0] * n[1] * a;
+    float b1[3] = {1.0f + sg * n[0] * n[0] * a, sg * b, -sg * n[0]};
+    float b2[3] = {b, sg + n[1] * n[1] * a, -n[1]};
+    for (int i = 0; i < 3; i++)
+        out[i] = l[0] * b1[i] + l[1] * b2[i] + l[2] * n[i];
+}
+
+int spm_ref_light_delta(spm_ref_lsample *ls, const spm_emitter *e, float g, float scale)
+{
+    ls->pdf = 0.0f;
+    ls->g = g;
+    ls->scale = scale;
+    ls->colour = e->colour;
+    ls->delta = 1;
+    return 1;
+}
+
+int spm_ref_light_toward(const spm_emitter *e, const float x[3], const spm_ref_hit *h,
+                         spm_ref_lsample *ls, float *d2)
+{
+    float ev[3];
+    v3_sub(ev, &e->p[SPM_LIGHT_P_POS], x);
+    *d2 = v3_dot(ev, ev);
+    v3_normalise(ls->wi, ev);
+    float cos_i = v3_dot(ls->wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
+    return *d2 > 0.0f && (cos_i < 0.0f) == (cos_o < 0.0f);
 }
 
 spm_u32 spm_ref_light_escape(const spm_geometry *g, const spm_trace_params *p, const float d[3],

@@ -63,6 +63,16 @@ void spm_ref_light_pdf_emission(const spm_geometry *g, spm_u32 k, const float o[
                                            float *pdf_dir);
 #include "spm_lights.h"
 #undef SPM_LIGHT_KIND
+/* toward the position of light e from x on a surface (frame h): ls->wi and
+ * the squared distance *d2; 0 when it is there or on the other side of the
+ * surface than the viewer (no transmission) */
+int spm_ref_light_toward(const spm_emitter *e, const float x[3], const spm_ref_hit *h,
+                         spm_ref_lsample *ls, float *d2);
+/* a delta light's sample (no MIS): weight g, light e's colour at factor
+ * scale; returns 1 */
+int spm_ref_light_delta(spm_ref_lsample *ls, const spm_emitter *e, float g, float scale);
+/* l in the frame whose z axis is n (unit): kernels/lights.clh light_to_world */
+void spm_ref_light_to_world(const float n[3], const float l[3], float out[3]);
 /* the ray sink's hook (refcpu.h spm_ref_rays): ray o + t d, what it asks */
 void spm_ref_record_ray(const float o[3], const float d[3], spm_u32 skip, spm_u32 emitter);
 #endif

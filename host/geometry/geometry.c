@@ -191,7 +191,7 @@ static void list_emitters(const spm_scene *sc, spm_geometry *g)
         e->kind = (spm_u32)sc->lights[i].kind;
         e->tri = 0xFFFFFFFFu;
         e->colour = (spm_u32)sc->lights[i].colour;
-        memcpy(e->p, sc->lights[i].p, sizeof e->p);
+        spm_light_place(sc, &sc->lights[i], e->p);
         w[g->nemitters++] = spm_light_power(sc, &sc->lights[i]);
     }
     if (sc->env) /* last: the trace stage finds it there */

@@ -17,15 +17,24 @@ typedef struct {
      *   P  a position, three numbers: p[SPM_LIGHT_P_POS..]
      *   D  a direction, three numbers, not zero (made unit): p[SPM_LIGHT_P_DIR..]
      *   S  a spectrum name: the light's colour (its values as given; no scale)
-     *   W  a radiant power in W (per unit of the spectrum): p[SPM_LIGHT_P_SCALE]
-     *      = W / solid, the intensity
-     *   I  a radiant intensity (W/sr per unit of the spectrum): p[SPM_LIGHT_P_SCALE]
+     *   T  a target position, three numbers: p[SPM_LIGHT_P_DIR..] the unit
+     *      direction toward it from the P before it
+     *   W  a radiant power in W (per unit of the spectrum), or the word
+     *      `intensity` and a radiant intensity (W/sr per unit of the spectrum):
+     *      p[SPM_LIGHT_P_SCALE] the intensity, a power divided by what the
+     *      kind's power hook gives for intensity 1 once every argument is read
      *   E  an irradiance (W/m^2 per unit of the spectrum): p[SPM_LIGHT_P_SCALE]
-     *   A  an angle in degrees in (0, 90]: its cosine into p[SPM_LIGHT_P_A], the
-     *      next A's into p[SPM_LIGHT_P_B] */
+     *   C  `cone DEG [falloff DEG]`: the cone's half-angle in (0, 90] into
+     *      p[SPM_LIGHT_P_A] (radians) and its cosine into p[SPM_LIGHT_P_C], the
+     *      beam angle DEG - falloff (default 3/4 of the cone, Mitsuba 3's
+     *      beam_width) into p[SPM_LIGHT_P_B] */
     const char *args;
     const char *define;    /* the kernel define that compiles it in (NULL: always) */
-    double solid;          /* the solid angle (sr) its intensity fills, for its power */
+    /* its radiant power per unit of the spectrum (W), from its parameters p
+     * and the scene (a distant light's bounding sphere) */
+    double (*power)(const spm_scene *sc, const float *p);
+    /* what the scene adds to its parameters p (NULL: nothing) */
+    void (*place)(const spm_scene *sc, float *p);
 } spm_light_desc;
 
 extern const spm_light_desc spm_light_kinds[];
@@ -40,4 +49,13 @@ int spm_light_defines(const spm_emitter *em, int n, char *buf, size_t size);
  * in the area lights' unit, area x Y of radiance: its radiant power in Y
  * over pi (a point light: 4 pi I_Y / pi). */
 double spm_light_power(const spm_scene *sc, const spm_scene_light *l);
+/* the kinds' power hooks (include/spm_lights.h) */
+double spm_light_power_point(const spm_scene *sc, const float *p);
+double spm_light_power_spot(const spm_scene *sc, const float *p);
+double spm_light_power_distant(const spm_scene *sc, const float *p);
+void spm_light_place_distant(const spm_scene *sc, float *p);
+/* The emitter's parameters of statement light l: its own, and what its
+ * kind's place hook adds from the scene (a distant light's bounding sphere,
+ * centre into p[POS], radius into p[A]). */
+void spm_light_place(const spm_scene *sc, const spm_scene_light *l, float p[SPM_LIGHT_PARAMS]);
 #endif

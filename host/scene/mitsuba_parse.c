@@ -29,6 +29,8 @@ typedef int (*mi_emitter_fn)(mi_parser *p, mi_node *e, const char *what);
 
 static int emitter_constant(mi_parser *p, mi_node *e, const char *what);
 static int emitter_point(mi_parser *p, mi_node *e, const char *what);
+static int emitter_spot(mi_parser *p, mi_node *e, const char *what);
+static int emitter_directional(mi_parser *p, mi_node *e, const char *what);
 static int emitter_envmap(mi_parser *p, mi_node *e, const char *what);
 
 /* Mitsuba's emitters and what specmip does with each: a function that
@@ -40,8 +42,8 @@ static const struct {
 } emitter_types[] = {
     {"constant", emitter_constant, NULL},
     {"point", emitter_point, NULL},
-    {"spot", NULL, "spot lights are not rendered yet"},
-    {"directional", NULL, "directional lights are not rendered yet"},
+    {"spot", emitter_spot, NULL},
+    {"directional", emitter_directional, NULL},
     {"envmap", emitter_envmap, NULL},
     {"sunsky", NULL, "sky models are not rendered"},
     {"projector", NULL, "projectors are not rendered"},
@@ -189,37 +191,120 @@ static int emitter_constant(mi_parser *p, mi_node *e, const char *what)
     return mi_unused(e, what, p->err);
 }
 
-/* point: specmip's point light (scene.h spm_scene_light), at `position`
- * or to_world's origin; its `intensity` (W/sr, default 1) the light's colour
- * as a radiance is (mi_colour), so the intensity factor is 1. */
-static int emitter_point(mi_parser *p, mi_node *e, const char *what)
+/* A light's colour from its spectrum `name` (default 1, Mitsuba's), lifted
+ * as a radiance is (mi_colour), so its factor is 1: the colour's index, -1
+ * for a zero (no light), < -1 on an error. */
+static int light_colour(mi_parser *p, mi_node *e, const char *name)
 {
-    int bad = 0;
-    double m[4][4], at[3] = {0, 0, 0}, pos[3];
-    mi_node *k = mi_prop(e, "position", "point", &bad, p->err);
-    const char *xyz[3] = {"x", "y", "z"};
-    if (bad || (k && mi_vec3(k, xyz, "value", at, p->err)) || mi_to_world(e, m, p->err))
-        return 1;
-    pbrt_mat_apply(m, at, 1.0, pos);
-    int c = mi_colour(&p->ms, e, "intensity", MI_RADIANCE, -3, p->err);
-    if (c == -3) { /* Mitsuba's default intensity: 1 */
+    int c = mi_colour(&p->ms, e, name, MI_RADIANCE, -3, p->err);
+    if (c == -3) {
         spm_spectrum one;
         spm_spectrum_constant(1.0, SPM_KIND_EMISSION, &one);
         c = spm_sb_colour(&p->b, "intensity 1", &one, e->where, p->err);
     }
+    return c;
+}
+
+/* light l into the scene, e's other properties warned about */
+static int add_light(mi_parser *p, mi_node *e, const char *what, spm_scene_light *l)
+{
+    l->p[SPM_LIGHT_P_SCALE] = 1.0f;
+    snprintf(l->where, sizeof l->where, "%.127s", e->where);
+    spm_scene *s = p->b.s;
+    s->lights = spm_xrealloc(s->lights, ((size_t)s->nlights + 1) * sizeof *s->lights);
+    s->lights[s->nlights++] = *l;
+    return mi_unused(e, what, p->err);
+}
+
+/* to_world's origin into l's position and its +z axis (unit) into its
+ * direction */
+static void light_frame(double m[4][4], const double at[3], spm_scene_light *l)
+{
+    double pos[3], z[3] = {m[0][2], m[1][2], m[2][2]};
+    pbrt_mat_apply(m, at, 1.0, pos);
+    double n = sqrt(z[0] * z[0] + z[1] * z[1] + z[2] * z[2]);
+    for (int i = 0; i < 3; i++) {
+        l->p[SPM_LIGHT_P_POS + i] = (float)pos[i];
+        l->p[SPM_LIGHT_P_DIR + i] = (float)(n > 0.0 ? z[i] / n : 0.0);
+    }
+}
+
+/* point: specmip's point light (scene.h spm_scene_light), at `position`
+ * or to_world's origin, its `intensity` (W/sr) the light's colour. */
+static int emitter_point(mi_parser *p, mi_node *e, const char *what)
+{
+    int bad = 0;
+    double m[4][4], at[3] = {0, 0, 0};
+    mi_node *k = mi_prop(e, "position", "point", &bad, p->err);
+    const char *xyz[3] = {"x", "y", "z"};
+    if (bad || (k && mi_vec3(k, xyz, "value", at, p->err)) || mi_to_world(e, m, p->err))
+        return 1;
+    int c = light_colour(p, e, "intensity");
     if (c < -1)
         return 1;
     if (c == -1) /* a zero intensity: no light */
         return mi_unused(e, what, p->err);
     spm_scene_light l = {.kind = SPM_LIGHT_POINT, .colour = c};
+    light_frame(m, at, &l);
+    return add_light(p, e, what, &l);
+}
+
+/* spot: specmip's spot light, at to_world's origin along its +z, the same
+ * falloff (linear in angle from beam_width to cutoff_angle, degrees,
+ * defaults 3/4 of the cutoff and 20), its `intensity` the colour. */
+static int emitter_spot(mi_parser *p, mi_node *e, const char *what)
+{
+    int bad = 0;
+    double m[4][4], at[3] = {0, 0, 0};
+    double cut = mi_float(e, "cutoff_angle", 20.0, &bad, p->err);
+    double beam = bad ? 0.0 : mi_float(e, "beam_width", 0.75 * cut, &bad, p->err);
+    if (bad || mi_to_world(e, m, p->err))
+        return 1;
+    if (!(cut > 0.0 && cut <= 90.0) || !(beam >= 0.0 && beam <= cut)) {
+        spm_errorf(p->err, "%s: %s: cutoff_angle %g must be above 0 and at most 90 degrees, "
+                   "beam_width %g from 0 to it", e->where, what, cut, beam);
+        return 1;
+    }
+    int c = light_colour(p, e, "intensity");
+    if (c < -1)
+        return 1;
+    if (c == -1)
+        return mi_unused(e, what, p->err);
+    spm_scene_light l = {.kind = SPM_LIGHT_SPOT, .colour = c};
+    light_frame(m, at, &l);
+    l.p[SPM_LIGHT_P_A] = (float)(cut * M_PI / 180.0);
+    l.p[SPM_LIGHT_P_B] = (float)(beam * M_PI / 180.0);
+    l.p[SPM_LIGHT_P_C] = (float)cos(cut * M_PI / 180.0);
+    return add_light(p, e, what, &l);
+}
+
+/* directional: specmip's distant light, travelling along `direction` or
+ * to_world's +z, its `irradiance` the colour. */
+static int emitter_directional(mi_parser *p, mi_node *e, const char *what)
+{
+    int bad = 0;
+    double m[4][4], dir[3];
+    mi_node *k = mi_prop(e, "direction", "vector", &bad, p->err);
+    const char *xyz[3] = {"x", "y", "z"};
+    if (bad || (k && mi_vec3(k, xyz, "value", dir, p->err)) || mi_to_world(e, m, p->err))
+        return 1;
+    int c = light_colour(p, e, "irradiance");
+    if (c < -1)
+        return 1;
+    if (c == -1)
+        return mi_unused(e, what, p->err);
+    spm_scene_light l = {.kind = SPM_LIGHT_DISTANT, .colour = c};
+    double d[3] = {m[0][2], m[1][2], m[2][2]};
+    for (int i = 0; k && i < 3; i++)
+        d[i] = dir[i];
+    double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(n > 0.0) || !isfinite(n)) {
+        spm_errorf(p->err, "%s: %s: its direction is zero", e->where, what);
+        return 1;
+    }
     for (int i = 0; i < 3; i++)
-        l.p[SPM_LIGHT_P_POS + i] = (float)pos[i];
-    l.p[SPM_LIGHT_P_SCALE] = 1.0f;
-    snprintf(l.where, sizeof l.where, "%.127s", e->where);
-    spm_scene *s = p->b.s;
-    s->lights = spm_xrealloc(s->lights, ((size_t)s->nlights + 1) * sizeof *s->lights);
-    s->lights[s->nlights++] = l;
-    return mi_unused(e, what, p->err);
+        l.p[SPM_LIGHT_P_DIR + i] = (float)(d[i] / n);
+    return add_light(p, e, what, &l);
 }
 
 /* envmap: specmip's environment map (envmap.h), whose convention is

@@ -348,43 +348,86 @@ static int colour_ref(parser *p, spm_kind kind)
 
 /* ---- lights (host/scene/lights.h) ------------------------------------------ */
 
+/* an angle in degrees in [lo, hi], in radians */
+static int light_angle(parser *p, const char *what, double lo, double hi, double *rad)
+{
+    double x;
+    if (spm_lex_number(&p->lx, what, lo, hi, &x, p->err))
+        return 1;
+    *rad = x * M_PI / 180.0;
+    return 0;
+}
+
+/* a light's direction from v (not zero) into q[DIR]; target: v came from
+ * a target */
+static int light_dir(parser *p, const double v[3], float *q, int target)
+{
+    double x = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(x > 0.0) || !isfinite(x))
+        return spm_lex_expected(&p->lx, p->err, target ? "a target away from the light"
+                                                       : "a direction that is not zero");
+    for (int i = 0; i < 3; i++)
+        q[SPM_LIGHT_P_DIR + i] = (float)(v[i] / x);
+    return 0;
+}
+
+/* `cone DEG [falloff DEG]` (lights.h 'C') */
+static int light_cone(parser *p, float *q)
+{
+    double c, f;
+    if (!spm_lex_is(&p->lx, "cone"))
+        return spm_lex_expected(&p->lx, p->err, "'cone' and the cone's half-angle in degrees");
+    if (spm_lex_next(&p->lx, p->err) ||
+        light_angle(p, "the cone's half-angle in degrees", 1e-3, 90.0, &c))
+        return 1;
+    f = c / 4.0; /* Mitsuba 3's default beam_width: 3/4 of the cutoff angle */
+    if (spm_lex_is(&p->lx, "falloff") &&
+        (spm_lex_next(&p->lx, p->err) ||
+         light_angle(p, "the falloff's width in degrees (at most the cone's half-angle)", 0.0,
+                     c * 180.0 / M_PI, &f)))
+        return 1;
+    q[SPM_LIGHT_P_A] = (float)c;
+    q[SPM_LIGHT_P_B] = (float)(c - f);
+    q[SPM_LIGHT_P_C] = (float)cos(c);
+    return 0;
+}
+
 /* One argument of a light's statement, its letter c (spm_light_desc.args),
- * into l; *na counts the angles read. */
-static int light_arg(parser *p, const spm_light_desc *k, char c, spm_scene_light *l, int *na)
+ * into l; *power the power a 'W' gave (0: an intensity). */
+static int light_arg(parser *p, char c, spm_scene_light *l, double *power)
 {
     double v[3], x;
     float *q = l->p;
     switch (c) {
     case 'P':
-        if (vec3(p, "a coordinate", -SPM_SCENE_MAX_COORD, SPM_SCENE_MAX_COORD, v))
+    case 'T':
+        if (vec3(p, c == 'P' ? "a coordinate" : "a target coordinate", -SPM_SCENE_MAX_COORD,
+                 SPM_SCENE_MAX_COORD, v))
             return 1;
-        for (int i = 0; i < 3; i++)
+        for (int i = 0; c == 'T' && i < 3; i++)
+            v[i] -= q[SPM_LIGHT_P_POS + i];
+        for (int i = 0; c == 'P' && i < 3; i++)
             q[SPM_LIGHT_P_POS + i] = (float)v[i];
-        return 0;
+        return c == 'T' ? light_dir(p, v, q, 1) : 0;
     case 'D':
-        if (vec3(p, "a direction component", -HUGE_VAL, HUGE_VAL, v))
-            return 1;
-        x = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        if (!(x > 0.0) || !isfinite(x))
-            return spm_lex_expected(&p->lx, p->err, "a direction that is not zero");
-        for (int i = 0; i < 3; i++)
-            q[SPM_LIGHT_P_DIR + i] = (float)(v[i] / x);
-        return 0;
+        return vec3(p, "a direction component", -HUGE_VAL, HUGE_VAL, v) || light_dir(p, v, q, 0);
     case 'S':
         return (l->colour = colour_ref_as(p, SPM_KIND_EMISSION, 2, 0)) < 0;
-    case 'A':
-        if (spm_lex_number(&p->lx, "an angle in degrees (above 0, at most 90)", 1e-3, 90.0, &x,
-                           p->err))
-            return 1;
-        q[*na ? SPM_LIGHT_P_B : SPM_LIGHT_P_A] = (float)cos(x * M_PI / 180.0);
-        ++*na;
-        return 0;
-    default: /* W, I, E: the factor of the spectrum */
-        if (spm_lex_number(&p->lx, c == 'W' ? "a power" : c == 'I' ? "an intensity"
-                                                                    : "an irradiance",
+    case 'C':
+        return light_cone(p, q);
+    default: /* W, E: the factor of the spectrum */
+        if (c == 'W' && spm_lex_is(&p->lx, "intensity")) {
+            if (spm_lex_next(&p->lx, p->err))
+                return 1;
+            c = 'I';
+        }
+        if (spm_lex_number(&p->lx, c == 'W' ? "a power (or 'intensity' and an intensity)"
+                                   : c == 'I' ? "an intensity"
+                                              : "an irradiance",
                            1e-30, HUGE_VAL, &x, p->err))
             return 1;
-        q[SPM_LIGHT_P_SCALE] = (float)(c == 'W' ? x / k->solid : x);
+        *power = c == 'W' ? x : 0.0;
+        q[SPM_LIGHT_P_SCALE] = c == 'W' ? 1.0f : (float)x;
         return 0;
     }
 }
@@ -407,13 +450,15 @@ static int stmt_light(parser *p)
         return spm_lex_expected(&p->lx, p->err, what);
     spm_scene_light l = {.kind = (int)k->tag, .colour = -1};
     where_keyword(p, l.where, sizeof l.where);
-    int na = 0;
+    double power = 0.0;
     if (spm_lex_next(&p->lx, p->err))
         return 1;
     for (const char *c = k->args; *c; c++)
-        if (light_arg(p, k, *c, &l, &na))
+        if (light_arg(p, *c, &l, &power))
             return 1;
     spm_scene *s = p->b.s;
+    if (power > 0.0) /* the intensity that emits it (p[SCALE] = 1 so far) */
+        l.p[SPM_LIGHT_P_SCALE] = (float)(power / k->power(s, l.p));
     s->lights = spm_xrealloc(s->lights, ((size_t)s->nlights + 1) * sizeof *s->lights);
     s->lights[s->nlights++] = l;
     return spm_lex_end_of_statement(&p->lx, p->err);

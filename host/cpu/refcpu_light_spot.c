@@ -1,0 +1,64 @@
+/* The CPU reference's spot light kind (kernels/light_spot.clh): intensity
+ * e->p[SCALE] f(theta) times its colour, f Mitsuba 3's linear falloff in
+ * angle between the beam angle e->p[B] and the cone angle e->p[A]; a delta. */
+#include <math.h>
+#include "geometry_vec3.h"
+#include "refcpu.h"
+#include "refcpu_lights.h"
+
+/* f(theta) of a direction at cosine cos_l to the axis: 1 to b, (c - theta) /
+ * (c - b) to c, 0 beyond */
+static float spot_falloff(const spm_emitter *e, float cos_l)
+{
+    if (!(cos_l >= e->p[SPM_LIGHT_P_C]))
+        return 0.0f;
+    float theta = acosf(fminf(cos_l, 1.0f)), c = e->p[SPM_LIGHT_P_A], b = e->p[SPM_LIGHT_P_B];
+    return theta <= b ? 1.0f : (c - theta) / (c - b);
+}
+
+/* toward the light at distance d, unoccluded up to d: g = (1 / pmf) / d^2,
+ * scale = I f (irradiance I f cos_i / d^2) */
+int spm_ref_light_sample_SPOT(const spm_geometry *g, const spm_material *mats,
+                              const spm_emitter *e, const spm_ref_key *k, spm_u32 dim,
+                              const float x[3], spm_u32 hit, const spm_ref_hit *h,
+                              spm_ref_lsample *ls)
+{
+    (void)mats, (void)k, (void)dim;
+    float d2, ts;
+    if (!spm_ref_light_toward(e, x, h, ls, &d2))
+        return 0;
+    float f = spot_falloff(e, -v3_dot(ls->wi, &e->p[SPM_LIGHT_P_DIR]));
+    if (!(f > 0.0f))
+        return 0;
+    spm_ref_record_ray(x, ls->wi, hit, SPM_RAY_CLOSEST);
+    if (spm_bvh_intersect(g, x, ls->wi, hit, &ts) >= 0 && ts < sqrtf(d2))
+        return 0;
+    return spm_ref_light_delta(ls, e, e->inv_pdf / d2, e->p[SPM_LIGHT_P_SCALE] * f);
+}
+
+/* from the apex (density 1), uniform in the cone: cos = 1 - u3 (1 - cos c),
+ * phi = 2 pi u4, density 1 / (2 pi (1 - cos c)) */
+void spm_ref_light_sample_emission_SPOT(const spm_geometry *g, const spm_emitter *e,
+                                        const float u[4], float o[3], float d[3], float *pdf_pos,
+                                        float *pdf_dir)
+{
+    (void)g;
+    float cc = e->p[SPM_LIGHT_P_C], z = 1.0f - u[2] * (1.0f - cc);
+    float r = sqrtf(fmaxf(0.0f, 1.0f - z * z)), phi = 2.0f * SPM_PI_F * u[3];
+    float l[3] = {r * cosf(phi), r * sinf(phi), z};
+    for (int i = 0; i < 3; i++)
+        o[i] = e->p[SPM_LIGHT_P_POS + i];
+    spm_ref_light_to_world(&e->p[SPM_LIGHT_P_DIR], l, d);
+    *pdf_pos = 1.0f;
+    *pdf_dir = 1.0f / (2.0f * SPM_PI_F * (1.0f - cc));
+}
+
+void spm_ref_light_pdf_emission_SPOT(const spm_geometry *g, const spm_emitter *e, const float o[3],
+                                     const float d[3], float *pdf_pos, float *pdf_dir)
+{
+    (void)g, (void)o;
+    float cc = e->p[SPM_LIGHT_P_C];
+    *pdf_pos = 1.0f;
+    *pdf_dir = v3_dot(d, &e->p[SPM_LIGHT_P_DIR]) >= cc ? 1.0f / (2.0f * SPM_PI_F * (1.0f - cc))
+                                                       : 0.0f;
+}
