@@ -13,8 +13,12 @@ import argparse
 import math
 import os
 import subprocess
+import sys
 
 import mitsuba as mi
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+from gen_envmap import direction, rgbe  # noqa: E402 (the bundled map's writer)
 
 XML = """<scene version="3.0.0">
   <integrator type="path"/>
@@ -36,20 +40,6 @@ XML = """<scene version="3.0.0">
 """
 
 
-def rgbe(c):
-    m = max(c)
-    if m < 1e-32:
-        return bytes(4)
-    _, e = math.frexp(m)
-    f = math.ldexp(1.0, -e) * 256.0
-    return bytes([int(c[0] * f), int(c[1] * f), int(c[2] * f), e + 128])
-
-
-def direction(u, v):
-    th, ph = math.pi * v, 2 * math.pi * u
-    return (math.sin(th) * math.sin(ph), math.cos(th), -math.sin(th) * math.cos(ph))
-
-
 def write_map(path, w=256, h=128):
     sun = direction(0.3, 0.3)
     with open(path, "wb") as f:
@@ -64,8 +54,11 @@ def write_map(path, w=256, h=128):
 
 
 def mean_rgb(exr):
-    out = subprocess.run(["oiiotool", exr, "--printstats"], capture_output=True, text=True).stdout
-    return [line.split(":")[1].split()[:3] for line in out.splitlines() if "Stats Avg" in line][0]
+    r = subprocess.run(["oiiotool", exr, "--printstats"], capture_output=True, text=True)
+    avg = [line.split(":")[1].split()[:3] for line in r.stdout.splitlines() if "Stats Avg" in line]
+    if not avg:
+        raise SystemExit(f"oiiotool could not read {exr}: {r.stderr.strip()}")
+    return avg[0]
 
 
 def main():
@@ -81,7 +74,8 @@ def main():
     mi.set_variant("scalar_spectral")
     scene = mi.load_file(xml)
     for seed in (1, 2):
-        mi.util.write_bitmap(os.path.join(a.out, f"mitsuba{seed}.exr"), mi.render(scene, seed=seed))
+        mi.util.write_bitmap(os.path.join(a.out, f"mitsuba{seed}.exr"), mi.render(scene, seed=seed),
+                            write_async=False)
     sp = os.path.join(a.out, "specmip.exr")
     subprocess.run([a.specmip, "render", xml, "--mode", "truth", "--quiet", "-o", sp], check=True)
     for name in ("specmip", "mitsuba1", "mitsuba2"):
