@@ -24,7 +24,9 @@
  * disp: the dispersive glasses' index tables (spm_geometry disp; a
  * placeholder in a scene without them).
  * tex, uvs: the textures' words and the triangles' texture coordinates
- * (spm_shared.h SPM_TEXD_*; placeholders in a scene without textures). */
+ * (spm_shared.h SPM_TEXD_*; placeholders in a scene without textures).
+ * envmap: the environment map's texels and distribution (spm_shared.h
+ * SPM_ENV_*; a placeholder in a scene without one). */
 #define SPM_TRACE_ARGS(X, S)                                            \
     X(__global const spm_tri *, cl_mem, tris) S                         \
     X(__global const spm_bvh4_node *, cl_mem, nodes) S                  \
@@ -36,6 +38,7 @@
     X(__global const float *, cl_mem, disp) S                           \
     X(__global const uint *, cl_mem, tex) S                             \
     X(__global const float *, cl_mem, uvs) S                            \
+    X(__global const float *, cl_mem, envmap) S                         \
     X(const spm_trace_params, spm_trace_params, p) S                    \
     X(uint, spm_u32, init_level) S                                      \
     X(uint, spm_u32, npaths) S                                          \

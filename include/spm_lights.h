@@ -85,3 +85,17 @@ SPM_LIGHT_KIND(DISTANT,
     .define = "SPM_WITH_LIGHT_DISTANT",
     .power = spm_light_power_distant,
     .place = spm_light_place_distant)
+
+/* an environment map: an equirectangular image around the scene (the
+ * 'background map' statement), met by escaping rays and sampled by a 2-D
+ * piecewise-constant distribution of its texels' luminance x sin(theta), so
+ * it takes MIS. Its texels are colours of a palette and a luminance each
+ * (host/scene/envmap.h); p[POS..] the scene's centre, p[DIR] cos and
+ * p[DIR + 1] sin of its rotation about +y, p[DIR + 2] the scene's radius,
+ * p[A] and p[B] the image's width and height. */
+#ifdef SPM_KERNEL_FILES
+#include "light_envmap.clh"
+#endif
+SPM_LIGHT_KIND(ENVMAP,
+    .keyword = NULL, /* made by 'background map', not by 'light' */
+    .define = "SPM_WITH_LIGHT_ENVMAP")

@@ -424,6 +424,17 @@ typedef struct {
                               vertex (SPM_VX_LAMBDA); 0: dispersive glass takes n_d */
 } spm_trace_params;
 
+/* The environment map's buffer (spm_geometry env, the trace stage's envmap),
+ * floats for a map of w x h texels, rows top (+y) to bottom: the marginal
+ * cdf over the rows (h + 1), each row's conditional cdf (w + 1 a row), each
+ * texel's density in (u, v) of the 2-D distribution, its luminance (the map's
+ * scale in), its palette colour id (a uint's bits; SPM_NONE: black). */
+#define SPM_ENV_COND(w, h) ((h) + 1u)
+#define SPM_ENV_PDF(w, h) (SPM_ENV_COND(w, h) + (h) * ((w) + 1u))
+#define SPM_ENV_LUM(w, h) (SPM_ENV_PDF(w, h) + (w) * (h))
+#define SPM_ENV_ID(w, h) (SPM_ENV_LUM(w, h) + (w) * (h))
+#define SPM_ENV_FLOATS(w, h) (SPM_ENV_ID(w, h) + (w) * (h))
+
 /* The light kinds (include/spm_lights.h): their tags SPM_LIGHT_NAME, one
  * per entry in its order. */
 #define SPM_LIGHT_KIND(name, ...) SPM_LIGHT_##name,

@@ -125,6 +125,28 @@ SPM_ALWAYS_INLINE void count_hit(float lpdf, float cpdf, float rrw, uint memit, 
     x->hit_c = rrw * wm * escale;
 }
 
+/* The ray of direction d leaving the scene after vertex j - 1 (whose sampled
+ * ray had density cpdf; throughput rrw): what it meets, into the header. The
+ * map, which light_sample reaches too (density lpdf), takes the power
+ * heuristic; 1 after a delta (cpdf 0) and for the camera's ray, 0 when the
+ * vertex's sampled rays count no emission (cpdf < 0: its light sample
+ * weighed 1). The two-colour background weighs 1. */
+SPM_ALWAYS_INLINE void escape(const spm_trace_params *p, __global const spm_emitter *emitters,
+                              __global const float *envmap, float3 d, uint j, float cpdf,
+                              float rrw, spm_path_head *hd)
+{
+    float scale, lpdf;
+    hd->end = SPM_END_ESCAPED;
+    hd->bg = light_escape(p, emitters, envmap, d, &scale, &lpdf);
+#if SPM_ON_LIGHT_ENVMAP
+    if (lpdf > 0.0f && j > 0u)
+        scale *= cpdf < 0.0f ? 0.0f : cpdf > 0.0f ? mis_power(cpdf, lpdf) : 1.0f;
+    if (!(scale > 0.0f))
+        hd->bg = SPM_NONE;
+#endif
+    hd->bg_c = hd->bg != SPM_NONE ? rrw * scale : 0.0f;
+}
+
 /* One batch of a pass; parameters: spm_kernel_args.h SPM_TRACE_ARGS. */
 __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 {
@@ -155,10 +177,8 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
     for (; j < SPM_MAX_DEPTH; j++) {
         float t;
         int hit = intersect(nodes, tris, o, d, skip, &t, counters);
-        if (hit < 0) { /* the background: MiniLight's sky for an upward ray */
-            hd.end = SPM_END_ESCAPED;
-            hd.bg = light_background(&p, d);
-            hd.bg_c = hd.bg != SPM_NONE ? rrw : 0.0f;
+        if (hit < 0) { /* the background: MiniLight's sky for an upward ray, or the map */
+            escape(&p, emitters, envmap, d, j, cpdf, rrw, &hd);
             if (hd.bg != SPM_NONE)
                 feel(lvlk, hd.bg, 1u, SPM_SETBY_EMITTER, &level, &setby);
             break;

@@ -132,6 +132,40 @@ static inline int cl_test_path_differs(const spm_path *a, const spm_path *b)
     return 0;
 }
 
+/* The kernel's trace against the reference's, path by path: spp samples of
+ * every pixel of s (mode 0's level table), the reference's records into cp
+ * (n = pixels x spp of them); *diverged the paths whose records differ,
+ * *level_diff those with equal records but other level bytes. 1 when the
+ * kernels did not run (a line printed). */
+static inline int cl_test_trace_diff(cl_test_scene *s, spm_u32 seed, int spp, spm_path *cp,
+                                     size_t *diverged, size_t *level_diff)
+{
+    size_t n = (size_t)s->geom.cam.width * s->geom.cam.height * spp;
+    spm_path *gp = spm_xcalloc(n, sizeof *gp);
+    uint8_t *gl = spm_xcalloc(n, 1), *cl = spm_xcalloc(n, 1);
+    spm_trace_params p = cl_test_params(s, seed, 0, (spm_u32)spp);
+    spm_ref_trace(&s->geom, s->tables.materials, cl_test_lvlk(&s->tables, 0), &p, cp, cl);
+    spm_cl_renderer *r;
+    spm_error err;
+    int rc = spm_cl_create(0, &s->geom, &s->tables, 0, seed, &r, &err);
+    if (!rc) {
+        rc = spm_cl_trace(r, 0, (spm_u32)spp, gp, gl, &err);
+        spm_cl_destroy(r);
+    }
+    if (rc)
+        printf("opencl: %s\n", err.msg);
+    *diverged = *level_diff = 0;
+    for (size_t i = 0; !rc && i < n; i++) {
+        int d = cl_test_path_differs(&gp[i], &cp[i]);
+        *diverged += d;
+        *level_diff += !d && gl[i] != cl[i];
+    }
+    free(gp);
+    free(gl);
+    free(cl);
+    return rc;
+}
+
 /* Shaded XYZ of n paths, got against ref: each component's difference
  * relative to the largest of its path's reference components (absolute where
  * the reference is all zero). Returns how many exceed rel, *worst the largest

@@ -53,6 +53,8 @@ refused "unknown integrator" "integrator is path or light, not 'bdpt'" \
 { cat "$CORNELL"; echo "background up equal 1"; } > "$T/sky.scene"
 refused "background" "background is no light a subpath starts from" \
     render "$T/sky.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
+refused "environment map" "background is no light a subpath starts from" \
+    render "$DATA/scenes/envmap.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 refused "dispersive glass" "does not commit to a wavelength" \
     render "$DATA/scenes/prism.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 sed 's/^material tall_box  reflect blue_sky/material tall_box  dielectric ior 1.5 alpha 0.3/' \

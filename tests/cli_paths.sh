@@ -138,6 +138,7 @@ allowed=(
     'mesh_texture.c:.*spm_texture_mean_file\(&file,'
     'mesh_texture_io.cpp:.*spm_texture_read_file\(file, &rgb,'
     'scene_texture.c:.*spm_texture_read_file\(&f, &rgb,'
+    'envmap.c:.*spm_texture_read_file\(f, &rgb,'
     'scene_parse.c:.*spm_spectrum_load\(d->file.path,'
     'scene_parse.c:.*spm_fluor_load_donaldson\(path.path,'
     'scene_parse.c:.*spm_lex_open\(&p.lx, file, err\)'

@@ -10,6 +10,7 @@
 #include "materials.h"
 #include "scene.h"
 #include "testutil.h"
+#include "envmap_testlib.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -300,6 +301,44 @@ static void test_spectra(void)
     spm_scene_free(&s);
 }
 
+static void write_white_map(void)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/white.hdr", dir);
+    CHECK(envmap_write_hdr(path, 8, 4, envmap_white) == 0, "write a map");
+}
+
+/* envmap: specmip's map, its file, scale and to_world's turn about +y; a
+ * tilt is left out (warned) */
+static void test_envmap(void)
+{
+    spm_scene s;
+    spm_error err;
+    write_white_map();
+    int rc = load("envmap.xml", "<emitter type=\"envmap\"><string name=\"filename\" "
+                  "value=\"white.hdr\"/><float name=\"scale\" value=\"2\"/>"
+                  "<transform name=\"to_world\"><rotate y=\"1\" angle=\"30\"/></transform>"
+                  "</emitter>", &s, &err);
+    CHECK(rc == 0, "envmap: %s", err.msg);
+    if (rc)
+        return;
+    CHECK(s.env && s.bg_up < 0 && s.bg_down < 0, "envmap: the map is the background");
+    if (s.env) {
+        CHECK_NEAR(s.env->scale, 2.0, 1e-12, "envmap: scale");
+        CHECK_NEAR(s.env->rotate, 30.0, 1e-9, "envmap: to_world's turn about +y");
+        CHECK(s.env->ncolours == 1 && fabs(s.env->lum[0] - 2.0f) < 1e-5f,
+              "envmap: a white map of luminance 2 (%g)", (double)s.env->lum[0]);
+    }
+    spm_scene_free(&s);
+    rc = load("envmap_tilt.xml", "<emitter type=\"envmap\"><string name=\"filename\" "
+              "value=\"white.hdr\"/><transform name=\"to_world\"><rotate x=\"1\" "
+              "angle=\"90\"/></transform></emitter>", &s, &err);
+    CHECK(rc == 0 && s.env && fabs(s.env->rotate) < 1e-9, "envmap: a tilt left out: %s",
+          rc ? err.msg : "");
+    if (!rc)
+        spm_scene_free(&s);
+}
+
 /* cube: 12 triangles facing out; disk faces +z; sphere at its center and radius */
 static void test_shapes(void)
 {
@@ -468,6 +507,7 @@ int main(void)
     test_bsdfs();
     test_spectra();
     test_shapes();
+    test_envmap();
     test_files();
     test_errors();
     char cmd[300];

@@ -2,12 +2,14 @@
 # Installs what specmip needs from Debian 12 (as root) and builds it into build/.
 # Usage: bash tools/setup.sh [--bench] [extra cmake options]
 # --bench also installs Embree 3 (libembree-dev), optional and used only by
-# `specmip bench --rays --embree` (bench/scale.sh): nothing else needs it.
+# `specmip bench --rays --embree` (bench/scale.sh), and Blender's data
+# (blender-data: its CC0 studio-light HDRIs, /usr/share/blender/datafiles/
+# studiolights/world/*.exr, for bench/envmap_palette.c): nothing else needs them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bench=()
 if [ "${1:-}" = --bench ]; then
-  bench=(libembree-dev)
+  bench=(libembree-dev blender-data)
   shift
 fi
 

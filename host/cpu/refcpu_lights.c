@@ -99,3 +99,13 @@ int spm_ref_light_toward(const spm_emitter *e, const float x[3], const spm_ref_h
     float cos_i = v3_dot(ls->wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
     return *d2 > 0.0f && (cos_i < 0.0f) == (cos_o < 0.0f);
 }
+
+spm_u32 spm_ref_light_escape(const spm_geometry *g, const spm_trace_params *p, const float d[3],
+                             float *scale, float *pdf)
+{
+    if (g->nemitters > 0 && g->emitters[g->nemitters - 1].kind == SPM_LIGHT_ENVMAP)
+        return spm_ref_light_escape_ENVMAP(g, &g->emitters[g->nemitters - 1], d, scale, pdf);
+    *scale = 1.0f;
+    *pdf = 0.0f;
+    return spm_ref_light_background(p, d);
+}

@@ -1,6 +1,7 @@
 /* Scene triangles in MiniLight's form, the emitter list and the camera. */
 #include "geometry.h"
 #include "colour.h"
+#include "envmap.h"
 #include "lights.h"
 #include "materials.h"
 #include "util.h"
@@ -132,9 +133,48 @@ static double emitter_power(const spm_scene *sc, const spm_tri *t)
     return faces * (double)t->area * (xyz[1] > 0.0 ? xyz[1] : 0.0);
 }
 
+/* The environment map's light, the next entry of the selection: its
+ * buffer, and its weight *w in the area lights' unit (radiant power over
+ * pi): pbrt-v4's, the power the map sends through a disk of the scene's
+ * radius r, pi r^2 times the integral of Y over the sphere, over pi:
+ *   r^2 2 pi^2 mean(Y sin(theta)). */
+static void add_envmap(const spm_scene *sc, spm_geometry *g, double *w)
+{
+    const spm_scene_envmap *m = sc->env;
+    double mean, lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    g->env = spm_envmap_tables(m, &g->nenv, &mean);
+    if (!(mean > 0.0)) /* black: escaping rays meet it, nothing to sample */
+        return;
+    for (int i = 0; i < g->ntris; i++)
+        for (int k = 0; k < 3; k++) {
+            const float *v[3] = {g->tris[i].v0, g->tris[i].v1, g->tris[i].v2};
+            for (int q = 0; q < 3; q++) {
+                lo[k] = fmin(lo[k], v[q][k]);
+                hi[k] = fmax(hi[k], v[q][k]);
+            }
+        }
+    spm_emitter *e = &g->emitters[g->nemitters++];
+    double r2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+        e->p[SPM_LIGHT_P_POS + k] = (float)(0.5 * (lo[k] + hi[k]));
+        r2 += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    }
+    double r = sqrt(r2) > 0.0 ? sqrt(r2) : 1.0, rot = m->rotate * M_PI / 180.0;
+    e->kind = SPM_LIGHT_ENVMAP;
+    e->tri = 0xFFFFFFFFu;
+    e->colour = SPM_NONE; /* per texel */
+    e->p[SPM_LIGHT_P_DIR] = (float)cos(rot);
+    e->p[SPM_LIGHT_P_DIR + 1] = (float)sin(rot);
+    e->p[SPM_LIGHT_P_DIR + 2] = (float)r;
+    e->p[SPM_LIGHT_P_A] = (float)m->w;
+    e->p[SPM_LIGHT_P_B] = (float)m->h;
+    e->p[SPM_LIGHT_P_SCALE] = 1.0f; /* in the texels' luminance */
+    *w = r * r * 2.0 * M_PI * M_PI * mean;
+}
+
 static void list_emitters(const spm_scene *sc, spm_geometry *g)
 {
-    size_t cap = (size_t)g->ntris + (size_t)sc->nlights + 1;
+    size_t cap = (size_t)g->ntris + (size_t)sc->nlights + 2;
     g->emitters = spm_xcalloc(cap, sizeof *g->emitters);
     g->light_pdf = spm_xcalloc((size_t)g->ntris + 1, sizeof *g->light_pdf);
     double *w = spm_xcalloc(cap, sizeof *w);
@@ -154,6 +194,8 @@ static void list_emitters(const spm_scene *sc, spm_geometry *g)
         spm_light_place(sc, &sc->lights[i], e->p);
         w[g->nemitters++] = spm_light_power(sc, &sc->lights[i]);
     }
+    if (sc->env) /* last: the trace stage finds it there */
+        add_envmap(sc, g, &w[g->nemitters]);
     /* an emission whose Y is 0 (all beyond the CMF's reach) still lights by its
      * other wavelengths: it keeps the smallest share, as a power of 0 would
      * make it unreachable */
@@ -248,6 +290,7 @@ void spm_geometry_free(spm_geometry *g)
     free(g->disp);
     free(g->uvs);
     free(g->tex);
+    free(g->env);
     memset(g, 0, sizeof *g);
 }
 

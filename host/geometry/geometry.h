@@ -32,6 +32,9 @@ typedef struct {
     float *uvs;             /* textured scenes: 6 floats per triangle (spm_shared.h), else NULL */
     spm_u32 *tex;           /* the textures' words (spm_shared.h SPM_TEXD_*), NULL when none */
     size_t ntex;            /* their count: 0 in a scene without textures */
+    float *env;             /* the environment map's texels and distribution (spm_shared.h
+                               SPM_ENV_*), NULL when none; its light is the last emitter */
+    size_t nenv;            /* its floats */
     spm_camera cam;
     spm_bvh_stats bvh;
 } spm_geometry;

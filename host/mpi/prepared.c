@@ -124,6 +124,7 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
     gs.disp = NULL;
     gs.uvs = NULL;
     gs.tex = NULL;
+    gs.env = NULL;
     put(&w, &gs, sizeof gs);
     put_array(&w, g->tris, (size_t)g->ntris * sizeof *g->tris);
     put_array(&w, g->nodes, (size_t)g->nnodes * sizeof *g->nodes);
@@ -133,6 +134,7 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
     put_array(&w, g->disp, (size_t)g->ndisp * SPM_TRUTH_BINS * sizeof *g->disp);
     put_array(&w, g->uvs, g->ntex ? (size_t)g->ntris * 6 * sizeof *g->uvs : 0);
     put_array(&w, g->tex, g->ntex * sizeof *g->tex);
+    put_array(&w, g->env, g->nenv * sizeof *g->env);
     spm_tables ts = *t, *clr = &ts;
     SPM_TABLES_ARRAYS(CLEAR_A, CLEAR_L)
     put(&w, &ts, sizeof ts);
@@ -169,6 +171,7 @@ int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *
     g->disp = get_array(&r, (size_t)ndisp * SPM_TRUTH_BINS * sizeof *g->disp);
     g->uvs = get_array(&r, g->ntex ? (size_t)ntris * 6 * sizeof *g->uvs : 0);
     g->tex = get_array(&r, g->ntex * sizeof *g->tex);
+    g->env = get_array(&r, g->nenv * sizeof *g->env);
     get(&r, t, sizeof *t);
     spm_tables *clr = t; /* no address from another process */
     SPM_TABLES_ARRAYS(CLEAR_A, CLEAR_L)

@@ -36,6 +36,7 @@
     X(disp, "dispersive indices", (size_t)g->ndisp * SPM_TRUTH_BINS * sizeof(float), g->disp) \
     X(tex, "textures", g->ntex * sizeof(spm_u32), g->tex)                          \
     X(uvs, "texture coordinates", g->uvs ? (size_t)g->ntris * 6 * sizeof(float) : 0, g->uvs) \
+    X(envmap, "environment map", (size_t)g->nenv * sizeof(float), g->env)           \
     X(dtab, "1 nm colour table", g->ndisp ? (size_t)t->ncolours * SPM_TRUTH_BINS * sizeof(float) : 0, \
       t->truth)                                                                     \
     X(dcmf, "1 nm XYZ weights", g->ndisp ? 3 * SPM_TRUTH_BINS * sizeof(float) : 0,  \

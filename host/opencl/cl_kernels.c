@@ -60,7 +60,7 @@ int spm_clr_run_trace(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_erro
     r->params.first_sample = b->first_sample;
     r->params.spp_per_pass = b->spp;
     trace_args a = {r->tris,  r->nodes, r->emitters,     r->mats, r->lvlk, r->light_pdf, r->vnormals,
-                    r->disp, r->tex, r->uvs, r->params, r->init_level, (spm_u32)b->n, r->heads, r->verts,
+                    r->disp, r->tex, r->uvs, r->envmap, r->params, r->init_level, (spm_u32)b->n, r->heads, r->verts,
                     r->levels, r->counters, b->first_pixel};
     cl_uint i = 0;
     return set_trace_args(r->k_trace, "spm_trace", &a, &i, err) ||

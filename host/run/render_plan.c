@@ -173,7 +173,7 @@ int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err)
         if (tp->cam.ortho)
             why = "an orthographic camera sees along one direction only, which no vertex's "
                   "connection to the camera meets";
-        else if (tp->bg_up != SPM_NONE || tp->bg_down != SPM_NONE)
+        else if (tp->bg_up != SPM_NONE || tp->bg_down != SPM_NONE || p->geom->env)
             why = "the background is no light a subpath starts from (it has no emission "
                   "sampling), and the camera seeing it is a camera path's";
         else if (p->tables->nfluor)

@@ -7,6 +7,7 @@
 #include "mesh.h"
 #include "materials.h"
 #include "scene_parsers.h"
+#include "envmap.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,6 +31,7 @@ static int emitter_constant(mi_parser *p, mi_node *e, const char *what);
 static int emitter_point(mi_parser *p, mi_node *e, const char *what);
 static int emitter_spot(mi_parser *p, mi_node *e, const char *what);
 static int emitter_directional(mi_parser *p, mi_node *e, const char *what);
+static int emitter_envmap(mi_parser *p, mi_node *e, const char *what);
 
 /* Mitsuba's emitters and what specmip does with each: a function that
  * renders it, or why it is warned about (area lights go with their shape). */
@@ -42,7 +44,7 @@ static const struct {
     {"point", emitter_point, NULL},
     {"spot", emitter_spot, NULL},
     {"directional", emitter_directional, NULL},
-    {"envmap", NULL, "environment maps are not rendered yet"},
+    {"envmap", emitter_envmap, NULL},
     {"sunsky", NULL, "sky models are not rendered"},
     {"projector", NULL, "projectors are not rendered"},
     {"directionalarea", NULL, "directional area lights are not rendered"},
@@ -184,6 +186,8 @@ static int emitter_constant(mi_parser *p, mi_node *e, const char *what)
                                  "the last one is the background", p->err))
         return 1;
     p->b.s->bg_up = p->b.s->bg_down = c;
+    spm_envmap_free(p->b.s->env); /* a map before it */
+    p->b.s->env = NULL;
     return mi_unused(e, what, p->err);
 }
 
@@ -301,6 +305,41 @@ static int emitter_directional(mi_parser *p, mi_node *e, const char *what)
     for (int i = 0; i < 3; i++)
         l.p[SPM_LIGHT_P_DIR + i] = (float)(d[i] / n);
     return add_light(p, e, what, &l);
+}
+
+/* envmap: specmip's environment map (envmap.h), whose convention is
+ * Mitsuba's; `filename` through the path rule, `scale` (default 1), and
+ * to_world's turn about +y: any other part of it (a tilt, a mirror, a
+ * scale) is warned about by name and left out. */
+static int emitter_envmap(mi_parser *p, mi_node *e, const char *what)
+{
+    int bad = 0;
+    double m[4][4];
+    const char *fn = mi_string(e, "filename", NULL, &bad, p->err);
+    double scale = mi_float(e, "scale", 1.0, &bad, p->err);
+    if (bad || mi_to_world(e, m, p->err))
+        return 1;
+    if (!fn) {
+        spm_errorf(p->err, "%s: %s needs a 'filename'", e->where, what);
+        return 1;
+    }
+    double rot = atan2(m[0][2], m[0][0]), c = cos(rot), sn = sin(rot), off = 0.0;
+    double want[3][3] = {{c, 0, sn}, {0, 1, 0}, {-sn, 0, c}};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            off = fmax(off, fabs(m[i][j] - want[i][j]));
+    if (off > 1e-6 && pbrt_warn(e->where, "to_world of an <emitter type=\"envmap\"> other than "
+                                "a turn about +y", "its turn about +y alone is rendered", p->err))
+        return 1;
+    if (p->bg_set++ && pbrt_warn(e->where, "a second background emitter",
+                                 "the last one is the background", p->err))
+        return 1;
+    spm_file f;
+    if (mi_file(&p->doc, mi_prop(e, "filename", "string", &bad, p->err), fn, &f, p->err) ||
+        spm_envmap_load(p->b.s, &f, scale, rot * 180.0 / M_PI, e->where, p->err))
+        return 1;
+    p->b.s->bg_up = p->b.s->bg_down = -1;
+    return mi_unused(e, what, p->err);
 }
 
 static int do_emitter(mi_parser *p, mi_node *e)

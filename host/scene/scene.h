@@ -58,6 +58,22 @@ typedef struct {
     char where[128];
 } spm_scene_light;
 
+/* An environment map (`background map`, host/scene/envmap.h): an
+ * equirectangular image around the scene, its texels colours of a palette
+ * (scene colours [first, first + ncolours), emissions of luminance 1) and a
+ * luminance each. */
+typedef struct {
+    int w, h;            /* texels, rows top (+y) to bottom */
+    float *rgb;          /* linear RGB as read, 3 a texel (freed once the palette is made) */
+    double scale;        /* the factor of its radiance */
+    double rotate;       /* degrees about +y */
+    int first, ncolours; /* its palette */
+    int *colour;         /* per texel: its palette colour (a scene colour), -1 black */
+    float *lum;          /* per texel: its luminance Y, the scale in */
+    double duv_max, duv_mean; /* the palette's chromaticity error (envmap.h) */
+    char where[128];     /* the statement, "file:line:col" */
+} spm_scene_envmap;
+
 typedef struct {
     char path[512];      /* file it came from ("<default>" for the built-in scene) */
     float eye[3], dir[3];
@@ -97,6 +113,7 @@ typedef struct {
     int *palette;
     int bg_up;           /* colour for a ray escaping upward (+y), -1 none */
     int bg_down;         /* for one escaping downward, -1 none */
+    spm_scene_envmap *env; /* the environment map (NULL: none; then bg_up and bg_down) */
     spm_scene_light *lights; /* the `light` statements' lights, in the file's order */
     int nlights;
     spm_scene_mesh *meshes; /* one per mesh statement, in the file's order */

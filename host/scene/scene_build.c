@@ -6,6 +6,7 @@
 #include "colour.h"
 #include "materials.h"
 #include "texture.h"
+#include "envmap.h"
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -28,6 +29,7 @@ void spm_scene_free(spm_scene *s)
     free(s->lights);
     free(s->rerad);
     free(s->disp);
+    spm_envmap_free(s->env);
     memset(s, 0, sizeof *s);
     s->bg_up = s->bg_down = -1;
 }
@@ -58,7 +60,8 @@ static void *reserve(void *p, int count, int *cap, size_t elem)
 {
     if (count < *cap)
         return p;
-    *cap = *cap ? *cap * 2 : 16;
+    while (*cap <= count) /* a part that grew the array itself leaves cap behind */
+        *cap = *cap ? *cap * 2 : 16;
     return spm_xrealloc(p, (size_t)*cap * elem);
 }
 
@@ -425,6 +428,8 @@ int spm_sb_prune(spm_scene_builder *b, const char *where, spm_error *err)
         return 0;
     if (prune_once(b, where, err))
         return 1;
+    if (spm_envmap_palette(s, err)) /* the map's colours, after the scene's own */
+        return 1;
     spm_scene *s = b->s;
     spm_names_free(&b->colour_index); /* the kept colours' new indices, for sharing */
     spm_names_init(&b->colour_index);
@@ -442,6 +447,8 @@ int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
     spm_scene *s = b->s;
     if (prune_once(b, where, err))
         return 1;
+    if (spm_envmap_palette(s, err)) /* the map's colours, after the scene's own */
+        return 1;
     /* colours a type derives, last (materials.h derive) */
     for (int i = 0; i < s->nmaterials; i++) {
         const spm_mtype_desc *t = &spm_material_types[s->materials[i].type];
@@ -453,7 +460,7 @@ int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
             return 1;
         }
     }
-    int lit = s->bg_up >= 0 || s->bg_down >= 0 || s->nlights > 0;
+    int lit = s->bg_up >= 0 || s->bg_down >= 0 || s->nlights > 0 || s->env;
     for (int i = 0; i < s->nmaterials && !lit; i++)
         lit = s->materials[i].emit >= 0;
     if (!lit) {

@@ -14,6 +14,7 @@
 #include "dispersion.h"
 #include "fluor.h"
 #include "scene_texture.h"
+#include "envmap.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -1103,12 +1104,14 @@ static int stmt_mesh(parser *p)
     return rc;
 }
 
+/* background up|down|both SPECTRUM, or background map FILE ... (envmap.h),
+ * which is both */
 static int stmt_background(parser *p)
 {
     int dir = spm_lex_is(&p->lx, "up") ? 0 : spm_lex_is(&p->lx, "down") ? 1
-              : spm_lex_is(&p->lx, "both") ? 2 : -1;
+              : spm_lex_is(&p->lx, "both") || spm_lex_is(&p->lx, "map") ? 2 : -1;
     if (dir < 0)
-        return spm_lex_expected(&p->lx, p->err, "'up', 'down' or 'both'");
+        return spm_lex_expected(&p->lx, p->err, "'up', 'down', 'both' or 'map'");
     for (int k = 0; k < 2; k++)
         if ((dir == k || dir == 2) && p->bg_line[k]) {
             char where[600];
@@ -1118,6 +1121,10 @@ static int stmt_background(parser *p)
             return 1;
         }
     int line = p->lx.tline;
+    if (spm_lex_is(&p->lx, "map")) {
+        p->bg_line[0] = p->bg_line[1] = line;
+        return spm_envmap_statement(p->b.s, &p->lx, p->dir, p->err);
+    }
     if (spm_lex_next(&p->lx, p->err))
         return 1;
     int c = colour_ref(p, SPM_KIND_EMISSION);

@@ -1,0 +1,181 @@
+/* The CPU reference's environment map kind (kernels/light_envmap.clh): an
+ * equirectangular image, its texels a palette colour and a luminance each,
+ * met by escaping rays and sampled by the 2-D distribution of luminance x
+ * sin(theta) in g->env (spm_shared.h SPM_ENV_*); the selection's last entry. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "geometry_vec3.h"
+#include "refcpu.h"
+#include "refcpu_lights.h"
+
+/* SPECMIP_BENCH_ENV_UNIFORM=1 (bench/envmap_nee.sh): the map sampled
+ * uniformly over the sphere instead of by its distribution, light samples
+ * and MIS alike, the baseline its importance sampling is measured against. */
+static int uniform(void)
+{
+    static _Thread_local int u = -1;
+    if (u < 0) {
+        const char *s = getenv("SPECMIP_BENCH_ENV_UNIFORM");
+        u = s && !strcmp(s, "1");
+    }
+    return u;
+}
+
+static spm_u32 env_w(const spm_emitter *e) { return (spm_u32)e->p[SPM_LIGHT_P_A]; }
+static spm_u32 env_h(const spm_emitter *e) { return (spm_u32)e->p[SPM_LIGHT_P_B]; }
+
+static spm_u32 env_id(const spm_geometry *g, const spm_emitter *e, spm_u32 t)
+{
+    spm_u32 id;
+    memcpy(&id, &g->env[SPM_ENV_ID(env_w(e), env_h(e)) + t], sizeof id);
+    return id;
+}
+
+/* the last k with cdf[k] <= u < cdf[k+1] among cdf[0, n] */
+static spm_u32 env_search(const float *cdf, spm_u32 n, float u)
+{
+    spm_u32 lo = 0, hi = n - 1u;
+    while (lo < hi) {
+        spm_u32 mid = (lo + hi + 1u) >> 1;
+        if (cdf[mid] <= u)
+            lo = mid;
+        else
+            hi = mid - 1u;
+    }
+    return lo;
+}
+
+/* a direction of the distribution from u1 (row) and u2 (column): its texel
+ * *t, sin(theta) *st; returns its density in (u, v) */
+static float env_sample_dir(const spm_geometry *g, const spm_emitter *e, float u1, float u2,
+                            float d[3], spm_u32 *t, float *st)
+{
+    spm_u32 w = env_w(e), h = env_h(e);
+    const float *env = g->env;
+    spm_u32 j = env_search(env, h, u1);
+    float dv = (u1 - env[j]) / (env[j + 1u] - env[j]);
+    const float *cond = env + SPM_ENV_COND(w, h) + j * (w + 1u);
+    spm_u32 i = env_search(cond, w, u2);
+    float du = (u2 - cond[i]) / (cond[i + 1u] - cond[i]);
+    float u = ((float)i + du) / (float)w, v = ((float)j + dv) / (float)h;
+    float theta = SPM_PI_F * v, phi = 2.0f * SPM_PI_F * u;
+    float s = sinf(theta), c = cosf(theta);
+    float lx = s * sinf(phi), lz = -s * cosf(phi);
+    float cr = e->p[SPM_LIGHT_P_DIR], sr = e->p[SPM_LIGHT_P_DIR + 1];
+    d[0] = cr * lx + sr * lz;
+    d[1] = c;
+    d[2] = cr * lz - sr * lx;
+    *t = j * w + i;
+    *st = s;
+    return env[SPM_ENV_PDF(w, h) + *t];
+}
+
+/* the texel direction d falls in; *st its sin(theta) */
+static spm_u32 env_texel(const spm_emitter *e, const float d[3], float *st)
+{
+    spm_u32 w = env_w(e), h = env_h(e);
+    float cr = e->p[SPM_LIGHT_P_DIR], sr = e->p[SPM_LIGHT_P_DIR + 1];
+    float lx = cr * d[0] - sr * d[2], lz = sr * d[0] + cr * d[2];
+    float y = fminf(fmaxf(d[1], -1.0f), 1.0f);
+    float u = atan2f(lx, -lz) * (0.5f / SPM_PI_F);
+    if (u < 0.0f)
+        u += 1.0f;
+    float v = acosf(y) / SPM_PI_F;
+    spm_u32 i = (spm_u32)(u * (float)w), j = (spm_u32)(v * (float)h);
+    i = i < w - 1u ? i : w - 1u;
+    j = j < h - 1u ? j : h - 1u;
+    *st = sqrtf(fmaxf(0.0f, 1.0f - y * y));
+    return j * w + i;
+}
+
+spm_u32 spm_ref_light_escape_ENVMAP(const spm_geometry *g, const spm_emitter *e, const float d[3],
+                                    float *scale, float *pdf)
+{
+    spm_u32 w = env_w(e), h = env_h(e);
+    float st;
+    spm_u32 t = env_texel(e, d, &st);
+    *scale = g->env[SPM_ENV_LUM(w, h) + t];
+    *pdf = st > 0.0f ? e->pdf * g->env[SPM_ENV_PDF(w, h) + t] / (2.0f * SPM_PI_F * SPM_PI_F * st)
+                     : 0.0f;
+    if (uniform())
+        *pdf = e->pdf / (4.0f * SPM_PI_F);
+    return env_id(g, e, t);
+}
+
+/* the uniform baseline's direction: z = 1 - 2 u1, phi = 2 pi u2; its
+ * texel *t; returns its density 1 / (4 pi) */
+static float uniform_dir(const spm_emitter *e, float u1, float u2, float d[3], spm_u32 *t)
+{
+    float z = 1.0f - 2.0f * u1, r = sqrtf(fmaxf(0.0f, 1.0f - z * z)), st;
+    d[0] = r * cosf(2.0f * SPM_PI_F * u2);
+    d[1] = z;
+    d[2] = r * sinf(2.0f * SPM_PI_F * u2);
+    *t = env_texel(e, d, &st);
+    return 1.0f / (4.0f * SPM_PI_F);
+}
+
+int spm_ref_light_sample_ENVMAP(const spm_geometry *g, const spm_material *mats,
+                                const spm_emitter *e, const spm_ref_key *k, spm_u32 dim,
+                                const float x[3], spm_u32 hit, const spm_ref_hit *h,
+                                spm_ref_lsample *ls)
+{
+    (void)mats;
+    spm_u32 t;
+    float st, ts;
+    float u1 = spm_ref_rnd(k, dim + SPM_DIM_EPOINT_A), u2 = spm_ref_rnd(k, dim + SPM_DIM_EPOINT_B);
+    float puv = env_sample_dir(g, e, u1, u2, ls->wi, &t, &st);
+    float pdf_sa = puv > 0.0f && st > 0.0f ? puv / (2.0f * SPM_PI_F * SPM_PI_F * st) : 0.0f;
+    if (uniform())
+        pdf_sa = uniform_dir(e, u1, u2, ls->wi, &t);
+    spm_u32 colour = env_id(g, e, t);
+    float cos_i = v3_dot(ls->wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
+    if (!(pdf_sa > 0.0f) || colour == SPM_NONE || (cos_i < 0.0f) != (cos_o < 0.0f))
+        return 0;
+    spm_ref_record_ray(x, ls->wi, hit, SPM_RAY_CLOSEST);
+    if (spm_bvh_intersect(g, x, ls->wi, hit, &ts) >= 0)
+        return 0;
+    ls->pdf = e->pdf * pdf_sa;
+    ls->g = e->inv_pdf / pdf_sa;
+    ls->scale = g->env[SPM_ENV_LUM(env_w(e), env_h(e)) + t];
+    ls->colour = colour;
+    ls->delta = 0;
+    return 1;
+}
+
+/* pbrt-v4's SampleLe: a direction -w of the distribution (u[0], u[1]) from a
+ * point of the disk of the scene's radius r facing it, r beyond the centre
+ * along w (u[2], u[3]: density 1 / (pi r^2)) */
+void spm_ref_light_sample_emission_ENVMAP(const spm_geometry *g, const spm_emitter *e,
+                                          const float u[4], float o[3], float d[3], float *pdf_pos,
+                                          float *pdf_dir)
+{
+    float w[3], a[3] = {1.0f, 0.0f, 0.0f}, b1[3], b2[3], c[3], st;
+    spm_u32 t;
+    float puv = env_sample_dir(g, e, u[0], u[1], w, &t, &st);
+    if (fabsf(w[0]) > 0.9f)
+        a[0] = 0.0f, a[1] = 1.0f;
+    v3_cross(c, a, w);
+    v3_normalise(b1, c);
+    v3_cross(b2, w, b1);
+    float r = e->p[SPM_LIGHT_P_DIR + 2], rr = r * sqrtf(u[2]), ph = 2.0f * SPM_PI_F * u[3];
+    for (int i = 0; i < 3; i++) {
+        o[i] = e->p[SPM_LIGHT_P_POS + i] + w[i] * r + b1[i] * (rr * cosf(ph)) +
+               b2[i] * (rr * sinf(ph));
+        d[i] = -w[i];
+    }
+    *pdf_pos = 1.0f / (SPM_PI_F * r * r);
+    *pdf_dir = puv > 0.0f && st > 0.0f ? puv / (2.0f * SPM_PI_F * SPM_PI_F * st) : 0.0f;
+}
+
+void spm_ref_light_pdf_emission_ENVMAP(const spm_geometry *g, const spm_emitter *e, const float o[3],
+                                       const float d[3], float *pdf_pos, float *pdf_dir)
+{
+    (void)o;
+    float st, back[3] = {-d[0], -d[1], -d[2]}, r = e->p[SPM_LIGHT_P_DIR + 2];
+    spm_u32 t = env_texel(e, back, &st);
+    *pdf_pos = 1.0f / (SPM_PI_F * r * r);
+    *pdf_dir = st > 0.0f ? g->env[SPM_ENV_PDF(env_w(e), env_h(e)) + t] /
+                               (2.0f * SPM_PI_F * SPM_PI_F * st)
+                         : 0.0f;
+}

@@ -1,0 +1,264 @@
+/* The environment map on the CPU (host/scene/envmap.h, the reference's
+ * host/cpu/refcpu_light_envmap.c), on maps the test writes:
+ *  - where a direction falls: Mitsuba 3's equirectangular convention (the
+ *    top row up, the centre column along +z, a quarter along +x; `rotate`
+ *    turning +z toward +x), each texel's luminance its grey value times the
+ *    scale, written here independently of the reader;
+ *  - the palette: a grey map is one colour, a two-colour map two, each within
+ *    a small distance in u'v' of its RGB's chromaticity;
+ *  - chi-squared: the directions the map's distribution draws (through the
+ *    contract's light_sample_emission) against the density an escaping ray
+ *    is given for MIS (light_escape / the selection's pmf), whose integral
+ *    over the sphere must be 1, on a map with a small sun, a black band and
+ *    a rotation (tests/chi2_testlib.h);
+ *  - strategies: under a map with a soft sun, a rough gold and a rough coated
+ *    sphere on a rough diffuse floor render the same mean with MIS, light
+ *    samples alone and the materials' sampling alone (SPECMIP_TEST_STRATEGY,
+ *    as tests/test_strategies.c), which sees an MIS weight at an escape that
+ *    does not match the light sample's density. */
+#include <string.h>
+#include "chi2_testlib.h"
+#include "envmap_testlib.h"
+#include "geometry.h"
+#include "refcpu_lights.h"
+#include "render_testlib.h"
+#include <unistd.h>
+
+/* a scene of one small far triangle (a scene needs one) under the map */
+static int load(const char *map, const char *opts, spm_scene *s, spm_geometry *g)
+{
+    FILE *f = fopen("envmap_test.scene", "w");
+    if (!f)
+        return 1;
+    fprintf(f, "image 8 8\ncamera position 0 0 0 direction 0 0 1 fov 40\n"
+               "spectrum grey equal\nmaterial m reflect grey 0.5\n"
+               "tri m 100 -100 100  101 -100 100  100 -100 101\nbackground map %s %s\n", map, opts);
+    fclose(f);
+    spm_error err;
+    if (spm_scene_load("envmap_test.scene", s, &err)) {
+        printf("load: %s\n", err.msg);
+        return 1;
+    }
+    if (spm_geometry_build(s, g, &err)) {
+        printf("geometry: %s\n", err.msg);
+        spm_scene_free(s);
+        return 1;
+    }
+    return 0;
+}
+
+/* load() under a map of w x h texels fn writes first; 1 (a failure) when either fails */
+static int write_load(const char *map, int w, int h, envmap_texel_fn fn, const char *opts,
+                      spm_scene *s, spm_geometry *g)
+{
+    int rc = envmap_write_hdr(map, w, h, fn) || load(map, opts, s, g);
+    CHECK(rc == 0, "the scene under %s loads", map);
+    return rc;
+}
+
+static void grey_ramp(int i, int j, int w, int h, float rgb[3])
+{
+    (void)h;
+    rgb[0] = rgb[1] = rgb[2] = (float)(1 + i + w * j) / 8.0f;
+    envmap_quantise(rgb);
+}
+
+/* the direction of map coordinates (u, v) under a rotation of rot degrees
+ * about +y, from Mitsuba 3's convention: theta = pi v from +y, and phi =
+ * 2 pi u from -z toward +x, so u = 1/4 is +x and u = 1/2 is +z */
+static void direction(double u, double v, double rot, double d[3])
+{
+    double th = M_PI * v, ph = 2.0 * M_PI * u, r = rot * M_PI / 180.0;
+    double x = sin(th) * sin(ph), y = cos(th), z = -sin(th) * cos(ph);
+    d[0] = cos(r) * x + sin(r) * z; /* +z turns toward +x */
+    d[1] = y;
+    d[2] = -sin(r) * x + cos(r) * z;
+}
+
+static void test_mapping(void)
+{
+    const int w = 16, h = 8;
+    CHECK(envmap_write_hdr("envmap_ramp.hdr", w, h, grey_ramp) == 0, "write the map");
+    for (int rot = 0; rot < 2; rot++) {
+        spm_scene s;
+        spm_geometry g;
+        if (load("envmap_ramp.hdr", rot ? "scale 2 rotate 90" : "scale 2", &s, &g)) {
+            CHECK(0, "the ramp scene loads");
+            continue;
+        }
+        CHECK(s.env && s.env->ncolours == 1, "a grey map is one palette colour (%d)",
+              s.env ? s.env->ncolours : -1);
+        const spm_emitter *e = &g.emitters[g.nemitters - 1];
+        CHECK(e->kind == SPM_LIGHT_ENVMAP, "the map is the selection's last light");
+        int bad = 0;
+        for (int j = 0; j < h; j++)
+            for (int i = 0; i < w; i++) {
+                double d[3];
+                float df[3], scale, pdf, c[3];
+                direction((i + 0.5) / w, (j + 0.5) / h, rot ? 90.0 : 0.0, d);
+                for (int k = 0; k < 3; k++)
+                    df[k] = (float)d[k];
+                grey_ramp(i, j, w, h, c);
+                spm_u32 col = spm_ref_light_escape_ENVMAP(&g, e, df, &scale, &pdf);
+                bad += col != (spm_u32)s.env->first || fabs(scale - 2.0 * c[0]) > 1e-5 * scale;
+            }
+        CHECK(bad == 0, "rotate %d: %d texels not where the convention puts them", rot * 90, bad);
+        /* anchors: +y is the top row, and the direction the centre column
+         * looks along is +z, or +x turned by 90 degrees */
+        float up[3] = {0.0f, 1.0f, 0.0f}, ctr[3] = {rot ? 1.0f : 0.0f, -0.1f, rot ? 0.0f : 1.0f};
+        float sc, pdf, c[3];
+        spm_ref_light_escape_ENVMAP(&g, e, up, &sc, &pdf);
+        grey_ramp(0, 0, w, h, c);
+        CHECK(sc >= 2.0f * c[0] && sc <= 2.0f * (c[0] + (float)w / 8.0f), "+y: the top row");
+        spm_ref_light_escape_ENVMAP(&g, e, ctr, &sc, &pdf);
+        grey_ramp(w / 2, h / 2, w, h, c);
+        CHECK(fabsf(sc - 2.0f * c[0]) <= 1e-5f * sc, "the centre column: %g, want %g", sc,
+              2.0 * c[0]);
+        spm_geometry_free(&g);
+        spm_scene_free(&s);
+    }
+}
+
+static void two_colours(int i, int j, int w, int h, float rgb[3])
+{
+    (void)j, (void)h;
+    int red = i < w / 2;
+    rgb[0] = red ? 2.0f : 0.1f, rgb[1] = red ? 0.3f : 0.4f, rgb[2] = red ? 0.2f : 1.5f;
+}
+
+/* the palette's chromaticity error on a map of two colours, one cell each:
+ * the lift's alone, polished to CIEDE2000 0.01 (rgb2spec_table.h), about
+ * 1e-4 in u'v'; measured 4.6e-7 */
+#define DUV_MAX 1e-4
+
+static void test_palette(void)
+{
+    spm_scene s;
+    spm_geometry g;
+    if (write_load("envmap_two.hdr", 8, 4, two_colours, "", &s, &g))
+        return;
+    printf("palette: %d colours, u'v' error max %.2e, mean %.2e\n", s.env->ncolours,
+           s.env->duv_max, s.env->duv_mean);
+    CHECK(s.env->ncolours == 2, "two colours, %d in the palette", s.env->ncolours);
+    CHECK(s.env->duv_max < DUV_MAX, "u'v' error %.3g", s.env->duv_max);
+    spm_geometry_free(&g);
+    spm_scene_free(&s);
+}
+
+typedef struct {
+    const spm_geometry *g;
+    int k;
+} env_ctx;
+
+static int sample_map(void *ctx, const double wo[3], const double u[3], double wi[3], double *pdf,
+                      double *w)
+{
+    (void)wo;
+    const env_ctx *c = ctx;
+    float uf[4] = {(float)u[0], (float)u[1], (float)u[2], 0.5f}, o[3], d[3], pp, pd;
+    spm_ref_light_sample_emission(c->g, (spm_u32)c->k, uf, o, d, &pp, &pd);
+    for (int k = 0; k < 3; k++)
+        wi[k] = -d[k]; /* toward the map */
+    *pdf = pd;
+    *w = 1.0;
+    return pd > 0.0f;
+}
+
+static double pdf_map(void *ctx, const double wo[3], const double wi[3])
+{
+    (void)wo;
+    const env_ctx *c = ctx;
+    const spm_emitter *e = &c->g->emitters[c->k];
+    float d[3] = {(float)wi[0], (float)wi[1], (float)wi[2]}, sc, pdf;
+    spm_ref_light_escape_ENVMAP(c->g, e, d, &sc, &pdf);
+    return pdf / e->pdf;
+}
+
+static void test_chi2(void)
+{
+    spm_scene s;
+    spm_geometry g;
+    if (write_load("envmap_sun.hdr", 64, 32, envmap_sun, "rotate 30", &s, &g))
+        return;
+    env_ctx c = {&g, g.nemitters - 1};
+    chi2_sampler smp = {"environment map", &c, sample_map, pdf_map, NULL};
+    double wo[3] = {0.0, 0.0, 1.0};
+    chi2_run(&smp, wo, 400000, 0x5eed0e00u, 0.01);
+    spm_geometry_free(&g);
+    spm_scene_free(&s);
+}
+
+#define STRAT_SEEDS 6
+#define STRAT_SPP 48
+#define STRAT_SIZE 24
+/* a strategy's mean against MIS's: within Z_MAX standard errors of their
+ * per-seed difference (normal, 6 seeds: 4.5 leaves 1 in 100000 of a correct
+ * estimator failing) */
+#define Z_MAX 4.5
+
+static void test_strategies(void)
+{
+    FILE *f = envmap_write_hdr("envmap_soft.hdr", 64, 32, envmap_soft_sun) ? NULL
+                                                                           : fopen("envmap_strat.scene", "w");
+    char cwd[512], path[700];
+    if (!f || !getcwd(cwd, sizeof cwd)) {
+        CHECK(0, "cannot write the strategies' scene");
+        if (f)
+            fclose(f);
+        return;
+    }
+    fprintf(f, "image 24 24\ncamera position 0 1.1 -4  direction 0 -0.2 1  fov 40\nspectrum grey equal\n"
+               "spectrum au_eta file metal_Au_eta.csv\nspectrum au_k file metal_Au_k.csv\n"
+               "material floor roughdiffuse reflect grey 0.5 roughness 0.5\n"
+               "material gold conductor au_eta au_k alpha 0.3\n"
+               "material paint coated reflect grey 0.6 ior 1.5 alpha 0.2\n"
+               "background map envmap_soft.hdr rotate 40\n"
+               "quad floor  -60 0 -60  -60 0 60  60 0 60  60 0 -60\n"
+               "mesh %s/scenes/materials_sphere.ply material gold scale 0.6 translate -0.7 0.6 0.3\n"
+               "mesh %s/scenes/materials_sphere.ply material paint scale 0.6 translate 0.7 0.6 0.3\n",
+            SPM_SOURCE_DIR, SPM_SOURCE_DIR);
+    fclose(f);
+    snprintf(path, sizeof path, "%s/envmap_strat.scene", cwd);
+    static const char *const names[3] = {NULL, "light", "lobe"};
+    double mean[3][STRAT_SEEDS];
+    for (int st = 0; st < 3; st++)
+        for (int k = 0; k < STRAT_SEEDS; k++) {
+            if (names[st])
+                setenv("SPECMIP_TEST_STRATEGY", names[st], 1);
+            else
+                unsetenv("SPECMIP_TEST_STRATEGY");
+            rt_render_job j = {path, SPM_MODE_RGB, STRAT_SPP, 11u + (spm_u32)k, STRAT_SIZE, 0.0, "cpu"};
+            rt_render_out o;
+            mean[st][k] = 0.0;
+            if (rt_render(&j, &o, NULL, NULL)) {
+                CHECK(0, "the strategies' scene renders");
+                return;
+            }
+            for (int p = 0; p < STRAT_SIZE * STRAT_SIZE; p++)
+                mean[st][k] += (0.2126 * o.img.rgb[3 * p] + 0.7152 * o.img.rgb[3 * p + 1] +
+                                0.0722 * o.img.rgb[3 * p + 2]) / (STRAT_SIZE * STRAT_SIZE);
+            free(o.img.rgb);
+        }
+    unsetenv("SPECMIP_TEST_STRATEGY");
+    for (int st = 1; st < 3; st++) {
+        double s = 0.0, s2 = 0.0;
+        for (int k = 0; k < STRAT_SEEDS; k++) {
+            double d = mean[st][k] - mean[0][k];
+            s += d, s2 += d * d;
+        }
+        double m = s / STRAT_SEEDS, se = sqrt((s2 / STRAT_SEEDS - m * m) / (STRAT_SEEDS - 1));
+        printf("strategies: %s alone - MIS %.5f (se %.5f) of a mean %.4f\n", names[st], m, se,
+               mean[0][0]);
+        CHECK(se > 0.0 && fabs(m) <= Z_MAX * se, "%s alone differs from MIS by %.4f (%.1f se)",
+              names[st], m, se > 0.0 ? fabs(m) / se : 0.0);
+    }
+}
+
+int main(void)
+{
+    test_mapping();
+    test_palette();
+    test_chi2();
+    test_strategies();
+    TEST_END();
+}
