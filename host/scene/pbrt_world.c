@@ -1,7 +1,7 @@
 /* The world: materials (named and current), area lights, shapes and object
  * instances, added to the scene through the mesh builder (mesh_build.c) with
- * the current transform; lights and textures specmip does not render yet
- * are warned about. */
+ * the current transform (LightSource: pbrt_lights.c); textures are warned
+ * about. */
 #include "pbrt_parser.h"
 #include "materials.h"
 #include <stdlib.h>
@@ -85,12 +85,11 @@ static int dir_texture(pbrt_parser *p, const char *where)
 
 static int dir_light(pbrt_parser *p, const char *where)
 {
-    char type[64], what[128];
+    char type[64];
     pbrt_params ps;
     if (pbrt_arg_string(p, "a light type", type, sizeof type) || pbrt_arg_params(p, &ps))
         return 1;
-    snprintf(what, sizeof what, "LightSource \"%.40s\"", type);
-    int rc = pbrt_warn(where, what, "specmip renders area lights only, for now", p->err);
+    int rc = pbrt_light_make(p, type, &ps, where);
     pbrt_params_free(&ps);
     return rc;
 }
