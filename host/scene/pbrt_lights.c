@@ -9,10 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The light's spectrum `name` (default the colour space's white, D65) at
- * luminance `scale`: a colour, -1 for black, < -1 on an error. */
-static int light_colour(pbrt_parser *p, pbrt_params *ps, const char *name, double scale,
-                        const char *where)
+int pbrt_light_colour(pbrt_parser *p, pbrt_params *ps, const char *name, double scale,
+                      const char *where)
 {
     int bad = 0;
     pbrt_param *s = pbrt_param_find(ps, name, 1u << PP_RGB | 1u << PP_SPECTRUM |
@@ -77,7 +75,7 @@ static int light_point(pbrt_parser *p, pbrt_params *ps, const char *where)
     if (light_scale(p, ps, "power", 4.0 * M_PI, where, &scale, &f) ||
         param_point(p, ps, "from", zero, from))
         return 1;
-    int c = light_colour(p, ps, "I", scale, where);
+    int c = pbrt_light_colour(p, ps, "I", scale, where);
     if (c < -1)
         return 1;
     if (c == -1)
@@ -109,7 +107,7 @@ static int light_distant(pbrt_parser *p, pbrt_params *ps, const char *where)
                    where);
         return 1;
     }
-    int c = light_colour(p, ps, "L", scale, where);
+    int c = pbrt_light_colour(p, ps, "L", scale, where);
     if (c < -1)
         return 1;
     if (c == -1)
@@ -143,7 +141,7 @@ static int light_infinite(pbrt_parser *p, pbrt_params *ps, const char *where)
     double scale, f;
     if (light_scale(p, ps, "illuminance", M_PI, where, &scale, &f))
         return 1;
-    int c = light_colour(p, ps, "L", scale * f, where);
+    int c = pbrt_light_colour(p, ps, "L", scale * f, where);
     if (c < -1)
         return 1;
     spm_scene *s = p->b.s;

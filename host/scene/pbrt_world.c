@@ -111,19 +111,13 @@ static int dir_area_light(pbrt_parser *p, const char *where)
     }
     double scale = pbrt_param_float(&ps, "scale", 1.0, &bad, p->err);
     int two = pbrt_param_bool(&ps, "twosided", 0, &bad, p->err);
-    pbrt_param *L = pbrt_param_find(&ps, "L", 1u << PP_RGB | 1u << PP_SPECTRUM |
-                                                  1u << PP_BLACKBODY, &bad, p->err);
-    pbrt_param white = {.type = PP_SPECTRUM, .type_name = "spectrum", .name = "L", .nstr = 1,
-                        .str = (char *[]){"stdillum-D65"}};
-    snprintf(white.where, sizeof white.where, "%s", where);
     if (bad || !(scale >= 0)) {
         if (!bad)
             spm_errorf(p->err, "%s: a negative scale %g", where, scale);
         rc = 1;
     }
     if (!rc) {
-        p->sp.err = p->err;
-        p->gs.area_colour = pbrt_spectrum_colour(&p->sp, L ? L : &white, PBRT_ILLUMINANT, scale);
+        p->gs.area_colour = pbrt_light_colour(p, &ps, "L", scale, where);
         p->gs.area_twosided = two;
         rc = p->gs.area_colour < -1;
     }
