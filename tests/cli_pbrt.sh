@@ -26,6 +26,7 @@ cases=(
   "pbrt_bad_number.pbrt:2:15:found 'x'"
   "pbrt_named_missing.pbrt:2:1:no MakeNamedMaterial defines it"
   "pbrt_indices_count.pbrt:2:55:not a multiple of 3"
+  "pbrt_distant_no_direction.pbrt:2:1:'from' and 'to' give no direction"
 )
 n=0
 for c in "${cases[@]}"; do
