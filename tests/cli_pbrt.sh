@@ -26,6 +26,7 @@ cases=(
   "pbrt_bad_number.pbrt:2:15:found 'x'"
   "pbrt_named_missing.pbrt:2:1:no MakeNamedMaterial defines it"
   "pbrt_indices_count.pbrt:2:55:not a multiple of 3"
+  "pbrt_distant_no_direction.pbrt:2:1:'from' and 'to' give no direction"
 )
 n=0
 for c in "${cases[@]}"; do
@@ -46,9 +47,9 @@ cat > "$T/warn.pbrt" <<'PBRT'
 Film "rgb" "integer xresolution" 16 "integer yresolution" 16
 Camera "spherical"
 WorldBegin
-LightSource "point" "rgb I" [1 1 1]
-LightSource "point" "rgb I" [2 2 2]
-LightSource "point" "rgb I" [3 3 3]
+LightSource "spot" "rgb I" [1 1 1]
+LightSource "spot" "rgb I" [2 2 2]
+LightSource "spot" "rgb I" [3 3 3]
 Texture "checks" "spectrum" "checkerboard"
 Material "diffuse" "texture reflectance" "checks"
 AttributeBegin
@@ -56,14 +57,18 @@ AreaLightSource "diffuse" "rgb L" [4 4 4] "float power" 10
 Translate 0 0 5
 Shape "trianglemesh" "point3 P" [-1 -1 0 1 -1 0 0 1 0] "integer indices" [0 2 1]
 AttributeEnd
+LightSource "infinite" "string filename" "sky.exr"
 PBRT
 msg=$("$BIN" render "$T/warn.pbrt" --spp 1 -o "$T/warn.png" 2>&1); rc=$?
 check "a scene with warnings renders (rc $rc: $msg)" [ "$rc" -eq 0 ]
 check "its image written" [ -s "$T/warn.png" ]
-check "LightSource \"point\" warned once" \
-  [ "$(grep -c 'LightSource "point" ignored' <<< "$msg")" -eq 1 ]
-check "at its first line" grep -qF 'warn.pbrt:4:1: LightSource "point" ignored' <<< "$msg"
-check "its repeats counted" grep -qF 'warn.pbrt:4:1: LightSource "point": ignored 3 times' <<< "$msg"
+check "LightSource \"spot\" warned once" \
+  [ "$(grep -c 'LightSource "spot" ignored' <<< "$msg")" -eq 1 ]
+check "at its first line" grep -qF 'warn.pbrt:4:1: LightSource "spot" ignored' <<< "$msg"
+check "its repeats counted" grep -qF 'warn.pbrt:4:1: LightSource "spot": ignored 3 times' <<< "$msg"
+check "the spot's reason said" grep -qF 'smoothstep falloff' <<< "$msg"
+check "an equal-area map named" \
+  grep -qF "warn.pbrt:14:1: LightSource \"infinite\" with a 'filename' ignored" <<< "$msg"
 check "the texture named" grep -qF 'warn.pbrt:7:1: Texture "checkerboard" ignored' <<< "$msg"
 check "a texture's use named" \
   grep -qF "warn.pbrt:8:20: Material \"diffuse\": a texture as 'reflectance' ignored" <<< "$msg"
@@ -90,4 +95,49 @@ y() { oiiotool --stats "$1" 2>/dev/null | awk '/Stats Avg/ { print 0.2126 * $3 +
 ya=$(y "$CB/tungsten_64.exr"); yb=$(y "$T/cb.exr")
 ratio=$(awk -v a="$ya" -v b="$yb" 'BEGIN { if (a > 0) printf "%.4f", b / a }')
 check "luminance ratio $ratio within 2%" near "$ratio" 1 0.02
+# LightSource "point", "distant" and a constant "infinite" over a diffuse
+# plane of rho 0.5, seen from (0, 6, 0) with a 60 degree fov (64 x 64):
+# - point: a blackbody I (normalised to luminance 1 by pbrt-v4) with power
+#   40 pi, so I = 10 W/sr, at `from` (0, 1, 0) under Translate 0 1 0, so d = 2:
+#   L = rho I cos(theta) / (pi d^2) = 0.3979 at its foot, times 0.997 (the
+#   mean of cos^3 over the 2 x 2 centre pixels, as cli_mitsuba.sh);
+# - distant: from (0 0 0) to (1 -2 0), illuminance 3: rho E cos / pi with
+#   cos = 2 / sqrt(5) = 0.4270 everywhere;
+# - infinite: L = 2 (illuminance 2 pi): rho L = 1 everywhere (the plane sees
+#   the sky's upper half only).
+# Measured ratios 0.9999, 0.9998 and 0.9976 on both backends; bound 1 %.
+plane='Material "diffuse" "rgb reflectance" [0.5 0.5 0.5]
+Shape "trianglemesh" "point3 P" [-5 0 -5 5 0 -5 5 0 5 -5 0 5] "integer indices" [0 1 2 0 2 3]'
+head='Film "rgb" "integer xresolution" 64 "integer yresolution" 64
+LookAt 0 6 0  0 0 0  0 0 1
+Camera "perspective" "float fov" 60
+WorldBegin'
+printf '%s\n%s\n%s\n' "$head" 'AttributeBegin
+Translate 0 1 0
+LightSource "point" "blackbody I" 3000 "float power" 125.6637 "point3 from" [0 1 0]
+AttributeEnd' "$plane" > "$T/point.pbrt"
+printf '%s\n%s\n%s\n' "$head" \
+  'LightSource "distant" "point3 from" [0 0 0] "point3 to" [1 -2 0] "float illuminance" 3' \
+  "$plane" > "$T/distant.pbrt"
+printf '%s\n%s\n%s\n' "$head" 'LightSource "infinite" "rgb L" [1 1 1] "float illuminance" 6.283185' \
+  "$plane" > "$T/sky.pbrt"
+ypx() { # image, x, y, w, h -> mean Y
+    oiiotool "$1" --cut "$4x$5+$2+$3" --printstats 2>/dev/null |
+        awk '/Stats Avg/ { print 0.2126 * $3 + 0.7152 * $4 + 0.0722 * $5 }'
+}
+for backend in cpu opencl; do
+    for l in point distant sky; do
+        "$BIN" render "$T/$l.pbrt" --spp 16 --quiet --backend $backend -o "$T/$l.exr" 2> "$T/$l.err"
+        check "$backend: the $l light renders ($(cat "$T/$l.err"))" [ -s "$T/$l.exr" ]
+        check "$backend: the $l light without warnings" [ ! -s "$T/$l.err" ]
+    done
+    r1=$(awk -v y="$(ypx "$T/point.exr" 31 31 2 2)" 'BEGIN { printf "%.4f", y / (0.5 * 10 / (3.14159265 * 4) * 0.997) }')
+    r2=$(awk -v y="$(ypx "$T/distant.exr" 0 0 64 64)" 'BEGIN { printf "%.4f", y / (0.5 * 3 * 2 / sqrt(5) / 3.14159265) }')
+    r3=$(awk -v y="$(ypx "$T/sky.exr" 0 0 64 64)" 'BEGIN { printf "%.4f", y / (0.5 * 2) }')
+    check "$backend: the point light's foot against rho I / (pi d^2): ratio $r1 within 1%" near "$r1" 1 0.01
+    check "$backend: the distant light against rho E cos / pi: ratio $r2 within 1%" near "$r2" 1 0.01
+    check "$backend: the constant infinite light against rho L: ratio $r3 within 1%" near "$r3" 1 0.01
+    echo "$backend: point foot ratio $r1, distant $r2, infinite $r3"
+    rm -f "$T"/point.exr "$T"/distant.exr "$T"/sky.exr
+done
 finish

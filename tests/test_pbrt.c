@@ -319,6 +319,58 @@ static void test_sphere(void)
     spm_scene_free(&s);
 }
 
+/* LightSource by value: a point light at the CTM's image of `from`, its
+ * power over 4 pi the intensity, its blackbody at luminance `scale`; a
+ * distant light travelling from `from` to `to` through the CTM, its
+ * illuminance the irradiance; a constant infinite light the background at
+ * illuminance / pi; spot and an infinite map's file warned, not made. */
+static void test_light_sources(void)
+{
+    spm_scene s;
+    spm_error err;
+    int rc = load("ls.pbrt", "",
+                  "AttributeBegin\nTranslate 1 2 3\n"
+                  "LightSource \"point\" \"blackbody I\" 3000 \"float scale\" 2 \"float power\" 20\n"
+                  "  \"point3 from\" [0 1 0]\n"
+                  "Rotate 90 0 0 1\n"
+                  "LightSource \"distant\" \"point3 from\" [0 0 0] \"point3 to\" [2 0 0]\n"
+                  "  \"float illuminance\" 3\nAttributeEnd\n"
+                  "LightSource \"spot\" \"rgb I\" [1 1 1]\n"
+                  "LightSource \"infinite\" \"string filename\" \"sky.exr\"\n"
+                  "LightSource \"infinite\" \"rgb L\" [1 1 1] \"float illuminance\" 6.2831853\n",
+                  &s, &err);
+    CHECK(rc == 0, "%s", err.msg);
+    if (rc)
+        return;
+    CHECK(s.nlights == 2, "two lights made (point, distant): %d", s.nlights);
+    for (int i = 0; i < s.nlights && s.nlights == 2; i++) {
+        const spm_scene_light *l = &s.lights[i];
+        double xyz[3];
+        spm_xyz_emission(&s.colours[l->colour].s, xyz);
+        if (l->kind == SPM_LIGHT_POINT) { /* (0 1 0) -> (1 3 3); I = 20 / (4 pi) x 2 */
+            CHECK_NEAR(l->p[SPM_LIGHT_P_POS + 0], 1, 1e-6, "point x");
+            CHECK_NEAR(l->p[SPM_LIGHT_P_POS + 1], 3, 1e-6, "point y");
+            CHECK_NEAR(l->p[SPM_LIGHT_P_POS + 2], 3, 1e-6, "point z");
+            CHECK_NEAR(xyz[1] * l->p[SPM_LIGHT_P_SCALE], 2.0 * 20 / (4 * M_PI), 1e-5,
+                       "point intensity's luminance");
+        } else { /* +x turned 90 degrees about z: +y; E = 3 (D65 at luminance 1) */
+            CHECK(l->kind == SPM_LIGHT_DISTANT, "the second a distant light: %d", l->kind);
+            CHECK_NEAR(l->p[SPM_LIGHT_P_DIR + 0], 0, 1e-6, "distant x");
+            CHECK_NEAR(l->p[SPM_LIGHT_P_DIR + 1], 1, 1e-6, "distant y");
+            CHECK_NEAR(l->p[SPM_LIGHT_P_DIR + 2], 0, 1e-6, "distant z");
+            CHECK_NEAR(xyz[1] * l->p[SPM_LIGHT_P_SCALE], 3.0, 1e-3, "distant irradiance's Y");
+        }
+    }
+    CHECK(s.bg_up >= 0 && s.bg_up == s.bg_down, "a uniform background: %d %d", s.bg_up,
+          s.bg_down);
+    if (s.bg_up >= 0) {
+        double xyz[3];
+        spm_xyz_emission(&s.colours[s.bg_up].s, xyz);
+        CHECK_NEAR(xyz[1], 2.0, 1e-3, "infinite L = illuminance / pi");
+    }
+    spm_scene_free(&s);
+}
+
 int main(void)
 {
     spm_quiet_warnings = 1;
@@ -329,6 +381,7 @@ int main(void)
     test_camera();
     test_materials();
     test_lights();
+    test_light_sources();
     test_instances();
     test_orientation();
     test_param_errors();

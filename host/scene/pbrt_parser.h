@@ -82,4 +82,12 @@ void pbrt_coordsys_set(pbrt_parser *p, const char *name, const double m[4][4]);
  * end of a file without it). */
 int pbrt_options_finish(pbrt_parser *p, const char *where);
 void pbrt_objects_free(pbrt_parser *p);
+/* LightSource `type` with its parameters (pbrt_lights.c): a light, the
+ * background, or a warning naming what is not rendered. */
+int pbrt_light_make(pbrt_parser *p, const char *type, pbrt_params *ps, const char *where);
+/* A light's spectrum parameter `name` (default the colour space's white,
+ * D65) at luminance `scale` (pbrt-v4's normalisation): a colour, -1 for
+ * black, < -1 on an error. */
+int pbrt_light_colour(pbrt_parser *p, pbrt_params *ps, const char *name, double scale,
+                      const char *where);
 #endif

@@ -1,7 +1,7 @@
 /* The world: materials (named and current), area lights, shapes and object
  * instances, added to the scene through the mesh builder (mesh_build.c) with
- * the current transform; lights and textures specmip does not render yet
- * are warned about. */
+ * the current transform (LightSource: pbrt_lights.c); textures are warned
+ * about. */
 #include "pbrt_parser.h"
 #include "materials.h"
 #include <stdlib.h>
@@ -85,12 +85,11 @@ static int dir_texture(pbrt_parser *p, const char *where)
 
 static int dir_light(pbrt_parser *p, const char *where)
 {
-    char type[64], what[128];
+    char type[64];
     pbrt_params ps;
     if (pbrt_arg_string(p, "a light type", type, sizeof type) || pbrt_arg_params(p, &ps))
         return 1;
-    snprintf(what, sizeof what, "LightSource \"%.40s\"", type);
-    int rc = pbrt_warn(where, what, "specmip renders area lights only, for now", p->err);
+    int rc = pbrt_light_make(p, type, &ps, where);
     pbrt_params_free(&ps);
     return rc;
 }
@@ -112,19 +111,13 @@ static int dir_area_light(pbrt_parser *p, const char *where)
     }
     double scale = pbrt_param_float(&ps, "scale", 1.0, &bad, p->err);
     int two = pbrt_param_bool(&ps, "twosided", 0, &bad, p->err);
-    pbrt_param *L = pbrt_param_find(&ps, "L", 1u << PP_RGB | 1u << PP_SPECTRUM |
-                                                  1u << PP_BLACKBODY, &bad, p->err);
-    pbrt_param white = {.type = PP_SPECTRUM, .type_name = "spectrum", .name = "L", .nstr = 1,
-                        .str = (char *[]){"stdillum-D65"}};
-    snprintf(white.where, sizeof white.where, "%s", where);
     if (bad || !(scale >= 0)) {
         if (!bad)
             spm_errorf(p->err, "%s: a negative scale %g", where, scale);
         rc = 1;
     }
     if (!rc) {
-        p->sp.err = p->err;
-        p->gs.area_colour = pbrt_spectrum_colour(&p->sp, L ? L : &white, PBRT_ILLUMINANT, scale);
+        p->gs.area_colour = pbrt_light_colour(p, &ps, "L", scale, where);
         p->gs.area_twosided = two;
         rc = p->gs.area_colour < -1;
     }
