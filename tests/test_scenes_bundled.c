@@ -60,7 +60,8 @@ static void check_sane(const char *name)
             emitters += s.materials[m].emit >= 0;
     }
     CHECK(ok, "%s: material ids in range", name);
-    CHECK(emitters > 0 || s.bg_up >= 0 || s.bg_down >= 0, "%s: something emits", name);
+    CHECK(emitters > 0 || s.nlights > 0 || s.bg_up >= 0 || s.bg_down >= 0 || s.env,
+          "%s: something emits", name);
     for (int c = 0; c < s.ncolours; c++) {
         double mx = spm_spectrum_max(&s.colours[c].s);
         /* a conductor's eta and k are reflectance-kind colours that are not
