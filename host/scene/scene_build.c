@@ -428,9 +428,9 @@ int spm_sb_prune(spm_scene_builder *b, const char *where, spm_error *err)
         return 0;
     if (prune_once(b, where, err))
         return 1;
+    spm_scene *s = b->s;
     if (spm_envmap_palette(s, err)) /* the map's colours, after the scene's own */
         return 1;
-    spm_scene *s = b->s;
     spm_names_free(&b->colour_index); /* the kept colours' new indices, for sharing */
     spm_names_init(&b->colour_index);
     for (int i = 0; i < s->ncolours; i++) {
