@@ -601,8 +601,9 @@ static void check_decode(void)
                {16, 8, (uint64_t)1 << 40, "too many triangles"},
                {16, 8, 3, "a count that does not match the size"},
                {16, 8, 0, "no triangles"},
-               {24, 4, 2, "an unknown flag"},
+               {24, 4, 4, "an unknown flag"},
                {24, 4, SPM_MESH_WIRE_NORMALS, "normals announced but not sent"},
+               {24, 4, SPM_MESH_WIRE_UVS, "texture coordinates announced but not sent"},
                {SPM_MESH_WIRE_HEAD + 2 * sizeof(spm_mesh_material) + offsetof(spm_mesh_tri, mat), 4, 2,
                 "a material index out of range"}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
@@ -618,6 +619,17 @@ static void check_decode(void)
     CHECK(spm_mesh_decode(copy, n - 1, "x", &out, &err) != 0, "a truncated answer is refused");
     free(copy);
     free(buf);
+    /* texture coordinates after the normals, per triangle in order */
+    spm_mesh_normals nrm[2] = {{{{0, 0, 1}, {0, 0, 1}, {0, 0, 1}}}, {{{0, 1, 0}, {0, 1, 0}, {0, 1, 0}}}};
+    spm_mesh_uvs uvs[2] = {{{{0, 0}, {1, 0}, {0, 1}}}, {{{0.25f, 0.5f}, {0.75f, 0.5f}, {0.5f, 0.125f}}}};
+    d.normals = nrm;
+    d.uvs = uvs;
+    buf = spm_mesh_encode(&d, &n);
+    CHECK(spm_mesh_decode(buf, n, "x", &out, &err) == 0 && out.uvs && out.normals &&
+              out.uvs[1].uv[2][1] == 0.125f && out.uvs[0].uv[1][0] == 1.0f &&
+              out.normals[1].n[0][1] == 1.0f,
+          "texture coordinates and normals decode as encoded");
+    spm_mesh_free(&out);
 }
 
 /* ---- building ---- */
