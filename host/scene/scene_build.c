@@ -445,10 +445,6 @@ int spm_sb_prune(spm_scene_builder *b, const char *where, spm_error *err)
 int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
 {
     spm_scene *s = b->s;
-    /* the textures' colours: of what is left, before derived ones */
-    if (s->ntextures && !s->palette &&
-        (spm_sb_prune(b, where, err) || spm_sb_texture_palette(b, where, err)))
-        return 1;
     if (prune_once(b, where, err))
         return 1;
     if (spm_envmap_palette(s, err)) /* the map's colours, after the scene's own */

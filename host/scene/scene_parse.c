@@ -1262,6 +1262,9 @@ static int finish(parser *p)
         if (!p->defs[i].used)
             spm_warnf("%s: spectrum '%s' is never used", p->defs[i].where, p->defs[i].name);
     spm_scene_textures_unused(&p->textures);
+    if (p->b.s->ntextures && /* the textures' colours: of what is left, before derived ones */
+        (spm_sb_prune(&p->b, where, p->err) || spm_sb_texture_palette(&p->b, where, p->err)))
+        return 1;
     return spm_sb_finish(&p->b, where, p->err);
 }
 
