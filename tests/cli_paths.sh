@@ -136,6 +136,7 @@ allowed=(
     'texture_io.cpp:.*ImageInput::open\(file->path\)'
     'texture_io.cpp:.*ImageInput::open\(hint, nullptr, &mem\)'
     'mesh_texture.c:.*spm_texture_mean_file\(&file,'
+    'mesh_texture.c:.*spm_texture_read_file\(&f, &rgb,' # the parent's, the path checked again
     'mesh_texture_io.cpp:.*spm_texture_read_file\(file, &rgb,'
     'scene_texture.c:.*spm_texture_read_file\(&f, &rgb,'
     'envmap.c:.*spm_texture_read_file\(f, &rgb,'

@@ -16,20 +16,7 @@ PY=${SPECMIP_PYTHON:-$(cd "$(dirname "$BIN")" && pwd)/pyenv/bin/python}
 check "colour-science and OpenImageIO importable by $PY (tools/setup.sh)" \
     "$PY" -c "import colour, OpenImageIO"
 
-"$PY" - "$T/blocks.png" << 'PYEOF' || bad "no texture written"
-import sys, numpy as np, OpenImageIO as oiio
-codes = [(200, 60, 50), (60, 160, 70), (50, 80, 190), (230, 210, 60),
-         (128, 128, 128), (240, 240, 240), (20, 20, 20), (180, 90, 160),
-         (90, 200, 200), (250, 140, 30), (100, 60, 30), (160, 200, 120),
-         (30, 40, 90), (220, 170, 160), (70, 70, 160), (200, 30, 120)]
-img = np.zeros((32, 32, 3), np.uint8)
-for b, c in enumerate(codes):
-    img[8 * (b // 4):8 * (b // 4) + 8, 8 * (b % 4):8 * (b % 4) + 8] = c
-spec = oiio.ImageSpec(32, 32, 3, "uint8")
-spec.attribute("oiio:ColorSpace", "sRGB")
-out = oiio.ImageOutput.create(sys.argv[1])
-assert out.open(sys.argv[1], spec) and out.write_image(img) and out.close()
-PYEOF
+"$PY" "$ROOT/tests/texture_blocks.py" write "$T/blocks.png" || bad "no texture written"
 cat > "$T/quad.scene" <<'SCENE'
 image 32 32
 spp 128
@@ -44,28 +31,7 @@ for backend in opencl cpu; do
   for mode in truth ref ml mlc hero rgb; do
     "$BIN" render "$T/quad.scene" --backend $backend --mode $mode --seed 5 --quiet \
       -o "$T/$backend-$mode.exr" 2>"$T/err" || { bad "$backend $mode: $(cat "$T/err")"; continue; }
-    "$PY" - "$T/blocks.png" "$T/$backend-$mode.exr" > "$T/py" 2>&1 << 'PYEOF'
-import sys, warnings
-warnings.filterwarnings("ignore")
-import numpy as np, colour, OpenImageIO as oiio
-tex = oiio.ImageBuf(sys.argv[1]).get_pixels(oiio.UINT8)[..., :3] / 255.0
-img = oiio.ImageBuf(sys.argv[2]).get_pixels(oiio.FLOAT)[..., :3]
-lin = colour.models.eotf_sRGB(tex)
-white = colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"]
-def lab(rgb):
-    return colour.XYZ_to_Lab(colour.sRGB_to_XYZ(rgb, apply_cctf_decoding=False), white)
-worst = 0.0
-for b in range(16):
-    r, c = b // 4, b % 4
-    want = lin[8 * r + 4, 8 * c + 4]
-    got = img[8 * r + 2:8 * r + 6, 8 * c + 2:8 * c + 6].reshape(-1, 3).mean(axis=0)
-    de = float(colour.delta_E(lab(want), lab(got), method="CIE 2000"))
-    worst = max(worst, de)
-    if de > 1.0:
-        print("block %d: texel %s, image %s: dE00 %.2f" % (b, want, got, de))
-print("worst %.3f" % worst)
-sys.exit(worst > 1.0)
-PYEOF
+    "$PY" "$ROOT/tests/texture_blocks.py" "$T/blocks.png" "$T/$backend-$mode.exr" > "$T/py" 2>&1
     rc=$?
     check "$backend $mode: every block within dE00 1 of its texel: $(cat "$T/py")" test $rc -eq 0
     echo "$backend $mode $(tail -1 "$T/py")"

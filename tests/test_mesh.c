@@ -582,7 +582,7 @@ static void check_decode(void)
     spm_mesh_material mats[2] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}, .emission = {0, 0, 0}},
                                  {.name = "b", .diffuse = {1, 0, 0}, .emission = {0, 0, 0}}};
     spm_mesh_tri tris[2] = {{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1}, {{{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}, 0}};
-    spm_mesh_data d = {0, 2, 2, mats, tris, NULL, NULL, ""}, out;
+    spm_mesh_data d = {0, 2, 2, mats, tris, NULL, NULL, NULL, ""}, out;
     spm_error err;
     size_t n;
     unsigned char *buf = spm_mesh_encode(&d, &n);
@@ -601,8 +601,9 @@ static void check_decode(void)
                {16, 8, (uint64_t)1 << 40, "too many triangles"},
                {16, 8, 3, "a count that does not match the size"},
                {16, 8, 0, "no triangles"},
-               {24, 4, 2, "an unknown flag"},
+               {24, 4, 4, "an unknown flag"},
                {24, 4, SPM_MESH_WIRE_NORMALS, "normals announced but not sent"},
+               {24, 4, SPM_MESH_WIRE_UVS, "texture coordinates announced but not sent"},
                {SPM_MESH_WIRE_HEAD + 2 * sizeof(spm_mesh_material) + offsetof(spm_mesh_tri, mat), 4, 2,
                 "a material index out of range"}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
@@ -618,6 +619,17 @@ static void check_decode(void)
     CHECK(spm_mesh_decode(copy, n - 1, "x", &out, &err) != 0, "a truncated answer is refused");
     free(copy);
     free(buf);
+    /* texture coordinates after the normals, per triangle in order */
+    spm_mesh_normals nrm[2] = {{{{0, 0, 1}, {0, 0, 1}, {0, 0, 1}}}, {{{0, 1, 0}, {0, 1, 0}, {0, 1, 0}}}};
+    spm_mesh_uvs uvs[2] = {{{{0, 0}, {1, 0}, {0, 1}}}, {{{0.25f, 0.5f}, {0.75f, 0.5f}, {0.5f, 0.125f}}}};
+    d.normals = nrm;
+    d.uvs = uvs;
+    buf = spm_mesh_encode(&d, &n);
+    CHECK(spm_mesh_decode(buf, n, "x", &out, &err) == 0 && out.uvs && out.normals &&
+              out.uvs[1].uv[2][1] == 0.125f && out.uvs[0].uv[1][0] == 1.0f &&
+              out.normals[1].n[0][1] == 1.0f,
+          "texture coordinates and normals decode as encoded");
+    spm_mesh_free(&out);
 }
 
 /* ---- building ---- */
@@ -666,7 +678,7 @@ static void check_build_normals(void)
     spm_mesh_material mats[1] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}}};
     spm_mesh_tri tris[1] = {{{{1, 0, 0}, {1, 1, 0}, {1, 0, 1}}, 0}}; /* front face +x */
     spm_mesh_normals nrm[1] = {{{{1, 1, 0}, {1, 0, 0}, {1, 0, 1}}}};
-    spm_mesh_data d = {0, 1, 1, mats, tris, nrm, NULL, ""};
+    spm_mesh_data d = {0, 1, 1, mats, tris, nrm, NULL, NULL, ""};
     spm_error err;
     spm_quiet_warnings = 1;
     struct {
@@ -703,7 +715,7 @@ static void check_build_normals(void)
     }
     /* normals against the winding: turned to the front face */
     spm_mesh_normals back[1] = {{{{-1, 0, 0}, {-1, 0, 0}, {-1, 0, 0}}}};
-    spm_mesh_data db = {0, 1, 1, mats, tris, back, NULL, ""};
+    spm_mesh_data db = {0, 1, 1, mats, tris, back, NULL, NULL, ""};
     bscene x;
     bs_open(&x);
     spm_mesh_opts o;
@@ -717,7 +729,7 @@ static void check_build_normals(void)
     bs_close(&x);
     /* a zero normal: that triangle is flat */
     spm_mesh_normals zero[1] = {{{{1, 0, 0}, {0, 0, 0}, {1, 0, 0}}}};
-    spm_mesh_data dz = {0, 1, 1, mats, tris, zero, NULL, ""};
+    spm_mesh_data dz = {0, 1, 1, mats, tris, zero, NULL, NULL, ""};
     bs_open(&x);
     identity(&o);
     o.material = x.grey;
@@ -736,7 +748,7 @@ static void check_build(void)
                             {{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, 1}, /* collinear */
                             {{{0, 0, 0}, {0, 0, 0}, {0, 1, 0}}, 1}, /* coincident */
                             {{{0, 0, 3}, {1, 0, 3}, {0, 1, 3}}, 1}};
-    spm_mesh_data d = {0, 3, 4, mats, tris, NULL, NULL, ""};
+    spm_mesh_data d = {0, 3, 4, mats, tris, NULL, NULL, NULL, ""};
     spm_error err;
     spm_quiet_warnings = 1;
 
@@ -785,7 +797,7 @@ static void check_build(void)
     identity(&o);
     spm_mesh_transform(scale, axis, 90, tr, o.m);
     o.material = x.grey;
-    spm_mesh_data one = {0, 3, 1, mats, tris, NULL, NULL, ""};
+    spm_mesh_data one = {0, 3, 1, mats, tris, NULL, NULL, NULL, ""};
     rc = spm_mesh_add(&x.b, &x.cache, &one, &o, "m", "t", &err);
     /* 1e-6: cos 90 degrees in double is 6e-17, times coordinates of 2 */
     CHECK(rc == 0 && fabsf(x.s.tris[0].p[0][0]) < 1e-6f && x.s.tris[0].p[0][1] == 2.0f &&
@@ -842,7 +854,7 @@ static void check_build(void)
     bs_close(&x);
 
     /* all degenerate: an error, not an empty mesh */
-    spm_mesh_data degen = {0, 3, 2, mats, tris + 1, NULL, NULL, ""};
+    spm_mesh_data degen = {0, 3, 2, mats, tris + 1, NULL, NULL, NULL, ""};
     bs_open(&x);
     identity(&o);
     rc = spm_mesh_add(&x.b, &x.cache, &degen, &o, "m", "t", &err);

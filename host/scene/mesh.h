@@ -54,6 +54,10 @@ typedef struct {
     float texture_mean[3];     /* its mean linear colour (SPM_MESH_TEX_MEAN) */
     char texture_name[96];     /* as the file names it, or "embedded image N" */
     char texture_why[128];     /* why it was not read (SPM_MESH_TEX_UNREAD) */
+    char texture_file[SPM_PATH_MAX]; /* the image file's path (checked by the path rule,
+                                  again by the parent, which binds it: mesh_texture.c); ""
+                                  for an embedded image */
+    float factor[3];           /* the colour factor the texture's mean multiplied */
     /* What the file says beyond the diffuse colour (mesh_pbr.c maps it):
      * SPM_MESH_HAS_* bits for the values the file gave, and the values. */
     int32_t format;            /* SPM_MESH_FMT_*: whose conventions the values follow */
@@ -100,6 +104,13 @@ typedef struct {
     float n[3][3];
 } spm_mesh_normals;
 
+/* A triangle's texture coordinates (u, v per vertex, v up as texture.h says;
+ * Assimp's first set: glTF TEXCOORD_0, OBJ vt), in the order of its
+ * spm_mesh_tri's vertices; all zero: the triangle has none. */
+typedef struct {
+    float uv[3][2];
+} spm_mesh_uvs;
+
 typedef struct {
     uint32_t ignored;          /* SPM_MESH_IGN_* bits */
     uint32_t nmats;
@@ -107,16 +118,21 @@ typedef struct {
     spm_mesh_material *mats;
     spm_mesh_tri *tris;
     spm_mesh_normals *normals; /* per triangle, or NULL: the file has no vertex normals */
-    void *buf;                 /* owns mats, tris and normals */
+    spm_mesh_uvs *uvs;         /* per triangle, or NULL: the file has no texture coordinates */
+    void *buf;                 /* owns mats, tris, normals and uvs */
     char extensions[512];      /* a glTF's extensionsUsed that are not rendered, ", "-separated */
 } spm_mesh_data;
 
 /* The child's answer on its pipe (mesh_wire.c): a header of this many bytes
  * (magic, status, ignored, nmats, ntris as 64 bits, flags, a spare word),
- * the materials, the triangles, and with SPM_MESH_WIRE_NORMALS in flags one
- * spm_mesh_normals per triangle. */
+ * the materials, the triangles, with SPM_MESH_WIRE_NORMALS in flags one
+ * spm_mesh_normals per triangle, then with SPM_MESH_WIRE_UVS one
+ * spm_mesh_uvs per triangle. */
 #define SPM_MESH_WIRE_HEAD 32
 #define SPM_MESH_WIRE_NORMALS 1u
+#define SPM_MESH_WIRE_UVS 2u
+/* The answer's size for these counts and flags (0 for unknown flags). */
+size_t spm_mesh_wire_size(uint32_t nmats, uint64_t ntris, uint32_t flags);
 
 /* Imports `file` in a child process (a PLY file of triangles or strips: by
  * mesh_ply.c, in this process). The files it names are checked first

@@ -193,12 +193,13 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
             spm_errorf(err, "%s: colours must be finite and emissions not negative", mwhere);
             return 1;
         }
-        spm_mesh_texture_warn(m, mwhere);
         int r = rgb_colour(b, cache, m->diffuse, SPM_KIND_REFLECTANCE, mwhere, err);
         int e = r < -1 ? -2 : rgb_colour(b, cache, m->emission, SPM_KIND_EMISSION, mwhere, err);
         if (e < -1)
             return 1;
         map[i] = spm_mesh_map_material(b, m, r, e, scale, mwhere, err);
+        if (map[i] >= 0)
+            map[i] = spm_mesh_texture_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
         if (map[i] < 0)
             return 1;
     }
@@ -394,6 +395,12 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
             break;
         }
         kept++;
+        if (b->s->materials[map[src->mat]].tex) {
+            float uv[6] = {0, 0, 0, 0, 0, 0};
+            for (int v = 0; v < 3 && d->uvs; v++)
+                memcpy(uv + 2 * v, d->uvs[t].uv[flip && v ? 3 - v : v], sizeof(float[2]));
+            spm_sb_tri_uv(b, uv);
+        }
         int r = add_normals(b, o, normals ? &normals[t] : NULL, map[src->mat], nm, flip, p);
         smooth += r > 0;
         unusable += r < 0;

@@ -123,7 +123,8 @@ typedef struct {
     const struct aiScene *sc;
     writer *w;
     uint64_t count;    /* triangles so far */
-    int emit;          /* 0: count only, 1: write the triangles, 2: their vertex normals */
+    int emit;          /* 0: count only, 1: write the triangles, 2: their vertex normals,
+                          3: their texture coordinates */
     uint32_t ignored;
     int stl;
     unsigned char *used; /* per material: a triangle uses it */
@@ -149,6 +150,18 @@ static int mesh_tris(walk *k, const struct aiMesh *m, const affine x)
                 child_fail(k->w, "a face refers to a vertex the file does not have");
         if (!k->emit)
             continue;
+        if (k->emit == 3) { /* zero where the mesh has none */
+            spm_mesh_uvs tu;
+            memset(&tu, 0, sizeof tu);
+            for (int v = 0; v < 3 && m->mTextureCoords[0]; v++) {
+                const struct aiVector3D *q =
+                    &m->mTextureCoords[0][face->mIndices[flip && v ? 3 - v : v]];
+                tu.uv[v][0] = (float)q->x;
+                tu.uv[v][1] = (float)q->y;
+            }
+            w_put(k->w, &tu, sizeof tu);
+            continue;
+        }
         if (k->emit == 2) { /* zero where the mesh has none */
             spm_mesh_normals nt;
             memset(&nt, 0, sizeof nt);
@@ -475,12 +488,11 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
         if (k.used[i])
             k.ignored |= ign;
     }
-    int normals = 0; /* STL's facet normals are no vertex normals: left out */
+    int normals = 0, uvs = 0; /* STL's facet normals are no vertex normals: left out */
     for (unsigned i = 0; i < sc->mNumMeshes; i++) {
         const struct aiMesh *m = sc->mMeshes[i];
         normals |= m->mNormals && !k.stl;
-        if (m->mTextureCoords[0])
-            k.ignored |= SPM_MESH_IGN_TEXCOORDS;
+        uvs |= m->mTextureCoords[0] != NULL;
         if (m->mColors[0])
             k.ignored |= SPM_MESH_IGN_COLOURS;
         if (m->mNumBones || m->mNumAnimMeshes)
@@ -505,8 +517,9 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
         k.ignored |= SPM_MESH_IGN_LIGHTS;
     if (sc->mNumAnimations)
         k.ignored |= SPM_MESH_IGN_ANIMATION;
-    uint32_t h[SPM_MESH_WIRE_HEAD / 4] = {0x4d4d5053u, 0, k.ignored, sc->mNumMaterials, 0, 0,
-                                          normals ? SPM_MESH_WIRE_NORMALS : 0u, 0};
+    uint32_t h[SPM_MESH_WIRE_HEAD / 4] = {
+        0x4d4d5053u, 0, k.ignored, sc->mNumMaterials, 0, 0,
+        (normals ? SPM_MESH_WIRE_NORMALS : 0u) | (uvs ? SPM_MESH_WIRE_UVS : 0u), 0};
     uint64_t n = k.count;
     memcpy(&h[4], &n, sizeof n);
     w_put(&w, h, sizeof h);
@@ -516,6 +529,11 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
     walk_node(&k, sc->mRootNode, id, 0);
     if (normals) { /* the same walk again, the same triangles in the same order */
         k.emit = 2;
+        k.count = 0;
+        walk_node(&k, sc->mRootNode, id, 0);
+    }
+    if (uvs) { /* and again for the texture coordinates */
+        k.emit = 3;
         k.count = 0;
         walk_node(&k, sc->mRootNode, id, 0);
     }
@@ -647,9 +665,8 @@ int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err)
             if (status != 0)
                 want = max_err;
             else if (nmats <= SPM_MESH_MAX_MATERIALS && ntris <= SPM_SCENE_MAX_TRIS)
-                want = sizeof head + nmats * sizeof(spm_mesh_material) +
-                       ntris * sizeof(spm_mesh_tri) +
-                       (flags & SPM_MESH_WIRE_NORMALS ? ntris * sizeof(spm_mesh_normals) : 0);
+                want = spm_mesh_wire_size(nmats, ntris, flags) ? spm_mesh_wire_size(nmats, ntris, flags)
+                                                               : sizeof head; /* decode refuses it */
             buf = spm_xmalloc(want > sizeof head ? want : sizeof head);
             memcpy(buf, head, sizeof head);
         }

@@ -1,9 +1,12 @@
-/* A mesh material's base-colour texture, replaced by its mean colour until
- * textures are supported (mesh_texture.h): found through Assimp in the
- * importer's child (an embedded image, "*N" or by file name, or a file beside
- * the model), averaged by mesh_texture_io.cpp; the parent's warning. */
+/* A mesh material's base-colour texture (mesh_texture.h): found through
+ * Assimp in the importer's child (an embedded image, "*N" or by file name, or
+ * a file beside the model), averaged by mesh_texture_io.cpp; in the parent,
+ * an image file on a Lambertian reflectance read into the scene, else its
+ * mean colour with a warning. */
 #include "mesh_texture.h"
 #include "colour.h"
+#include "materials.h"
+#include "texture.h"
 #include <assimp/material.h>
 #include <assimp/scene.h>
 #include <stdio.h>
@@ -86,6 +89,7 @@ static int texture_mean(const struct aiScene *sc, const char *model, const char 
     spm_file file;
     if (spm_path_check(spm_path_dir(model, dir, sizeof dir), rel, where, &file, refused))
         return 2;
+    snprintf(out->texture_file, sizeof out->texture_file, "%s", file.path);
     struct stat st;
     if (stat(file.path, &st) != 0 || !S_ISREG(st.st_mode)) {
         snprintf(out->texture_why, sizeof out->texture_why, "no such file beside the model");
@@ -115,18 +119,66 @@ int spm_mesh_texture_apply(const struct aiScene *sc, const struct aiMaterial *m,
         return rc == 2 ? 2 : 1;
     }
     out->texture = SPM_MESH_TEX_MEAN;
-    for (int c = 0; c < 3; c++)
+    for (int c = 0; c < 3; c++) {
+        out->factor[c] = out->diffuse[c];
         out->diffuse[c] *= out->texture_mean[c];
+    }
     return 1;
 }
 
-void spm_mesh_texture_warn(const spm_mesh_material *m, const char *mwhere)
+/* The image of m's texture file, times its colour factor, into the scene:
+ * its index, or -1 with why filled. */
+static int bind_image(spm_scene_builder *b, const spm_mesh_material *m, const char *mwhere,
+                      char *why, size_t whylen)
+{
+    spm_file f;
+    spm_error e;
+    float *rgb;
+    int w, h;
+    if (spm_path_check_joined(m->texture_file, mwhere, &f, &e)) {
+        snprintf(why, whylen, "%.290s", e.msg);
+        return -1;
+    }
+    if (spm_texture_read_file(&f, &rgb, &w, &h, why, whylen))
+        return -1;
+    for (size_t i = 0; i < (size_t)3 * w * h; i++)
+        rgb[i] *= m->factor[i % 3];
+    spm_texture t;
+    spm_texture_from_pixels(w, h, rgb, SPM_WRAP_REPEAT, SPM_WRAP_REPEAT, &t);
+    free(rgb);
+    return spm_sb_texture(b, &t);
+}
+
+int spm_mesh_texture_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
+                          int has_uvs, const char *mwhere, spm_error *err)
+{
+    char why[300] = "";
+    spm_scene_material proto = b->s->materials[material];
+    if (m->texture != SPM_MESH_TEX_MEAN) {
+        spm_mesh_texture_warn(m, mwhere, NULL);
+        return material;
+    }
+    if (!m->texture_file[0])
+        snprintf(why, sizeof why, "embedded images are not textured per point yet");
+    else if (!has_uvs)
+        snprintf(why, sizeof why, "the mesh has no texture coordinates");
+    else if (proto.type != SPM_MAT_LAMBERT)
+        snprintf(why, sizeof why, "only a Lambertian reflectance is textured per point so far");
+    int t = why[0] ? -1 : bind_image(b, m, mwhere, why, sizeof why);
+    if (t < 0) {
+        spm_mesh_texture_warn(m, mwhere, why);
+        return material;
+    }
+    proto.tex = 1 + t;
+    return spm_sb_material_typed(b, &proto, mwhere, err);
+}
+void spm_mesh_texture_warn(const spm_mesh_material *m, const char *mwhere, const char *why)
 {
     if (m->texture == SPM_MESH_TEX_MEAN)
         spm_warnf("%s: base-colour texture '%s' replaced by its mean colour (%.3g %.3g %.3g, "
-                  "linear) times the material's colour: textures are not supported",
+                  "linear) times the material's colour: %s",
                   mwhere, m->texture_name, m->texture_mean[0], m->texture_mean[1],
-                  m->texture_mean[2]);
+                  m->texture_mean[2], why);
     else if (m->texture == SPM_MESH_TEX_UNREAD)
         spm_warnf("%s: base-colour texture '%s' cannot be read (%s): the material's colour "
                   "alone is used", mwhere, m->texture_name, m->texture_why);

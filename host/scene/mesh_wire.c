@@ -14,12 +14,23 @@ typedef struct {
 } wire_header;
 _Static_assert(sizeof(wire_header) == SPM_MESH_WIRE_HEAD, "mesh.h's header size");
 
+size_t spm_mesh_wire_size(uint32_t nmats, uint64_t ntris, uint32_t flags)
+{
+    if (flags & ~(SPM_MESH_WIRE_NORMALS | SPM_MESH_WIRE_UVS))
+        return 0;
+    return sizeof(wire_header) + nmats * sizeof(spm_mesh_material) +
+           ntris * sizeof(spm_mesh_tri) +
+           (flags & SPM_MESH_WIRE_NORMALS ? ntris * sizeof(spm_mesh_normals) : 0) +
+           (flags & SPM_MESH_WIRE_UVS ? ntris * sizeof(spm_mesh_uvs) : 0);
+}
+
 void *spm_mesh_encode(const spm_mesh_data *d, size_t *size)
 {
-    wire_header h = {WIRE_MAGIC, 0, d->ignored, d->nmats, d->ntris,
-                     d->normals ? SPM_MESH_WIRE_NORMALS : 0u, 0};
+    uint32_t flags = (d->normals ? SPM_MESH_WIRE_NORMALS : 0u) | (d->uvs ? SPM_MESH_WIRE_UVS : 0u);
+    wire_header h = {WIRE_MAGIC, 0, d->ignored, d->nmats, d->ntris, flags, 0};
     size_t nn = d->normals ? d->ntris * sizeof *d->normals : 0;
-    size_t n = sizeof h + d->nmats * sizeof *d->mats + d->ntris * sizeof *d->tris + nn;
+    size_t nu = d->uvs ? d->ntris * sizeof *d->uvs : 0;
+    size_t n = spm_mesh_wire_size(d->nmats, d->ntris, flags);
     unsigned char *buf = spm_xmalloc(n);
     memcpy(buf, &h, sizeof h);
     if (d->nmats)
@@ -27,7 +38,9 @@ void *spm_mesh_encode(const spm_mesh_data *d, size_t *size)
     if (d->ntris)
         memcpy(buf + sizeof h + d->nmats * sizeof *d->mats, d->tris, d->ntris * sizeof *d->tris);
     if (nn)
-        memcpy(buf + n - nn, d->normals, nn);
+        memcpy(buf + n - nu - nn, d->normals, nn);
+    if (nu)
+        memcpy(buf + n - nu, d->uvs, nu);
     *size = n;
     return buf;
 }
@@ -71,10 +84,9 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
         spm_errorf(err, "%s: more than %d triangles", path, SPM_SCENE_MAX_TRIS);
         return 1;
     }
-    int has_n = (h.flags & SPM_MESH_WIRE_NORMALS) != 0;
-    size_t want = sizeof h + h.nmats * sizeof(spm_mesh_material) + h.ntris * sizeof(spm_mesh_tri) +
-                  (has_n ? h.ntris * sizeof(spm_mesh_normals) : 0);
-    if (size != want || (h.ntris > 0 && h.nmats == 0) || (h.flags & ~SPM_MESH_WIRE_NORMALS)) {
+    int has_n = (h.flags & SPM_MESH_WIRE_NORMALS) != 0, has_uv = (h.flags & SPM_MESH_WIRE_UVS) != 0;
+    size_t want = spm_mesh_wire_size(h.nmats, h.ntris, h.flags);
+    if (size != want || (h.ntris > 0 && h.nmats == 0) || want == 0) {
         spm_errorf(err, "%s: the importer returned %zu bytes where %zu were due", path, size,
                    want);
         return 1;
@@ -85,6 +97,7 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
         mats[i].name[SPM_NAME_MAX - 1] = 0;
         mats[i].texture_name[sizeof mats[i].texture_name - 1] = 0;
         mats[i].texture_why[sizeof mats[i].texture_why - 1] = 0;
+        mats[i].texture_file[sizeof mats[i].texture_file - 1] = 0;
         if (mats[i].texture < SPM_MESH_TEX_NONE || mats[i].texture > SPM_MESH_TEX_UNREAD) {
             spm_errorf(err, "%s: the importer returned a bad material", path);
             return 1;
@@ -101,6 +114,9 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
     out->mats = mats;
     out->tris = tris;
     out->normals = has_n ? (spm_mesh_normals *)(tris + h.ntris) : NULL;
+    out->uvs = has_uv ? (spm_mesh_uvs *)((char *)(tris + h.ntris) +
+                                         (has_n ? h.ntris * sizeof(spm_mesh_normals) : 0))
+                      : NULL;
     out->buf = buf;
     return 0;
 }

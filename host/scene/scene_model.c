@@ -228,7 +228,10 @@ int spm_scene_parse_model(const spm_file *file, spm_scene *out, spm_error *err)
     }
     rc = rc || (ncams ? file_camera(&b, cams, ncams, pick, where, err)
                       : frame_box(&b, c, r, where, err)) ||
-         default_light(&b, &cache.rgb, c, r, !ncams, where, err) || spm_sb_finish(&b, where, err);
+         default_light(&b, &cache.rgb, c, r, !ncams, where, err) ||
+         (out->ntextures && /* a textured mesh's colours: of what is left, before derived ones */
+          (spm_sb_prune(&b, where, err) || spm_sb_texture_palette(&b, where, err))) ||
+         spm_sb_finish(&b, where, err);
     spm_mesh_cache_free(&cache);
     spm_sb_done(&b, !rc);
     return rc;
