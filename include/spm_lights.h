@@ -10,7 +10,8 @@
  *  - host/scene/lights.c expands the fields into the descriptors (lights.h
  *    spm_light_desc): the `light` statement's keyword and arguments, the
  *    kernel define that compiles the kind in, and how its power is found for
- *    the selection.
+ *    the selection; the hooks the fields name are written above the entry
+ *    under SPM_LIGHT_HOST_CODE, which lights.c alone defines.
  * The fields are host-only C initialisers; the kernels' expansion drops them.
  * docs/ADDING_A_LIGHT.md says how to add a kind.
  *
@@ -42,6 +43,13 @@ SPM_LIGHT_KIND(SKY,
  * Y = 1, as every emission is) */
 #ifdef SPM_KERNEL_FILES
 #include "light_point.clh"
+#elif defined(SPM_LIGHT_HOST_CODE)
+/* 4 pi I */
+static double spm_light_power_point(const spm_scene *sc, const float *p)
+{
+    (void)sc;
+    return 4.0 * M_PI * (double)p[SPM_LIGHT_P_SCALE];
+}
 #endif
 SPM_LIGHT_KIND(POINT,
     .keyword = "point",
@@ -58,6 +66,17 @@ SPM_LIGHT_KIND(POINT,
  * cosine. POWER: the intensity's integral over the cone */
 #ifdef SPM_KERNEL_FILES
 #include "light_spot.clh"
+#elif defined(SPM_LIGHT_HOST_CODE)
+/* I times the solid angle of the falloff f (1 to the beam angle b, linear in
+ * theta to 0 at the cone angle c): 2 pi int_0^c f sin = 2 pi (1 - (sin c -
+ * sin b) / (c - b)), 2 pi (1 - cos c) as b -> c */
+static double spm_light_power_spot(const spm_scene *sc, const float *p)
+{
+    (void)sc;
+    double c = p[SPM_LIGHT_P_A], b = p[SPM_LIGHT_P_B];
+    double band = c - b > 1e-6 ? (sin(c) - sin(b)) / (c - b) : cos(c);
+    return 2.0 * M_PI * (1.0 - band) * (double)p[SPM_LIGHT_P_SCALE];
+}
 #endif
 SPM_LIGHT_KIND(SPOT,
     .keyword = "spot",
@@ -75,6 +94,24 @@ SPM_LIGHT_KIND(SPOT,
  * (spm_light_place), the disc its emission rays leave from */
 #ifdef SPM_KERNEL_FILES
 #include "light_distant.clh"
+#elif defined(SPM_LIGHT_HOST_CODE)
+/* E over the disc of the bounding sphere: pi r^2 E */
+static double spm_light_power_distant(const spm_scene *sc, const float *p)
+{
+    double c[3], r;
+    spm_light_bounding_sphere(sc, c, &r);
+    return M_PI * r * r * (double)p[SPM_LIGHT_P_SCALE];
+}
+
+/* the disc its emission rays leave from: the bounding sphere's */
+static void spm_light_place_distant(const spm_scene *sc, float *p)
+{
+    double c[3], r;
+    spm_light_bounding_sphere(sc, c, &r);
+    for (int k = 0; k < 3; k++)
+        p[SPM_LIGHT_P_POS + k] = (float)c[k];
+    p[SPM_LIGHT_P_A] = (float)r;
+}
 #endif
 SPM_LIGHT_KIND(DISTANT,
     .keyword = "distant",

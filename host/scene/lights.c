@@ -5,6 +5,33 @@
 #include <string.h>
 #include "colour.h"
 
+/* the scene's bounding sphere: its box's centre and half diagonal (pbrt-v4's
+ * Bounds3::BoundingSphere); r = 0 for a scene with no triangles */
+void spm_light_bounding_sphere(const spm_scene *sc, double c[3], double *r)
+{
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (int i = 0; i < sc->ntris; i++)
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 3; k++) {
+                lo[k] = fmin(lo[k], sc->tris[i].p[v][k]);
+                hi[k] = fmax(hi[k], sc->tris[i].p[v][k]);
+            }
+    double r2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+        c[k] = sc->ntris ? 0.5 * (lo[k] + hi[k]) : 0.0;
+        r2 += sc->ntris ? 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]) : 0.0;
+    }
+    *r = sqrt(r2);
+}
+
+/* The kinds' own host code, written in their entries (SPM_LIGHT_HOST_CODE):
+ * the hooks their descriptors name, which may use the helpers above. */
+#define SPM_LIGHT_HOST_CODE
+#define SPM_LIGHT_KIND(name, ...)
+#include "spm_lights.h"
+#undef SPM_LIGHT_KIND
+#undef SPM_LIGHT_HOST_CODE
+
 #define SPM_LIGHT_KIND(name, ...) [SPM_LIGHT_##name] = {.tag = SPM_LIGHT_##name, __VA_ARGS__},
 const spm_light_desc spm_light_kinds[] = {
 #include "spm_lights.h"
@@ -41,60 +68,10 @@ double spm_light_power(const spm_scene *sc, const spm_scene_light *l)
     return y * spm_light_kinds[l->kind].power(sc, l->p) / M_PI;
 }
 
-/* 4 pi I */
-double spm_light_power_point(const spm_scene *sc, const float *p)
-{
-    (void)sc;
-    return 4.0 * M_PI * (double)p[SPM_LIGHT_P_SCALE];
-}
 
-/* I times the solid angle of the falloff f (1 to the beam angle b, linear in
- * theta to 0 at the cone angle c): 2 pi int_0^c f sin = 2 pi (1 - (sin c -
- * sin b) / (c - b)), 2 pi (1 - cos c) as b -> c */
-double spm_light_power_spot(const spm_scene *sc, const float *p)
-{
-    (void)sc;
-    double c = p[SPM_LIGHT_P_A], b = p[SPM_LIGHT_P_B];
-    double band = c - b > 1e-6 ? (sin(c) - sin(b)) / (c - b) : cos(c);
-    return 2.0 * M_PI * (1.0 - band) * (double)p[SPM_LIGHT_P_SCALE];
-}
 
-/* the scene's bounding sphere: its box's centre and half diagonal (pbrt-v4's
- * Bounds3::BoundingSphere); r = 0 for a scene with no triangles */
-static void bounding_sphere(const spm_scene *sc, double c[3], double *r)
-{
-    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    for (int i = 0; i < sc->ntris; i++)
-        for (int v = 0; v < 3; v++)
-            for (int k = 0; k < 3; k++) {
-                lo[k] = fmin(lo[k], sc->tris[i].p[v][k]);
-                hi[k] = fmax(hi[k], sc->tris[i].p[v][k]);
-            }
-    double r2 = 0.0;
-    for (int k = 0; k < 3; k++) {
-        c[k] = sc->ntris ? 0.5 * (lo[k] + hi[k]) : 0.0;
-        r2 += sc->ntris ? 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]) : 0.0;
-    }
-    *r = sqrt(r2);
-}
 
-/* E over the disc of the bounding sphere: pi r^2 E */
-double spm_light_power_distant(const spm_scene *sc, const float *p)
-{
-    double c[3], r;
-    bounding_sphere(sc, c, &r);
-    return M_PI * r * r * (double)p[SPM_LIGHT_P_SCALE];
-}
 
-/* the disc its emission rays leave from: the bounding sphere's */
-void spm_light_place_distant(const spm_scene *sc, float *p)
-{
-    double c[3], r;
-    bounding_sphere(sc, c, &r);
-    for (int k = 0; k < 3; k++)
-        p[SPM_LIGHT_P_POS + k] = (float)c[k];
-    p[SPM_LIGHT_P_A] = (float)r;
-}
 
 void spm_light_place(const spm_scene *sc, const spm_scene_light *l, float p[SPM_LIGHT_PARAMS])
 {

@@ -49,11 +49,10 @@ int spm_light_defines(const spm_emitter *em, int n, char *buf, size_t size);
  * in the area lights' unit, area x Y of radiance: its radiant power in Y
  * over pi (a point light: 4 pi I_Y / pi). */
 double spm_light_power(const spm_scene *sc, const spm_scene_light *l);
-/* the kinds' power hooks (include/spm_lights.h) */
-double spm_light_power_point(const spm_scene *sc, const float *p);
-double spm_light_power_spot(const spm_scene *sc, const float *p);
-double spm_light_power_distant(const spm_scene *sc, const float *p);
-void spm_light_place_distant(const spm_scene *sc, float *p);
+/* the scene's bounding sphere: its box's centre and half diagonal (pbrt-v4's
+ * Bounds3::BoundingSphere); r = 0 for a scene with no triangles. For the
+ * kinds' hooks (include/spm_lights.h). */
+void spm_light_bounding_sphere(const spm_scene *sc, double c[3], double *r);
 /* The emitter's parameters of statement light l: its own, and what its
  * kind's place hook adds from the scene (a distant light's bounding sphere,
  * centre into p[POS], radius into p[A]). */
