@@ -12,6 +12,8 @@ bash tools/setup.sh --bench
 # compiled kernels: PoCL's and Rusticl's caches beside the build
 export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$PWD/build/pocl-cache}"
 export MESA_SHADER_CACHE_DIR="${MESA_SHADER_CACHE_DIR:-$PWD/build/mesa-cache}"
+# the RGB-to-spectrum table (host/scene/rgb2spec_table.c), fitted once for the suite, not in $HOME
+export SPECMIP_CACHE_DIR="${SPECMIP_CACHE_DIR:-$PWD/build/specmip-cache}"
 ctest --test-dir build --output-on-failure -j2 | tee build/ctest.log
 
 # Sanitizer build: the OpenCL tests are left out (PoCL's LLVM and the ICD

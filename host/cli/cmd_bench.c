@@ -344,21 +344,12 @@ static int finish_plan(options *o, glob_t *g)
 
 static int make_dir(const char *dir)
 {
-    char buf[4096];
-    snprintf(buf, sizeof buf, "%s", dir);
-    for (char *s = buf + 1;; s++) {
-        int end = !*s;
-        if (*s == '/' || end) {
-            *s = 0;
-            if (mkdir(buf, 0777) && errno != EEXIST) {
-                fprintf(stderr, "specmip bench: cannot create %s: %s\n", buf, strerror(errno));
-                return 1;
-            }
-            if (end)
-                return 0;
-            *s = '/';
-        }
+    char failed[4096];
+    if (spm_make_dirs(dir, failed, sizeof failed)) {
+        fprintf(stderr, "specmip bench: cannot create %s: %s\n", failed, strerror(errno));
+        return 1;
     }
+    return 0;
 }
 
 /* --ops and --rays time one device: a list of several or 'all' is refused. */

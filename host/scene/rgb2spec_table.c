@@ -430,7 +430,7 @@ const spm_rgb2spec_table *spm_rgb2spec_srgb(spm_error *err)
             if (spm_rgb2spec_table_build(SPM_RGB2SPEC_RES, 0, &srgb, err))
                 r = NULL;
             else if (have_dir) {
-                mkdir(dir, 0777); /* in the user's cache folder; a failure is no error */
+                spm_make_dirs(dir, NULL, 0); /* a failure is no error: fitted again */
                 spm_rgb2spec_cache_write(path, inputs, &srgb);
             }
         }

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 int spm_quiet_warnings = 0;
@@ -92,4 +93,24 @@ const char *spm_data_path(const char *rel, char *buf, size_t bufsize)
     const char *root = getenv("SPECMIP_DATA");
     snprintf(buf, bufsize, "%s/%s", root && *root ? root : SPM_SOURCE_DIR, rel);
     return buf;
+}
+
+int spm_make_dirs(const char *dir, char *failed, size_t size)
+{
+    char buf[4096];
+    snprintf(buf, sizeof buf, "%s", dir);
+    for (char *c = buf + 1;; c++) {
+        int end = !*c;
+        if (*c == '/' || end) {
+            *c = '\0';
+            if (mkdir(buf, 0777) && errno != EEXIST) {
+                if (failed)
+                    snprintf(failed, size, "%s", buf);
+                return -1;
+            }
+            if (end)
+                return 0;
+            *c = '/';
+        }
+    }
 }

@@ -28,6 +28,9 @@ extern int spm_quiet_warnings;
 /* Notes (what was loaded, to help place a camera) go to stderr prefixed
  * "specmip: "; --quiet silences them, and the progress line, not warnings. */
 void spm_notef(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* Creates a folder and its missing parents (`mkdir -p`): 0, or -1 with errno
+ * set and the path that failed in failed (size bytes) when failed is given. */
+int spm_make_dirs(const char *dir, char *failed, size_t size);
 extern int spm_quiet_notes;
 
 /* Allocation that aborts the program with a clear message when memory runs out. */
