@@ -6,6 +6,7 @@
  * triangles the file gives none. */
 #include "scene_parsers.h"
 #include "mesh_gltf.h"
+#include "lights.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,36 +23,6 @@ static const double model_view[3] = {0.55, 0.45, 1.0};
 /* the grey of a model whose format has no default material (glTF has one,
  * mesh_build.c) */
 static const double model_grey[3] = {0.8, 0.8, 0.8};
-
-/* The bounding box of the scene's triangles; 1 when there is none. */
-static int bounds(const spm_scene *s, double lo[3], double hi[3])
-{
-    for (int k = 0; k < 3; k++)
-        lo[k] = HUGE_VAL, hi[k] = -HUGE_VAL;
-    for (int t = 0; t < s->ntris; t++)
-        for (int v = 0; v < 3; v++)
-            for (int k = 0; k < 3; k++) {
-                lo[k] = fmin(lo[k], s->tris[t].p[v][k]);
-                hi[k] = fmax(hi[k], s->tris[t].p[v][k]);
-            }
-    return s->ntris < 1;
-}
-
-/* The bounding sphere of the scene's triangles: centre c, radius r (the
- * box's half diagonal). 1 when there is no triangle. */
-static int bounding_sphere(const spm_scene *s, double c[3], double *r)
-{
-    double lo[3], hi[3];
-    if (bounds(s, lo, hi))
-        return 1;
-    *r = 0.0;
-    for (int k = 0; k < 3; k++) {
-        c[k] = 0.5 * (lo[k] + hi[k]);
-        *r += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
-    }
-    *r = sqrt(*r);
-    return 0;
-}
 
 /* The camera that frames the box: its bounding sphere (centre c, radius r)
  * fills the shorter side's field of view but for the margin, at distance
@@ -222,7 +193,9 @@ int spm_scene_parse_model(const spm_file *file, spm_scene *out, spm_error *err)
         spm_mesh_free(&d);
     }
     double c[3], r = 0.0;
-    if (!rc && bounding_sphere(out, c, &r)) {
+    if (!rc && out->ntris > 0)
+        spm_light_bounding_sphere(out, c, &r);
+    if (!rc && out->ntris < 1) {
         spm_errorf(err, "%s: the model has no triangle to render", where);
         rc = 1;
     }
