@@ -446,6 +446,15 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
     w.fd = fd;
     struct aiFileIO io = {io_open, io_close, NULL};
     io_model = path;
+    /* a glTF's lights from its JSON (KHR_lights_punctual), before Assimp,
+     * whose messages on a bad light mislead (an unknown type is "missing its
+     * spot parameters"); other formats' lights are ignored */
+    spm_mesh_light *lights = NULL;
+    int range_set = 0;
+    spm_error lerr;
+    long nlights = spm_mesh_gltf_lights(file, &lights, &range_set, &lerr);
+    if (nlights < 0)
+        child_fail(&w, lerr.msg);
     const struct aiScene *sc = aiImportFileEx(file->path, aiProcess_Triangulate, &io);
     if (io_was_refused)
         child_fail(&w, io_refused.msg);
@@ -513,13 +522,6 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
         k.ignored |= SPM_MESH_IGN_EMISSIVE_STRENGTH;
     if (sc->mNumCameras)
         k.ignored |= SPM_MESH_IGN_CAMERAS;
-    /* a glTF's lights from its JSON (KHR_lights_punctual), other formats' ignored */
-    spm_mesh_light *lights = NULL;
-    int range_set = 0;
-    spm_error lerr;
-    long nlights = spm_mesh_gltf_lights(file, &lights, &range_set, &lerr);
-    if (nlights < 0)
-        child_fail(&w, lerr.msg);
     if (sc->mNumLights && !spm_mesh_gltf_is(path))
         k.ignored |= SPM_MESH_IGN_LIGHTS;
     if (range_set)
