@@ -79,6 +79,18 @@ static void local_matrix(const spm_json *node, double m[16])
         m[12 + i] = t[i];
 }
 
+void spm_mesh_gltf_name(const spm_json *obj, const spm_json *node, const char *what, size_t i,
+                        char *out, size_t size)
+{
+    const char *name = spm_json_string(obj, "name");
+    if (!name || !name[0])
+        name = spm_json_string(node, "name");
+    if (name && name[0])
+        snprintf(out, size, "%s", name);
+    else
+        snprintf(out, size, "%s %zu", what, i);
+}
+
 typedef struct {
     const spm_json *doc, *nodes, *cams;
     spm_gltf_camera *out;
@@ -93,13 +105,7 @@ static int add_camera(cam_walk *w, const spm_json *node, size_t ci, const double
     const spm_json *cam = &w->cams->items[ci];
     spm_gltf_camera *c = &w->out[w->n];
     memset(c, 0, sizeof *c);
-    const char *name = spm_json_string(cam, "name");
-    if (!name || !name[0])
-        name = spm_json_string(node, "name");
-    if (name && name[0])
-        snprintf(c->name, sizeof c->name, "%s", name);
-    else
-        snprintf(c->name, sizeof c->name, "camera %d", w->n);
+    spm_mesh_gltf_name(cam, node, "camera", (size_t)w->n, c->name, sizeof c->name);
     const char *type = spm_json_string(cam, "type");
     c->ortho = type && !strcmp(type, "orthographic");
     const spm_json *p = spm_json_get(cam, c->ortho ? "orthographic" : "perspective");

@@ -31,6 +31,9 @@ int spm_mesh_gltf_cameras(const spm_file *model, spm_gltf_camera *out, spm_error
 struct spm_json;
 /* 1 when the name ends in .gltf or .glb (any case) */
 int spm_mesh_gltf_is(const char *name);
+/* obj's `name`, else its node's, else "WHAT I", into out[size] */
+void spm_mesh_gltf_name(const struct spm_json *obj, const struct spm_json *node, const char *what,
+                        size_t i, char *out, size_t size);
 /* a member's number, or def when absent or not a number */
 double spm_mesh_gltf_num(const struct spm_json *v, const char *key, double def);
 /* Called for each node of the default scene, parents first (depth-first, in

@@ -54,13 +54,7 @@ static int read_light(light_walk *w, const spm_json *node, size_t k, size_t li,
                                         [SPM_MESH_LIGHT_DIRECTIONAL] = "directional"};
     const spm_json *src = &w->lights->items[li];
     memset(l, 0, sizeof *l);
-    const char *name = spm_json_string(src, "name");
-    if (!name || !name[0])
-        name = spm_json_string(node, "name");
-    if (name && name[0])
-        snprintf(l->name, sizeof l->name, "%s", name);
-    else
-        snprintf(l->name, sizeof l->name, "light %zu", li);
+    spm_mesh_gltf_name(src, node, "light", li, l->name, sizeof l->name);
     char who[200];
     snprintf(who, sizeof who, "KHR_lights_punctual light %zu ('%s') of node %zu", li, l->name, k);
     const char *type = spm_json_string(src, "type");
