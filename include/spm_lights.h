@@ -60,30 +60,39 @@ SPM_LIGHT_KIND(POINT,
     .power = spm_light_power_point)
 
 /* a spot light: a point light whose intensity I f(theta) falls with the
- * angle theta to its axis as Mitsuba 3's `spot` does: f = 1 inside the beam
- * angle, linear in theta down to 0 at the cone's edge, 0 beyond; a delta.
- * p[A] the cone's half-angle, p[B] the beam's (radians), p[C] the cone's
- * cosine. POWER: the intensity's integral over the cone */
+ * angle theta to its axis: f = 1 inside the beam angle b, 0 beyond the cone
+ * angle c, between them one of three shapes (p[D], SPM_SPOT_*): linear in
+ * theta (Mitsuba 3's `spot`, the default), a smoothstep in cos theta
+ * (pbrt-v4's) or the square of a ramp linear in cos theta (glTF's); a
+ * delta. p[A] = c, p[B] = b (radians), p[C] = cos c. POWER: the intensity's
+ * integral over the cone */
 #ifdef SPM_KERNEL_FILES
 #include "light_spot.clh"
 #elif defined(SPM_LIGHT_HOST_CODE)
-/* I times the solid angle of the falloff f (1 to the beam angle b, linear in
- * theta to 0 at the cone angle c): 2 pi int_0^c f sin = 2 pi (1 - (sin c -
- * sin b) / (c - b)), 2 pi (1 - cos c) as b -> c */
+/* I times the solid angle of the falloff, 2 pi int_{cos c}^1 f(mu) dmu: 1 to
+ * cos b, then over the band the mean of its shape times (cos b - cos c):
+ * linear in theta 2 pi (1 - (sin c - sin b) / (c - b)) (2 pi (1 - cos c) as
+ * b -> c); a smoothstep's mean 1/2 (pbrt-v4's Phi), a square's 1/3 */
 static double spm_light_power_spot(const spm_scene *sc, const float *p)
 {
     (void)sc;
-    double c = p[SPM_LIGHT_P_A], b = p[SPM_LIGHT_P_B];
-    double band = c - b > 1e-6 ? (sin(c) - sin(b)) / (c - b) : cos(c);
-    return 2.0 * M_PI * (1.0 - band) * (double)p[SPM_LIGHT_P_SCALE];
+    double c = p[SPM_LIGHT_P_A], b = p[SPM_LIGHT_P_B], band;
+    if (p[SPM_LIGHT_P_D] == SPM_SPOT_LINEAR)
+        band = 1.0 - (c - b > 1e-6 ? (sin(c) - sin(b)) / (c - b) : cos(c));
+    else
+        band = 1.0 - cos(b) + (cos(b) - cos(c)) * (p[SPM_LIGHT_P_D] == SPM_SPOT_SMOOTHSTEP
+                                                       ? 1.0 / 2.0 : 1.0 / 3.0);
+    return 2.0 * M_PI * band * (double)p[SPM_LIGHT_P_SCALE];
 }
 #endif
 SPM_LIGHT_KIND(SPOT,
     .keyword = "spot",
-    .help = "'light spot X Y Z TX TY TZ SPECTRUM POWER|intensity I cone DEG [falloff DEG]': a "
-            "spot light at (X, Y, Z) aimed at (TX, TY, TZ); cone the half-angle of its edge, "
-            "falloff the width (degrees) inside it over which the intensity falls linearly "
-            "to 0 (default a quarter of the cone)",
+    .help = "'light spot X Y Z TX TY TZ SPECTRUM POWER|intensity I cone DEG [falloff DEG] "
+            "[shape linear|smoothstep|squared]': a spot light at (X, Y, Z) aimed at (TX, TY, "
+            "TZ); cone the half-angle of its edge, falloff the width (degrees) inside it over "
+            "which the intensity falls to 0 (default a quarter of the cone), linearly in the "
+            "angle (Mitsuba 3's), as a smoothstep in its cosine (pbrt-v4's) or as the square "
+            "of a ramp in its cosine (glTF's)",
     .args = "PTSWC",
     .define = "SPM_WITH_LIGHT_SPOT",
     .power = spm_light_power_spot)

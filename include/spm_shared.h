@@ -444,15 +444,23 @@ enum spm_light_kind {
 };
 #undef SPM_LIGHT_KIND
 /* A light's own parameters (spm_emitter.p), by slot: where it is, where it
- * points, two numbers of its kind, the factor its colour's spectrum takes
- * (a point light's intensity per unit of the spectrum, ...). */
-#define SPM_LIGHT_PARAMS 10
+ * points, three numbers of its kind, the factor its colour's spectrum takes
+ * (a point light's intensity per unit of the spectrum, ...), and a fourth. */
+#define SPM_LIGHT_PARAMS 11
 #define SPM_LIGHT_P_POS 0
 #define SPM_LIGHT_P_DIR 3
 #define SPM_LIGHT_P_A 6
 #define SPM_LIGHT_P_B 7
 #define SPM_LIGHT_P_SCALE 8
 #define SPM_LIGHT_P_C 9
+#define SPM_LIGHT_P_D 10
+/* A spot light's falloff between its beam angle b and cone angle c
+ * (p[SPM_LIGHT_P_D]), as each peer writes it: linear in the angle (Mitsuba
+ * 3's `spot`), a smoothstep in the cosine (pbrt-v4's), the square of a ramp
+ * linear in the cosine (glTF KHR_lights_punctual's reference form). */
+#define SPM_SPOT_LINEAR 0
+#define SPM_SPOT_SMOOTHSTEP 1
+#define SPM_SPOT_SQUARED 2
 
 /* Light selection (next-event estimation). Light i of the emitter list (an
  * emitter triangle, or a light of another kind: spm_emitter.kind) is picked

@@ -47,9 +47,9 @@ cat > "$T/warn.pbrt" <<'PBRT'
 Film "rgb" "integer xresolution" 16 "integer yresolution" 16
 Camera "spherical"
 WorldBegin
-LightSource "spot" "rgb I" [1 1 1]
-LightSource "spot" "rgb I" [2 2 2]
-LightSource "spot" "rgb I" [3 3 3]
+LightSource "goniometric" "rgb I" [1 1 1]
+LightSource "goniometric" "rgb I" [2 2 2]
+LightSource "goniometric" "rgb I" [3 3 3]
 Texture "checks" "spectrum" "checkerboard"
 Material "diffuse" "texture reflectance" "checks"
 AttributeBegin
@@ -62,11 +62,12 @@ PBRT
 msg=$("$BIN" render "$T/warn.pbrt" --spp 1 -o "$T/warn.png" 2>&1); rc=$?
 check "a scene with warnings renders (rc $rc: $msg)" [ "$rc" -eq 0 ]
 check "its image written" [ -s "$T/warn.png" ]
-check "LightSource \"spot\" warned once" \
-  [ "$(grep -c 'LightSource "spot" ignored' <<< "$msg")" -eq 1 ]
-check "at its first line" grep -qF 'warn.pbrt:4:1: LightSource "spot" ignored' <<< "$msg"
-check "its repeats counted" grep -qF 'warn.pbrt:4:1: LightSource "spot": ignored 3 times' <<< "$msg"
-check "the spot's reason said" grep -qF 'smoothstep falloff' <<< "$msg"
+check "LightSource \"goniometric\" warned once" \
+  [ "$(grep -c 'LightSource "goniometric" ignored' <<< "$msg")" -eq 1 ]
+check "at its first line" grep -qF 'warn.pbrt:4:1: LightSource "goniometric" ignored' <<< "$msg"
+check "its repeats counted" \
+  grep -qF 'warn.pbrt:4:1: LightSource "goniometric": ignored 3 times' <<< "$msg"
+check "the reason said" grep -qF 'a light type specmip does not render' <<< "$msg"
 check "an equal-area map named" \
   grep -qF "warn.pbrt:14:1: LightSource \"infinite\" with a 'filename' ignored" <<< "$msg"
 check "the texture named" grep -qF 'warn.pbrt:7:1: Texture "checkerboard" ignored' <<< "$msg"

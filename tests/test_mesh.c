@@ -582,7 +582,7 @@ static void check_decode(void)
     spm_mesh_material mats[2] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}, .emission = {0, 0, 0}},
                                  {.name = "b", .diffuse = {1, 0, 0}, .emission = {0, 0, 0}}};
     spm_mesh_tri tris[2] = {{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1}, {{{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}, 0}};
-    spm_mesh_data d = {0, 2, 2, mats, tris, NULL, NULL, NULL, ""}, out;
+    spm_mesh_data d = {0, 2, 2, mats, tris, NULL, NULL, NULL, "", NULL, 0}, out;
     spm_error err;
     size_t n;
     unsigned char *buf = spm_mesh_encode(&d, &n);
@@ -630,6 +630,32 @@ static void check_decode(void)
               out.normals[1].n[0][1] == 1.0f,
           "texture coordinates and normals decode as encoded");
     spm_mesh_free(&out);
+    /* lights after the texture coordinates; a bad type or a count not sent refused */
+    spm_mesh_light lights[2] = {{.name = "lamp", .type = SPM_MESH_LIGHT_SPOT, .inner = 0.25f},
+                                {.name = "sun", .type = SPM_MESH_LIGHT_DIRECTIONAL}};
+    d.lights = lights;
+    d.nlights = 2;
+    buf = spm_mesh_encode(&d, &n);
+    copy = spm_xmalloc(n);
+    memcpy(copy, buf, n);
+    CHECK(spm_mesh_decode(copy, n, "x", &out, &err) == 0 && out.nlights == 2 && out.uvs &&
+              out.uvs[1].uv[2][1] == 0.125f && out.lights[0].inner == 0.25f &&
+              !strcmp(out.lights[1].name, "sun"),
+          "lights decode as encoded, after the texture coordinates");
+    spm_mesh_free(&out);
+    int32_t bad_type = 7;
+    uint32_t more = 3;
+    copy = spm_xmalloc(n);
+    memcpy(copy, buf, n);
+    memcpy(copy + n - sizeof(spm_mesh_light) + offsetof(spm_mesh_light, type), &bad_type, 4);
+    CHECK(spm_mesh_decode(copy, n, "x", &out, &err) != 0, "a light of an unknown type refused");
+    free(copy);
+    copy = spm_xmalloc(n);
+    memcpy(copy, buf, n);
+    memcpy(copy + 28, &more, 4);
+    CHECK(spm_mesh_decode(copy, n, "x", &out, &err) != 0, "lights announced but not sent refused");
+    free(copy);
+    free(buf);
 }
 
 /* ---- building ---- */
@@ -678,7 +704,7 @@ static void check_build_normals(void)
     spm_mesh_material mats[1] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}}};
     spm_mesh_tri tris[1] = {{{{1, 0, 0}, {1, 1, 0}, {1, 0, 1}}, 0}}; /* front face +x */
     spm_mesh_normals nrm[1] = {{{{1, 1, 0}, {1, 0, 0}, {1, 0, 1}}}};
-    spm_mesh_data d = {0, 1, 1, mats, tris, nrm, NULL, NULL, ""};
+    spm_mesh_data d = {0, 1, 1, mats, tris, nrm, NULL, NULL, "", NULL, 0};
     spm_error err;
     spm_quiet_warnings = 1;
     struct {
@@ -715,7 +741,7 @@ static void check_build_normals(void)
     }
     /* normals against the winding: turned to the front face */
     spm_mesh_normals back[1] = {{{{-1, 0, 0}, {-1, 0, 0}, {-1, 0, 0}}}};
-    spm_mesh_data db = {0, 1, 1, mats, tris, back, NULL, NULL, ""};
+    spm_mesh_data db = {0, 1, 1, mats, tris, back, NULL, NULL, "", NULL, 0};
     bscene x;
     bs_open(&x);
     spm_mesh_opts o;
@@ -729,7 +755,7 @@ static void check_build_normals(void)
     bs_close(&x);
     /* a zero normal: that triangle is flat */
     spm_mesh_normals zero[1] = {{{{1, 0, 0}, {0, 0, 0}, {1, 0, 0}}}};
-    spm_mesh_data dz = {0, 1, 1, mats, tris, zero, NULL, NULL, ""};
+    spm_mesh_data dz = {0, 1, 1, mats, tris, zero, NULL, NULL, "", NULL, 0};
     bs_open(&x);
     identity(&o);
     o.material = x.grey;
@@ -748,7 +774,7 @@ static void check_build(void)
                             {{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, 1}, /* collinear */
                             {{{0, 0, 0}, {0, 0, 0}, {0, 1, 0}}, 1}, /* coincident */
                             {{{0, 0, 3}, {1, 0, 3}, {0, 1, 3}}, 1}};
-    spm_mesh_data d = {0, 3, 4, mats, tris, NULL, NULL, NULL, ""};
+    spm_mesh_data d = {0, 3, 4, mats, tris, NULL, NULL, NULL, "", NULL, 0};
     spm_error err;
     spm_quiet_warnings = 1;
 
@@ -797,7 +823,7 @@ static void check_build(void)
     identity(&o);
     spm_mesh_transform(scale, axis, 90, tr, o.m);
     o.material = x.grey;
-    spm_mesh_data one = {0, 3, 1, mats, tris, NULL, NULL, NULL, ""};
+    spm_mesh_data one = {0, 3, 1, mats, tris, NULL, NULL, NULL, "", NULL, 0};
     rc = spm_mesh_add(&x.b, &x.cache, &one, &o, "m", "t", &err);
     /* 1e-6: cos 90 degrees in double is 6e-17, times coordinates of 2 */
     CHECK(rc == 0 && fabsf(x.s.tris[0].p[0][0]) < 1e-6f && x.s.tris[0].p[0][1] == 2.0f &&
@@ -854,7 +880,7 @@ static void check_build(void)
     bs_close(&x);
 
     /* all degenerate: an error, not an empty mesh */
-    spm_mesh_data degen = {0, 3, 2, mats, tris + 1, NULL, NULL, NULL, ""};
+    spm_mesh_data degen = {0, 3, 2, mats, tris + 1, NULL, NULL, NULL, "", NULL, 0};
     bs_open(&x);
     identity(&o);
     rc = spm_mesh_add(&x.b, &x.cache, &degen, &o, "m", "t", &err);

@@ -323,7 +323,10 @@ static void test_sphere(void)
  * power over 4 pi the intensity, its blackbody at luminance `scale`; a
  * distant light travelling from `from` to `to` through the CTM, its
  * illuminance the irradiance; a constant infinite light the background at
- * illuminance / pi; spot and an infinite map's file warned, not made. */
+ * illuminance / pi; a spot at `from` aimed at `to`, its smoothstep between
+ * coneangle - conedelta and coneangle, its power over pbrt-v4's k_e = 2 pi
+ * ((1 - cos start) + (cos start - cos end) / 2) the intensity; an infinite
+ * map's file warned, not made. */
 static void test_light_sources(void)
 {
     spm_scene s;
@@ -335,15 +338,16 @@ static void test_light_sources(void)
                   "Rotate 90 0 0 1\n"
                   "LightSource \"distant\" \"point3 from\" [0 0 0] \"point3 to\" [2 0 0]\n"
                   "  \"float illuminance\" 3\nAttributeEnd\n"
-                  "LightSource \"spot\" \"rgb I\" [1 1 1]\n"
+                  "LightSource \"spot\" \"rgb I\" [1 1 1] \"float power\" 7 \"float coneangle\" 40\n"
+                  "  \"float conedelta\" 10 \"point3 from\" [0 2 0] \"point3 to\" [0 2 3]\n"
                   "LightSource \"infinite\" \"string filename\" \"sky.exr\"\n"
                   "LightSource \"infinite\" \"rgb L\" [1 1 1] \"float illuminance\" 6.2831853\n",
                   &s, &err);
     CHECK(rc == 0, "%s", err.msg);
     if (rc)
         return;
-    CHECK(s.nlights == 2, "two lights made (point, distant): %d", s.nlights);
-    for (int i = 0; i < s.nlights && s.nlights == 2; i++) {
+    CHECK(s.nlights == 3, "three lights made (point, distant, spot): %d", s.nlights);
+    for (int i = 0; i < s.nlights && s.nlights == 3; i++) {
         const spm_scene_light *l = &s.lights[i];
         double xyz[3];
         spm_xyz_emission(&s.colours[l->colour].s, xyz);
@@ -353,6 +357,16 @@ static void test_light_sources(void)
             CHECK_NEAR(l->p[SPM_LIGHT_P_POS + 2], 3, 1e-6, "point z");
             CHECK_NEAR(xyz[1] * l->p[SPM_LIGHT_P_SCALE], 2.0 * 20 / (4 * M_PI), 1e-5,
                        "point intensity's luminance");
+        } else if (l->kind == SPM_LIGHT_SPOT) { /* aimed along +z; I = 7 / k_e (D65 at luminance 1) */
+            double cs = cos(30 * M_PI / 180), ce = cos(40 * M_PI / 180);
+            double k_e = 2 * M_PI * ((1 - cs) + (cs - ce) / 2);
+            CHECK_NEAR(l->p[SPM_LIGHT_P_POS + 1], 2, 1e-6, "spot y");
+            CHECK_NEAR(l->p[SPM_LIGHT_P_DIR + 2], 1, 1e-6, "spot aimed along +z");
+            CHECK_NEAR(l->p[SPM_LIGHT_P_A], 40 * M_PI / 180, 1e-6, "spot cone angle");
+            CHECK_NEAR(l->p[SPM_LIGHT_P_B], 30 * M_PI / 180, 1e-6, "spot falloff start");
+            CHECK(l->p[SPM_LIGHT_P_D] == SPM_SPOT_SMOOTHSTEP, "spot shape smoothstep: %g",
+                  l->p[SPM_LIGHT_P_D]);
+            CHECK_NEAR(xyz[1] * l->p[SPM_LIGHT_P_SCALE], 7 / k_e, 1e-4, "spot intensity's Y");
         } else { /* +x turned 90 degrees about z: +y; E = 3 (D65 at luminance 1) */
             CHECK(l->kind == SPM_LIGHT_DISTANT, "the second a distant light: %d", l->kind);
             CHECK_NEAR(l->p[SPM_LIGHT_P_DIR + 0], 0, 1e-6, "distant x");

@@ -30,6 +30,10 @@ The scene (docs/SCENE_FORMAT.md) is converted, not approximated:
     internal diffuse reflectance from a polynomial fit and its roughplastic the rough lobe's
     tabulated albedo for the diffuse lobe's transmission, where specmip integrates the smooth
     Fresnel (docs/METHODS.md "Coatings"): small differences by design;
+  - `light point|spot|distant` statements: Mitsuba's `point`, `spot` (its falloff linear in
+    the angle, specmip's default shape; other shapes are an error) and `directional`
+    emitters, the intensity or irradiance per unit of the spectrum converted as an area
+    light's radiance is, a POWER divided by 4 pi or the spot's falloff's solid angle;
   - the camera: `perspective`, the horizontal field of view (fov_axis x), up +y, box pixel
     filter, `independent` sampler; the `path` integrator without a depth limit.
 Unsupported (an error, exit 2): `twosided` emitters, `background`, MiniLight files, mesh
@@ -197,6 +201,7 @@ class Scene:
         self.materials = {}  # name -> dict
         self.tris = []  # (material, (p0, p1, p2))
         self.meshes = []  # (path, material, 4x4 matrix rows)
+        self.lights = []  # (kind, dict of its values)
 
 
 def num(t, where):
@@ -292,6 +297,8 @@ def parse_scene(path):
             sc.tris += [(t[1], (a, b, c)), (t[1], (a, c, d))]
         elif kw == 'mesh':
             sc.meshes.append(parse_mesh(t, where, sdir))
+        elif kw == 'light':
+            sc.lights.append(parse_light(t, where))
         elif kw == 'background':
             raise SceneError('%s: background is not converted (Mitsuba has no up/down sky)'
                              % where)
@@ -300,6 +307,74 @@ def parse_scene(path):
     if sc.camera is None or sc.width is None:
         raise SceneError('%s: no camera or image' % path)
     return sc
+
+
+def spot_solid_angle(c, b):
+    """The solid angle of specmip's (and Mitsuba's) spot falloff, linear in the angle from
+    the beam angle b to the cone c (radians): 2 pi (1 - (sin c - sin b) / (c - b))."""
+    return 2 * math.pi * (1 - ((math.sin(c) - math.sin(b)) / (c - b) if c - b > 1e-6
+                               else math.cos(c)))
+
+
+def parse_light(t, where):
+    """`light point|spot|distant ...` (docs/SCENE_FORMAT.md) as (kind, values): the
+    position, target or direction, the spectrum's name and the intensity (or irradiance)
+    per unit of the spectrum; a spot's cone and beam angles in degrees."""
+    kind, k = t[1], 2
+    vec = lambda: [num(x, where) for x in t[k:k + 3]]
+    v = {}
+    if kind in ('point', 'spot'):
+        v['pos'] = vec()
+        k += 3
+    if kind == 'spot':
+        v['target'] = vec()
+        k += 3
+    if kind == 'distant':
+        v['dir'] = vec()
+        k += 3
+    if kind not in ('point', 'spot', 'distant'):
+        raise SceneError('%s: light %s is not converted' % (where, kind))
+    v['spectrum'] = t[k]
+    k += 1
+    power = None
+    if t[k] == 'intensity':
+        v['scale'] = num(t[k + 1], where)
+    else:
+        power = num(t[k], where)
+    k += 2
+    if kind == 'spot':
+        if t[k] != 'cone':
+            raise SceneError('%s: a spot light needs cone' % where)
+        cone, k = num(t[k + 1], where), k + 2
+        fall = cone / 4
+        if k < len(t) and t[k] == 'falloff':
+            fall, k = num(t[k + 1], where), k + 2
+        if k < len(t) and t[k] == 'shape' and t[k + 1] != 'linear':
+            raise SceneError('%s: only the linear falloff is Mitsuba\'s' % where)
+        v['cone'], v['beam'] = cone, cone - fall
+        if power is not None:
+            v['scale'] = power / spot_solid_angle(math.radians(cone), math.radians(cone - fall))
+    elif power is not None:
+        v['scale'] = power / (4 * math.pi) if kind == 'point' else power
+    return kind, v
+
+
+def light_emitter(sc, kind, v):
+    """Mitsuba's point, spot (its falloff is specmip's default, linear in angle) or
+    directional emitter for a specmip light; the spectrum in Mitsuba's units as an area
+    light's radiance (radiance())."""
+    import mitsuba as mi
+    spec = radiance(sc, (v['spectrum'], v['scale']))
+    if kind == 'point':
+        return {'type': 'point', 'position': v['pos'], 'intensity': spec}
+    if kind == 'distant':
+        return {'type': 'directional', 'direction': v['dir'], 'irradiance': spec}
+    d = [v['target'][i] - v['pos'][i] for i in range(3)]
+    up = [0, 1, 0] if abs(d[1]) < 0.9 * math.sqrt(sum(x * x for x in d)) else [1, 0, 0]
+    return {'type': 'spot', 'intensity': spec, 'cutoff_angle': v['cone'],
+            'beam_width': v['beam'],
+            'to_world': mi.ScalarTransform4f().look_at(origin=v['pos'], target=v['target'],
+                                                      up=up)}
 
 
 def parse_material(t, where, sc):
@@ -579,6 +654,8 @@ def convert(sc, outdir, spp, seed, width=None):
         if mat['emit']:
             shape['emitter'] = {'type': 'area', 'radiance': radiance(sc, mat['emit'])}
         scene['shape_%03d_%s' % (k, m)] = shape
+    for k, (kind, v) in enumerate(sc.lights):
+        scene['light_%03d_%s' % (k, kind)] = light_emitter(sc, kind, v)
     return scene
 
 

@@ -1,19 +1,26 @@
 /* The CPU reference's spot light kind (kernels/light_spot.clh): intensity
- * e->p[SCALE] f(theta) times its colour, f Mitsuba 3's linear falloff in
- * angle between the beam angle e->p[B] and the cone angle e->p[A]; a delta. */
+ * e->p[SCALE] f(theta) times its colour, f falling between the beam angle
+ * e->p[B] and the cone angle e->p[A] in the shape e->p[D] (SPM_SPOT_*); a
+ * delta. */
 #include <math.h>
 #include "geometry_vec3.h"
 #include "refcpu.h"
 #include "refcpu_lights.h"
 
-/* f(theta) of a direction at cosine cos_l to the axis: 1 to b, (c - theta) /
- * (c - b) to c, 0 beyond */
+/* f(theta) of a direction at cosine cos_l to the axis: 1 to b, 0 beyond c,
+ * between them (c - theta) / (c - b) (linear), or of t = (cos_l - cos c) /
+ * (cos b - cos c) the smoothstep t^2 (3 - 2 t) or the square t^2 */
 static float spot_falloff(const spm_emitter *e, float cos_l)
 {
-    if (!(cos_l >= e->p[SPM_LIGHT_P_C]))
+    float cc = e->p[SPM_LIGHT_P_C], c = e->p[SPM_LIGHT_P_A], b = e->p[SPM_LIGHT_P_B];
+    if (!(cos_l >= cc))
         return 0.0f;
-    float theta = acosf(fminf(cos_l, 1.0f)), c = e->p[SPM_LIGHT_P_A], b = e->p[SPM_LIGHT_P_B];
-    return theta <= b ? 1.0f : (c - theta) / (c - b);
+    if (e->p[SPM_LIGHT_P_D] == SPM_SPOT_LINEAR) {
+        float theta = acosf(fminf(cos_l, 1.0f));
+        return theta <= b ? 1.0f : (c - theta) / (c - b);
+    }
+    float cb = cosf(b), t = cos_l >= cb ? 1.0f : (cos_l - cc) / (cb - cc);
+    return e->p[SPM_LIGHT_P_D] == SPM_SPOT_SMOOTHSTEP ? t * t * (3.0f - 2.0f * t) : t * t;
 }
 
 /* toward the light at distance d, unoccluded up to d: g = (1 / pmf) / d^2,

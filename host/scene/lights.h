@@ -24,10 +24,11 @@ typedef struct {
      *      p[SPM_LIGHT_P_SCALE] the intensity, a power divided by what the
      *      kind's power hook gives for intensity 1 once every argument is read
      *   E  an irradiance (W/m^2 per unit of the spectrum): p[SPM_LIGHT_P_SCALE]
-     *   C  `cone DEG [falloff DEG]`: the cone's half-angle in (0, 90] into
-     *      p[SPM_LIGHT_P_A] (radians) and its cosine into p[SPM_LIGHT_P_C], the
-     *      beam angle DEG - falloff (default 3/4 of the cone, Mitsuba 3's
-     *      beam_width) into p[SPM_LIGHT_P_B] */
+     *   C  `cone DEG [falloff DEG] [shape NAME]`: the cone's half-angle in
+     *      (0, 90] into p[SPM_LIGHT_P_A] (radians) and its cosine into
+     *      p[SPM_LIGHT_P_C], the beam angle DEG - falloff (default 3/4 of the
+     *      cone, Mitsuba 3's beam_width) into p[SPM_LIGHT_P_B], the falloff's
+     *      shape (SPM_SPOT_*: linear, smoothstep, squared) into p[SPM_LIGHT_P_D] */
     const char *args;
     const char *define;    /* the kernel define that compiles it in (NULL: always) */
     /* its radiant power per unit of the spectrum (W), from its parameters p

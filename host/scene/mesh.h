@@ -41,7 +41,8 @@ enum {
     SPM_MESH_IGN_ANIMATION = 1 << 9,
     SPM_MESH_IGN_POINTS_LINES = 1 << 10,
     SPM_MESH_IGN_EMISSIVE_STRENGTH = 1 << 11,
-    SPM_MESH_IGN_COUNT = 12
+    SPM_MESH_IGN_LIGHT_RANGE = 1 << 12,
+    SPM_MESH_IGN_COUNT = 13
 };
 /* "vertex normals", ... for bit i */
 const char *spm_mesh_ignored_name(int bit);
@@ -111,6 +112,20 @@ typedef struct {
     float uv[3][2];
 } spm_mesh_uvs;
 
+/* A glTF light (KHR_lights_punctual) a node of the default scene places,
+ * in file coordinates (its node's transform applied; mesh_gltf_lights.c). */
+enum { SPM_MESH_LIGHT_POINT = 0, SPM_MESH_LIGHT_SPOT = 1, SPM_MESH_LIGHT_DIRECTIONAL = 2 };
+typedef struct {
+    char name[64];             /* the light's name, else its node's, else "light N" */
+    int32_t type;              /* SPM_MESH_LIGHT_* */
+    float pos[3];              /* its node's origin */
+    float dir[3];              /* its node's -z, unit length: where it shines */
+    float colour[3];           /* `color`, linear RGB */
+    float intensity;           /* candela (point, spot) or lux (directional) */
+    float inner, outer;        /* a spot's innerConeAngle, outerConeAngle (radians) */
+} spm_mesh_light;
+#define SPM_MESH_MAX_LIGHTS 65536
+
 typedef struct {
     uint32_t ignored;          /* SPM_MESH_IGN_* bits */
     uint32_t nmats;
@@ -119,20 +134,22 @@ typedef struct {
     spm_mesh_tri *tris;
     spm_mesh_normals *normals; /* per triangle, or NULL: the file has no vertex normals */
     spm_mesh_uvs *uvs;         /* per triangle, or NULL: the file has no texture coordinates */
-    void *buf;                 /* owns mats, tris, normals and uvs */
+    void *buf;                 /* owns mats, tris, normals, uvs and lights */
     char extensions[512];      /* a glTF's extensionsUsed that are not rendered, ", "-separated */
+    spm_mesh_light *lights;    /* a glTF's lights (NULL: none) */
+    uint32_t nlights;
 } spm_mesh_data;
 
 /* The child's answer on its pipe (mesh_wire.c): a header of this many bytes
- * (magic, status, ignored, nmats, ntris as 64 bits, flags, a spare word),
- * the materials, the triangles, with SPM_MESH_WIRE_NORMALS in flags one
+ * (magic, status, ignored, nmats, ntris as 64 bits, flags, nlights), the
+ * materials, the triangles, with SPM_MESH_WIRE_NORMALS in flags one
  * spm_mesh_normals per triangle, then with SPM_MESH_WIRE_UVS one
- * spm_mesh_uvs per triangle. */
+ * spm_mesh_uvs per triangle, then nlights spm_mesh_light. */
 #define SPM_MESH_WIRE_HEAD 32
 #define SPM_MESH_WIRE_NORMALS 1u
 #define SPM_MESH_WIRE_UVS 2u
 /* The answer's size for these counts and flags (0 for unknown flags). */
-size_t spm_mesh_wire_size(uint32_t nmats, uint64_t ntris, uint32_t flags);
+size_t spm_mesh_wire_size(uint32_t nmats, uint64_t ntris, uint32_t flags, uint32_t nlights);
 
 /* Imports `file` in a child process (a PLY file of triangles or strips: by
  * mesh_ply.c, in this process). The files it names are checked first
@@ -254,4 +271,12 @@ void spm_mesh_cache_free(spm_mesh_cache *c);
  * quiet. */
 int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_data *d,
                  const spm_mesh_opts *o, const char *file, const char *where, spm_error *err);
+/* The file's lights (d->lights) added to the scene as its light kinds
+ * (point, spot of the squared shape, distant), placed by the statement's
+ * transform o->m; a point or spot light's candela times the square of its
+ * length scale, so that the image does not depend on the scene's unit.
+ * mesh_lights.c */
+int spm_mesh_add_lights(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_data *d,
+                        const spm_mesh_opts *o, const char *file, const char *where,
+                        spm_error *err);
 #endif

@@ -428,6 +428,8 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
                   "gives none (crease %g degrees)", where, file, (unsigned long long)made,
                   made == 1 ? "" : "s", o->crease);
     warn_ignored(d, o, smooth || unusable, where, file);
+    if (spm_mesh_add_lights(b, cache, d, o, file, where, err))
+        return 1;
     record_mesh(b->s, file, where, first, lo, hi);
     spm_notef("%s: %s: %llu triangles, bounding box (%g %g %g) to (%g %g %g)", where, file,
               (unsigned long long)kept, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);

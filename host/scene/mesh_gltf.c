@@ -1,6 +1,8 @@
 /* What specmip reads from a glTF's JSON itself, where Assimp 5.2 does not
  * hand it on: KHR_materials_dispersion, and the cameras (Assimp's aiCamera
- * gives a horizontal field of view scaled linearly from yfov). */
+ * gives a horizontal field of view scaled linearly from yfov); the walk of
+ * the default scene's nodes that places cameras and lights
+ * (mesh_gltf_lights.c). */
 #include "mesh_gltf.h"
 #include "json.h"
 #include <math.h>
@@ -35,7 +37,7 @@ void spm_mesh_gltf_materials(const spm_file *model, spm_mesh_data *d)
 }
 
 /* a member's number, or def when absent or not a number */
-static double num(const spm_json *v, const char *key, double def)
+double spm_mesh_gltf_num(const spm_json *v, const char *key, double def)
 {
     const spm_json *m = spm_json_get(v, key);
     return m && m->type == SPM_JSON_NUMBER ? m->number : def;
@@ -77,11 +79,22 @@ static void local_matrix(const spm_json *node, double m[16])
         m[12 + i] = t[i];
 }
 
+void spm_mesh_gltf_name(const spm_json *obj, const spm_json *node, const char *what, size_t i,
+                        char *out, size_t size)
+{
+    const char *name = spm_json_string(obj, "name");
+    if (!name || !name[0])
+        name = spm_json_string(node, "name");
+    if (name && name[0])
+        snprintf(out, size, "%s", name);
+    else
+        snprintf(out, size, "%s %zu", what, i);
+}
+
 typedef struct {
     const spm_json *doc, *nodes, *cams;
     spm_gltf_camera *out;
     int n;
-    long visits;
     spm_error *err;
     const char *file;
 } cam_walk;
@@ -92,13 +105,7 @@ static int add_camera(cam_walk *w, const spm_json *node, size_t ci, const double
     const spm_json *cam = &w->cams->items[ci];
     spm_gltf_camera *c = &w->out[w->n];
     memset(c, 0, sizeof *c);
-    const char *name = spm_json_string(cam, "name");
-    if (!name || !name[0])
-        name = spm_json_string(node, "name");
-    if (name && name[0])
-        snprintf(c->name, sizeof c->name, "%s", name);
-    else
-        snprintf(c->name, sizeof c->name, "camera %d", w->n);
+    spm_mesh_gltf_name(cam, node, "camera", (size_t)w->n, c->name, sizeof c->name);
     const char *type = spm_json_string(cam, "type");
     c->ortho = type && !strcmp(type, "orthographic");
     const spm_json *p = spm_json_get(cam, c->ortho ? "orthographic" : "perspective");
@@ -111,7 +118,7 @@ static int add_camera(cam_walk *w, const spm_json *node, size_t ci, const double
         len_u += c->up[i] * c->up[i];
     }
     if (c->ortho) {
-        double xmag = num(p, "xmag", 0), ymag = num(p, "ymag", 0);
+        double xmag = spm_mesh_gltf_num(p, "xmag", 0), ymag = spm_mesh_gltf_num(p, "ymag", 0);
         c->ymag = fabs(ymag);
         c->aspect = ymag != 0 ? fabs(xmag / ymag) : 0;
         if (!(c->ymag > 0 && isfinite(c->ymag) && c->aspect > 0 && isfinite(c->aspect))) {
@@ -120,9 +127,9 @@ static int add_camera(cam_walk *w, const spm_json *node, size_t ci, const double
             return 1;
         }
     } else {
-        double yfov = num(p, "yfov", -1);
+        double yfov = spm_mesh_gltf_num(p, "yfov", -1);
         c->yfov = yfov * (180.0 / M_PI);
-        c->aspect = num(p, "aspectRatio", 0);
+        c->aspect = spm_mesh_gltf_num(p, "aspectRatio", 0);
         if (!(yfov > 0 && yfov < M_PI) || !(c->aspect >= 0) || !isfinite(c->aspect)) {
             spm_errorf(w->err, "%s: camera '%s': yfov %g radians (must lie in (0, pi)), "
                                "aspectRatio %g", w->file, c->name, yfov, c->aspect);
@@ -138,10 +145,16 @@ static int add_camera(cam_walk *w, const spm_json *node, size_t ci, const double
     return 0;
 }
 
-static int walk_node(cam_walk *w, size_t k, const double parent[16], int depth)
+typedef struct {
+    const spm_json *nodes;
+    spm_gltf_visit visit;
+    void *ctx;
+    long visits;
+} node_walk;
+
+static int walk_node(node_walk *w, size_t k, const double parent[16], int depth)
 {
-    if (k >= w->nodes->n || depth > SPM_MESH_MAX_DEPTH || ++w->visits > (1L << 20) ||
-        w->n == SPM_GLTF_MAX_CAMERAS)
+    if (k >= w->nodes->n || depth > SPM_MESH_MAX_DEPTH || ++w->visits > (1L << 20))
         return 0;
     const spm_json *node = &w->nodes->items[k];
     double l[16], m[16];
@@ -150,16 +163,52 @@ static int walk_node(cam_walk *w, size_t k, const double parent[16], int depth)
         for (int i = 0; i < 4; i++)
             m[4 * c + i] = parent[i] * l[4 * c] + parent[4 + i] * l[4 * c + 1] +
                            parent[8 + i] * l[4 * c + 2] + parent[12 + i] * l[4 * c + 3];
-    double ci = num(node, "camera", -1);
-    if (ci >= 0 && w->cams && ci < (double)w->cams->n && add_camera(w, node, (size_t)ci, m))
-        return 1;
+    int rc = w->visit(w->ctx, node, k, m);
+    if (rc)
+        return rc;
     const spm_json *kids = spm_json_get(node, "children");
     for (size_t i = 0; kids && kids->type == SPM_JSON_ARRAY && i < kids->n; i++)
         if (kids->items[i].type == SPM_JSON_NUMBER && kids->items[i].number >= 0 &&
             kids->items[i].number < (double)w->nodes->n &&
-            walk_node(w, (size_t)kids->items[i].number, m, depth + 1))
-            return 1;
+            (rc = walk_node(w, (size_t)kids->items[i].number, m, depth + 1)))
+            return rc;
     return 0;
+}
+
+int spm_mesh_gltf_walk(const spm_json *doc, spm_gltf_visit visit, void *ctx)
+{
+    node_walk w = {spm_json_get(doc, "nodes"), visit, ctx, 0};
+    const spm_json *scenes = spm_json_get(doc, "scenes");
+    double si = spm_mesh_gltf_num(doc, "scene", 0);
+    const spm_json *roots = scenes && scenes->type == SPM_JSON_ARRAY && si >= 0 &&
+                                    si < (double)scenes->n
+                                ? spm_json_get(&scenes->items[(size_t)si], "nodes")
+                                : NULL;
+    static const double id[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    int rc = 0;
+    for (size_t i = 0; !rc && w.nodes && w.nodes->type == SPM_JSON_ARRAY && roots &&
+                       roots->type == SPM_JSON_ARRAY && i < roots->n; i++)
+        if (roots->items[i].type == SPM_JSON_NUMBER && roots->items[i].number >= 0 &&
+            roots->items[i].number < (double)w.nodes->n)
+            rc = walk_node(&w, (size_t)roots->items[i].number, id, 0);
+    return rc;
+}
+
+/* a node's camera, if it has one (at most SPM_GLTF_MAX_CAMERAS) */
+static int visit_camera(void *ctx, const spm_json *node, size_t k, const double m[16])
+{
+    (void)k;
+    cam_walk *w = ctx;
+    double ci = spm_mesh_gltf_num(node, "camera", -1);
+    if (w->n < SPM_GLTF_MAX_CAMERAS && ci >= 0 && w->cams && ci < (double)w->cams->n &&
+        add_camera(w, node, (size_t)ci, m))
+        return 1;
+    return 0;
+}
+
+int spm_mesh_gltf_is(const char *name)
+{
+    return is_gltf(name);
 }
 
 int spm_mesh_gltf_cameras(const spm_file *model, spm_gltf_camera *out, spm_error *err)
@@ -170,23 +219,11 @@ int spm_mesh_gltf_cameras(const spm_file *model, spm_gltf_camera *out, spm_error
     spm_json *doc = spm_mesh_gltf_doc(model, err);
     if (!doc)
         return err->msg[0] ? -1 : 0;
-    cam_walk w = {doc, spm_json_get(doc, "nodes"), spm_json_get(doc, "cameras"), out, 0, 0, err,
+    cam_walk w = {doc, spm_json_get(doc, "nodes"), spm_json_get(doc, "cameras"), out, 0, err,
                   model->shown};
-    const spm_json *scenes = spm_json_get(doc, "scenes");
-    double si = num(doc, "scene", 0);
-    const spm_json *roots = scenes && scenes->type == SPM_JSON_ARRAY && si >= 0 &&
-                                    si < (double)scenes->n
-                                ? spm_json_get(&scenes->items[(size_t)si], "nodes")
-                                : NULL;
-    static const double id[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-    int rc = 0;
     if (w.cams && w.cams->type != SPM_JSON_ARRAY)
         w.cams = NULL;
-    for (size_t i = 0; !rc && w.nodes && w.nodes->type == SPM_JSON_ARRAY && roots &&
-                       roots->type == SPM_JSON_ARRAY && i < roots->n; i++)
-        if (roots->items[i].type == SPM_JSON_NUMBER && roots->items[i].number >= 0 &&
-            roots->items[i].number < (double)w.nodes->n)
-            rc = walk_node(&w, (size_t)roots->items[i].number, id, 0);
+    int rc = spm_mesh_gltf_walk(doc, visit_camera, &w);
     spm_json_free(doc);
     return rc ? -1 : w.n;
 }

@@ -27,4 +27,32 @@ typedef struct {
  * a camera's values are not usable (yfov not in (0, pi), a zero magnification,
  * a node transform without a direction). */
 int spm_mesh_gltf_cameras(const spm_file *model, spm_gltf_camera *out, spm_error *err);
+
+struct spm_json;
+/* 1 when the name ends in .gltf or .glb (any case) */
+int spm_mesh_gltf_is(const char *name);
+/* obj's `name`, else its node's, else "WHAT I", into out[size] */
+void spm_mesh_gltf_name(const struct spm_json *obj, const struct spm_json *node, const char *what,
+                        size_t i, char *out, size_t size);
+/* a member's number, or def when absent or not a number */
+double spm_mesh_gltf_num(const struct spm_json *v, const char *key, double def);
+/* Called for each node of the default scene, parents first (depth-first, in
+ * the order of `children`), with its index k and its world transform m
+ * (column-major 4x4, its parents' composed with its own); not 0 ends the
+ * walk with that value. */
+typedef int (*spm_gltf_visit)(void *ctx, const struct spm_json *node, size_t k,
+                              const double m[16]);
+/* The walk of doc's default scene (`scene`, else scenes[0]); at most
+ * SPM_MESH_MAX_DEPTH levels and 2^20 visits. Returns what ended it, else 0. */
+int spm_mesh_gltf_walk(const struct spm_json *doc, spm_gltf_visit visit, void *ctx);
+
+/* The KHR_lights_punctual lights its default scene's nodes place (a light
+ * that two nodes name is two lights), into *out (malloc'd, NULL for none);
+ * *range_set when one gives a `range` (not rendered). Their number, 0 for a
+ * file that is not glTF, -1 with err naming the node or light: an index out
+ * of range, an unknown type, a colour or intensity that is negative or not
+ * a number, cone angles outside 0 <= inner < outer <= pi/2, a transform
+ * without a direction. mesh_gltf_lights.c */
+long spm_mesh_gltf_lights(const spm_file *model, spm_mesh_light **out, int *range_set,
+                          spm_error *err);
 #endif

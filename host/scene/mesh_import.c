@@ -446,6 +446,15 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
     w.fd = fd;
     struct aiFileIO io = {io_open, io_close, NULL};
     io_model = path;
+    /* a glTF's lights from its JSON (KHR_lights_punctual), before Assimp,
+     * whose messages on a bad light mislead (an unknown type is "missing its
+     * spot parameters"); other formats' lights are ignored */
+    spm_mesh_light *lights = NULL;
+    int range_set = 0;
+    spm_error lerr;
+    long nlights = spm_mesh_gltf_lights(file, &lights, &range_set, &lerr);
+    if (nlights < 0)
+        child_fail(&w, lerr.msg);
     const struct aiScene *sc = aiImportFileEx(file->path, aiProcess_Triangulate, &io);
     if (io_was_refused)
         child_fail(&w, io_refused.msg);
@@ -513,13 +522,16 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
         k.ignored |= SPM_MESH_IGN_EMISSIVE_STRENGTH;
     if (sc->mNumCameras)
         k.ignored |= SPM_MESH_IGN_CAMERAS;
-    if (sc->mNumLights)
+    if (sc->mNumLights && !spm_mesh_gltf_is(path))
         k.ignored |= SPM_MESH_IGN_LIGHTS;
+    if (range_set)
+        k.ignored |= SPM_MESH_IGN_LIGHT_RANGE;
     if (sc->mNumAnimations)
         k.ignored |= SPM_MESH_IGN_ANIMATION;
     uint32_t h[SPM_MESH_WIRE_HEAD / 4] = {
         0x4d4d5053u, 0, k.ignored, sc->mNumMaterials, 0, 0,
-        (normals ? SPM_MESH_WIRE_NORMALS : 0u) | (uvs ? SPM_MESH_WIRE_UVS : 0u), 0};
+        (normals ? SPM_MESH_WIRE_NORMALS : 0u) | (uvs ? SPM_MESH_WIRE_UVS : 0u),
+        (uint32_t)nlights};
     uint64_t n = k.count;
     memcpy(&h[4], &n, sizeof n);
     w_put(&w, h, sizeof h);
@@ -537,6 +549,7 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
         k.count = 0;
         walk_node(&k, sc->mRootNode, id, 0);
     }
+    w_put(&w, lights, (size_t)nlights * sizeof *lights);
     w_flush(&w);
     _exit(w.failed ? 3 : 0);
 }
@@ -656,17 +669,18 @@ int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err)
         }
         have += (size_t)k;
         if (!buf && have == sizeof head) {
-            uint32_t status, nmats, flags;
+            uint32_t status, nmats, flags, nlights;
             uint64_t ntris;
             memcpy(&status, head + 4, 4);
             memcpy(&nmats, head + 12, 4);
             memcpy(&ntris, head + 16, 8);
             memcpy(&flags, head + 24, 4);
+            memcpy(&nlights, head + 28, 4);
+            size_t size = spm_mesh_wire_size(nmats, ntris, flags, nlights);
             if (status != 0)
                 want = max_err;
             else if (nmats <= SPM_MESH_MAX_MATERIALS && ntris <= SPM_SCENE_MAX_TRIS)
-                want = spm_mesh_wire_size(nmats, ntris, flags) ? spm_mesh_wire_size(nmats, ntris, flags)
-                                                               : sizeof head; /* decode refuses it */
+                want = size ? size : sizeof head; /* decode refuses it */
             buf = spm_xmalloc(want > sizeof head ? want : sizeof head);
             memcpy(buf, head, sizeof head);
         }

@@ -10,27 +10,29 @@
 typedef struct {
     uint32_t magic, status, ignored, nmats;
     uint64_t ntris;
-    uint32_t flags, spare; /* SPM_MESH_WIRE_NORMALS */
+    uint32_t flags, nlights; /* SPM_MESH_WIRE_* */
 } wire_header;
 _Static_assert(sizeof(wire_header) == SPM_MESH_WIRE_HEAD, "mesh.h's header size");
 
-size_t spm_mesh_wire_size(uint32_t nmats, uint64_t ntris, uint32_t flags)
+size_t spm_mesh_wire_size(uint32_t nmats, uint64_t ntris, uint32_t flags, uint32_t nlights)
 {
-    if (flags & ~(SPM_MESH_WIRE_NORMALS | SPM_MESH_WIRE_UVS))
+    if (flags & ~(SPM_MESH_WIRE_NORMALS | SPM_MESH_WIRE_UVS) || nlights > SPM_MESH_MAX_LIGHTS)
         return 0;
     return sizeof(wire_header) + nmats * sizeof(spm_mesh_material) +
            ntris * sizeof(spm_mesh_tri) +
            (flags & SPM_MESH_WIRE_NORMALS ? ntris * sizeof(spm_mesh_normals) : 0) +
-           (flags & SPM_MESH_WIRE_UVS ? ntris * sizeof(spm_mesh_uvs) : 0);
+           (flags & SPM_MESH_WIRE_UVS ? ntris * sizeof(spm_mesh_uvs) : 0) +
+           nlights * sizeof(spm_mesh_light);
 }
 
 void *spm_mesh_encode(const spm_mesh_data *d, size_t *size)
 {
     uint32_t flags = (d->normals ? SPM_MESH_WIRE_NORMALS : 0u) | (d->uvs ? SPM_MESH_WIRE_UVS : 0u);
-    wire_header h = {WIRE_MAGIC, 0, d->ignored, d->nmats, d->ntris, flags, 0};
+    wire_header h = {WIRE_MAGIC, 0, d->ignored, d->nmats, d->ntris, flags, d->nlights};
     size_t nn = d->normals ? d->ntris * sizeof *d->normals : 0;
     size_t nu = d->uvs ? d->ntris * sizeof *d->uvs : 0;
-    size_t n = spm_mesh_wire_size(d->nmats, d->ntris, flags);
+    size_t nl = d->nlights * sizeof *d->lights;
+    size_t n = spm_mesh_wire_size(d->nmats, d->ntris, flags, d->nlights);
     unsigned char *buf = spm_xmalloc(n);
     memcpy(buf, &h, sizeof h);
     if (d->nmats)
@@ -38,9 +40,11 @@ void *spm_mesh_encode(const spm_mesh_data *d, size_t *size)
     if (d->ntris)
         memcpy(buf + sizeof h + d->nmats * sizeof *d->mats, d->tris, d->ntris * sizeof *d->tris);
     if (nn)
-        memcpy(buf + n - nu - nn, d->normals, nn);
+        memcpy(buf + n - nl - nu - nn, d->normals, nn);
     if (nu)
-        memcpy(buf + n - nu, d->uvs, nu);
+        memcpy(buf + n - nl - nu, d->uvs, nu);
+    if (nl)
+        memcpy(buf + n - nl, d->lights, nl);
     *size = n;
     return buf;
 }
@@ -85,7 +89,7 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
         return 1;
     }
     int has_n = (h.flags & SPM_MESH_WIRE_NORMALS) != 0, has_uv = (h.flags & SPM_MESH_WIRE_UVS) != 0;
-    size_t want = spm_mesh_wire_size(h.nmats, h.ntris, h.flags);
+    size_t want = spm_mesh_wire_size(h.nmats, h.ntris, h.flags, h.nlights);
     if (size != want || (h.ntris > 0 && h.nmats == 0) || want == 0) {
         spm_errorf(err, "%s: the importer returned %zu bytes where %zu were due", path, size,
                    want);
@@ -117,6 +121,19 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
     out->uvs = has_uv ? (spm_mesh_uvs *)((char *)(tris + h.ntris) +
                                          (has_n ? h.ntris * sizeof(spm_mesh_normals) : 0))
                       : NULL;
+    out->nlights = h.nlights;
+    out->lights = h.nlights ? (spm_mesh_light *)((char *)buf + want -
+                                                 h.nlights * sizeof(spm_mesh_light))
+                            : NULL;
+    for (uint32_t i = 0; i < h.nlights; i++) {
+        out->lights[i].name[sizeof out->lights[i].name - 1] = 0;
+        if (out->lights[i].type < SPM_MESH_LIGHT_POINT ||
+            out->lights[i].type > SPM_MESH_LIGHT_DIRECTIONAL) {
+            spm_errorf(err, "%s: the importer returned a bad light", path);
+            memset(out, 0, sizeof *out);
+            return 1;
+        }
+    }
     out->buf = buf;
     return 0;
 }
@@ -134,6 +151,8 @@ const char *spm_mesh_ignored_name(int bit)
         "glossy and metallic parameters", "opacity", "cameras", "lights",
         "animations, skins and morph targets", "points and lines",
         "glTF emissive strengths (KHR_materials_emissive_strength, which Assimp 5.2 does not "
-        "read: emissions are the emissiveFactor alone)"};
+        "read: emissions are the emissiveFactor alone)",
+        "glTF light ranges (KHR_lights_punctual `range`: specmip's point and spot lights fall "
+        "as 1/d^2 without a cut-off)"};
     return bit >= 0 && bit < SPM_MESH_IGN_COUNT ? names[bit] : "?";
 }

@@ -1,10 +1,11 @@
-/* LightSource: pbrt-v4's point and distant lights as specmip's (lights.h),
+/* LightSource: pbrt-v4's point, spot and distant lights as specmip's (lights.h),
  * a constant "infinite" light as a uniform background; the rest warned
  * about by name (docs/PBRT.md, Lights). pbrt-v4 divides every light's
  * spectrum by its photometric value before `scale` (pbrt_spectrum_colour
  * does the same), then multiplies by `power` / k_e or `illuminance`. */
 #include "pbrt_parser.h"
 #include "envmap.h"
+#include "lights.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -90,6 +91,54 @@ static int light_point(pbrt_parser *p, pbrt_params *ps, const char *where)
     return 0;
 }
 
+/* spot: I (W/sr at luminance scale) at the CTM's image of `from`, aimed at
+ * `to` (defaults 0 0 0 and 0 0 1), falling from 1 at coneangle - conedelta
+ * to 0 at coneangle (degrees, defaults 30 and 5) as a smoothstep in the
+ * cosine (specmip's spot of shape smoothstep); `power` P sets the intensity
+ * to P over the falloff's solid angle, as pbrt-v4's k_e does. */
+static int light_spot(pbrt_parser *p, pbrt_params *ps, const char *where)
+{
+    int bad = 0;
+    double cone = pbrt_param_float(ps, "coneangle", 30.0, &bad, p->err);
+    double delta = bad ? 0.0 : pbrt_param_float(ps, "conedelta", 5.0, &bad, p->err);
+    double from[3], to[3], zero[3] = {0, 0, 0}, z[3] = {0, 0, 1}, scale, f;
+    if (bad || param_point(p, ps, "from", zero, from) || param_point(p, ps, "to", z, to))
+        return 1;
+    if (!(cone > 0.0 && cone <= 90.0) || !(delta >= 0.0 && delta <= cone)) {
+        spm_errorf(p->err, "%s: LightSource \"spot\": coneangle %g must be above 0 and at most "
+                   "90 degrees, conedelta %g from 0 to it", where, cone, delta);
+        return 1;
+    }
+    spm_scene_light l = {.kind = SPM_LIGHT_SPOT};
+    double d[3] = {to[0] - from[0], to[1] - from[1], to[2] - from[2]}, w[3], pos[3];
+    pbrt_mat_apply(p->gs.ctm, d, 0.0, w);
+    pbrt_mat_apply(p->gs.ctm, from, 1.0, pos);
+    double n = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    if (!(n > 0.0) || !isfinite(n)) {
+        spm_errorf(p->err, "%s: LightSource \"spot\": 'from' and 'to' give no direction", where);
+        return 1;
+    }
+    for (int i = 0; i < 3; i++) {
+        l.p[SPM_LIGHT_P_POS + i] = (float)pos[i];
+        l.p[SPM_LIGHT_P_DIR + i] = (float)(w[i] / n);
+    }
+    l.p[SPM_LIGHT_P_A] = (float)(cone * M_PI / 180.0);
+    l.p[SPM_LIGHT_P_B] = (float)((cone - delta) * M_PI / 180.0);
+    l.p[SPM_LIGHT_P_C] = (float)cos(cone * M_PI / 180.0);
+    l.p[SPM_LIGHT_P_D] = SPM_SPOT_SMOOTHSTEP;
+    l.p[SPM_LIGHT_P_SCALE] = 1.0f;
+    double k_e = spm_light_kinds[SPM_LIGHT_SPOT].power(p->b.s, l.p);
+    if (light_scale(p, ps, "power", k_e, where, &scale, &f))
+        return 1;
+    if ((l.colour = pbrt_light_colour(p, ps, "I", scale, where)) < -1)
+        return 1;
+    if (l.colour == -1)
+        return 0; /* black: no light */
+    l.p[SPM_LIGHT_P_SCALE] = (float)f;
+    add_light(p, &l, where);
+    return 0;
+}
+
 /* distant: L the irradiance on a surface facing it (at luminance scale),
  * travelling from `from` toward `to` (defaults 0 0 0 and 0 0 1) through the
  * CTM; `illuminance` E sets it to E. */
@@ -160,7 +209,10 @@ int pbrt_light_make(pbrt_parser *p, const char *type, pbrt_params *ps, const cha
     static const struct {
         const char *type;
         int (*fn)(pbrt_parser *, pbrt_params *, const char *);
-    } kinds[] = {{"point", light_point}, {"distant", light_distant}, {"infinite", light_infinite}};
+    } kinds[] = {{"point", light_point},
+                 {"spot", light_spot},
+                 {"distant", light_distant},
+                 {"infinite", light_infinite}};
     char what[128];
     snprintf(what, sizeof what, "LightSource \"%.40s\"", type);
     for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++)
@@ -168,8 +220,5 @@ int pbrt_light_make(pbrt_parser *p, const char *type, pbrt_params *ps, const cha
             return kinds[i].fn(p, ps, where) || pbrt_params_unused(ps, what, p->err);
     for (int k = 0; k < ps->n; k++)
         ps->p[k].used = 1;
-    return pbrt_warn(where, what,
-                     strcmp(type, "spot") ? "a light type specmip does not render"
-                                          : "pbrt-v4's smoothstep falloff differs from specmip's "
-                                            "spot (linear in angle, Mitsuba 3's)", p->err);
+    return pbrt_warn(where, what, "a light type specmip does not render", p->err);
 }

@@ -380,7 +380,7 @@ static int light_dir(parser *p, const double v[3], float *q, int target)
     return 0;
 }
 
-/* `cone DEG [falloff DEG]` (lights.h 'C') */
+/* `cone DEG [falloff DEG] [shape linear|smoothstep|squared]` (lights.h 'C') */
 static int light_cone(parser *p, float *q)
 {
     double c, f;
@@ -398,7 +398,20 @@ static int light_cone(parser *p, float *q)
     q[SPM_LIGHT_P_A] = (float)c;
     q[SPM_LIGHT_P_B] = (float)(c - f);
     q[SPM_LIGHT_P_C] = (float)cos(c);
-    return 0;
+    q[SPM_LIGHT_P_D] = SPM_SPOT_LINEAR;
+    if (!spm_lex_is(&p->lx, "shape"))
+        return 0;
+    static const char *shapes[] = {[SPM_SPOT_LINEAR] = "linear",
+                                   [SPM_SPOT_SMOOTHSTEP] = "smoothstep",
+                                   [SPM_SPOT_SQUARED] = "squared"};
+    if (spm_lex_next(&p->lx, p->err))
+        return 1;
+    for (int i = 0; i < 3; i++)
+        if (spm_lex_is(&p->lx, shapes[i])) {
+            q[SPM_LIGHT_P_D] = (float)i;
+            return spm_lex_next(&p->lx, p->err);
+        }
+    return spm_lex_expected(&p->lx, p->err, "a falloff shape (linear, smoothstep, squared)");
 }
 
 /* One argument of a light's statement, its letter c (spm_light_desc.args),
