@@ -4,6 +4,9 @@
  *    top row up, the centre column along +z, a quarter along +x; `rotate`
  *    turning +z toward +x), each texel's luminance its grey value times the
  *    scale, written here independently of the reader;
+ *  - the bilinear lookup: the mean of the texels an escape draws at points
+ *    between texel centres (across the seam at u = 0 and by the poles)
+ *    against the interpolation computed here;
  *  - the palette: a grey map is one colour, a two-colour map two, each within
  *    a small distance in u'v' of its RGB's chromaticity;
  *  - chi-squared: the directions the map's distribution draws (through the
@@ -15,7 +18,9 @@
  *    sphere on a rough diffuse floor render the same mean with MIS, light
  *    samples alone and the materials' sampling alone (SPECMIP_TEST_STRATEGY,
  *    as tests/test_strategies.c), which sees an MIS weight at an escape that
- *    does not match the light sample's density. */
+ *    does not match the light sample's density, and a distribution that
+ *    misses where the interpolation reaches into black texels (the map's
+ *    black columns). */
 #include <string.h>
 #include "chi2_testlib.h"
 #include "envmap_testlib.h"
@@ -54,6 +59,14 @@ static int write_load(const char *map, int w, int h, envmap_texel_fn fn, const c
     int rc = envmap_write_hdr(map, w, h, fn) || load(map, opts, s, g);
     CHECK(rc == 0, "the scene under %s loads", map);
     return rc;
+}
+
+/* the map an escaping ray of direction d meets, drawn by path n's numbers */
+static spm_u32 escape(const spm_geometry *g, const spm_emitter *e, const float d[3], spm_u32 n,
+                      float *scale, float *pdf)
+{
+    spm_ref_key k = {7u, 3u, n};
+    return spm_ref_light_escape_ENVMAP(g, e, d, &k, 1u, scale, pdf);
 }
 
 static void grey_ramp(int i, int j, int w, int h, float rgb[3])
@@ -99,7 +112,7 @@ static void test_mapping(void)
                 for (int k = 0; k < 3; k++)
                     df[k] = (float)d[k];
                 grey_ramp(i, j, w, h, c);
-                spm_u32 col = spm_ref_light_escape_ENVMAP(&g, e, df, &scale, &pdf);
+                spm_u32 col = escape(&g, e, df, 0u, &scale, &pdf);
                 bad += col != (spm_u32)s.env->first || fabs(scale - 2.0 * c[0]) > 1e-5 * scale;
             }
         CHECK(bad == 0, "rotate %d: %d texels not where the convention puts them", rot * 90, bad);
@@ -107,16 +120,74 @@ static void test_mapping(void)
          * looks along is +z, or +x turned by 90 degrees */
         float up[3] = {0.0f, 1.0f, 0.0f}, ctr[3] = {rot ? 1.0f : 0.0f, -0.1f, rot ? 0.0f : 1.0f};
         float sc, pdf, c[3];
-        spm_ref_light_escape_ENVMAP(&g, e, up, &sc, &pdf);
+        escape(&g, e, up, 0u, &sc, &pdf);
         grey_ramp(0, 0, w, h, c);
         CHECK(sc >= 2.0f * c[0] && sc <= 2.0f * (c[0] + (float)w / 8.0f), "+y: the top row");
-        spm_ref_light_escape_ENVMAP(&g, e, ctr, &sc, &pdf);
+        escape(&g, e, ctr, 0u, &sc, &pdf);
         grey_ramp(w / 2, h / 2, w, h, c);
         CHECK(fabsf(sc - 2.0f * c[0]) <= 1e-5f * sc, "the centre column: %g, want %g", sc,
               2.0 * c[0]);
         spm_geometry_free(&g);
         spm_scene_free(&s);
     }
+}
+
+/* the ramp's texel (i, j), columns wrapping and rows clamped */
+static double ramp_at(int i, int j, int w, int h)
+{
+    float c[3];
+    grey_ramp((i + w) % w, j < 0 ? 0 : j >= h ? h - 1 : j, w, h, c);
+    return c[0];
+}
+
+/* the mean luminance of BILIN_N escapes at points between texel centres
+ * against the bilinear interpolation of the texels' (times the scale, 2):
+ * within BILIN_Z standard errors of the draws (normal; 5 leaves 1 in 10^6
+ * of a correct lookup failing at each point) */
+#define BILIN_N 20000
+#define BILIN_Z 5.0
+
+static void test_bilinear(void)
+{
+    const int w = 16, h = 8;
+    spm_scene s;
+    spm_geometry g;
+    if (envmap_write_hdr("envmap_ramp.hdr", w, h, grey_ramp) ||
+        load("envmap_ramp.hdr", "scale 2 rotate 90", &s, &g)) {
+        CHECK(0, "the ramp scene loads");
+        return;
+    }
+    const spm_emitter *e = &g.emitters[g.nemitters - 1];
+    /* (u, v): inside the map, across the seam at u = 0, above the top
+     * row's centre (clamped), below the bottom row's */
+    static const double pts[][2] = {{0.37, 0.41}, {0.71, 0.66}, {0.01, 0.3},
+                                    {0.995, 0.55}, {0.2, 0.02}, {0.6, 0.97}};
+    for (size_t p = 0; p < sizeof pts / sizeof pts[0]; p++) {
+        double d[3], x = pts[p][0] * w - 0.5, y = pts[p][1] * h - 0.5;
+        int i = (int)floor(x), j = (int)floor(y);
+        double fx = x - i, fy = y - j;
+        double want = 2.0 * ((1 - fx) * (1 - fy) * ramp_at(i, j, w, h) +
+                             fx * (1 - fy) * ramp_at(i + 1, j, w, h) +
+                             (1 - fx) * fy * ramp_at(i, j + 1, w, h) +
+                             fx * fy * ramp_at(i + 1, j + 1, w, h));
+        float df[3], sc, pdf;
+        direction(pts[p][0], pts[p][1], 90.0, d);
+        for (int k = 0; k < 3; k++)
+            df[k] = (float)d[k];
+        double m = 0.0, m2 = 0.0;
+        for (spm_u32 n = 0; n < BILIN_N; n++) {
+            escape(&g, e, df, n, &sc, &pdf);
+            m += sc / BILIN_N, m2 += (double)sc * sc / BILIN_N;
+        }
+        double se = sqrt(fmax(m2 - m * m, 0.0) / (BILIN_N - 1));
+        printf("bilinear at (%.3f, %.3f): mean %.5f (se %.5f), interpolated %.5f\n", pts[p][0],
+               pts[p][1], m, se, want);
+        CHECK(fabs(m - want) <= BILIN_Z * se + 1e-6 * want,
+              "bilinear at (%.3f, %.3f): mean %.5f, want %.5f (%.1f se)", pts[p][0], pts[p][1], m,
+              want, se > 0.0 ? fabs(m - want) / se : 0.0);
+    }
+    spm_geometry_free(&g);
+    spm_scene_free(&s);
 }
 
 static void two_colours(int i, int j, int w, int h, float rgb[3])
@@ -170,7 +241,7 @@ static double pdf_map(void *ctx, const double wo[3], const double wi[3])
     const env_ctx *c = ctx;
     const spm_emitter *e = &c->g->emitters[c->k];
     float d[3] = {(float)wi[0], (float)wi[1], (float)wi[2]}, sc, pdf;
-    spm_ref_light_escape_ENVMAP(c->g, e, d, &sc, &pdf);
+    escape(c->g, e, d, 0u, &sc, &pdf);
     return pdf / e->pdf;
 }
 
@@ -198,7 +269,7 @@ static void test_chi2(void)
 
 static void test_strategies(void)
 {
-    FILE *f = envmap_write_hdr("envmap_soft.hdr", 64, 32, envmap_soft_sun) ? NULL
+    FILE *f = envmap_write_hdr("envmap_soft.hdr", 64, 32, envmap_striped) ? NULL
                                                                            : fopen("envmap_strat.scene", "w");
     char cwd[512], path[700];
     if (!f || !getcwd(cwd, sizeof cwd)) {
@@ -257,6 +328,7 @@ static void test_strategies(void)
 int main(void)
 {
     test_mapping();
+    test_bilinear();
     test_palette();
     test_chi2();
     test_strategies();
