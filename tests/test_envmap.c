@@ -6,7 +6,8 @@
  *    scale, written here independently of the reader;
  *  - the bilinear lookup: the mean of the texels an escape draws at points
  *    between texel centres (across the seam at u = 0 and by the poles)
- *    against the interpolation computed here;
+ *    against the interpolation computed here; and the distribution's
+ *    support: a positive density wherever the interpolation has light;
  *  - the palette: a grey map is one colour, a two-colour map two, each within
  *    a small distance in u'v' of its RGB's chromaticity;
  *  - chi-squared: the directions the map's distribution draws (through the
@@ -140,6 +141,17 @@ static double ramp_at(int i, int j, int w, int h)
     return c[0];
 }
 
+/* The bilinear interpolation at (u, v) of a w x h map's texel values at(i,
+ * j) (columns wrapping, rows clamped, centres at k + 1/2) */
+static double bilerp(double (*at)(int, int, int, int), double u, double v, int w, int h)
+{
+    double x = u * w - 0.5, y = v * h - 0.5;
+    int i = (int)floor(x), j = (int)floor(y);
+    double fx = x - i, fy = y - j;
+    return (1 - fx) * (1 - fy) * at(i, j, w, h) + fx * (1 - fy) * at(i + 1, j, w, h) +
+           (1 - fx) * fy * at(i, j + 1, w, h) + fx * fy * at(i + 1, j + 1, w, h);
+}
+
 /* the mean luminance of BILIN_N escapes at points between texel centres
  * against the bilinear interpolation of the texels' (times the scale, 2):
  * within BILIN_Z standard errors of the draws (normal; 5 leaves 1 in 10^6
@@ -163,13 +175,7 @@ static void test_bilinear(void)
     static const double pts[][2] = {{0.37, 0.41}, {0.71, 0.66}, {0.01, 0.3},
                                     {0.995, 0.55}, {0.2, 0.02}, {0.6, 0.97}};
     for (size_t p = 0; p < sizeof pts / sizeof pts[0]; p++) {
-        double d[3], x = pts[p][0] * w - 0.5, y = pts[p][1] * h - 0.5;
-        int i = (int)floor(x), j = (int)floor(y);
-        double fx = x - i, fy = y - j;
-        double want = 2.0 * ((1 - fx) * (1 - fy) * ramp_at(i, j, w, h) +
-                             fx * (1 - fy) * ramp_at(i + 1, j, w, h) +
-                             (1 - fx) * fy * ramp_at(i, j + 1, w, h) +
-                             fx * fy * ramp_at(i + 1, j + 1, w, h));
+        double d[3], want = 2.0 * bilerp(ramp_at, pts[p][0], pts[p][1], w, h);
         float df[3], sc, pdf;
         direction(pts[p][0], pts[p][1], 90.0, d);
         for (int k = 0; k < 3; k++)
@@ -186,6 +192,53 @@ static void test_bilinear(void)
               "bilinear at (%.3f, %.3f): mean %.5f, want %.5f (%.1f se)", pts[p][0], pts[p][1], m,
               want, se > 0.0 ? fabs(m - want) / se : 0.0);
     }
+    spm_geometry_free(&g);
+    spm_scene_free(&s);
+}
+
+/* 1 where the striped map's texel (i, j) (columns wrapping, rows clamped) has light */
+static double striped_lit(int i, int j, int w, int h)
+{
+    float c[3];
+    envmap_striped((i + w) % w, j < 0 ? 0 : j >= h ? h - 1 : j, w, h, c);
+    return c[0] + c[1] + c[2] > 0.0f;
+}
+
+/* The distribution's support: an escape's density is positive wherever the
+ * interpolation has light, on a map whose every other column is black (a
+ * distribution of the texels' own luminance misses half of each black
+ * column's width on either side), at SUPPORT_N directions uniform in
+ * (u, v) under a rotation. */
+#define SUPPORT_N 20000
+
+static void test_support(void)
+{
+    const int w = 32, h = 16;
+    spm_scene s;
+    spm_geometry g;
+    if (write_load("envmap_striped.hdr", w, h, envmap_striped, "rotate 30", &s, &g))
+        return;
+    const spm_emitter *e = &g.emitters[g.nemitters - 1];
+    int lit = 0, missed = 0;
+    spm_u32 st = 0x5e99u;
+    for (int n = 0; n < SUPPORT_N; n++) {
+        double u = (spm_mix32(st++) >> 8) / 16777216.0, v = (spm_mix32(st++) >> 8) / 16777216.0;
+        double d[3];
+        float df[3], sc, pdf;
+        direction(u, 0.02 + 0.96 * v, 30.0, d); /* away from the poles, where sin(theta) -> 0 */
+        for (int k = 0; k < 3; k++)
+            df[k] = (float)d[k];
+        escape(&g, e, df, (spm_u32)n, &sc, &pdf);
+        if (bilerp(striped_lit, u, 0.02 + 0.96 * v, w, h) > 1e-4) {
+            lit++;
+            missed += !(pdf > 0.0f);
+        }
+    }
+    printf("support: %d of %d directions have light, %d of them density 0\n", lit, SUPPORT_N,
+           missed);
+    CHECK(lit > SUPPORT_N / 2 && missed == 0,
+          "%d of %d directions with light have density 0 (the distribution misses them)", missed,
+          lit);
     spm_geometry_free(&g);
     spm_scene_free(&s);
 }
@@ -329,6 +382,7 @@ int main(void)
 {
     test_mapping();
     test_bilinear();
+    test_support();
     test_palette();
     test_chi2();
     test_strategies();
