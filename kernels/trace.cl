@@ -65,28 +65,30 @@ SPM_ALWAYS_INLINE void camera_key_ray(const spm_camera *cam, spm_key k, float3 *
     camera_ray(cam, cx, cy, lu, lv, o, d);
 }
 
-/* The hit's shading frame, the one place a type finds it: the shading
+/* The hit's shading frame *fr, the one place a type finds it: the shading
  * normal (on the viewer's side) and tangent every type shades with; gn, the
  * geometric normal on the viewer's side, decides which side a direction is
- * on (kernels/shading.clh). A flat triangle's is gn and its own tangent. */
-SPM_ALWAYS_INLINE spm_frame hit_frame(__global const spm_tri *tr, __global const float *vnormals, float3 o,
-                           float3 d)
+ * on (kernels/shading.clh). A flat triangle's is gn and its own tangent.
+ * Written through a pointer, not returned: a returned struct is a noalias
+ * (sret) argument, whose inlining leaves an llvm.experimental.noalias.scope.decl
+ * when the frame stays in memory (shading_frame takes its fields' addresses),
+ * an intrinsic Oclgrind 21.10 cannot run. */
+SPM_ALWAYS_INLINE void hit_frame(__global const spm_tri *tr, __global const float *vnormals, float3 o,
+                                 float3 d, spm_frame *fr)
 {
-    spm_frame fr;
-    fr.ng = ld3(tr->n);
-    fr.back = -d;
-    fr.gn = dot3(fr.ng, fr.back) < 0.0f ? -fr.ng : fr.ng;
-    fr.n = fr.gn;
-    fr.t = ld3(tr->t);
-    fr.smooth = 0;
+    fr->ng = ld3(tr->n);
+    fr->back = -d;
+    fr->gn = dot3(fr->ng, fr->back) < 0.0f ? -fr->ng : fr->ng;
+    fr->n = fr->gn;
+    fr->t = ld3(tr->t);
+    fr->smooth = 0;
 #ifdef SPM_WITH_SMOOTH
-    fr.smooth = tr->vn != 0u;
-    if (fr.smooth)
-        shading_frame(tr, vnormals + 9u * (tr->vn - 1u), o, d, fr.back, fr.gn, &fr.n, &fr.t);
+    fr->smooth = tr->vn != 0u;
+    if (fr->smooth)
+        shading_frame(tr, vnormals + 9u * (tr->vn - 1u), o, d, fr->back, fr->gn, &fr->n, &fr->t);
 #endif
-    fr.b = cross3(fr.n, fr.t);
-    fr.wo = frame_local(&fr, fr.back);
-    return fr;
+    fr->b = cross3(fr->n, fr->t);
+    fr->wo = frame_local(fr, fr->back);
 }
 
 /* Next-event estimation's weight, the light sample ls's at a vertex of
@@ -132,12 +134,12 @@ SPM_ALWAYS_INLINE void count_hit(float lpdf, float cpdf, float rrw, uint memit, 
  * vertex's sampled rays count no emission (cpdf < 0: its light sample
  * weighed 1). The two-colour background weighs 1. */
 SPM_ALWAYS_INLINE void escape(const spm_trace_params *p, __global const spm_emitter *emitters,
-                              __global const float *envmap, float3 d, uint j, float cpdf,
-                              float rrw, spm_path_head *hd)
+                              __global const float *envmap, float3 d, spm_key key, uint j,
+                              float cpdf, float rrw, spm_path_head *hd)
 {
     float scale, lpdf;
     hd->end = SPM_END_ESCAPED;
-    hd->bg = light_escape(p, emitters, envmap, d, &scale, &lpdf);
+    hd->bg = light_escape(p, emitters, envmap, d, key, j, &scale, &lpdf);
 #if SPM_ON_LIGHT_ENVMAP
     if (lpdf > 0.0f && j > 0u)
         scale *= cpdf < 0.0f ? 0.0f : cpdf > 0.0f ? mis_power(cpdf, lpdf) : 1.0f;
@@ -178,7 +180,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         float t;
         int hit = intersect(nodes, tris, o, d, skip, &t, counters);
         if (hit < 0) { /* the background: MiniLight's sky for an upward ray, or the map */
-            escape(&p, emitters, envmap, d, j, cpdf, rrw, &hd);
+            escape(&p, emitters, envmap, d, key, j, cpdf, rrw, &hd);
             if (hd.bg != SPM_NONE)
                 feel(lvlk, hd.bg, 1u, SPM_SETBY_EMITTER, &level, &setby);
             break;
@@ -186,7 +188,8 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         __global const spm_tri *tr = &tris[hit];
         spm_material m = mats[tr->material];
         float3 pos = o + d * t;
-        spm_frame fr = hit_frame(tr, vnormals, o, d);
+        spm_frame fr;
+        hit_frame(tr, vnormals, o, d, &fr);
 
         /* local emission, first vertex only, front face (either face when twosided) */
         float ecos = dot3(fr.back, fr.ng), escale;

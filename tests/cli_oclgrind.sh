@@ -25,6 +25,9 @@ check "the simulator is the device" \
     test "$("${OG[@]}" "$BIN" devices | grep -c '^  device 0: Oclgrind Simulator')" = 1
 
 R=(--width 24 --height 18 --spp 2 --seed 9 --quiet)
+# and the environment map's trace kernel (its lookup and sampling, with the
+# conductor, the coated type and smooth shading beside it)
+RUNS+=("rgb $DATA/scenes/envmap.scene")
 for run in "${RUNS[@]}"; do
     set -- $run
     mode=$1; shift

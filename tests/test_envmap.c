@@ -4,6 +4,10 @@
  *    top row up, the centre column along +z, a quarter along +x; `rotate`
  *    turning +z toward +x), each texel's luminance its grey value times the
  *    scale, written here independently of the reader;
+ *  - the bilinear lookup: the mean of the texels an escape draws at points
+ *    between texel centres (across the seam at u = 0 and by the poles)
+ *    against the interpolation computed here; and the distribution's
+ *    support: a positive density wherever the interpolation has light;
  *  - the palette: a grey map is one colour, a two-colour map two, each within
  *    a small distance in u'v' of its RGB's chromaticity;
  *  - chi-squared: the directions the map's distribution draws (through the
@@ -15,7 +19,9 @@
  *    sphere on a rough diffuse floor render the same mean with MIS, light
  *    samples alone and the materials' sampling alone (SPECMIP_TEST_STRATEGY,
  *    as tests/test_strategies.c), which sees an MIS weight at an escape that
- *    does not match the light sample's density. */
+ *    does not match the light sample's density, and a distribution that
+ *    misses where the interpolation reaches into black texels (the map's
+ *    black columns). */
 #include <string.h>
 #include "chi2_testlib.h"
 #include "envmap_testlib.h"
@@ -56,6 +62,14 @@ static int write_load(const char *map, int w, int h, envmap_texel_fn fn, const c
     return rc;
 }
 
+/* the map an escaping ray of direction d meets, drawn by path n's numbers */
+static spm_u32 escape(const spm_geometry *g, const spm_emitter *e, const float d[3], spm_u32 n,
+                      float *scale, float *pdf)
+{
+    spm_ref_key k = {7u, 3u, n};
+    return spm_ref_light_escape_ENVMAP(g, e, d, &k, 1u, scale, pdf);
+}
+
 static void grey_ramp(int i, int j, int w, int h, float rgb[3])
 {
     (void)h;
@@ -73,6 +87,46 @@ static void direction(double u, double v, double rot, double d[3])
     d[0] = cos(r) * x + sin(r) * z; /* +z turns toward +x */
     d[1] = y;
     d[2] = -sin(r) * x + cos(r) * z;
+}
+
+/* the ramp's texel (i, j), columns wrapping and rows clamped */
+static double ramp_at(int i, int j, int w, int h)
+{
+    float c[3];
+    grey_ramp((i + w) % w, j < 0 ? 0 : j >= h ? h - 1 : j, w, h, c);
+    return c[0];
+}
+
+/* The bilinear interpolation at (u, v) of a w x h map's texel values at(i,
+ * j) (columns wrapping, rows clamped, centres at k + 1/2) */
+static double bilerp(double (*at)(int, int, int, int), double u, double v, int w, int h)
+{
+    double x = u * w - 0.5, y = v * h - 0.5;
+    int i = (int)floor(x), j = (int)floor(y);
+    double fx = x - i, fy = y - j;
+    return (1 - fx) * (1 - fy) * at(i, j, w, h) + fx * (1 - fy) * at(i + 1, j, w, h) +
+           (1 - fx) * fy * at(i, j + 1, w, h) + fx * fy * at(i + 1, j + 1, w, h);
+}
+
+/* the mean luminance of BILIN_N escapes at points between texel centres
+ * against the bilinear interpolation of the texels' (times the scale, 2):
+ * within BILIN_Z standard errors of the draws (normal; 5 leaves 1 in 10^6
+ * of a correct lookup failing at each point) */
+#define BILIN_N 20000
+#define BILIN_Z 5.0
+
+/* the mean over BILIN_N paths' draws of the luminance an escape along d
+ * meets; *se its standard error */
+static double mean_escape(const spm_geometry *g, const spm_emitter *e, const float d[3], double *se)
+{
+    double m = 0.0, m2 = 0.0;
+    for (spm_u32 n = 0; n < BILIN_N; n++) {
+        float sc, pdf;
+        escape(g, e, d, n, &sc, &pdf);
+        m += sc / BILIN_N, m2 += (double)sc * sc / BILIN_N;
+    }
+    *se = sqrt(fmax(m2 - m * m, 0.0) / (BILIN_N - 1));
+    return m;
 }
 
 static void test_mapping(void)
@@ -99,24 +153,103 @@ static void test_mapping(void)
                 for (int k = 0; k < 3; k++)
                     df[k] = (float)d[k];
                 grey_ramp(i, j, w, h, c);
-                spm_u32 col = spm_ref_light_escape_ENVMAP(&g, e, df, &scale, &pdf);
+                spm_u32 col = escape(&g, e, df, 0u, &scale, &pdf);
                 bad += col != (spm_u32)s.env->first || fabs(scale - 2.0 * c[0]) > 1e-5 * scale;
             }
         CHECK(bad == 0, "rotate %d: %d texels not where the convention puts them", rot * 90, bad);
         /* anchors: +y is the top row, and the direction the centre column
          * looks along is +z, or +x turned by 90 degrees */
-        float up[3] = {0.0f, 1.0f, 0.0f}, ctr[3] = {rot ? 1.0f : 0.0f, -0.1f, rot ? 0.0f : 1.0f};
+        float up[3] = {0.0f, 1.0f, 0.0f}, n = 1.0f / sqrtf(1.01f);
+        float ctr[3] = {rot ? n : 0.0f, -0.1f * n, rot ? 0.0f : n};
         float sc, pdf, c[3];
-        spm_ref_light_escape_ENVMAP(&g, e, up, &sc, &pdf);
+        escape(&g, e, up, 0u, &sc, &pdf);
         grey_ramp(0, 0, w, h, c);
         CHECK(sc >= 2.0f * c[0] && sc <= 2.0f * (c[0] + (float)w / 8.0f), "+y: the top row");
-        spm_ref_light_escape_ENVMAP(&g, e, ctr, &sc, &pdf);
-        grey_ramp(w / 2, h / 2, w, h, c);
-        CHECK(fabsf(sc - 2.0f * c[0]) <= 1e-5f * sc, "the centre column: %g, want %g", sc,
-              2.0 * c[0]);
+        double se, m = mean_escape(&g, e, ctr, &se);
+        double want = 2.0 * bilerp(ramp_at, 0.5, acos(-0.1 / sqrt(1.01)) / M_PI, w, h);
+        CHECK(fabs(m - want) <= BILIN_Z * se, "the centre column: %g, want %g", m, want);
         spm_geometry_free(&g);
         spm_scene_free(&s);
     }
+}
+
+static void test_bilinear(void)
+{
+    const int w = 16, h = 8;
+    spm_scene s;
+    spm_geometry g;
+    if (envmap_write_hdr("envmap_ramp.hdr", w, h, grey_ramp) ||
+        load("envmap_ramp.hdr", "scale 2 rotate 90", &s, &g)) {
+        CHECK(0, "the ramp scene loads");
+        return;
+    }
+    const spm_emitter *e = &g.emitters[g.nemitters - 1];
+    /* (u, v): inside the map, across the seam at u = 0, above the top
+     * row's centre (clamped), below the bottom row's */
+    static const double pts[][2] = {{0.37, 0.41}, {0.71, 0.66}, {0.01, 0.3},
+                                    {0.995, 0.55}, {0.2, 0.02}, {0.6, 0.97}};
+    for (size_t p = 0; p < sizeof pts / sizeof pts[0]; p++) {
+        double d[3], want = 2.0 * bilerp(ramp_at, pts[p][0], pts[p][1], w, h);
+        float df[3];
+        direction(pts[p][0], pts[p][1], 90.0, d);
+        for (int k = 0; k < 3; k++)
+            df[k] = (float)d[k];
+        double se, m = mean_escape(&g, e, df, &se);
+        printf("bilinear at (%.3f, %.3f): mean %.5f (se %.5f), interpolated %.5f\n", pts[p][0],
+               pts[p][1], m, se, want);
+        CHECK(fabs(m - want) <= BILIN_Z * se + 1e-6 * want,
+              "bilinear at (%.3f, %.3f): mean %.5f, want %.5f (%.1f se)", pts[p][0], pts[p][1], m,
+              want, se > 0.0 ? fabs(m - want) / se : 0.0);
+    }
+    spm_geometry_free(&g);
+    spm_scene_free(&s);
+}
+
+/* 1 where the striped map's texel (i, j) (columns wrapping, rows clamped) has light */
+static double striped_lit(int i, int j, int w, int h)
+{
+    float c[3];
+    envmap_striped((i + w) % w, j < 0 ? 0 : j >= h ? h - 1 : j, w, h, c);
+    return c[0] + c[1] + c[2] > 0.0f;
+}
+
+/* The distribution's support: an escape's density is positive wherever the
+ * interpolation has light, on a map whose every other column is black (a
+ * distribution of the texels' own luminance misses half of each black
+ * column's width on either side), at SUPPORT_N directions uniform in
+ * (u, v) under a rotation. */
+#define SUPPORT_N 20000
+
+static void test_support(void)
+{
+    const int w = 32, h = 16;
+    spm_scene s;
+    spm_geometry g;
+    if (write_load("envmap_striped.hdr", w, h, envmap_striped, "rotate 30", &s, &g))
+        return;
+    const spm_emitter *e = &g.emitters[g.nemitters - 1];
+    int lit = 0, missed = 0;
+    spm_u32 st = 0x5e99u;
+    for (int n = 0; n < SUPPORT_N; n++) {
+        double u = (spm_mix32(st++) >> 8) / 16777216.0, v = (spm_mix32(st++) >> 8) / 16777216.0;
+        double d[3];
+        float df[3], sc, pdf;
+        direction(u, 0.02 + 0.96 * v, 30.0, d); /* away from the poles, where sin(theta) -> 0 */
+        for (int k = 0; k < 3; k++)
+            df[k] = (float)d[k];
+        escape(&g, e, df, (spm_u32)n, &sc, &pdf);
+        if (bilerp(striped_lit, u, 0.02 + 0.96 * v, w, h) > 1e-4) {
+            lit++;
+            missed += !(pdf > 0.0f);
+        }
+    }
+    printf("support: %d of %d directions have light, %d of them density 0\n", lit, SUPPORT_N,
+           missed);
+    CHECK(lit > SUPPORT_N / 2 && missed == 0,
+          "%d of %d directions with light have density 0 (the distribution misses them)", missed,
+          lit);
+    spm_geometry_free(&g);
+    spm_scene_free(&s);
 }
 
 static void two_colours(int i, int j, int w, int h, float rgb[3])
@@ -170,7 +303,7 @@ static double pdf_map(void *ctx, const double wo[3], const double wi[3])
     const env_ctx *c = ctx;
     const spm_emitter *e = &c->g->emitters[c->k];
     float d[3] = {(float)wi[0], (float)wi[1], (float)wi[2]}, sc, pdf;
-    spm_ref_light_escape_ENVMAP(c->g, e, d, &sc, &pdf);
+    escape(c->g, e, d, 0u, &sc, &pdf);
     return pdf / e->pdf;
 }
 
@@ -198,7 +331,7 @@ static void test_chi2(void)
 
 static void test_strategies(void)
 {
-    FILE *f = envmap_write_hdr("envmap_soft.hdr", 64, 32, envmap_soft_sun) ? NULL
+    FILE *f = envmap_write_hdr("envmap_soft.hdr", 64, 32, envmap_striped) ? NULL
                                                                            : fopen("envmap_strat.scene", "w");
     char cwd[512], path[700];
     if (!f || !getcwd(cwd, sizeof cwd)) {
@@ -257,6 +390,8 @@ static void test_strategies(void)
 int main(void)
 {
     test_mapping();
+    test_bilinear();
+    test_support();
     test_palette();
     test_chi2();
     test_strategies();

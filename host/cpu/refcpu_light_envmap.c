@@ -1,7 +1,9 @@
 /* The CPU reference's environment map kind (kernels/light_envmap.clh): an
  * equirectangular image, its texels a palette colour and a luminance each,
- * met by escaping rays and sampled by the 2-D distribution of luminance x
- * sin(theta) in g->env (spm_shared.h SPM_ENV_*); the selection's last entry. */
+ * interpolated bilinearly by drawing one of four texels, met by escaping
+ * rays and sampled by the 2-D distribution of the interpolated luminance's
+ * texel means x sin(theta) in g->env (spm_shared.h SPM_ENV_*); the
+ * selection's last entry. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,10 +48,11 @@ static spm_u32 env_search(const float *cdf, spm_u32 n, float u)
     return lo;
 }
 
-/* a direction of the distribution from u1 (row) and u2 (column): its texel
- * *t, sin(theta) *st; returns its density in (u, v) */
+/* a direction of the distribution from u1 (row) and u2 (column): its map
+ * coordinates uv, its texel of the distribution *c, sin(theta) *st; returns
+ * its density in (u, v) */
 static float env_sample_dir(const spm_geometry *g, const spm_emitter *e, float u1, float u2,
-                            float d[3], spm_u32 *t, float *st)
+                            float d[3], float uv[2], spm_u32 *c, float *st)
 {
     spm_u32 w = env_w(e), h = env_h(e);
     const float *env = g->env;
@@ -60,19 +63,22 @@ static float env_sample_dir(const spm_geometry *g, const spm_emitter *e, float u
     float du = (u2 - cond[i]) / (cond[i + 1u] - cond[i]);
     float u = ((float)i + du) / (float)w, v = ((float)j + dv) / (float)h;
     float theta = SPM_PI_F * v, phi = 2.0f * SPM_PI_F * u;
-    float s = sinf(theta), c = cosf(theta);
+    float s = sinf(theta), cs = cosf(theta);
     float lx = s * sinf(phi), lz = -s * cosf(phi);
     float cr = e->p[SPM_LIGHT_P_DIR], sr = e->p[SPM_LIGHT_P_DIR + 1];
     d[0] = cr * lx + sr * lz;
-    d[1] = c;
+    d[1] = cs;
     d[2] = cr * lz - sr * lx;
-    *t = j * w + i;
+    uv[0] = u;
+    uv[1] = v;
+    *c = j * w + i;
     *st = s;
-    return env[SPM_ENV_PDF(w, h) + *t];
+    return env[SPM_ENV_PDF(w, h) + *c];
 }
 
-/* the texel direction d falls in; *st its sin(theta) */
-static spm_u32 env_texel(const spm_emitter *e, const float d[3], float *st)
+/* the map coordinates uv of direction d; *c the texel it falls in, *st its
+ * sin(theta) */
+static void env_uv(const spm_emitter *e, const float d[3], float uv[2], spm_u32 *c, float *st)
 {
     spm_u32 w = env_w(e), h = env_h(e);
     float cr = e->p[SPM_LIGHT_P_DIR], sr = e->p[SPM_LIGHT_P_DIR + 1];
@@ -86,32 +92,52 @@ static spm_u32 env_texel(const spm_emitter *e, const float d[3], float *st)
     i = i < w - 1u ? i : w - 1u;
     j = j < h - 1u ? j : h - 1u;
     *st = sqrtf(fmaxf(0.0f, 1.0f - y * y));
-    return j * w + i;
+    *c = j * w + i;
+    uv[0] = u;
+    uv[1] = v;
+}
+
+/* the texel standing for the bilinear interpolation at uv: along each
+ * axis, centres at k + 1/2, the one below u w (v h) or the next with
+ * probability the fraction, drawn by vertex j's SPM_DIM_ENV; columns wrap,
+ * rows clamp */
+static spm_u32 env_tap(const spm_emitter *e, const float uv[2], const spm_ref_key *k, spm_u32 j)
+{
+    int w = (int)env_w(e), h = (int)env_h(e);
+    float x = uv[0] * (float)w - 0.5f, y = uv[1] * (float)h - 0.5f;
+    float fx = floorf(x), fy = floorf(y);
+    int i = (int)fx + (spm_ref_rnd(k, SPM_DIM_ENV(j, 0)) < x - fx ? 1 : 0);
+    int r = (int)fy + (spm_ref_rnd(k, SPM_DIM_ENV(j, 1)) < y - fy ? 1 : 0);
+    i = i < 0 ? i + w : i >= w ? i - w : i;
+    r = r < 0 ? 0 : r > h - 1 ? h - 1 : r;
+    return (spm_u32)(r * w + i);
 }
 
 spm_u32 spm_ref_light_escape_ENVMAP(const spm_geometry *g, const spm_emitter *e, const float d[3],
-                                    float *scale, float *pdf)
+                                    const spm_ref_key *k, spm_u32 j, float *scale, float *pdf)
 {
-    spm_u32 w = env_w(e), h = env_h(e);
-    float st;
-    spm_u32 t = env_texel(e, d, &st);
+    spm_u32 w = env_w(e), h = env_h(e), c;
+    float st, uv[2];
+    env_uv(e, d, uv, &c, &st);
+    spm_u32 t = env_tap(e, uv, k, j);
     *scale = g->env[SPM_ENV_LUM(w, h) + t];
-    *pdf = st > 0.0f ? e->pdf * g->env[SPM_ENV_PDF(w, h) + t] / (2.0f * SPM_PI_F * SPM_PI_F * st)
+    *pdf = st > 0.0f ? e->pdf * g->env[SPM_ENV_PDF(w, h) + c] / (2.0f * SPM_PI_F * SPM_PI_F * st)
                      : 0.0f;
     if (uniform())
         *pdf = e->pdf / (4.0f * SPM_PI_F);
     return env_id(g, e, t);
 }
 
-/* the uniform baseline's direction: z = 1 - 2 u1, phi = 2 pi u2; its
- * texel *t; returns its density 1 / (4 pi) */
-static float uniform_dir(const spm_emitter *e, float u1, float u2, float d[3], spm_u32 *t)
+/* the uniform baseline's direction: z = 1 - 2 u1, phi = 2 pi u2; its map
+ * coordinates uv; returns its density 1 / (4 pi) */
+static float uniform_dir(const spm_emitter *e, float u1, float u2, float d[3], float uv[2])
 {
     float z = 1.0f - 2.0f * u1, r = sqrtf(fmaxf(0.0f, 1.0f - z * z)), st;
+    spm_u32 c;
     d[0] = r * cosf(2.0f * SPM_PI_F * u2);
     d[1] = z;
     d[2] = r * sinf(2.0f * SPM_PI_F * u2);
-    *t = env_texel(e, d, &st);
+    env_uv(e, d, uv, &c, &st);
     return 1.0f / (4.0f * SPM_PI_F);
 }
 
@@ -121,13 +147,15 @@ int spm_ref_light_sample_ENVMAP(const spm_geometry *g, const spm_material *mats,
                                 spm_ref_lsample *ls)
 {
     (void)mats;
-    spm_u32 t;
-    float st, ts;
+    spm_u32 c;
+    float st, ts, uv[2];
     float u1 = spm_ref_rnd(k, dim + SPM_DIM_EPOINT_A), u2 = spm_ref_rnd(k, dim + SPM_DIM_EPOINT_B);
-    float puv = env_sample_dir(g, e, u1, u2, ls->wi, &t, &st);
+    float puv = env_sample_dir(g, e, u1, u2, ls->wi, uv, &c, &st);
     float pdf_sa = puv > 0.0f && st > 0.0f ? puv / (2.0f * SPM_PI_F * SPM_PI_F * st) : 0.0f;
     if (uniform())
-        pdf_sa = uniform_dir(e, u1, u2, ls->wi, &t);
+        pdf_sa = uniform_dir(e, u1, u2, ls->wi, uv);
+    /* vertex j of the path whose light sample this is (dim = SPM_DIM_VERTEX(j)) */
+    spm_u32 t = env_tap(e, uv, k, (dim - SPM_DIM_VERTEX(0)) / SPM_DIMS_PER_VERTEX);
     spm_u32 colour = env_id(g, e, t);
     float cos_i = v3_dot(ls->wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
     if (!(pdf_sa > 0.0f) || colour == SPM_NONE || (cos_i < 0.0f) != (cos_o < 0.0f))
@@ -150,9 +178,9 @@ void spm_ref_light_sample_emission_ENVMAP(const spm_geometry *g, const spm_emitt
                                           const float u[4], float o[3], float d[3], float *pdf_pos,
                                           float *pdf_dir)
 {
-    float w[3], a[3] = {1.0f, 0.0f, 0.0f}, b1[3], b2[3], c[3], st;
+    float w[3], a[3] = {1.0f, 0.0f, 0.0f}, b1[3], b2[3], c[3], st, uv[2];
     spm_u32 t;
-    float puv = env_sample_dir(g, e, u[0], u[1], w, &t, &st);
+    float puv = env_sample_dir(g, e, u[0], u[1], w, uv, &t, &st);
     if (fabsf(w[0]) > 0.9f)
         a[0] = 0.0f, a[1] = 1.0f;
     v3_cross(c, a, w);
@@ -172,8 +200,9 @@ void spm_ref_light_pdf_emission_ENVMAP(const spm_geometry *g, const spm_emitter 
                                        const float d[3], float *pdf_pos, float *pdf_dir)
 {
     (void)o;
-    float st, back[3] = {-d[0], -d[1], -d[2]}, r = e->p[SPM_LIGHT_P_DIR + 2];
-    spm_u32 t = env_texel(e, back, &st);
+    float st, uv[2], back[3] = {-d[0], -d[1], -d[2]}, r = e->p[SPM_LIGHT_P_DIR + 2];
+    spm_u32 t;
+    env_uv(e, back, uv, &t, &st);
     *pdf_pos = 1.0f / (SPM_PI_F * r * r);
     *pdf_dir = st > 0.0f ? g->env[SPM_ENV_PDF(env_w(e), env_h(e)) + t] /
                                (2.0f * SPM_PI_F * SPM_PI_F * st)

@@ -102,11 +102,11 @@ static void lobe_hit(const spm_geometry *g, spm_u32 tri, float ce, float t, floa
  * light_sample's density when that reaches it too (the map): 1 after a
  * delta (cpdf 0), 0 when the vertex's sampled rays count no emission
  * (cpdf < 0), 1 for the camera's ray. */
-static void escape(const spm_geometry *g, const spm_trace_params *p, const float d[3], int j,
-                   float cpdf, float weight, spm_path *path)
+static void escape(const spm_geometry *g, const spm_trace_params *p, const float d[3],
+                   const spm_ref_key *k, int j, float cpdf, float weight, spm_path *path)
 {
     float scale, lpdf;
-    spm_u32 bg = spm_ref_light_escape(g, p, d, &scale, &lpdf);
+    spm_u32 bg = spm_ref_light_escape(g, p, d, k, (spm_u32)j, &scale, &lpdf);
     if (lpdf > 0.0f && j > 0)
         scale *= cpdf < 0.0f ? 0.0f : cpdf > 0.0f ? spm_ref_cond_power(cpdf, mis_pick(lpdf)) : 1.0f;
     if (!(scale > 0.0f))
@@ -161,7 +161,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         spm_ref_hit hf;
         int hit = spm_ref_next_vertex(g, o, d, skip, &t, x, &hf);
         if (hit < 0) {
-            escape(g, p, d, j, cpdf, weight, path);
+            escape(g, p, d, &k, j, cpdf, weight, path);
             if (h->bg != SPM_NONE)
                 feel(&f, lvlk, h->bg, 1, SPM_SETBY_EMITTER);
             break;

@@ -233,6 +233,24 @@ int spm_envmap_palette_grid(spm_scene *s, int q, spm_error *err)
     return rc;
 }
 
+/* The mean over texel (i, j) of the luminance the lookup interpolates
+ * bilinearly between texel centres (columns wrapping, rows clamped, as
+ * kernels/light_envmap.clh env_tap): along each axis the mean of the two
+ * half-texels' ramps, (Y[k-1] + 6 Y[k] + Y[k+1]) / 8; so it is positive
+ * wherever the interpolation is, and the distribution misses none of it. */
+static double texel_mean(const spm_scene_envmap *e, int i, int j)
+{
+    static const double k[3] = {1.0 / 8.0, 6.0 / 8.0, 1.0 / 8.0};
+    int w = e->w, h = e->h;
+    double m = 0.0;
+    for (int b = -1; b <= 1; b++) {
+        int r = j + b < 0 ? 0 : j + b >= h ? h - 1 : j + b;
+        for (int a = -1; a <= 1; a++)
+            m += k[a + 1] * k[b + 1] * (double)e->lum[(size_t)r * w + (size_t)((i + a + w) % w)];
+    }
+    return m;
+}
+
 float *spm_envmap_tables(const spm_scene_envmap *e, size_t *n, double *mean)
 {
     spm_u32 w = (spm_u32)e->w, h = (spm_u32)e->h;
@@ -241,11 +259,11 @@ float *spm_envmap_tables(const spm_scene_envmap *e, size_t *n, double *mean)
     float *cond = t + SPM_ENV_COND((size_t)w, h), *pdf = t + SPM_ENV_PDF((size_t)w, h);
     double *f = spm_xmalloc((size_t)w * h * sizeof *f), *rowint = spm_xmalloc((size_t)h * sizeof *rowint);
     double total = 0.0;
-    for (spm_u32 j = 0; j < h; j++) { /* f = Y sin(theta) at the row's centre */
+    for (spm_u32 j = 0; j < h; j++) { /* f = the texel's mean Y x sin(theta) at the row's centre */
         double st = sin(M_PI * (j + 0.5) / h), acc = 0.0;
         float *c = cond + (size_t)j * (w + 1u);
         for (spm_u32 i = 0; i < w; i++) {
-            f[(size_t)j * w + i] = (double)e->lum[(size_t)j * w + i] * st;
+            f[(size_t)j * w + i] = texel_mean(e, (int)i, (int)j) * st;
             c[i] = (float)acc;
             acc += f[(size_t)j * w + i];
         }

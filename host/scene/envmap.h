@@ -11,7 +11,9 @@
  * colour, its texels' luminance-weighted mean shape lifted by the sRGB
  * table (rgb2spec_table.h) times D65 as an RGB emission is
  * (spm_rgb2spec_texel, SPM_TEXEL_EMISSION) and normalised to Y = 1; a texel
- * renders as its cell's colour times its own Y. The palette's colours are
+ * renders as its cell's colour times its own Y, interpolated bilinearly by
+ * drawing one of the four texels around a direction (kernels/light_envmap.clh
+ * env_tap), so a path still meets one colour. The palette's colours are
  * ordinary emissions: the pretest gives each its level, as textures' rule T
  * judges a texture's colours on a grid. */
 #ifndef SPM_ENVMAP_H
@@ -39,8 +41,9 @@ int spm_envmap_palette(spm_scene *s, spm_error *err);
 /* the same on a grid of q steps (bench/envmap_palette.c) */
 int spm_envmap_palette_grid(spm_scene *s, int q, spm_error *err);
 /* The trace stage's buffer (spm_shared.h SPM_ENV_*) of a map whose palette
- * is made: *n floats (malloc'd); *mean the mean over (u, v) of luminance x
- * sin(theta), the distribution's integral (0: a black map). */
+ * is made: *n floats (malloc'd), the distribution over the texels' means
+ * of the interpolated luminance x sin(theta); *mean its mean over (u, v),
+ * the distribution's integral (0: a black map). */
 float *spm_envmap_tables(const spm_scene_envmap *e, size_t *n, double *mean);
 void spm_envmap_free(spm_scene_envmap *e);
 #endif
