@@ -3,7 +3,8 @@
  * close, its level byte equal; and the records do not depend on the mode.
  * Also on MiniLight's Cornell box lit by a sun 1.5e11 away, and on the
  * textured box (scenes/textured.scene), whose vertices record colours the
- * texture lookup picks (kernels/texture.clh, host/cpu/refcpu_texture.c). */
+ * texture lookup picks (kernels/texture.clh, host/cpu/refcpu_texture.c),
+ * and on it with coated textured materials. */
 #include "cl_testlib.h"
 #include "testutil.h"
 
@@ -156,6 +157,24 @@ int main(void)
         free(seen);
     } else {
         CHECK(0, "the textured scene loads");
+    }
+    cl_test_scene_close(&s);
+
+    /* coated materials on textures: the specular lobe records white, the
+     * diffuse one a pick from the material's palette of effective colours */
+    snprintf(path, sizeof path, "%s/tests/data/scenes/textured_coated.scene", SPM_SOURCE_DIR);
+    if (cl_test_scene_load(&s, path, W, H) == 0) {
+        CHECK(s.geom.ntex > 0 && s.geom.tex[SPM_TEXD_NPAL] == 3,
+              "the coated textures have a palette each (%u palettes)",
+              s.geom.ntex ? s.geom.tex[SPM_TEXD_NPAL] : 0u);
+        if (spm_cl_create(0, &s.geom, &s.tables, SPM_MODE_ML, SEED, &r, &err) == 0) {
+            compare_pass(&s, r, SPM_MODE_ML, 0);
+            spm_cl_destroy(r);
+        } else {
+            CHECK(0, "spm_cl_create (textured coated): %s", err.msg);
+        }
+    } else {
+        CHECK(0, "the textured coated scene loads");
     }
     cl_test_scene_close(&s);
 

@@ -7,6 +7,7 @@
 #include "spm_rng.h"
 #include "fluor.h"
 #include "coated.h"
+#include "scene_build.h"
 
 static double colour_mean(const spm_scene *sc, int c)
 {
@@ -198,7 +199,9 @@ static void coated_fill(const spm_scene *sc, const spm_scene_material *s, spm_ma
 }
 
 /* D into col3 (a new colour per material) and the white the specular lobe
- * records into col2 (one for the scene, shared). A scene with fluorescent
+ * records into col2 (one for the scene, shared). A textured base gets a
+ * palette of D, one per colour of the lifted grid, and col3 its D of the
+ * largest mean (Russian roulette's bound). A scene with fluorescent
  * materials is refused: their diagonal colours must be the scene's last (the
  * shade stage knows them by id), and their light-end walk has no case for
  * the coated vertex's hit. */
@@ -226,6 +229,9 @@ static int coated_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
         white = sc->ncolours++;
     }
     s->col2 = white;
+    if (s->tex) /* a textured base: D of each colour its texels pick */
+        s->tpal = spm_scene_palette_derive(sc, s->name, spm_coat_effective,
+                                           spm_coat_fdr_internal(coat_eta(s)), &s->col3);
     return 0;
 }
 
