@@ -134,6 +134,8 @@ const char *spm_mesh_ignored_name(int bit)
         "glossy and metallic parameters", "opacity", "cameras", "lights",
         "animations, skins and morph targets", "points and lines",
         "glTF emissive strengths (KHR_materials_emissive_strength, which Assimp 5.2 does not "
-        "read: emissions are the emissiveFactor alone)"};
+        "read: emissions are the emissiveFactor alone)",
+        "emissive textures (glTF emissiveTexture, MTL map_Ke: an emission is its factor alone, "
+        "untextured)"};
     return bit >= 0 && bit < SPM_MESH_IGN_COUNT ? names[bit] : "?";
 }
