@@ -1,7 +1,7 @@
 /* A mesh material's base-colour texture (mesh_texture.h): found through
  * Assimp in the importer's child (an embedded image, "*N" or by file name, or
  * a file beside the model), averaged by mesh_texture_io.cpp; in the parent,
- * an image file on a Lambertian reflectance read into the scene, else its
+ * an image file on a textured type's reflectance read into the scene, else its
  * mean colour with a warning. */
 #include "mesh_texture.h"
 #include "colour.h"

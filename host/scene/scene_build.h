@@ -72,14 +72,6 @@ int spm_sb_prune(spm_scene_builder *b, const char *where, spm_error *err);
  * reflectance colour the palette's of the largest mean (Russian roulette's
  * survival: any bound works, the weight is its inverse). 0, or 1 with err. */
 int spm_sb_texture_palette(spm_scene_builder *b, const char *where, spm_error *err);
-/* A palette derived from the first, for a type whose vertex records a colour
- * made from its reflectance (a derive, materials.h): each node's colour c
- * becomes a new scene colour f(c, arg) named after `name`. Its index in
- * scene.h palette, with *best the new colour of the largest mean (the
- * material's colour for Russian roulette's survival). */
-int spm_scene_palette_derive(spm_scene *s, const char *name,
-                             void (*f)(const spm_spectrum *in, double arg, spm_spectrum *out),
-                             double arg, int *best);
 /* Appends a triangle; zero-area or degenerate (collinear) triangles, huge
  * coordinates and too many triangles are errors. */
 int spm_sb_tri(spm_scene_builder *b, const double p[3][3], int material, int line,

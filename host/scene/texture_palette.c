@@ -107,32 +107,3 @@ int spm_sb_texture_palette(spm_scene_builder *b, const char *where, spm_error *e
             s->materials[m].refl = best;
     return rc;
 }
-
-int spm_scene_palette_derive(spm_scene *s, const char *name,
-                             void (*f)(const spm_spectrum *in, double arg, spm_spectrum *out),
-                             double arg, int *best)
-{
-    const size_t n = SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID;
-    int k = s->npalettes++, used = 0;
-    s->palette = spm_xrealloc(s->palette, (size_t)s->npalettes * n * sizeof *s->palette);
-    int *to = s->palette + (size_t)k * n;
-    for (size_t i = 0; i < n; i++)
-        used += s->palette[i] >= 0;
-    s->colours = spm_xrealloc(s->colours, ((size_t)s->ncolours + (size_t)used) * sizeof *s->colours);
-    double best_mean = -1.0;
-    *best = -1;
-    for (size_t i = 0; i < n; i++) {
-        to[i] = -1;
-        if (s->palette[i] < 0)
-            continue;
-        spm_colour *c = &s->colours[s->ncolours];
-        memset(c, 0, sizeof *c);
-        snprintf(c->name, sizeof c->name, "%.40s:tex%zu", name, i);
-        f(&s->colours[s->palette[i]].s, arg, &c->s);
-        to[i] = s->ncolours++;
-        double mean = spectrum_mean(&c->s);
-        if (mean > best_mean)
-            best_mean = mean, *best = to[i];
-    }
-    return k;
-}
