@@ -572,11 +572,15 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
  * The grid's nodes: SPM_TEX_GRID per axis, linear values of the sRGB codes
  * 255 k / (SPM_TEX_GRID - 1) (8-bit colours that are nodes are met exactly).
  * The scene's texture words (one uint buffer; floats as their bits):
- *   [SPM_TEXD_MATS]    offset of a word per material: 1 + its texture, 0 none
- *   [SPM_TEXD_PALETTE] offset of SPM_TEX_GRID^3 colour ids, node (r, g, b) at
- *                      (r G + g) G + b (SPM_NONE: no texel uses it)
+ *   [SPM_TEXD_MATS]    offset of a word per material: 1 + its texture (0 none)
+ *                      in the low 16 bits, its palette in the high ones
+ *   [SPM_TEXD_PALETTE] offset of the palettes, SPM_TEX_GRID^3 colour ids each,
+ *                      node (r, g, b) at (r G + g) G + b (SPM_NONE: no texel
+ *                      uses it); the first the lifted colours, the others
+ *                      colours a type derives from them (the coated base's)
  *   [SPM_TEXD_NODES]   offset of the SPM_TEX_GRID node values (floats)
  *   [SPM_TEXD_TEXS]    offset of a word per texture: its header's offset
+ *   [SPM_TEXD_NPAL]    the number of palettes
  * a header: nlevels, wrap along u, wrap along v (spm_wrap), 0, then per level
  * its texels' offset, width, height, 0; texels 3 floats (linear RGB), rows top
  * to bottom. Texture coordinates: 6 floats per triangle (u, v at each vertex),
@@ -586,7 +590,9 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
 #define SPM_TEXD_PALETTE 1
 #define SPM_TEXD_NODES 2
 #define SPM_TEXD_TEXS 3
-#define SPM_TEXD_HEAD 4
+#define SPM_TEXD_NPAL 4
+#define SPM_TEXD_HEAD 5
+#define SPM_TEX_NODES_ALL (SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID)
 #define SPM_TEX_HEADER(nlevels) (4 + 4 * (nlevels))
 
 /* Smooth shading (kernels/shading.clh, host/cpu/refcpu_shading.c): where the

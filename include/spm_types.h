@@ -31,7 +31,8 @@ SPM_MATERIAL_TYPE(LAMBERT,
     .nparams = 1,
     .vertex_u32 = 0,
     .rng_dims = 0, /* the vertex's own cosine-lobe dimensions */
-    .define = "SPM_WITH_LAMBERT")
+    .define = "SPM_WITH_LAMBERT",
+    .textured = 1)
 
 /* a metal: Fresnel of eta + i k, smooth or GGX-rough */
 #ifdef SPM_KERNEL_FILES
@@ -140,6 +141,7 @@ SPM_MATERIAL_TYPE(COATED,
     .rng_dims = 3, /* SPM_DIM_COAT_LOBE, SPM_DIM_COAT_M_A, SPM_DIM_COAT_M_B */
     .define = "SPM_WITH_COATED",
     .smooth = 1, /* a faceted glossy sphere shows its facets in its highlight */
+    .textured = 1, /* its base: a palette of D (coated_derive) */
     .fill = coated_fill,
     .derive = coated_derive)
 

@@ -3,7 +3,8 @@
 # triangles as an OBJ with an MTL whose map_Kd is an 8-bit sRGB PNG of 4 x 4
 # blocks of 16 colours (Kd 1, no Ks: a Lambertian reflectance, textured per
 # point), and the same quad as a glTF (TEXCOORD_0 in a data-URI buffer, glTF's
-# top-left origin) under a scene material `reflect texture` of the same PNG,
+# top-left origin) and as a binary PLY (its vertices' s t) under a scene material
+# `reflect texture` of the same PNG,
 # fill an orthographic view under a uniform D65 sky of luminance 1, so each
 # block's linear sRGB is its decoded texel's (as tests/cli_texture_quad.sh:
 # per block, its middle half, within CIEDE2000 1, white Y = 1), on both
@@ -50,6 +51,14 @@ gltf = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
                       {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
                       {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}]}
 json.dump(gltf, open(d + "/quad.gltf", "w"))
+# PLY, binary: a vertex's s t after its x y z, then a property not read
+with open(d + "/quad.ply", "wb") as f:
+    f.write(b"ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+            b"property float y\nproperty float z\nproperty float s\nproperty float t\n"
+            b"property uchar flag\nelement face 2\nproperty list uchar int vertex_indices\n"
+            b"end_header\n")
+    f.write(b"".join(struct.pack("<5fB", *(q + t + (7,))) for q, t in zip(p, uv)))
+    f.write(struct.pack("<B3iB3i", 3, 0, 1, 2, 3, 0, 2, 3))
 PYEOF
 common='image 32 32
 spp 128
@@ -59,7 +68,8 @@ background both d65 1'
 printf '%s\nmesh quad.obj\n' "$common" > "$T/obj.scene"
 printf '%s\ntexture blocks blocks.png\nmaterial board reflect texture blocks\nmesh quad.gltf material board\n' \
     "$common" > "$T/gltf.scene"
-for model in obj gltf; do
+sed 's/quad.gltf/quad.ply/' "$T/gltf.scene" > "$T/ply.scene"
+for model in obj gltf ply; do
   for backend in opencl cpu; do
     for mode in truth ml; do
       "$BIN" render "$T/$model.scene" --backend $backend --mode $mode --seed 5 \

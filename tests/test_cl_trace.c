@@ -3,7 +3,8 @@
  * close, its level byte equal; and the records do not depend on the mode.
  * Also on MiniLight's Cornell box lit by a sun 1.5e11 away, and on the
  * textured box (scenes/textured.scene), whose vertices record colours the
- * texture lookup picks (kernels/texture.clh, host/cpu/refcpu_texture.c). */
+ * texture lookup picks (kernels/texture.clh, host/cpu/refcpu_texture.c),
+ * and on it with coated textured materials. */
 #include "cl_testlib.h"
 #include "testutil.h"
 
@@ -79,6 +80,27 @@ static uint64_t mode_records_hash(const cl_test_scene *s, int mode)
     return h;
 }
 
+/* The kernel against the reference in ml on the scene file `rel` (under the
+ * source tree), loaded into *s, which the caller closes: 0 if it loaded. */
+static int compare_file(cl_test_scene *s, const char *rel, const char *what)
+{
+    char path[1024];
+    spm_cl_renderer *r;
+    spm_error err;
+    snprintf(path, sizeof path, "%s/%s", SPM_SOURCE_DIR, rel);
+    if (cl_test_scene_load(s, path, W, H) != 0) {
+        CHECK(0, "the %s scene loads", what);
+        return 1;
+    }
+    if (spm_cl_create(0, &s->geom, &s->tables, SPM_MODE_ML, SEED, &r, &err) == 0) {
+        compare_pass(s, r, SPM_MODE_ML, 0);
+        spm_cl_destroy(r);
+    } else {
+        CHECK(0, "spm_cl_create (%s): %s", what, err.msg);
+    }
+    return 0;
+}
+
 int main(void)
 {
     if (!cl_test_have_device())
@@ -110,32 +132,14 @@ int main(void)
     cl_test_scene_close(&s);
 
     /* coordinates up to 1e12 (scene_build.h): the sun's rays in float */
-    char path[1024];
-    snprintf(path, sizeof path, "%s/tests/data/scenes/cornellbox_sun.ml.txt", SPM_SOURCE_DIR);
-    if (cl_test_scene_load(&s, path, W, H) == 0) {
-        if (spm_cl_create(0, &s.geom, &s.tables, SPM_MODE_ML, SEED, &r, &err) == 0) {
-            compare_pass(&s, r, SPM_MODE_ML, 0);
-            spm_cl_destroy(r);
-        } else {
-            CHECK(0, "spm_cl_create (far sun): %s", err.msg);
-        }
-    } else {
-        CHECK(0, "the far-sun scene loads");
-    }
+    compare_file(&s, "tests/data/scenes/cornellbox_sun.ml.txt", "far-sun");
     cl_test_scene_close(&s);
 
     /* textures: the records' colour ids are the lookups' picks, which must be
      * the reference's; and they must be picks, many colours beyond the
      * materials' own */
-    snprintf(path, sizeof path, "%s/scenes/textured.scene", SPM_SOURCE_DIR);
-    if (cl_test_scene_load(&s, path, W, H) == 0) {
+    if (compare_file(&s, "scenes/textured.scene", "textured") == 0) {
         CHECK(s.geom.ntex > 0 && s.geom.uvs, "the textured scene has texture words");
-        if (spm_cl_create(0, &s.geom, &s.tables, SPM_MODE_ML, SEED, &r, &err) == 0) {
-            compare_pass(&s, r, SPM_MODE_ML, 0);
-            spm_cl_destroy(r);
-        } else {
-            CHECK(0, "spm_cl_create (textured): %s", err.msg);
-        }
         size_t n = (size_t)W * H * SPP;
         spm_path *cp = spm_xcalloc(n, sizeof *cp);
         uint8_t *cl = spm_xcalloc(n, 1), *seen = spm_xcalloc(SPM_NONE, 1);
@@ -154,25 +158,21 @@ int main(void)
         free(cp);
         free(cl);
         free(seen);
-    } else {
-        CHECK(0, "the textured scene loads");
     }
+    cl_test_scene_close(&s);
+
+    /* coated materials on textures: the specular lobe records white, the
+     * diffuse one a pick from the material's palette of effective colours */
+    if (compare_file(&s, "tests/data/scenes/textured_coated.scene", "textured coated") == 0)
+        CHECK(s.geom.ntex > 0 && s.geom.tex[SPM_TEXD_NPAL] == 3,
+              "the coated textures have a palette each (%u palettes)",
+              s.geom.ntex ? s.geom.tex[SPM_TEXD_NPAL] : 0u);
     cl_test_scene_close(&s);
 
     /* emitters of unequal power: the kernel picks and weighs them through the
      * table (spm_emitter) as the reference does */
-    snprintf(path, sizeof path, "%s/tests/data/scenes/cornell_two_lights.scene", SPM_SOURCE_DIR);
-    if (cl_test_scene_load(&s, path, W, H) == 0) {
+    if (compare_file(&s, "tests/data/scenes/cornell_two_lights.scene", "two-light") == 0)
         CHECK(s.geom.emit_power == 1, "two lights of unequal power are picked by power");
-        if (spm_cl_create(0, &s.geom, &s.tables, SPM_MODE_ML, SEED, &r, &err) == 0) {
-            compare_pass(&s, r, SPM_MODE_ML, 0);
-            spm_cl_destroy(r);
-        } else {
-            CHECK(0, "spm_cl_create (two lights): %s", err.msg);
-        }
-    } else {
-        CHECK(0, "the two-light scene loads");
-    }
     cl_test_scene_close(&s);
     TEST_END();
 }

@@ -185,7 +185,8 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         if (g->ntex) {
             if (!p->cam.ortho)
                 cone += spread * t;
-            refl = spm_ref_texture_colour(g, tri->material, (spm_u32)hit, x, d, cone, &k, j, refl);
+            refl = spm_ref_texture_colour(g, tri->material, (spm_u32)hit, x, d, cone, &k, j, refl,
+                                          m->refl);
         }
         spm_vertex *vx = &path->v[j];
         vx->ids = (refl & 0xFFFFu) | (e << 16);

@@ -15,7 +15,7 @@ static spm_u32 fbits(float f)
 /* words of the whole layout, for the scene's materials and textures */
 static size_t count_words(const spm_scene *s)
 {
-    size_t n = SPM_TEXD_HEAD + (size_t)s->nmaterials + SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID +
+    size_t n = SPM_TEXD_HEAD + (size_t)s->nmaterials + (size_t)s->npalettes * SPM_TEX_NODES_ALL +
                SPM_TEX_GRID + (size_t)s->ntextures;
     for (int t = 0; t < s->ntextures; t++) {
         n += SPM_TEX_HEADER(s->textures[t].nlevels);
@@ -56,11 +56,12 @@ void spm_geometry_textures(const spm_scene *s, spm_geometry *g)
             memcpy(g->uvs + 6 * (size_t)i, s->uvs[s->tris[i].uv - 1], 6 * sizeof *g->uvs);
     g->ntex = count_words(s);
     spm_u32 *x = g->tex = spm_xcalloc(g->ntex, sizeof *g->tex);
-    const size_t ngrid = SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID;
+    const size_t ngrid = (size_t)s->npalettes * SPM_TEX_NODES_ALL;
     size_t w = SPM_TEXD_HEAD;
+    x[SPM_TEXD_NPAL] = (spm_u32)s->npalettes;
     x[SPM_TEXD_MATS] = (spm_u32)w;
     for (int m = 0; m < s->nmaterials; m++)
-        x[w++] = (spm_u32)s->materials[m].tex;
+        x[w++] = (spm_u32)s->materials[m].tex | (spm_u32)s->materials[m].tpal << 16;
     x[SPM_TEXD_PALETTE] = (spm_u32)w;
     for (size_t i = 0; i < ngrid; i++)
         x[w++] = s->palette[i] >= 0 ? (spm_u32)s->palette[i] : SPM_NONE;

@@ -29,8 +29,8 @@ int spm_plan_level_start(const spm_geometry *g, const spm_material *mats, const 
     for (int i = 0; i < g->nemitters; i++) /* the lights not of a triangle */
         if (g->emitters[i].kind != SPM_LIGHT_AREA)
             start = colour_start(lvlk, g->emitters[i].colour, start);
-    for (int i = 0; g->ntex && i < SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID; i++)
-        start = colour_start(lvlk, g->tex[g->tex[SPM_TEXD_PALETTE] + (size_t)i], start);
+    for (size_t i = 0; g->ntex && i < g->tex[SPM_TEXD_NPAL] * (size_t)SPM_TEX_NODES_ALL; i++)
+        start = colour_start(lvlk, g->tex[g->tex[SPM_TEXD_PALETTE] + i], start);
     start = colour_start(lvlk, p->bg_up, start);
     return colour_start(lvlk, p->bg_down, start);
 }
@@ -63,8 +63,8 @@ static void used_slots(spm_render_plan *p)
         if (p->geom->emitters[i].kind != SPM_LIGHT_AREA)
             use_colour(p, p->geom->emitters[i].colour);
     const spm_geometry *g = p->geom; /* the colours textured vertices record */
-    for (int i = 0; g->ntex && i < SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID; i++)
-        use_colour(p, g->tex[g->tex[SPM_TEXD_PALETTE] + (size_t)i]);
+    for (size_t i = 0; g->ntex && i < g->tex[SPM_TEXD_NPAL] * (size_t)SPM_TEX_NODES_ALL; i++)
+        use_colour(p, g->tex[g->tex[SPM_TEXD_PALETTE] + i]);
     for (int m = 0; m < t->nmaterials; m++) {
         use_colour(p, t->materials[m].refl);
         use_colour(p, t->materials[m].emit);

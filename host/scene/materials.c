@@ -197,8 +197,44 @@ static void coated_fill(const spm_scene *sc, const spm_scene_material *s, spm_ma
     d->p[SPM_COAT_P_SPEC] = (float)(1.0 / (1.0 + colour_mean(sc, s->refl)));
 }
 
+/* A palette derived from the scene's first (scene.h palette), for a type
+ * whose vertex records a colour made from its reflectance: each node's
+ * colour c becomes a new scene colour f(c, arg) named after `name`. Its
+ * index among the palettes, with *best the new colour of the largest mean
+ * (the material's colour for Russian roulette's survival). */
+static int palette_derive(spm_scene *s, const char *name,
+                          void (*f)(const spm_spectrum *in, double arg, spm_spectrum *out),
+                          double arg, int *best)
+{
+    const size_t n = SPM_TEX_NODES_ALL;
+    int k = s->npalettes++, used = 0;
+    s->palette = spm_xrealloc(s->palette, (size_t)s->npalettes * n * sizeof *s->palette);
+    int *to = s->palette + (size_t)k * n;
+    for (size_t i = 0; i < n; i++)
+        used += s->palette[i] >= 0;
+    s->colours = spm_xrealloc(s->colours, ((size_t)s->ncolours + (size_t)used) * sizeof *s->colours);
+    double best_mean = -1.0;
+    *best = -1;
+    for (size_t i = 0; i < n; i++) {
+        to[i] = -1;
+        if (s->palette[i] < 0)
+            continue;
+        spm_colour *c = &s->colours[s->ncolours];
+        memset(c, 0, sizeof *c);
+        snprintf(c->name, sizeof c->name, "%.40s:tex%zu", name, i);
+        f(&s->colours[s->palette[i]].s, arg, &c->s);
+        to[i] = s->ncolours++;
+        double mean = spm_spectrum_mean(&c->s);
+        if (mean > best_mean)
+            best_mean = mean, *best = to[i];
+    }
+    return k;
+}
+
 /* D into col3 (a new colour per material) and the white the specular lobe
- * records into col2 (one for the scene, shared). A scene with fluorescent
+ * records into col2 (one for the scene, shared). A textured base gets a
+ * palette of D, one per colour of the lifted grid, and col3 its D of the
+ * largest mean (Russian roulette's bound). A scene with fluorescent
  * materials is refused: their diagonal colours must be the scene's last (the
  * shade stage knows them by id), and their light-end walk has no case for
  * the coated vertex's hit. */
@@ -226,6 +262,9 @@ static int coated_derive(spm_scene *sc, spm_scene_material *s, spm_error *err)
         white = sc->ncolours++;
     }
     s->col2 = white;
+    if (s->tex) /* a textured base: D of each colour its texels pick */
+        s->tpal = palette_derive(sc, s->name, spm_coat_effective, spm_coat_fdr_internal(coat_eta(s)),
+                                 &s->col3);
     return 0;
 }
 

@@ -67,6 +67,11 @@ typedef struct {
      * diffuse types): only under the mesh statement's `smooth`; -1: never
      * (a type whose lobes read the geometric frame) */
     int smooth;
+    /* 1: its reflectance may be textured per point (`reflect texture NAME`,
+     * a mesh's base-colour image): where its vertex records the material's
+     * colour refl, the trace stage records the texture's pick instead, from
+     * the lifted grid or from a palette its derive makes (scene.h palette) */
+    int textured;
     /* The device material's type-specific part (mean, inv_mean, p[], ep[])
      * from the scene material; colour ids and tags are already set. NULL:
      * the generic fill (materials.c generic_fill: the numbers into their
@@ -89,6 +94,12 @@ extern const int spm_nemitter_types;
 const spm_mtype_desc *spm_material_type_find(const char *kw);
 /* The default (keyword-less) material type: Lambertian. */
 const spm_mtype_desc *spm_material_type_default(void);
+
+/* Why a texture on another type's reflectance is its mean colour. */
+#define SPM_TEXTURED_TYPES_WHY \
+    "only a Lambertian or coated reflectance is textured per point so far"
+/* 1 if material type `tag` takes a textured reflectance (its descriptor's textured). */
+#define spm_material_textured(tag) (spm_material_types[(tag)].textured)
 
 /* The faces scene material s emits from: 1, or 2 for a 'twosided' area light. */
 int spm_material_faces(const spm_scene_material *s);

@@ -42,7 +42,8 @@ enum {
     SPM_MESH_IGN_POINTS_LINES = 1 << 10,
     SPM_MESH_IGN_EMISSIVE_STRENGTH = 1 << 11,
     SPM_MESH_IGN_LIGHT_RANGE = 1 << 12,
-    SPM_MESH_IGN_COUNT = 13
+    SPM_MESH_IGN_EMISSIVE_TEXTURES = 1 << 13,
+    SPM_MESH_IGN_COUNT = 14
 };
 /* "vertex normals", ... for bit i */
 const char *spm_mesh_ignored_name(int bit);

@@ -293,6 +293,8 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
             *ignored |= type == aiTextureType_NORMALS || type == aiTextureType_HEIGHT ||
                                   type == aiTextureType_NORMAL_CAMERA
                               ? SPM_MESH_IGN_NORMAL_MAPS
+                          : type == aiTextureType_EMISSIVE || type == aiTextureType_EMISSION_COLOR
+                              ? SPM_MESH_IGN_EMISSIVE_TEXTURES
                               : SPM_MESH_IGN_TEXTURES;
     return 0;
 }

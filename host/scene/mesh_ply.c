@@ -340,11 +340,13 @@ static int parse_header(reader *r, ply_header *h)
 /* ---- the elements ------------------------------------------------------------ */
 
 typedef struct {
-    float *v;            /* xyz per vertex, then with normals nx ny nz (6 floats a vertex) */
-    int vstride;         /* floats per vertex: 3, or 6 with normals */
+    float *v;            /* per vertex: xyz, then nx ny nz, then u v (those it has) */
+    int vstride;         /* floats per vertex: 3, 5, 6 or 8 */
+    int nofs, uofs;      /* where the normal and the texture coordinates are, -1 none */
     uint64_t nv, capv;
     spm_mesh_tri *t;
     spm_mesh_normals *tn; /* per triangle when the vertices have normals */
+    spm_mesh_uvs *tuv;    /* per triangle when they have texture coordinates */
     uint64_t nt, capt;
     uint32_t ignored;
     int have_vertices;
@@ -358,6 +360,30 @@ static int find_prop(const ply_elem *e, const char *name)
     return -1;
 }
 
+/* The scalar properties `names` (n of them, all present) as the vertex's
+ * next channels, after *stride: their offset, or -1 (then none is taken). */
+static int vertex_channels(const ply_elem *e, const char *const *names, int n, int ch[8],
+                           int *stride)
+{
+    for (int k = 0; k < n; k++) {
+        int p = find_prop(e, names[k]);
+        if (p < 0 || e->props[p].count_type != P_NONE)
+            return -1;
+        ch[*stride + k] = p;
+    }
+    *stride += n;
+    return *stride - n;
+}
+
+/* the channel property k fills, or -1 */
+static int channel_of(const int *ch, int n, int k)
+{
+    for (int c = 0; c < n; c++)
+        if (ch[c] == k)
+            return c;
+    return -1;
+}
+
 static int add_tri(reader *r, ply_mesh *m, const double idx[3])
 {
     if (m->nt == SPM_SCENE_MAX_TRIS) {
@@ -367,12 +393,18 @@ static int add_tri(reader *r, ply_mesh *m, const double idx[3])
     if (m->nt == m->capt) {
         m->capt = m->capt ? 2 * m->capt : 1024;
         m->t = spm_xrealloc(m->t, m->capt * sizeof *m->t);
-        if (m->vstride == 6)
+        if (m->nofs >= 0)
             m->tn = spm_xrealloc(m->tn, m->capt * sizeof *m->tn);
+        if (m->uofs >= 0)
+            m->tuv = spm_xrealloc(m->tuv, m->capt * sizeof *m->tuv);
     }
-    if (m->vstride == 6)
-        for (int k = 0; k < 3; k++)
-            memcpy(m->tn[m->nt].n[k], &m->v[6 * (uint64_t)idx[k] + 3], sizeof m->tn->n[k]);
+    for (int k = 0; k < 3; k++) {
+        const float *v = &m->v[(uint64_t)m->vstride * (uint64_t)idx[k]];
+        if (m->nofs >= 0)
+            memcpy(m->tn[m->nt].n[k], v + m->nofs, sizeof m->tn->n[k]);
+        if (m->uofs >= 0)
+            memcpy(m->tuv[m->nt].uv[k], v + m->uofs, sizeof m->tuv->uv[k]);
+    }
     spm_mesh_tri *t = &m->t[m->nt++];
     for (int k = 0; k < 3; k++)
         memcpy(t->p[k], &m->v[(uint64_t)m->vstride * (uint64_t)idx[k]], sizeof t->p[k]);
@@ -499,7 +531,7 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
 {
     int is_v = !strcmp(e->name, "vertex");
     int is_f = !strcmp(e->name, "face"), is_s = !strcmp(e->name, "tristrips");
-    int xyz[3] = {-1, -1, -1}, nxyz[3] = {-1, -1, -1}, list = -1;
+    int ch[8], list = -1; /* the vertex's properties: x y z [nx ny nz] [u v] */
     r->e = e;
     r->item = 0;
     if (is_v) {
@@ -509,25 +541,22 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
         }
         m->have_vertices = 1;
         for (int k = 0; k < 3; k++) {
-            xyz[k] = find_prop(e, (const char *[]){"x", "y", "z"}[k]);
-            if (xyz[k] < 0 || e->props[xyz[k]].count_type != P_NONE) {
+            ch[k] = find_prop(e, (const char *[]){"x", "y", "z"}[k]);
+            if (ch[k] < 0 || e->props[ch[k]].count_type != P_NONE) {
                 fail(r, "the vertex element has no scalar property %c", "xyz"[k]);
                 return 1;
             }
         }
-        /* vertex normals: scalar nx, ny and nz, all three */
-        int nk = 0;
-        for (int k = 0; k < 3; k++) {
-            nxyz[k] = find_prop(e, (const char *[]){"nx", "ny", "nz"}[k]);
-            nk += nxyz[k] >= 0 && e->props[nxyz[k]].count_type == P_NONE;
-        }
-        if (nk < 3)
-            nxyz[0] = nxyz[1] = nxyz[2] = -1;
-        m->vstride = nk == 3 ? 6 : 3;
+        m->vstride = 3;
+        m->nofs = vertex_channels(e, (const char *[]){"nx", "ny", "nz"}, 3, ch, &m->vstride);
+        /* texture coordinates, v up (as OBJ's vt): the names PLY files use */
+        static const char *uvn[][2] = {{"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"},
+                                       {"texture_s", "texture_t"}};
+        m->uofs = -1;
+        for (int k = 0; k < 4 && m->uofs < 0; k++)
+            m->uofs = vertex_channels(e, uvn[k], 2, ch, &m->vstride);
         if (find_prop(e, "red") >= 0 || find_prop(e, "diffuse_red") >= 0)
             m->ignored |= SPM_MESH_IGN_COLOURS;
-        if (find_prop(e, "u") >= 0 || find_prop(e, "s") >= 0 || find_prop(e, "texture_u") >= 0)
-            m->ignored |= SPM_MESH_IGN_TEXCOORDS;
     } else if (is_f || is_s) {
         list = find_prop(e, "vertex_indices");
         if (list < 0)
@@ -544,11 +573,11 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
     if (e->nprops == 0)
         return (r->e = NULL, 0); /* no bytes to read: any count costs nothing */
     /* binary vertices of scalar properties: a record of fixed size at a time */
-    size_t rec = 0, at[6];
+    size_t rec = 0, at[8];
     int scalar = is_v && r->format != F_ASCII;
     for (int k = 0; k < e->nprops && scalar; k++) {
-        for (int c = 0; c < 6; c++)
-            if (k == (c < 3 ? xyz[c] : nxyz[c - 3]))
+        for (int c = 0; c < m->vstride; c++)
+            if (k == ch[c])
                 at[c] = rec;
         scalar = e->props[k].count_type == P_NONE;
         rec += (size_t)type_size[e->props[k].type];
@@ -565,7 +594,7 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
         }
         float *v = &m->v[(uint64_t)m->vstride * m->nv++];
         for (int c = 0; c < m->vstride; c++)
-            v[c] = (float)decode(b + at[c], e->props[c < 3 ? xyz[c] : nxyz[c - 3]].type, r->swap);
+            v[c] = (float)decode(b + at[c], e->props[ch[c]].type, r->swap);
     }
     for (; r->item < e->count; r->item++) {
         if ((r->item & 0xffff) == 0 && stop_requested(r, 0))
@@ -575,8 +604,7 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
             if (k == list) {
                 if (read_indices(r, m, p, is_s))
                     return 1;
-            } else if (is_v && (k == xyz[0] || k == xyz[1] || k == xyz[2] || k == nxyz[0] ||
-                                k == nxyz[1] || k == nxyz[2])) {
+            } else if (is_v && channel_of(ch, m->vstride, k) >= 0) {
                 double v;
                 if (value(r, p->type, &v))
                     return 1;
@@ -584,8 +612,7 @@ static int read_element(reader *r, ply_mesh *m, const ply_elem *e)
                     m->capv = m->capv ? 2 * m->capv : 1024;
                     m->v = spm_xrealloc(m->v, m->capv * (uint64_t)m->vstride * sizeof *m->v);
                 }
-                int c = k == xyz[0] ? 0 : k == xyz[1] ? 1 : k == xyz[2] ? 2
-                        : k == nxyz[0] ? 3 : k == nxyz[1] ? 4 : 5;
+                int c = channel_of(ch, m->vstride, k);
                 m->v[(uint64_t)m->vstride * m->nv + (uint64_t)c] = (float)v;
             } else if (skip_prop(r, p)) {
                 return 1;
@@ -638,7 +665,8 @@ int spm_ply_read(const spm_file *file, spm_mesh_data *out, spm_error *err)
     if (!rc) {
         spm_mesh_material mat;
         memset(&mat, 0, sizeof mat);
-        spm_mesh_data d = {m.ignored, 1, m.nt, &mat, m.t, m.vstride == 6 ? m.tn : NULL, NULL, NULL, "", NULL, 0};
+        spm_mesh_data d = {m.ignored, 1, m.nt, &mat, m.t, m.nofs >= 0 ? m.tn : NULL,
+                           m.uofs >= 0 ? m.tuv : NULL, NULL, "", NULL, 0};
         size_t size;
         void *buf = spm_mesh_encode(&d, &size);
         rc = spm_mesh_decode(buf, size, path, out, err); /* no triangles: its error */
@@ -648,5 +676,6 @@ int spm_ply_read(const spm_file *file, spm_mesh_data *out, spm_error *err)
     free(m.v);
     free(m.t);
     free(m.tn);
+    free(m.tuv);
     return rc;
 }

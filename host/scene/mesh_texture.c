@@ -1,7 +1,7 @@
 /* A mesh material's base-colour texture (mesh_texture.h): found through
  * Assimp in the importer's child (an embedded image, "*N" or by file name, or
  * a file beside the model), averaged by mesh_texture_io.cpp; in the parent,
- * an image file on a Lambertian reflectance read into the scene, else its
+ * an image file on a textured type's reflectance read into the scene, else its
  * mean colour with a warning. */
 #include "mesh_texture.h"
 #include "colour.h"
@@ -162,8 +162,8 @@ int spm_mesh_texture_bind(spm_scene_builder *b, const spm_mesh_material *m, int 
         snprintf(why, sizeof why, "embedded images are not textured per point yet");
     else if (!has_uvs)
         snprintf(why, sizeof why, "the mesh has no texture coordinates");
-    else if (proto.type != SPM_MAT_LAMBERT)
-        snprintf(why, sizeof why, "only a Lambertian reflectance is textured per point so far");
+    else if (!spm_material_textured(proto.type))
+        snprintf(why, sizeof why, "%s", SPM_TEXTURED_TYPES_WHY);
     int t = why[0] ? -1 : bind_image(b, m, mwhere, why, sizeof why);
     if (t < 0) {
         spm_mesh_texture_warn(m, mwhere, why);

@@ -1,6 +1,6 @@
 /* A mesh material's base-colour texture (glTF baseColorTexture, an OBJ's
  * map_Kd; a file beside the model or an image embedded in it): an image file
- * on a material that maps to a Lambertian reflectance textures it per point
+ * on a material that maps to a textured type (Lambertian, coated) textures it per point
  * (times the colour factor); any other is replaced by its mean linear colour,
  * which multiplies the material's colour factor, and a warning says so when
  * the colour is used. */
@@ -43,8 +43,8 @@ int spm_mesh_texture_apply(const struct aiScene *sc, const struct aiMaterial *m,
  * read). `mwhere` names the statement, file and material. */
 void spm_mesh_texture_warn(const spm_mesh_material *m, const char *mwhere, const char *why);
 /* In the parent: m's base-colour texture (an image file; texels times the
- * colour factor) on the scene material `material` it maps to, when that is
- * Lambertian and the mesh has texture coordinates (has_uvs): the textured
+ * colour factor) on the scene material `material` it maps to, when its type
+ * takes a textured reflectance and the mesh has texture coordinates (has_uvs): the textured
  * material's index. Else the warning above and `material`. -1 with err. */
 int spm_mesh_texture_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
                           int has_uvs, const char *mwhere, spm_error *err);

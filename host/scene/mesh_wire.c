@@ -153,6 +153,8 @@ const char *spm_mesh_ignored_name(int bit)
         "glTF emissive strengths (KHR_materials_emissive_strength, which Assimp 5.2 does not "
         "read: emissions are the emissiveFactor alone)",
         "glTF light ranges (KHR_lights_punctual `range`: specmip's point and spot lights fall "
-        "as 1/d^2 without a cut-off)"};
+        "as 1/d^2 without a cut-off)",
+        "emissive textures (glTF emissiveTexture, MTL map_Ke: an emission is its factor alone, "
+        "untextured)"};
     return bit >= 0 && bit < SPM_MESH_IGN_COUNT ? names[bit] : "?";
 }

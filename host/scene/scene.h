@@ -28,7 +28,9 @@ typedef struct {
     double p[SPM_MAT_PARAMS]; /* a type's numbers */
     double ep[SPM_EMIT_PARAMS]; /* its emitter type's numbers */
     unsigned flags; /* a type's words without a value (materials.h SPM_MP_FLAG): bit `slot` */
-    int tex;        /* 1 + the scene texture on its reflectance (Lambertian), 0 none */
+    int tex;        /* 1 + the scene texture on its reflectance (Lambertian, coated), 0 none */
+    int tpal;       /* the palette its texels pick from (scene.h palette): 0 the lifted
+                       grid, k > 0 one its type derived (materials.h derive) */
 } spm_scene_material;
 
 typedef struct {
@@ -106,11 +108,14 @@ typedef struct {
     float (*uvs)[6];
     int nuvs;
     /* the textures materials use (spm_scene_material.tex; host/scene/texture.h)
-     * and the colour grid their texels are lifted on (SPM_TEX_GRID^3 colour
-     * indices, -1 where no texel needs the node; texture_palette.c) */
+     * and the colour grid their texels are lifted on: npalettes palettes of
+     * SPM_TEX_GRID^3 colour indices each, -1 where no texel needs the node
+     * (texture_palette.c); the first the lifted colours, the others a type's
+     * colours derived from them (the coated type's effective reflectance) */
     struct spm_texture_s *textures;
     int ntextures;
     int *palette;
+    int npalettes;
     int bg_up;           /* colour for a ray escaping upward (+y), -1 none */
     int bg_down;         /* for one escaping downward, -1 none */
     spm_scene_envmap *env; /* the environment map (NULL: none; then bg_up and bg_down) */

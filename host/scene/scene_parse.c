@@ -844,9 +844,9 @@ static int stmt_material(parser *p)
             return 1;
         }
     }
-    if (m.tex && m.type != SPM_MAT_LAMBERT) {
+    if (m.tex && !spm_material_textured(m.type)) {
         spm_scene_texture_as_mean(&p->textures, m.tex - 1, SPM_KIND_REFLECTANCE, p->texture_where,
-                                  "only a Lambertian reflectance is textured per point so far");
+                                  SPM_TEXTURED_TYPES_WHY);
         m.tex = 0;
     } else if (m.tex) {
         m.tex = spm_scene_texture_adopt(&p->textures, m.tex - 1, &p->b);

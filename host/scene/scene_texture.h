@@ -2,8 +2,9 @@
  * 'texture NAME checker COUNT R G B R G B [wrap MODE] [scale S]' define a
  * texture (an image file, by the path rule, or a procedural checkerboard of
  * linear RGB squares); 'texture NAME' in place of a spectrum name uses it
- * (docs/SCENE_FORMAT.md). A Lambertian reflectance is textured per point
- * (the texture moves into the scene: scene.h textures); any other use is the
+ * (docs/SCENE_FORMAT.md). A reflectance of a type whose descriptor says
+ * `textured` (Lambertian, coated) is textured per point (the texture moves
+ * into the scene: scene.h textures); any other use is the
  * texture's mean colour, lifted as any RGB colour is, with a warning that
  * says so. */
 #ifndef SPM_SCENE_TEXTURE_H

@@ -74,6 +74,7 @@ int spm_sb_texture_palette(spm_scene_builder *b, const char *where, spm_error *e
                 mark_texel(nodes, m->rgb + 3 * i, used);
         }
     s->palette = spm_xmalloc((size_t)n * sizeof *s->palette);
+    s->npalettes = 1;
     spm_names fits;
     spm_names_init(&fits);
     int best = -1, rc = 0;

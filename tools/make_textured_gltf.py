@@ -1,0 +1,109 @@
+#!/usr/bin/env python3
+"""Writes a textured glTF model (no dependencies beyond Python's standard library):
+a square board of 4 x 4 colour blocks as its base-colour texture, a lamp panel
+with an emissive texture, both 8-bit sRGB PNGs written here, and the same board
+untextured (its peer: 16 squares, each of its block's decoded colour as its
+baseColorFactor) for comparisons. tests/cli_gltf_texture.sh renders them.
+
+usage: make_textured_gltf.py FOLDER
+writes FOLDER/board.gltf (the board, z = 0, facing -z, (-1, -1) to (1, 1);
+the lamp at z = 0.5 behind it, facing +z, away from the board and a camera
+in front), board_base.png, lamp_emissive.png and board_peer.gltf.
+The board's material: baseColorTexture x baseColorFactor (1 1 1), metallic 0,
+roughness 0.5 (a coated material of alpha 0.25 in specmip); the lamp's:
+emissiveTexture x emissiveFactor (1 1 1), base colour black."""
+import base64, json, struct, sys, zlib
+
+# the blocks' sRGB codes, row by row from the image's top left
+CODES = [(200, 60, 50), (60, 160, 70), (50, 80, 190), (230, 210, 60),
+         (128, 128, 128), (240, 240, 240), (20, 20, 20), (180, 90, 160),
+         (90, 200, 200), (250, 140, 30), (100, 60, 30), (160, 200, 120),
+         (30, 40, 90), (220, 170, 160), (70, 70, 160), (200, 30, 120)]
+BLOCK = 8  # pixels a block
+
+
+def srgb_decode(c):
+    c /= 255.0
+    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+
+
+def png(path, w, h, pixel):
+    """An 8-bit RGB PNG of w x h, pixel(x, y) its sRGB codes (y from the top)."""
+    raw = b"".join(b"\0" + bytes(v for x in range(w) for v in pixel(x, y)) for y in range(h))
+    def chunk(tag, data):
+        return (struct.pack(">I", len(data)) + tag + data +
+                struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF))
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
+                chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+
+
+def gltf(path, quads, materials, images):
+    """quads: (corners (4 x xyz, counter-clockwise seen from the front), uvs
+    (4 x (u, v), v up) or None, material index); one mesh of one primitive per quad."""
+    buf, views, accessors, meshes = b"", [], [], []
+    def add(data, count, kind, ctype, extra=None):
+        nonlocal buf
+        views.append({"buffer": 0, "byteOffset": len(buf), "byteLength": len(data)})
+        buf += data + b"\0" * (-len(data) % 4)
+        a = {"bufferView": len(views) - 1, "componentType": ctype, "count": count, "type": kind}
+        a.update(extra or {})
+        accessors.append(a)
+        return len(accessors) - 1
+    for corners, uvs, mat in quads:
+        lo = [min(c[i] for c in corners) for i in range(3)]
+        hi = [max(c[i] for c in corners) for i in range(3)]
+        attrs = {"POSITION": add(b"".join(struct.pack("<3f", *c) for c in corners), 4, "VEC3",
+                                 5126, {"min": lo, "max": hi})}
+        if uvs:  # glTF's t runs down from the image's top: t = 1 - v
+            attrs["TEXCOORD_0"] = add(b"".join(struct.pack("<2f", u, 1 - v) for u, v in uvs), 4,
+                                      "VEC2", 5126)
+        idx = add(struct.pack("<6H", 0, 1, 2, 0, 2, 3), 6, "SCALAR", 5123)
+        meshes.append({"primitives": [{"attributes": attrs, "indices": idx, "material": mat}]})
+    doc = {"asset": {"version": "2.0", "generator": "specmip tools/make_textured_gltf.py"},
+           "scene": 0, "scenes": [{"nodes": list(range(len(meshes)))}],
+           "nodes": [{"mesh": i} for i in range(len(meshes))], "meshes": meshes,
+           "materials": materials,
+           "buffers": [{"byteLength": len(buf), "uri": "data:application/octet-stream;base64," +
+                        base64.b64encode(buf).decode()}],
+           "bufferViews": views, "accessors": accessors}
+    if images:
+        doc["images"] = [{"uri": u} for u in images]
+        doc["textures"] = [{"source": i} for i in range(len(images))]
+    with open(path, "w") as f:
+        json.dump(doc, f, indent=1)
+
+
+def main(folder):
+    n = 4 * BLOCK
+    png(folder + "/board_base.png", n, n,
+        lambda x, y: CODES[(y // BLOCK) * 4 + x // BLOCK])
+    # the lamp: a warm and a cool half, so its mean is neither
+    png(folder + "/lamp_emissive.png", 16, 16,
+        lambda x, y: (255, 180, 90) if x < 8 else (90, 160, 255))
+    board = [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)]  # facing -z
+    lamp = [(0.5, -0.5, 0.5), (-0.5, -0.5, 0.5), (-0.5, 0.5, 0.5), (0.5, 0.5, 0.5)]  # facing +z
+    square = [(0, 0), (1, 0), (1, 1), (0, 1)]
+    plastic = {"metallicFactor": 0.0, "roughnessFactor": 0.5}
+    mats = [{"name": "board", "pbrMetallicRoughness": dict(plastic, baseColorTexture={"index": 0},
+                                                           baseColorFactor=[1, 1, 1, 1])},
+            {"name": "lamp", "pbrMetallicRoughness": dict(plastic, baseColorFactor=[0, 0, 0, 1]),
+             "emissiveTexture": {"index": 1}, "emissiveFactor": [1, 1, 1]}]
+    gltf(folder + "/board.gltf", [(board, square, 0), (lamp, square, 1)], mats,
+         ["board_base.png", "lamp_emissive.png"])
+    # the peer: block b (row r from the top, column c) covers x in
+    # [-1 + c/2, -1 + (c+1)/2], y in [1 - (r+1)/2, 1 - r/2]
+    quads, pmats = [], []
+    for b, code in enumerate(CODES):
+        r, c = b // 4, b % 4
+        x0, x1, y0, y1 = -1 + c / 2, -1 + (c + 1) / 2, 1 - (r + 1) / 2, 1 - r / 2
+        quads.append(([(x0, y0, 0), (x1, y0, 0), (x1, y1, 0), (x0, y1, 0)], None, b))
+        pmats.append({"name": "block%d" % b, "pbrMetallicRoughness": dict(
+            plastic, baseColorFactor=[srgb_decode(v) for v in code] + [1])})
+    gltf(folder + "/board_peer.gltf", quads, pmats, [])
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    main(sys.argv[1])
