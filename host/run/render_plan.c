@@ -120,6 +120,9 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     if (g->ntex && nd < (int)sizeof p->type_defines) /* textured materials: kernels/texture.clh */
         nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
                        "-DSPM_WITH_TEXTURE ");
+    if (spm_geometry_has_alpha(g) && nd < (int)sizeof p->type_defines) /* kernels/alpha.clh */
+        nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
+                       "-DSPM_WITH_ALPHA ");
     /* dispersive glass: committed paths, in both stages (docs/METHODS.md "Dispersion");
      * a mode whose lanes are no wavelengths traces it at n_d and commits none */
     tp->disperse = g->ndisp && !p->mode->one_index;

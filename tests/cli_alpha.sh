@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# Opacity in traversal (docs/SCENE_FORMAT.md "Opacity"), on both backends.
+# The mask: 8 x 8 texels, the left four columns 0 and the right four 1 (a
+# PGM written here), clamped, cut at 0.5: its bilinear value crosses 0.5
+# exactly at u = 1/2, so the cut falls on a pixel edge of a 32-pixel view.
+#  cover:  a green board filling an orthographic view under a uniform white
+#          sky: the columns where the mask is 0 show the sky, exactly 1 in
+#          every channel (rays that escape); the others the board (red under
+#          0.5: its reflectance is 0.05 in the red). With 'opacity 0.25 blend'
+#          the sky's share of the image is 1 - 0.25 = 0.75: the red channel's
+#          mean is 0.75 + 0.25 B (B the board's mean red, from the cut-out
+#          render), within 0.02 (the estimate's standard deviation over
+#          16384 binary decisions is 0.0034).
+#  shadow: the board 1 above a grey floor (reflectance 0.5), lit by a
+#          distant light along (1, -1, 0) of irradiance 1, seen from above: x
+#          0..2 across the image. Its shadow falls at x + 1: the floor is lit
+#          where the mask is 0 (x 0..0.5 seen through the board, x 1..1.5)
+#          at the closed form 0.5 cos 45 / pi = 0.1125 (within 10 %, the
+#          board's underside adds a little), and dark (under 0.02) at x 1.5..2,
+#          under the mask's 1s; the board shows green at x 0.5..1.
+# Every pixel is checked, so a cut one texel off fails.
+source "$(dirname "$0")/lib_cli.sh"
+PY=${SPECMIP_PYTHON:-$(cd "$(dirname "$BIN")" && pwd)/pyenv/bin/python}
+check "numpy and OpenImageIO importable by $PY (tools/setup.sh)" \
+    "$PY" -c "import numpy, OpenImageIO"
+
+{ echo "P2 8 8 255"; for r in 1 2 3 4 5 6 7 8; do echo "0 0 0 0 255 255 255 255"; done; } > "$T/mask.pgm"
+head_lines='spectrum d65 file illuminant_D65.csv
+spectrum green inline 380 0.05 500 0.05 520 0.8 580 0.8 600 0.05 780 0.05 end
+texture mask mask.pgm wrap clamp'
+for kind in cut blend; do
+  opacity="opacity texture mask"
+  [ $kind = blend ] && opacity="opacity 0.25 blend"
+  cat > "$T/cover-$kind.scene" <<SCENE
+image 32 32
+spp 16
+camera position 0 0 -2  direction 0 0 1  orthographic 2
+$head_lines
+material board reflect green $opacity
+quad board  -1 -1 0  1 -1 0  1 1 0  -1 1 0
+background both d65 1
+SCENE
+done
+sed -i 's/^texture mask/#/' "$T/cover-blend.scene"
+cat > "$T/shadow.scene" <<SCENE
+image 32 16
+spp 16
+camera position 1 5 0.5  direction 0 -1 0  up 0 0 1  orthographic 2
+$head_lines
+spectrum grey inline 380 0.5 780 0.5 end
+material board reflect green opacity texture mask
+material floor reflect grey
+quad board  0 1 0  1 1 0  1 1 1  0 1 1
+quad floor  -5 0 -5  -5 0 5  5 0 5  5 0 -5
+light distant 1 -1 0 d65 1
+SCENE
+
+cat > "$T/check.py" <<'PY'
+import sys, numpy as np, OpenImageIO as oiio
+def img(p):
+    return oiio.ImageBuf(p).get_pixels(oiio.FLOAT)[:, :, :3]
+what, errs = sys.argv[1], []
+if what == "cover":
+    a = img(sys.argv[2]); r = a[:, :, 0]
+    sky, board = r[:, :16], r[:, 16:]
+    if not np.all(np.abs(a[:, :16] - 1.0) < 1e-3): errs.append("mask-0 columns not all sky: min red %.3f" % sky.min())
+    if not np.all(board < 0.5): errs.append("mask-1 columns not all board: max red %.3f" % board.max())
+    print("sky columns red %.4f..%.4f, board columns red %.4f..%.4f" % (sky.min(), sky.max(), board.min(), board.max()))
+elif what == "blend":
+    cut, bl = img(sys.argv[2]), img(sys.argv[3])
+    b = cut[:, 16:, 0].mean(); want = 0.75 + 0.25 * b; got = bl[:, :, 0].mean()
+    print("blend 0.25: red mean %.4f, closed form %.4f (board red %.4f)" % (got, want, b))
+    if abs(got - want) > 0.02: errs.append("sky share off")
+else:
+    a = img(sys.argv[2]); r, g = a[:, :, 0], a[:, :, 1]
+    lit = np.concatenate([r[:, 0:8], r[:, 16:24]], axis=1); dark = r[:, 24:32]; leaf = a[:, 8:16]
+    want = 0.5 * np.cos(np.pi / 4) / np.pi
+    print("lit %.4f..%.4f (closed form %.4f), shadow max %.4f, board green/red min %.2f" %
+          (lit.min(), lit.max(), want, dark.max(), (leaf[:, :, 1] / np.maximum(leaf[:, :, 0], 1e-6)).min()))
+    if not np.all(np.abs(lit / want - 1) < 0.1): errs.append("floor not lit where the mask is 0")
+    if not np.all(dark < 0.02): errs.append("floor not in shadow where the mask is 1")
+    if not np.all(leaf[:, :, 1] > 3 * leaf[:, :, 0]): errs.append("board not seen where the mask is 1")
+for e in errs: print("  " + e)
+sys.exit(1 if errs else 0)
+PY
+
+for backend in opencl cpu; do
+  for s in cover-cut cover-blend shadow; do
+    "$BIN" render "$T/$s.scene" --backend $backend --mode rgb --seed 3 --quiet -o "$T/$backend-$s.exr" \
+      2>"$T/err" || bad "$backend $s: $(cat "$T/err")"
+  done
+  for c in "cover:the sky exactly where the mask is 0:cover-cut" \
+           "blend:stochastic opacity 0.25:cover-cut cover-blend" \
+           "shadow:shadows only where the mask is 1:shadow"; do
+    IFS=: read -r what title imgs <<< "$c"
+    args=()
+    for i in $imgs; do args+=("$T/$backend-$i.exr"); done
+    "$PY" "$T/check.py" "$what" "${args[@]}" > "$T/py" 2>&1
+    rc=$?
+    check "$backend: $title: $(cat "$T/py")" test $rc -eq 0
+    echo "$backend: $(cat "$T/py")"
+  done
+done
+echo "$pass passed, $fail failed"
+[ $fail -eq 0 ]
