@@ -55,6 +55,54 @@ quad floor  -5 0 -5  -5 0 5  5 0 5  5 0 -5
 light distant 1 -1 0 d65 1
 SCENE
 
+# The same quad from mesh files: an OBJ whose MTL has map_d (the mask; MTL's
+# dissolve is stochastic opacity, so where the bilinear value runs between 0
+# and 1 — a texel wide about the middle, columns 14 to 17, and about the
+# edges, where a mesh's map repeats, columns 0, 1, 30 and 31 — a pixel may
+# show either), and a glTF whose baseColorTexture's alpha channel is the
+# mask, alphaMode MASK, cut at 0.5: exactly the scene's quad.
+"$PY" - "$T" << 'PYEOF' || bad "no models written"
+import base64, json, struct, sys, numpy as np, OpenImageIO as oiio
+d = sys.argv[1]
+a = np.zeros((8, 8, 4), np.uint8); a[:, :, :3] = 255; a[:, 4:, 3] = 255
+out = oiio.ImageOutput.create(d + "/rgba.png")
+out.open(d + "/rgba.png", oiio.ImageSpec(8, 8, 4, "uint8")); out.write_image(a); out.close()
+p = [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)]
+uv = [(0, 0), (1, 0), (1, 1), (0, 1)]
+with open(d + "/quad.mtl", "w") as f:
+    f.write("newmtl board\nKd 0.05 0.6 0.05\nKs 0 0 0\nmap_d mask.pgm\n")
+with open(d + "/quad.obj", "w") as f:
+    f.write("mtllib quad.mtl\n")
+    f.writelines("v %g %g %g\n" % q for q in p)
+    f.writelines("vt %g %g\n" % t for t in uv)
+    f.write("usemtl board\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n")
+pos = b"".join(struct.pack("<3f", *q) for q in p)
+tex = b"".join(struct.pack("<2f", u, 1 - v) for u, v in uv)
+buf = pos + tex + struct.pack("<6H", 0, 1, 2, 0, 2, 3)
+gltf = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2,
+                                    "material": 0}]}],
+        "materials": [{"name": "board", "alphaMode": "MASK", "alphaCutoff": 0.5,
+                       "pbrMetallicRoughness": {"baseColorFactor": [0.05, 0.6, 0.05, 1],
+                                                "baseColorTexture": {"index": 0},
+                                                "metallicFactor": 0, "roughnessFactor": 1}}],
+        "textures": [{"source": 0}], "images": [{"uri": "rgba.png"}],
+        "buffers": [{"byteLength": len(buf), "uri": "data:application/octet-stream;base64,"
+                     + base64.b64encode(buf).decode()}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+                        {"buffer": 0, "byteOffset": 48, "byteLength": 32},
+                        {"buffer": 0, "byteOffset": 80, "byteLength": 12}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+                       "min": [-1, -1, 0], "max": [1, 1, 0]},
+                      {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
+                      {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}]}
+json.dump(gltf, open(d + "/quad.gltf", "w"))
+PYEOF
+for f in obj gltf; do
+  sed -e '/^material board/d' -e "s/^quad board.*/mesh quad.$f/" -e '/^texture mask/d' -e '/green/d' \
+    "$T/cover-cut.scene" > "$T/cover-$f.scene"
+done
+
 cat > "$T/check.py" <<'PY'
 import sys, numpy as np, OpenImageIO as oiio
 def img(p):
@@ -62,8 +110,9 @@ def img(p):
 what, errs = sys.argv[1], []
 if what == "cover":
     a = img(sys.argv[2]); r = a[:, :, 0]
-    sky, board = r[:, :16], r[:, 16:]
-    if not np.all(np.abs(a[:, :16] - 1.0) < 1e-3): errs.append("mask-0 columns not all sky: min red %.3f" % sky.min())
+    seam = int(sys.argv[3]) if len(sys.argv) > 3 else 0
+    sky, board = r[:, seam:16 - seam], r[:, 16 + seam:32 - seam]
+    if not np.all(np.abs(a[:, seam:16 - seam] - 1.0) < 1e-3): errs.append("mask-0 columns not all sky: min red %.3f" % sky.min())
     if not np.all(board < 0.5): errs.append("mask-1 columns not all board: max red %.3f" % board.max())
     print("sky columns red %.4f..%.4f, board columns red %.4f..%.4f" % (sky.min(), sky.max(), board.min(), board.max()))
 elif what == "blend":
@@ -85,16 +134,17 @@ sys.exit(1 if errs else 0)
 PY
 
 for backend in opencl cpu; do
-  for s in cover-cut cover-blend shadow; do
+  for s in cover-cut cover-blend shadow cover-obj cover-gltf; do
     "$BIN" render "$T/$s.scene" --backend $backend --mode rgb --seed 3 --quiet -o "$T/$backend-$s.exr" \
       2>"$T/err" || bad "$backend $s: $(cat "$T/err")"
   done
   for c in "cover:the sky exactly where the mask is 0:cover-cut" \
            "blend:stochastic opacity 0.25:cover-cut cover-blend" \
-           "shadow:shadows only where the mask is 1:shadow"; do
+           "shadow:shadows only where the mask is 1:shadow" \
+           "cover:OBJ map_d:cover-obj 2" "cover:glTF alphaMode MASK:cover-gltf"; do
     IFS=: read -r what title imgs <<< "$c"
     args=()
-    for i in $imgs; do args+=("$T/$backend-$i.exr"); done
+    for i in $imgs; do [[ $i = [0-9] ]] && args+=("$i") || args+=("$T/$backend-$i.exr"); done
     "$PY" "$T/check.py" "$what" "${args[@]}" > "$T/py" 2>&1
     rc=$?
     check "$backend: $title: $(cat "$T/py")" test $rc -eq 0

@@ -186,7 +186,7 @@ int spm_scene_texture_alpha(spm_scene_textures *t, spm_lexer *lx, spm_scene_buil
     float *a;
     int w = l0->w, h = l0->h;
     if (x->file.path[0]) {
-        if (spm_texture_read_alpha_file(&x->file, &a, &w, &h, why, sizeof why)) {
+        if (spm_texture_read_alpha_file(&x->file, 0, &a, &w, &h, why, sizeof why)) {
             spm_errorf(err, "%s: texture image '%s' cannot be read as opacity: %s", where,
                        x->source, why);
             return -1;
