@@ -60,7 +60,8 @@ SCENE
 # and 1 — a texel wide about the middle, columns 14 to 17, and about the
 # edges, where a mesh's map repeats, columns 0, 1, 30 and 31 — a pixel may
 # show either), and a glTF whose baseColorTexture's alpha channel is the
-# mask, alphaMode MASK, cut at 0.5: exactly the scene's quad.
+# mask, alphaMode MASK, cut at 0.5: exactly the scene's quad (its
+# occlusionTexture is warned about by name).
 "$PY" - "$T" << 'PYEOF' || bad "no models written"
 import base64, json, struct, sys, numpy as np, OpenImageIO as oiio
 d = sys.argv[1]
@@ -85,7 +86,8 @@ gltf = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "no
         "materials": [{"name": "board", "alphaMode": "MASK", "alphaCutoff": 0.5,
                        "pbrMetallicRoughness": {"baseColorFactor": [0.05, 0.6, 0.05, 1],
                                                 "baseColorTexture": {"index": 0},
-                                                "metallicFactor": 0, "roughnessFactor": 1}}],
+                                                "metallicFactor": 0, "roughnessFactor": 1},
+                       "occlusionTexture": {"index": 0}}],
         "textures": [{"source": 0}], "images": [{"uri": "rgba.png"}],
         "buffers": [{"byteLength": len(buf), "uri": "data:application/octet-stream;base64,"
                      + base64.b64encode(buf).decode()}],
@@ -137,6 +139,10 @@ for backend in opencl cpu; do
   for s in cover-cut cover-blend shadow cover-obj cover-gltf; do
     "$BIN" render "$T/$s.scene" --backend $backend --mode rgb --seed 3 --quiet -o "$T/$backend-$s.exr" \
       2>"$T/err" || bad "$backend $s: $(cat "$T/err")"
+    if [ $s = cover-gltf ]; then
+      grep -q "occlusion maps" "$T/err" && ok ||
+        bad "$backend: the glTF's occlusion map not warned about by name: $(cat "$T/err")"
+    fi
   done
   for c in "cover:the sky exactly where the mask is 0:cover-cut" \
            "blend:stochastic opacity 0.25:cover-cut cover-blend" \
@@ -150,6 +156,16 @@ for backend in opencl cpu; do
     check "$backend: $title: $(cat "$T/py")" test $rc -eq 0
     echo "$backend: $(cat "$T/py")"
   done
+done
+# bad input: an error naming the file, line and problem, exit 2
+for bad_clause in "opacity texture nosuch:unknown texture 'nosuch'" "opacity 2:an opacity (0 to 1)" \
+                  "opacity texture mask cutoff -1:an opacity cutoff (0 to 1)"; do
+  sed "s/^material board reflect green.*/material board reflect green ${bad_clause%%:*}/" \
+    "$T/cover-cut.scene" > "$T/bad.scene"
+  "$BIN" render "$T/bad.scene" --backend cpu --quiet -o "$T/bad.exr" 2> "$T/err"
+  rc=$?
+  check "'${bad_clause%%:*}': exit 2 naming bad.scene:7 and '${bad_clause#*:}': $(cat "$T/err")" \
+    bash -c "[ $rc -eq 2 ] && grep -q 'bad.scene:7:' '$T/err' && grep -qF -- \"${bad_clause#*:}\" '$T/err'"
 done
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]

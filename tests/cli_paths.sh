@@ -134,7 +134,7 @@ openers='(^|[^_a-z])fopen\(|spm_fopen_input\(|[^_a-z]open\(|ImageInput::open|aiI
 allowed=(
     'mesh_import.c:.*aiImportFileEx\(file->path, aiProcess_Triangulate, &io\)'
     'texture_io.cpp:.*ImageInput::open\(file->path(, unassociated\(\))?\)'
-    'texture_io.cpp:.*ImageInput::open\(hint, unassociated\(\), &mem\)'
+    'texture_io.cpp:.*ImageInput::open\(hint, nullptr, &mem\)'
     'mesh_texture.c:.*spm_texture_mean_file\(&file,'
     'mesh_texture.c:.*spm_texture_read_file\(&f, &rgb,' # the parent's, the path checked again
     'mesh_texture_io.cpp:.*spm_texture_read_file\(file, &rgb,'

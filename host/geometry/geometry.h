@@ -65,6 +65,13 @@ void spm_geometry_uvs_permute(spm_geometry *g, const int *perm);
  * words' end); SPM_TEXD_ALPHA stays 0 when no material has one. */
 size_t spm_geometry_alpha_words(const spm_scene *s);
 size_t spm_geometry_alpha_put(const spm_scene *s, spm_u32 *x, size_t w);
+/* The texture coordinates at point p of triangle tr (uv: u, v at its three
+ * vertices) from p's barycentrics (the projections onto its edges), and a
+ * coordinate wrapped into one period of a wrap mode (texture.h spm_wrap;
+ * clamp: within [-1, 2]; NaN 0): the texture lookups' and the opacity
+ * test's, as kernels/texture.clh and alpha.clh compute them. */
+void spm_tri_uv(const spm_tri *tr, const float uv[6], const float p[3], float *u, float *v);
+float spm_tex_wrap_coord(float u, spm_u32 mode);
 /* 1 when a material of g has an opacity record (its kernels: SPM_WITH_ALPHA). */
 int spm_geometry_has_alpha(const spm_geometry *g);
 /* Whether a hit at distance t on triangle tri along the ray (o, d) counts:

@@ -76,13 +76,26 @@ size_t spm_geometry_alpha_put(const spm_scene *s, spm_u32 *x, size_t w)
     return rec;
 }
 
+void spm_tri_uv(const spm_tri *tr, const float uv[6], const float p[3], float *u, float *v)
+{
+    float e1[3], e2[3], q[3];
+    v3_sub(e1, tr->v1, tr->v0);
+    v3_sub(e2, tr->v2, tr->v0);
+    v3_sub(q, p, tr->v0);
+    float d11 = v3_dot(e1, e1), d12 = v3_dot(e1, e2), d22 = v3_dot(e2, e2);
+    float q1 = v3_dot(q, e1), q2 = v3_dot(q, e2), den = d11 * d22 - d12 * d12;
+    float b1 = (d22 * q1 - d12 * q2) / den, b2 = (d11 * q2 - d12 * q1) / den;
+    float b0 = 1.0f - b1 - b2;
+    *u = b0 * uv[0] + b1 * uv[2] + b2 * uv[4];
+    *v = b0 * uv[1] + b1 * uv[3] + b2 * uv[5];
+}
+
 int spm_geometry_has_alpha(const spm_geometry *g)
 {
     return g->ntex && g->tex[SPM_TEXD_ALPHA] != 0;
 }
 
-/* one period of the wrap mode (clamp: within [-1, 2]); NaN 0 */
-static float wrap_coord(float u, spm_u32 mode)
+float spm_tex_wrap_coord(float u, spm_u32 mode)
 {
     if (!isfinite(u))
         return 0.0f;
@@ -104,7 +117,8 @@ static float texel(const spm_u32 *m, int i, int j)
 static float map_bilinear(const spm_u32 *m, float u, float v)
 {
     int w = (int)m[0], h = (int)m[1];
-    float x = wrap_coord(u, m[2]) * (float)w - 0.5f, y = (1.0f - wrap_coord(v, m[3])) * (float)h - 0.5f;
+    float x = spm_tex_wrap_coord(u, m[2]) * (float)w - 0.5f;
+    float y = (1.0f - spm_tex_wrap_coord(v, m[3])) * (float)h - 0.5f;
     float x0 = floorf(x), y0 = floorf(y), fx = x - x0, fy = y - y0;
     int i0 = spm_wrap_index((int)x0, w, (spm_wrap)m[2]), i1 = spm_wrap_index((int)x0 + 1, w, (spm_wrap)m[2]);
     int j0 = spm_wrap_index((int)y0, h, (spm_wrap)m[3]), j1 = spm_wrap_index((int)y0 + 1, h, (spm_wrap)m[3]);
@@ -124,19 +138,11 @@ int spm_alpha_there(const spm_geometry *g, spm_u32 tri, const float o[3], const 
     if (!r)
         return 1;
     float a = bitsf(x[r + 2]);
-    if (x[r + 3]) { /* the map at the hit's (u, v), from its barycentrics */
-        float p[3], e1[3], e2[3], q[3];
+    if (x[r + 3]) { /* the map at the hit's (u, v) */
+        float p[3], u, v;
         for (int i = 0; i < 3; i++)
             p[i] = o[i] + d[i] * t;
-        v3_sub(e1, tr->v1, tr->v0);
-        v3_sub(e2, tr->v2, tr->v0);
-        v3_sub(q, p, tr->v0);
-        float d11 = v3_dot(e1, e1), d12 = v3_dot(e1, e2), d22 = v3_dot(e2, e2);
-        float q1 = v3_dot(q, e1), q2 = v3_dot(q, e2), den = d11 * d22 - d12 * d12;
-        float b1 = (d22 * q1 - d12 * q2) / den, b2 = (d11 * q2 - d12 * q1) / den;
-        float b0 = 1.0f - b1 - b2;
-        const float *uv = g->uvs + 6u * tri;
-        float u = b0 * uv[0] + b1 * uv[2] + b2 * uv[4], v = b0 * uv[1] + b1 * uv[3] + b2 * uv[5];
+        spm_tri_uv(tr, g->uvs + 6u * tri, p, &u, &v);
         a = a * map_bilinear(x + x[r + 3], u, v);
     }
     if (x[r] == SPM_ALPHA_MASK)

@@ -137,7 +137,7 @@ extern "C" int spm_texture_read_data(const char *hint, const void *data, size_t 
 {
     OIIO::attribute("threads", 1);
     OIIO::Filesystem::IOMemReader mem(data, size);
-    auto in = ImageInput::open(hint, unassociated(), &mem);
+    auto in = ImageInput::open(hint, nullptr, &mem); // (a config here loses the proxy)
     if (!in)
         return fail(why, whylen, OIIO::geterror());
     return read_linear(std::move(in), rgb, w, h, why, whylen);
