@@ -185,8 +185,8 @@ int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err)
         else if (tp->disperse)
             why = "a light subpath does not commit to a wavelength at dispersive glass yet";
         else if (p->geom->ntex)
-            why = "a light subpath does not look up textures yet (its vertices would carry "
-                  "the material's mean colour)";
+            why = "a light subpath does not look up textures or opacity yet (its vertices "
+                  "would carry the material's mean colour)";
         else if (rough_dielectric(p->tables))
             why = "a rough dielectric's eval has no transmission, which a vertex's connection to "
                   "the camera through it needs";
