@@ -120,6 +120,24 @@ SPM_INLINE spm_u32 spm_rng_u32(spm_u32 seed, spm_u32 pixel, spm_u32 sample, spm_
     return h;
 }
 
+/* The stochastic opacity's number for triangle tri met by the ray of origin
+ * o and direction d (their floats' bits): the same on both backends for the
+ * same ray, whatever the traversal's order (spm_shared.h SPM_ALPHA_BLEND).
+ * In the kernels of scenes with opacity only. */
+#if !defined(__OPENCL_VERSION__) || defined(SPM_WITH_ALPHA)
+SPM_INLINE spm_u32 spm_alpha_hash(spm_u32 tri, spm_u32 ox, spm_u32 oy, spm_u32 oz, spm_u32 dx,
+                                  spm_u32 dy, spm_u32 dz)
+{
+    spm_u32 h = spm_mix32(tri ^ 0x9e3779b9U);
+    h = spm_mix32(h ^ ox) ^ oy;
+    h = spm_mix32(h) ^ oz;
+    h = spm_mix32(h) ^ dx;
+    h = spm_mix32(h) ^ dy;
+    h = spm_mix32(h) ^ dz;
+    return spm_mix32(h);
+}
+#endif
+
 /* Uniform in [0, 1). */
 SPM_INLINE float spm_rng(spm_u32 seed, spm_u32 pixel, spm_u32 sample, spm_u32 dim)
 {

@@ -581,6 +581,8 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
  *   [SPM_TEXD_NODES]   offset of the SPM_TEX_GRID node values (floats)
  *   [SPM_TEXD_TEXS]    offset of a word per texture: its header's offset
  *   [SPM_TEXD_NPAL]    the number of palettes
+ *   [SPM_TEXD_ALPHA]   offset of a word per material: its opacity record's
+ *                      offset, 0 opaque (SPM_ALPHA_* below); 0: no material has one
  * a header: nlevels, wrap along u, wrap along v (spm_wrap), 0, then per level
  * its texels' offset, width, height, 0; texels 3 floats (linear RGB), rows top
  * to bottom. Texture coordinates: 6 floats per triangle (u, v at each vertex),
@@ -591,9 +593,32 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
 #define SPM_TEXD_NODES 2
 #define SPM_TEXD_TEXS 3
 #define SPM_TEXD_NPAL 4
-#define SPM_TEXD_HEAD 5
+#define SPM_TEXD_ALPHA 5
+#define SPM_TEXD_HEAD 6
 #define SPM_TEX_NODES_ALL (SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID)
 #define SPM_TEX_HEADER(nlevels) (4 + 4 * (nlevels))
+
+/* Opacity (alpha): a material's cut-out or stochastic transparency, decided
+ * in traversal, closest hit and shadow rays alike (kernels/alpha.clh,
+ * host/geometry/geometry_alpha.c; docs/METHODS.md "Opacity"). A candidate
+ * hit on a triangle whose material has an opacity record counts only where
+ * the surface is there: alpha = factor x the map's bilinear value at the
+ * hit's (u, v) (the factor alone without a map);
+ *   MASK   there when alpha >= cutoff (glTF alphaMode MASK);
+ *   BLEND  there when u < alpha, u = a hash of the ray's six floats and the
+ *          triangle (spm_rng.h spm_alpha_hash): stochastic opacity whose
+ *          decision depends on the ray and the triangle only, never on the
+ *          order the traversal meets triangles in.
+ * The record, from its offset in the texture words: mode, cutoff (float
+ * bits), factor (float bits), the map's offset (0: none). A map: width,
+ * height, wrap along u, wrap along v (spm_wrap), then one byte a texel
+ * (alpha x 255 rounded), rows top to bottom, four to a word, the first
+ * texel in the low byte. Kernels of scenes with one are built with
+ * SPM_WITH_ALPHA; the others' traversal is unchanged. */
+#define SPM_ALPHA_MASK 1u
+#define SPM_ALPHA_BLEND 2u
+#define SPM_ALPHA_RECORD 4
+#define SPM_ALPHA_MAP_HEAD 4
 
 /* Smooth shading (kernels/shading.clh, host/cpu/refcpu_shading.c): where the
  * mirror reflection of the viewer about the interpolated normal falls below

@@ -178,7 +178,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
     uint j = 0;
     for (; j < SPM_MAX_DEPTH; j++) {
         float t;
-        int hit = intersect(nodes, tris, o, d, skip, &t, counters);
+        int hit = intersect(nodes, tris, o, d, skip, &t, counters SPM_ALPHA_ARGS);
         if (hit < 0) { /* the background: MiniLight's sky for an upward ray, or the map */
             escape(&p, emitters, envmap, d, key, j, cpdf, rrw, &hd);
             if (hd.bg != SPM_NONE)

@@ -52,6 +52,11 @@ int spm_ref_light_sample_AREA(const spm_geometry *g, const spm_material *mats, c
     int blocker = spm_bvh_intersect(g, x, ls->wi, hit, &ts);
     if (blocker >= 0 && (spm_u32)blocker != ei)
         return 0;
+    if (blocker < 0 && g->ntex) { /* the light's surface not there at the point (opacity) */
+        float te = spm_tri_intersect(&g->tris[ei], x, ls->wi);
+        if (te > 0.0f && !spm_alpha_there(g, ei, x, ls->wi, te))
+            return 0;
+    }
     float cos_e = -v3_dot(ls->wi, em->n);
     if (mats[em->material].type & SPM_EMIT_TWOSIDED)
         cos_e = fabsf(cos_e); /* 'twosided': the back face emits too */

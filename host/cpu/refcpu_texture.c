@@ -14,18 +14,6 @@ static float word_float(spm_u32 w)
     return f;
 }
 
-/* one period of the wrap mode (repeat, clamp within [-1, 2], mirror); NaN 0 */
-static float wrap_coord(float u, spm_u32 mode)
-{
-    if (!isfinite(u))
-        return 0.0f;
-    if (mode == 0u)
-        return u - floorf(u);
-    if (mode == 2u)
-        return u - 2.0f * floorf(0.5f * u);
-    return fminf(fmaxf(u, -1.0f), 2.0f);
-}
-
 /* floor(x - 1/2), or the next texel with probability the fraction */
 static int tap(float x, float r)
 {
@@ -66,15 +54,8 @@ spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, 
     const spm_u32 *h = tex + tex[tex[SPM_TEXD_TEXS] + tx - 1u];
     const float *uv = g->uvs + 6u * hit;
     const spm_tri *tr = &g->tris[hit];
-    float e1[3], e2[3], q[3];
-    v3_sub(e1, tr->v1, tr->v0);
-    v3_sub(e2, tr->v2, tr->v0);
-    v3_sub(q, x, tr->v0);
-    float d11 = v3_dot(e1, e1), d12 = v3_dot(e1, e2), d22 = v3_dot(e2, e2);
-    float q1 = v3_dot(q, e1), q2 = v3_dot(q, e2), den = d11 * d22 - d12 * d12;
-    float b1 = (d22 * q1 - d12 * q2) / den, b2 = (d11 * q2 - d12 * q1) / den;
-    float b0 = 1.0f - b1 - b2;
-    float u = b0 * uv[0] + b1 * uv[2] + b2 * uv[4], v = b0 * uv[1] + b1 * uv[3] + b2 * uv[5];
+    float u, v;
+    spm_tri_uv(tr, uv, x, &u, &v);
     float ta = fabsf((uv[2] - uv[0]) * (uv[5] - uv[1]) - (uv[4] - uv[0]) * (uv[3] - uv[1]));
     float width = cone / fabsf(v3_dot(d, tr->n)) * sqrtf(ta / (2.0f * tr->area));
     spm_u32 nl = h[0];
@@ -85,8 +66,8 @@ spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, 
         l++;
     const spm_u32 *lv = h + 4u + 4u * l;
     int w = (int)lv[1], ht = (int)lv[2];
-    u = wrap_coord(u, h[1]);
-    v = wrap_coord(v, h[2]);
+    u = spm_tex_wrap_coord(u, h[1]);
+    v = spm_tex_wrap_coord(v, h[2]);
     int ix = spm_wrap_index(tap(u * (float)w, spm_ref_rnd(k, SPM_DIM_TEX(j, 1))), w,
                             (spm_wrap)h[1]);
     int iy = spm_wrap_index(tap((1.0f - v) * (float)ht, spm_ref_rnd(k, SPM_DIM_TEX(j, 2))), ht,

@@ -20,7 +20,7 @@ void spm_ray_frame_make(const float o[3], const float d[3], spm_ray_frame *f)
     f->sy = -d[f->ky] / d[kz];
     f->sz = 1.0f / d[kz];
     for (int i = 0; i < 3; i++)
-        f->o[i] = o[i];
+        f->o[i] = o[i], f->d[i] = d[i];
 }
 
 /* One vertex relative to the origin, sheared: (x', y'), and z before its scaling. */
@@ -81,14 +81,17 @@ float spm_tri_intersect(const spm_tri *t, const float o[3], const float d[3])
 }
 
 /* Keeps the nearer hit; an exact tie goes to the lower index so the result
- * does not depend on the order triangles are visited in. */
+ * does not depend on the order triangles are visited in. A hit where the
+ * surface's opacity says it is not there does not count (spm_alpha_there:
+ * by the ray and the triangle alone, so again not by the order). */
 static void consider(const spm_geometry *g, int i, const spm_ray_frame *f, spm_u32 skip,
                      int *best, float *best_t)
 {
     if ((spm_u32)i == skip)
         return;
     float t = spm_tri_intersect_frame(&g->tris[i], f);
-    if (t >= 0.0f && (t < *best_t || (t == *best_t && i < *best)))
+    if (t >= 0.0f && (t < *best_t || (t == *best_t && i < *best)) &&
+        (!g->ntex || spm_alpha_there(g, (spm_u32)i, f->o, f->d, t)))
         *best = i, *best_t = t;
 }
 

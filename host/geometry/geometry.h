@@ -60,6 +60,24 @@ void spm_geometry_free(spm_geometry *g);
  * textured material. The BVH build puts the coordinates into its order. */
 void spm_geometry_textures(const spm_scene *scene, spm_geometry *g);
 void spm_geometry_uvs_permute(spm_geometry *g, const int *perm);
+/* The materials' opacity in the texture words (geometry_alpha.c, spm_shared.h
+ * SPM_ALPHA_*): the words it takes, and putting them from word w on (the
+ * words' end); SPM_TEXD_ALPHA stays 0 when no material has one. */
+size_t spm_geometry_alpha_words(const spm_scene *s);
+size_t spm_geometry_alpha_put(const spm_scene *s, spm_u32 *x, size_t w);
+/* The texture coordinates at point p of triangle tr (uv: u, v at its three
+ * vertices) from p's barycentrics (the projections onto its edges), and a
+ * coordinate wrapped into one period of a wrap mode (texture.h spm_wrap;
+ * clamp: within [-1, 2]; NaN 0): the texture lookups' and the opacity
+ * test's, as kernels/texture.clh and alpha.clh compute them. */
+void spm_tri_uv(const spm_tri *tr, const float uv[6], const float p[3], float *u, float *v);
+float spm_tex_wrap_coord(float u, spm_u32 mode);
+/* 1 when a material of g has an opacity record (its kernels: SPM_WITH_ALPHA). */
+int spm_geometry_has_alpha(const spm_geometry *g);
+/* Whether a hit at distance t on triangle tri along the ray (o, d) counts:
+ * 1 where the surface is there (always for a material without opacity). */
+int spm_alpha_there(const spm_geometry *g, spm_u32 tri, const float o[3], const float d[3],
+                    float t);
 int spm_emitter_table_build(spm_emitter *em, const double *w, int n);
 spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg, int w, int h);
 /* The camera of scene s: spm_camera_make, or the frame its up vector, mirror
@@ -101,7 +119,7 @@ extern _Thread_local unsigned long long spm_bvh_nodes_tested;
 /* The watertight ray-triangle test (bvh.c) on a ray's frame, made once per
  * ray: the axis of d's largest component and the shear that takes d onto it. */
 typedef struct {
-    float o[3];
+    float o[3], d[3]; /* the ray as given (the opacity test's hash and hit point) */
     int kx, ky, kz;
     float sx, sy, sz;
 } spm_ray_frame;

@@ -120,6 +120,9 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     if (g->ntex && nd < (int)sizeof p->type_defines) /* textured materials: kernels/texture.clh */
         nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
                        "-DSPM_WITH_TEXTURE ");
+    if (spm_geometry_has_alpha(g) && nd < (int)sizeof p->type_defines) /* kernels/alpha.clh */
+        nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
+                       "-DSPM_WITH_ALPHA ");
     /* dispersive glass: committed paths, in both stages (docs/METHODS.md "Dispersion");
      * a mode whose lanes are no wavelengths traces it at n_d and commits none */
     tp->disperse = g->ndisp && !p->mode->one_index;
@@ -182,8 +185,8 @@ int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err)
         else if (tp->disperse)
             why = "a light subpath does not commit to a wavelength at dispersive glass yet";
         else if (p->geom->ntex)
-            why = "a light subpath does not look up textures yet (its vertices would carry "
-                  "the material's mean colour)";
+            why = "a light subpath does not look up textures or opacity yet (its vertices "
+                  "would carry the material's mean colour)";
         else if (rough_dielectric(p->tables))
             why = "a rough dielectric's eval has no transmission, which a vertex's connection to "
                   "the camera through it needs";

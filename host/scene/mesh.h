@@ -43,7 +43,8 @@ enum {
     SPM_MESH_IGN_EMISSIVE_STRENGTH = 1 << 11,
     SPM_MESH_IGN_LIGHT_RANGE = 1 << 12,
     SPM_MESH_IGN_EMISSIVE_TEXTURES = 1 << 13,
-    SPM_MESH_IGN_COUNT = 14
+    SPM_MESH_IGN_OCCLUSION = 1 << 14,
+    SPM_MESH_IGN_COUNT = 15
 };
 /* "vertex normals", ... for bit i */
 const char *spm_mesh_ignored_name(int bit);
@@ -74,7 +75,18 @@ typedef struct {
     float atten_colour[3];     /* its attenuationColor */
     float opacity;             /* OBJ d (1 - Tr), glTF alpha */
     float dispersion;          /* glTF KHR_materials_dispersion: 20 / V_d (read from the JSON) */
+    /* Opacity (mesh_alpha.c): SPM_MESH_ALPHA_* mode, glTF's alphaCutoff, the
+     * factor (glTF baseColorFactor's alpha, OBJ d) and where the map is:
+     * none, the base colour image's alpha channel (texture_file), or an
+     * opacity image (OBJ map_d: alpha_file, checked by the path rule). */
+    int32_t alpha_mode;
+    float alpha_cutoff, alpha_factor;
+    int32_t alpha_map;
+    char alpha_name[96];       /* the opacity image as the file names it */
+    char alpha_file[SPM_PATH_MAX];
 } spm_mesh_material;
+enum { SPM_MESH_ALPHA_OPAQUE = 0, SPM_MESH_ALPHA_MASK = 1, SPM_MESH_ALPHA_BLEND = 2 };
+enum { SPM_MESH_AMAP_NONE = 0, SPM_MESH_AMAP_BASE = 1, SPM_MESH_AMAP_FILE = 2 };
 enum { SPM_MESH_FMT_OTHER = 0, SPM_MESH_FMT_GLTF = 1, SPM_MESH_FMT_OBJ = 2 };
 enum {
     SPM_MESH_HAS_METALLIC = 1 << 0,
@@ -202,6 +214,23 @@ int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int 
 /* A conductor whose normal-incidence reflectance is the reflectance spectrum
  * f0 (Gulbrandsen 2014 per wavelength, edge tint g = f0): its eta and k. */
 void spm_mesh_gulbrandsen(const spm_spectrum *f0, spm_spectrum *eta, spm_spectrum *k);
+
+/* A material's opacity (mesh_alpha.c). In the importer's child: glTF's
+ * alphaMode (MASK, BLEND; OPAQUE ignores the alpha, as the specification
+ * says) with its alphaCutoff and baseColorFactor's alpha over the base
+ * colour image's alpha channel; any other format's opacity (OBJ d) and
+ * opacity map (OBJ map_d, found beside the model) as stochastic opacity.
+ * 0, or 2 with *refused filled when the map is outside where the scene may
+ * read (paths.h). In the parent: the material with it (its map read, the
+ * path checked again), or `material` when it is opaque; a map on a mesh
+ * without texture coordinates, or that cannot be read, is warned about and
+ * the factor alone is used. -1 with err. */
+struct aiScene;
+struct aiMaterial;
+int spm_mesh_alpha_read(const struct aiMaterial *m, const char *model, spm_mesh_material *out,
+                        spm_error *refused);
+int spm_mesh_alpha_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
+                        int has_uvs, const char *mwhere, spm_error *err);
 
 /* A file material bound to a scene material. */
 typedef struct {

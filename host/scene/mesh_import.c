@@ -285,16 +285,19 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
     }
     GETF(AI_MATKEY_OPACITY, opacity, SPM_MESH_HAS_OPACITY)
 #undef GETF
-    if (out->has & SPM_MESH_HAS_OPACITY && out->opacity < 1)
-        *ignored |= SPM_MESH_IGN_OPACITY;
+    if (spm_mesh_alpha_read(m, file->path, out, refused))
+        return 1;
     for (int type = 1; type <= AI_TEXTURE_TYPE_MAX; type++)
         if (aiGetMaterialTextureCount(m, (enum aiTextureType)type) > 0 &&
-            !(base_tex && (type == aiTextureType_BASE_COLOR || type == aiTextureType_DIFFUSE)))
+            !(base_tex && (type == aiTextureType_BASE_COLOR || type == aiTextureType_DIFFUSE)) &&
+            !(out->alpha_map == SPM_MESH_AMAP_FILE && type == aiTextureType_OPACITY))
             *ignored |= type == aiTextureType_NORMALS || type == aiTextureType_HEIGHT ||
                                   type == aiTextureType_NORMAL_CAMERA
                               ? SPM_MESH_IGN_NORMAL_MAPS
                           : type == aiTextureType_EMISSIVE || type == aiTextureType_EMISSION_COLOR
                               ? SPM_MESH_IGN_EMISSIVE_TEXTURES
+                        : type == aiTextureType_LIGHTMAP || type == aiTextureType_AMBIENT_OCCLUSION
+                              ? SPM_MESH_IGN_OCCLUSION
                               : SPM_MESH_IGN_TEXTURES;
     return 0;
 }

@@ -246,8 +246,6 @@ int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int 
         else if (ks)
             out = coated(b, m, r, mtl_ior(m), alpha, e, where, err);
     }
-    if (m->has & SPM_MESH_HAS_OPACITY && m->opacity < 1)
-        TODO("%sopacity %g (cut-outs are not rendered: opaque)", SEP, m->opacity);
     if (n)
         spm_warnf("%s: not rendered as the file says: %s", where, todo);
 #undef SEP

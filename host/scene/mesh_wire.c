@@ -102,7 +102,11 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
         mats[i].texture_name[sizeof mats[i].texture_name - 1] = 0;
         mats[i].texture_why[sizeof mats[i].texture_why - 1] = 0;
         mats[i].texture_file[sizeof mats[i].texture_file - 1] = 0;
-        if (mats[i].texture < SPM_MESH_TEX_NONE || mats[i].texture > SPM_MESH_TEX_UNREAD) {
+        mats[i].alpha_name[sizeof mats[i].alpha_name - 1] = 0;
+        mats[i].alpha_file[sizeof mats[i].alpha_file - 1] = 0;
+        if (mats[i].texture < SPM_MESH_TEX_NONE || mats[i].texture > SPM_MESH_TEX_UNREAD ||
+            mats[i].alpha_mode < SPM_MESH_ALPHA_OPAQUE || mats[i].alpha_mode > SPM_MESH_ALPHA_BLEND ||
+            mats[i].alpha_map < SPM_MESH_AMAP_NONE || mats[i].alpha_map > SPM_MESH_AMAP_FILE) {
             spm_errorf(err, "%s: the importer returned a bad material", path);
             return 1;
         }
@@ -155,6 +159,7 @@ const char *spm_mesh_ignored_name(int bit)
         "glTF light ranges (KHR_lights_punctual `range`: specmip's point and spot lights fall "
         "as 1/d^2 without a cut-off)",
         "emissive textures (glTF emissiveTexture, MTL map_Ke: an emission is its factor alone, "
-        "untextured)"};
+        "untextured)",
+        "occlusion maps (a path tracer computes the occlusion they stand for)"};
     return bit >= 0 && bit < SPM_MESH_IGN_COUNT ? names[bit] : "?";
 }

@@ -31,7 +31,21 @@ typedef struct {
     int tex;        /* 1 + the scene texture on its reflectance (Lambertian, coated), 0 none */
     int tpal;       /* the palette its texels pick from (scene.h palette): 0 the lifted
                        grid, k > 0 one its type derived (materials.h derive) */
+    /* opacity (spm_shared.h SPM_ALPHA_*): mode 0 opaque, SPM_ALPHA_MASK or
+     * SPM_ALPHA_BLEND; alpha = factor x the map's value (1 + its index in
+     * the scene's alpha maps, 0: the factor alone) */
+    int alpha_mode;
+    float alpha_cutoff, alpha_factor;
+    int alpha_map;
 } spm_scene_material;
+
+/* An opacity map: one byte a texel (alpha x 255 rounded), rows top to
+ * bottom, and its wrap modes along u and v (texture.h spm_wrap). */
+typedef struct {
+    int w, h;
+    int wrap[2];
+    unsigned char *a;
+} spm_alpha_map;
 
 typedef struct {
     float p[3][3];
@@ -116,6 +130,8 @@ typedef struct {
     int ntextures;
     int *palette;
     int npalettes;
+    spm_alpha_map *alphas; /* the opacity maps materials use (spm_scene_material.alpha_map) */
+    int nalphas;
     int bg_up;           /* colour for a ray escaping upward (+y), -1 none */
     int bg_down;         /* for one escaping downward, -1 none */
     spm_scene_envmap *env; /* the environment map (NULL: none; then bg_up and bg_down) */

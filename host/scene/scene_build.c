@@ -25,6 +25,9 @@ void spm_scene_free(spm_scene *s)
         spm_texture_free(&s->textures[i]);
     free(s->textures);
     free(s->palette);
+    for (int i = 0; i < s->nalphas; i++)
+        free(s->alphas[i].a);
+    free(s->alphas);
     free(s->meshes);
     free(s->lights);
     free(s->rerad);
@@ -154,6 +157,9 @@ int spm_sb_material_typed(spm_scene_builder *b, const spm_scene_material *proto,
     }
     if (proto->tex) /* a textured reflectance is not its mean */
         n += snprintf(key + n, sizeof key - (size_t)n, " t%d", proto->tex);
+    if (proto->alpha_mode) /* a cut-out is not the opaque surface */
+        n += snprintf(key + n, sizeof key - (size_t)n, " a%d %a %a %d", proto->alpha_mode,
+                      proto->alpha_cutoff, proto->alpha_factor, proto->alpha_map);
     if (proto->flags) /* a two-sided light is not a one-sided one */
         n += snprintf(key + n, sizeof key - (size_t)n, " f%x", proto->flags);
     int i = spm_names_get(&b->material_index, key);
@@ -252,6 +258,18 @@ int spm_sb_texture(spm_scene_builder *b, spm_texture *t)
     s->textures[s->ntextures] = *t;
     memset(t, 0, sizeof *t);
     return s->ntextures++;
+}
+
+int spm_sb_alpha_pixels(spm_scene_builder *b, const float *a, int w, int h, int wrap_u,
+                        int wrap_v)
+{
+    spm_scene *s = b->s;
+    spm_alpha_map m = {w, h, {wrap_u, wrap_v}, spm_xmalloc((size_t)w * h)};
+    for (size_t i = 0; i < (size_t)w * h; i++) /* round(clamp(a, 0, 1) 255) */
+        m.a[i] = (unsigned char)lrintf(255.0f * (a[i] > 0.0f ? (a[i] < 1.0f ? a[i] : 1.0f) : 0.0f));
+    s->alphas = reserve(s->alphas, s->nalphas, &b->cap_alphas, sizeof *s->alphas);
+    s->alphas[s->nalphas] = m;
+    return s->nalphas++;
 }
 
 int spm_sb_camera(spm_scene_builder *b, const double eye[3], const double dir[3], double fov,

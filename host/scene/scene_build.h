@@ -30,7 +30,7 @@
 
 typedef struct {
     spm_scene *s;
-    int cap_colours, cap_materials, cap_tris, cap_vnormals, cap_uvs, cap_textures;
+    int cap_colours, cap_materials, cap_tris, cap_vnormals, cap_uvs, cap_textures, cap_alphas;
     int pruned;                /* spm_sb_prune has run */
     spm_names colour_index;    /* colour content key -> index (sharing) */
     spm_names material_index;  /* "refl emit" -> index (sharing) */
@@ -62,6 +62,10 @@ int spm_sb_tri_uv(spm_scene_builder *b, const float uv[6]);
 /* A texture into the scene (moved: *t is left empty); its index. */
 struct spm_texture_s;
 int spm_sb_texture(spm_scene_builder *b, struct spm_texture_s *t);
+/* An opacity map of w x h values (rows top to bottom; clamped to [0, 1],
+ * stored as bytes, scene.h spm_alpha_map) into the scene: its index. */
+int spm_sb_alpha_pixels(spm_scene_builder *b, const float *a, int w, int h, int wrap_u,
+                        int wrap_v);
 /* Drops what no triangle uses (spm_sb_finish does it first unless it ran):
  * a parser that adds colours for what is left calls it, adds them, then
  * spm_sb_finish. 0, or 1 with err (no triangles). */

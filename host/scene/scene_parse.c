@@ -702,6 +702,37 @@ static int material_param(parser *p, const spm_mparam *pa, spm_scene_material *m
     return 0;
 }
 
+/* opacity (texture NAME | A) [cutoff C | blend], the lexer on 'opacity':
+ * the material's opacity, a texture's values or the number A (0 to 1), as a
+ * cut-out at alpha >= C (default 0.5, glTF's) or, with 'blend', stochastic
+ * (spm_shared.h SPM_ALPHA_*; any material type). */
+static int opacity_clause(parser *p, spm_scene_material *m)
+{
+    double v = 1.0, cut = 0.5;
+    if (spm_lex_next(&p->lx, p->err))
+        return 1;
+    if (spm_lex_is(&p->lx, "texture")) {
+        if (spm_lex_next(&p->lx, p->err) ||
+            (m->alpha_map = spm_scene_texture_alpha(&p->textures, &p->lx, &p->b, p->err)) < 0)
+            return 1;
+    } else if (spm_lex_number(&p->lx, "an opacity (0 to 1) or 'texture NAME'", 0.0, 1.0, &v,
+                              p->err)) {
+        return 1;
+    }
+    m->alpha_mode = (int)SPM_ALPHA_MASK;
+    if (spm_lex_is(&p->lx, "blend")) {
+        m->alpha_mode = (int)SPM_ALPHA_BLEND, cut = 0.0;
+        if (spm_lex_next(&p->lx, p->err))
+            return 1;
+    } else if (spm_lex_is(&p->lx, "cutoff") &&
+               (spm_lex_next(&p->lx, p->err) ||
+                spm_lex_number(&p->lx, "an opacity cutoff (0 to 1)", 0.0, 1.0, &cut, p->err))) {
+        return 1;
+    }
+    m->alpha_factor = (float)v, m->alpha_cutoff = (float)cut;
+    return 0;
+}
+
 /* The clauses of material type mt, then every emitter type's, into cl (ctag:
  * SPM_EMIT_TYPES for the material's own, else the emitter's tag). */
 static int clause_list(const spm_mtype_desc *mt, const spm_mparam **cl, unsigned *ctag)
@@ -785,6 +816,11 @@ static int stmt_material(parser *p)
                        k == 0 ? "" : k == ncl - 1 ? " or " : ", ", cl[k]->clause);
     snprintf(expected + ne, sizeof expected - (size_t)ne, " (each once)");
     while (p->lx.type != SPM_TOK_NEWLINE && p->lx.type != SPM_TOK_EOF) {
+        if (!m.alpha_mode && spm_lex_is(&p->lx, "opacity")) { /* any type's */
+            if (opacity_clause(p, &m))
+                return 1;
+            continue;
+        }
         int k = 0;
         while (k < ncl && !spm_lex_is(&p->lx, cl[k]->clause))
             k++;
@@ -906,7 +942,7 @@ static int stmt_polygon(parser *p, int nverts)
             spm_errorf(p->err, "%s%s", where, inner.msg);
             return 1;
         }
-        if (p->b.s->materials[m].tex) {
+        if (p->b.s->materials[m].tex || p->b.s->materials[m].alpha_map) {
             float tuv[6] = {uv[0][0], uv[0][1], uv[tri + 1][0], uv[tri + 1][1], uv[tri + 2][0],
                             uv[tri + 2][1]};
             spm_sb_tri_uv(&p->b, tuv);

@@ -37,6 +37,7 @@ static int file_texture(spm_lexer *lx, const char *dir, spm_scene_tex *x, spm_er
     spm_file f;
     if (spm_path_check(dir, x->source, where, &f, err))
         return 1;
+    x->file = f;
     struct stat st;
     if (stat(f.path, &st) != 0 || !S_ISREG(st.st_mode)) {
         spm_errorf(err, "%s: texture image '%s' not found (or not a regular file: %s)", where,
@@ -114,6 +115,7 @@ static int options(spm_lexer *lx, spm_scene_tex *x, spm_error *err)
                 return 1;
             for (int k = 0; k < 3; k++)
                 x->mean[k] = (float)(x->mean[k] * s);
+            x->scale = s;
             scale_texture(&x->tex, s);
         } else {
             return spm_lex_expected(lx, err, "'wrap' or 'scale' (each once) or the end of the line");
@@ -128,6 +130,7 @@ int spm_scene_texture_statement(spm_scene_textures *t, spm_lexer *lx, const char
     spm_scene_tex x;
     memset(&x, 0, sizeof x);
     spm_lex_where(lx, x.where, sizeof x.where);
+    x.scale = 1.0;
     if (spm_lex_name(lx, "a texture name", x.name, sizeof x.name, err))
         return 1;
     if (spm_names_get(&t->names, x.name) >= 0) {
@@ -153,22 +156,61 @@ int spm_scene_texture_statement(spm_scene_textures *t, spm_lexer *lx, const char
     return 0;
 }
 
-int spm_scene_texture_colour(spm_scene_textures *t, spm_lexer *lx, spm_scene_builder *b,
-                             spm_kind kind, spm_error *err)
+/* The texture named at the lexer, marked used; NULL with err. */
+static spm_scene_tex *named(spm_scene_textures *t, spm_lexer *lx, spm_error *err)
 {
     char where[600], name[SPM_NAME_MAX];
     spm_lex_where(lx, where, sizeof where);
     if (spm_lex_name(lx, "a texture name", name, sizeof name, err))
-        return -1;
+        return NULL;
     int i = spm_names_get(&t->names, name);
     if (i < 0) {
         spm_errorf(err, "%s: unknown texture '%s' (define it with 'texture %s ...' first)", where,
                    name, name);
-        return -1;
+        return NULL;
     }
-    spm_scene_tex *x = &t->v[i];
-    x->used = 1;
+    t->v[i].used = 1;
     t->last = i + 1;
+    return &t->v[i];
+}
+
+int spm_scene_texture_alpha(spm_scene_textures *t, spm_lexer *lx, spm_scene_builder *b,
+                            spm_error *err)
+{
+    char where[600], why[256];
+    spm_lex_where(lx, where, sizeof where);
+    spm_scene_tex *x = named(t, lx, err);
+    if (!x || x->alpha_index)
+        return x ? x->alpha_index : -1;
+    const spm_texmap *l0 = &x->tex.lv[0];
+    float *a;
+    int w = l0->w, h = l0->h;
+    if (x->file.path[0]) {
+        if (spm_texture_read_alpha_file(&x->file, 0, &a, &w, &h, why, sizeof why)) {
+            spm_errorf(err, "%s: texture image '%s' cannot be read as opacity: %s", where,
+                       x->source, why);
+            return -1;
+        }
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            a[i] = (float)(a[i] * x->scale);
+    } else { /* a checkerboard: its first component, scaled already */
+        a = spm_xmalloc((size_t)w * h * sizeof *a);
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            a[i] = l0->rgb[3 * i];
+    }
+    x->alpha_index = 1 + spm_sb_alpha_pixels(b, a, w, h, (int)x->tex.wrap[0], (int)x->tex.wrap[1]);
+    free(a);
+    return x->alpha_index;
+}
+
+int spm_scene_texture_colour(spm_scene_textures *t, spm_lexer *lx, spm_scene_builder *b,
+                             spm_kind kind, spm_error *err)
+{
+    char where[600];
+    spm_lex_where(lx, where, sizeof where);
+    spm_scene_tex *x = named(t, lx, err);
+    if (!x)
+        return -1;
     double rgb[3] = {x->mean[0], x->mean[1], x->mean[2]};
     int c = spm_sb_rgb_colour(b, &t->fits, rgb, kind, where, err);
     if (c == -1) { /* black */

@@ -24,6 +24,9 @@ typedef struct {
     int used, warned[2];
     spm_texture tex;  /* the pyramid, until a use moves it into the scene */
     int scene_index;  /* 1 + its index in the scene once moved, 0 before */
+    spm_file file;    /* the image file, checked ("" for a checkerboard) */
+    double scale;     /* its 'scale' (1 without) */
+    int alpha_index;  /* 1 + its opacity map in the scene once made, 0 before */
 } spm_scene_tex;
 
 typedef struct {
@@ -52,6 +55,12 @@ void spm_scene_texture_as_mean(spm_scene_textures *t, int i, spm_kind kind, cons
 /* Texture i on a reflectance per point: 1 + its index in the scene (moved
  * there at the first use). */
 int spm_scene_texture_adopt(spm_scene_textures *t, int i, spm_scene_builder *b);
+/* After the word 'texture' in an opacity clause: the name, and 1 + the
+ * scene's opacity map made from it (once per texture): an image file's
+ * alpha channel (its first channel without one) as stored, not decoded;
+ * a checkerboard's first component; times the texture's scale. -1 with err. */
+int spm_scene_texture_alpha(spm_scene_textures *t, spm_lexer *lx, spm_scene_builder *b,
+                            spm_error *err);
 /* Warns about each texture never used. */
 void spm_scene_textures_unused(const spm_scene_textures *t);
 #endif

@@ -67,11 +67,66 @@ static int read_linear(std::unique_ptr<ImageInput> in, float **rgb, int *w, int 
     return 0;
 }
 
+// One channel as stored, no sRGB decoding (opacity is data, not colour): the
+// alpha channel when the file has one (RGBA, grey and alpha), else the first.
+static int read_alpha(std::unique_ptr<ImageInput> in, int alpha_only, float **a, int *w, int *h,
+                      char *why, size_t whylen)
+{
+    const ImageSpec &spec = in->spec();
+    long long npix = (long long)spec.width * spec.height;
+    if (spec.deep || spec.width <= 0 || spec.height <= 0 || spec.depth > 1 || spec.nchannels < 1 ||
+        npix > SPM_TEXTURE_MAX_PIXELS)
+        return fail(why, whylen, "unsupported image");
+    int ch = spec.alpha_channel >= 0 ? spec.alpha_channel
+             : spec.nchannels == 2 || spec.nchannels == 4 ? spec.nchannels - 1 : -1;
+    *a = nullptr;
+    if (ch < 0 && alpha_only)
+        return 0;
+    ch = ch < 0 ? 0 : ch;
+    float *out = (float *)malloc(sizeof(float) * (size_t)npix);
+    if (!out)
+        return fail(why, whylen, "out of memory");
+    if (!in->read_image(0, 0, ch, ch + 1, TypeDesc::FLOAT, out)) {
+        free(out);
+        return fail(why, whylen, in->geterror());
+    }
+    for (long long i = 0; i < npix; i++)
+        if (!std::isfinite(out[i])) {
+            free(out);
+            return fail(why, whylen, "pixels that are not finite numbers");
+        }
+    *a = out;
+    *w = spec.width;
+    *h = spec.height;
+    return 0;
+}
+
+extern "C" int spm_texture_read_alpha_file(const spm_file *file, int alpha_only, float **a,
+                                           int *w, int *h, char *why, size_t whylen)
+{
+    OIIO::attribute("threads", 1);
+    auto in = ImageInput::open(file->path);
+    if (!in)
+        return fail(why, whylen, OIIO::geterror());
+    return read_alpha(std::move(in), alpha_only, a, w, h, why, whylen);
+}
+
+// Colours as the file stores them: a PNG's (or TIFF's) colour beside an alpha
+// channel is not premultiplied by it (OpenImageIO's default would darken a
+// cut-out's texels towards its transparent ones: glTF's base colour is not
+// premultiplied).
+static const ImageSpec *unassociated()
+{
+    static ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    return &config;
+}
+
 extern "C" int spm_texture_read_file(const spm_file *file, float **rgb, int *w, int *h,
                                      char *why, size_t whylen)
 {
     OIIO::attribute("threads", 1); // a forked child: no pool threads of the parent's
-    auto in = ImageInput::open(file->path);
+    auto in = ImageInput::open(file->path, unassociated());
     if (!in)
         return fail(why, whylen, OIIO::geterror());
     return read_linear(std::move(in), rgb, w, h, why, whylen);
@@ -82,7 +137,7 @@ extern "C" int spm_texture_read_data(const char *hint, const void *data, size_t 
 {
     OIIO::attribute("threads", 1);
     OIIO::Filesystem::IOMemReader mem(data, size);
-    auto in = ImageInput::open(hint, nullptr, &mem);
+    auto in = ImageInput::open(hint, nullptr, &mem); // (a config here loses the proxy)
     if (!in)
         return fail(why, whylen, OIIO::geterror());
     return read_linear(std::move(in), rgb, w, h, why, whylen);
