@@ -71,6 +71,8 @@ typedef struct {
     int *colour;         /* per texel: its palette colour (a scene colour), -1 black */
     float *lum;          /* per texel: its luminance Y, the scale in */
     double duv_max, duv_mean; /* the palette's chromaticity error (envmap.h) */
+    struct spm_sky_s *sky; /* a daylight sky's model (sky.h): its palette is of
+                              daylight spectra, not of rgb; NULL: an image */
     char where[128];     /* the statement, "file:line:col" */
 } spm_scene_envmap;
 
