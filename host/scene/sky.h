@@ -29,7 +29,7 @@
 #define SPM_SKY_H 128
 /* (M1, M2) bins per axis of the palette (docs/METHODS.md: its chromaticity
  * error) */
-#define SPM_SKY_GRID 12
+#define SPM_SKY_GRID 32
 
 /* The model's parameters, kept by the scene until its palette is made. */
 typedef struct spm_sky_s {
