@@ -134,7 +134,7 @@ int spm_sky_sun_radiance(const spm_sky *k, double L[401], spm_error *err)
     return 0;
 }
 
-/* background sky elevation E turbidity T [azimuth A] [scale S] [sun F] */
+/* background sky elevation E turbidity T [azimuth A] [scale S] [sky F] [sun F] */
 int spm_sky_statement(spm_scene *s, spm_lexer *lx, spm_error *err)
 {
     static const struct {
@@ -147,21 +147,22 @@ int spm_sky_statement(spm_scene *s, spm_lexer *lx, spm_error *err)
         {"turbidity", "a turbidity (1.7 to 10)", 1.7, 10.0, offsetof(spm_sky, turbidity)},
         {"azimuth", "the sun's azimuth in degrees", -360.0, 360.0, offsetof(spm_sky, azimuth)},
         {"scale", "a scale (0 or more)", 0.0, 1e30, offsetof(spm_sky, scale)},
+        {"sky", "the sky's factor (0 or more)", 0.0, 1e30, offsetof(spm_sky, sky)},
         {"sun", "the sun's factor (0 or more)", 0.0, 1e30, offsetof(spm_sky, sun)}};
     enum { NOPT = sizeof opt / sizeof opt[0] };
     char where[600];
     spm_lex_where(lx, where, sizeof where);
     if (spm_lex_next(lx, err))
         return 1;
-    spm_sky k = {.azimuth = 0.0, .scale = 1.0, .sun = 1.0};
+    spm_sky k = {.azimuth = 0.0, .scale = 1.0, .sky = 1.0, .sun = 1.0};
     int seen[NOPT] = {0};
     while (lx->type != SPM_TOK_NEWLINE && lx->type != SPM_TOK_EOF) {
         int i = 0;
         while (i < NOPT && !(spm_lex_is(lx, opt[i].kw) && !seen[i]))
             i++;
         if (i == NOPT)
-            return spm_lex_expected(lx, err, "'elevation', 'turbidity', 'azimuth', 'scale' or "
-                                             "'sun' (each once) or the end of the line");
+            return spm_lex_expected(lx, err, "'elevation', 'turbidity', 'azimuth', 'scale', "
+                                             "'sky' or 'sun' (each once) or the end of the line");
         seen[i] = 1;
         if (spm_lex_next(lx, err) || spm_lex_number(lx, opt[i].what, opt[i].lo, opt[i].hi,
                                                     (double *)((char *)&k + opt[i].off), err))
@@ -326,17 +327,17 @@ static int cell_colour(spm_scene *s, const spm_csv *b, int c, const double sum[3
 }
 
 /* the palette: a colour per occupied (M1, M2) cell; each texel its cell's
- * colour and its Y times the scale; the chromaticity error of each texel's
+ * colour and its Y times the factors; the chromaticity error of each texel's
  * model u'v' from its colour's */
 static int make_palette(spm_scene *s, const spm_csv *b, const sky_texels *tx, spm_error *err)
 {
     spm_scene_envmap *e = s->env;
     enum { NC = SPM_SKY_GRID * SPM_SKY_GRID };
     size_t n = (size_t)e->w * e->h;
-    double sum[NC][3] = {{0}}, uv[NC][2], wsum = 0.0, dsum = 0.0;
+    double sum[NC][3] = {{0}}, uv[NC][2], wsum = 0.0, dsum = 0.0, f = e->sky->scale * e->sky->sky;
     int cells[NC];
     for (size_t t = 0; t < n; t++)
-        if (tx->Y[t] > 0.0) {
+        if (tx->Y[t] > 0.0 && f > 0.0) {
             int c = cell_of(tx, t);
             sum[c][0] += tx->Y[t];
             sum[c][1] += tx->Y[t] * tx->m[t][0];
@@ -356,9 +357,9 @@ static int make_palette(spm_scene *s, const spm_csv *b, const sky_texels *tx, sp
     e->lum = spm_xmalloc(n * sizeof *e->lum);
     e->duv_max = 0.0;
     for (size_t t = 0; t < n; t++) {
-        int c = tx->Y[t] > 0.0 && e->sky->scale > 0.0 ? cell_of(tx, t) : -1;
+        int c = tx->Y[t] > 0.0 && f > 0.0 ? cell_of(tx, t) : -1;
         e->colour[t] = c >= 0 ? cells[c] : -1;
-        e->lum[t] = c >= 0 ? (float)(tx->Y[t] * e->sky->scale) : 0.0f;
+        e->lum[t] = c >= 0 ? (float)(tx->Y[t] * f) : 0.0f;
         if (c < 0)
             continue;
         double dd = hypot(tx->uv[t][0] - uv[c][0], tx->uv[t][1] - uv[c][1]);

@@ -1,5 +1,5 @@
 /* A physically based daylight sky and its sun: `background sky elevation E
- * turbidity T [azimuth A] [scale S] [sun F]` (docs/SCENE_FORMAT.md,
+ * turbidity T [azimuth A] [scale S] [sky F] [sun F]` (docs/SCENE_FORMAT.md,
  * docs/METHODS.md "Sun and sky").
  *
  * The sky is Preetham, Shirley and Smits' model (SIGGRAPH 1999): luminance
@@ -15,8 +15,8 @@
  * SPM_SUN_HALF_DEG, its radiance the extraterrestrial solar spectrum
  * (spectra/solar_astm_g173.csv) through Rayleigh and aerosol transmittance
  * along the relative air mass of its zenith angle (Preetham et al.'s
- * appendix). Both in kcd/m^2 (Preetham's unit for Y) times scale; the sun
- * also times F. */
+ * appendix). Both in kcd/m^2 (Preetham's unit for Y) times scale, the sky
+ * also times its 'sky' factor, the sun its 'sun' factor. */
 #ifndef SPM_SCENE_SKY_H
 #define SPM_SCENE_SKY_H
 #include "scene.h"
@@ -35,7 +35,8 @@
 typedef struct spm_sky_s {
     double elevation, azimuth; /* of the sun, degrees */
     double turbidity;
-    double scale, sun;         /* the sky's factor; the sun's, times scale */
+    double scale;              /* both's factor */
+    double sky, sun;           /* the sky's own factor, the sun's */
 } spm_sky;
 
 /* The statement after 'background': lx on 'sky'. Sets s->env (a map whose
