@@ -259,6 +259,8 @@ static int build(spm_scene *owned, void (*beside)(const spm_scene *), const spm_
             g->disp[i] = (float)scene->disp[i];
     }
     if (owned) { /* the scene's copy is not needed again: not held through the BVH build */
+        spm_light_bounding_sphere(owned, owned->sphere, &owned->sphere[3]);
+        owned->have_sphere = 1; /* the lights' place and power hooks read it */
         free(owned->tris);
         owned->tris = NULL;
         owned->ntris = 0;

@@ -9,7 +9,6 @@
 #include <sys/stat.h>
 #include "colour.h"
 #include "rgb2spec_table.h"
-#include "sky.h"
 #include "spm_shared.h"
 #include "texture.h"
 
@@ -192,8 +191,6 @@ int spm_envmap_palette(spm_scene *s, spm_error *err)
 int spm_envmap_palette_grid(spm_scene *s, int q, spm_error *err)
 {
     spm_scene_envmap *e = s->env;
-    if (e && e->sky && e->first < 0)
-        return spm_sky_palette(s, err);
     if (!e || !e->rgb)
         return 0;
     const spm_rgb2spec_table *tab = spm_rgb2spec_srgb(err);

@@ -117,6 +117,10 @@ typedef struct {
     int bg_down;         /* for one escaping downward, -1 none */
     spm_scene_envmap *env; /* the environment map (NULL: none; then bg_up and bg_down) */
     spm_scene_light *lights; /* the `light` statements' lights, in the file's order */
+    /* the triangles' bounding sphere (centre, radius), kept when the geometry
+     * consumes the triangles (lights.h spm_light_bounding_sphere) */
+    double sphere[4];
+    int have_sphere;
     int nlights;
     spm_scene_mesh *meshes; /* one per mesh statement, in the file's order */
     int nmeshes;

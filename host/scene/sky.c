@@ -373,6 +373,8 @@ static int make_palette(spm_scene *s, const spm_csv *b, const sky_texels *tx, sp
 
 int spm_sky_palette(spm_scene *s, spm_error *err)
 {
+    if (!s->env || !s->env->sky || s->env->first >= 0)
+        return 0;
     spm_csv b;
     if (load_table(BASIS_FILE, 4, &b, err))
         return 1;

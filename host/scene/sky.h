@@ -43,8 +43,8 @@ typedef struct spm_sky_s {
  * texels the palette step fills) and keeps the model in s->env->sky. */
 int spm_sky_statement(spm_scene *s, spm_lexer *lx, spm_error *err);
 /* The map's palette of daylight spectra and its texels, then the sun's
- * colour and its light (appended to s->lights). envmap.c's palette step
- * calls it for a map made by the statement. */
+ * colour and its light (appended to s->lights), once the scene's colours
+ * are pruned; nothing for a scene without a sky. */
 int spm_sky_palette(spm_scene *s, spm_error *err);
 
 /* The model, for tests and the palette: the sun's unit direction w from
