@@ -145,3 +145,28 @@ SPM_LIGHT_KIND(DISTANT,
 SPM_LIGHT_KIND(ENVMAP,
     .keyword = NULL, /* made by 'background map', not by 'light' */
     .define = "SPM_WITH_LIGHT_ENVMAP")
+
+/* the sun of a daylight sky (`background sky`, host/scene/sky.h): a disc of
+ * angular radius alpha around p[DIR] (unit, toward it) of uniform radiance
+ * p[SCALE] times its colour, sampled uniformly in its cone and met by
+ * escaping rays inside it, so it takes MIS; p[B] = 1 - cos alpha, p[C] =
+ * sin^2 alpha; p[POS] and p[A] the scene's bounding sphere (its emission
+ * rays leave a disc of it, as a distant light's). Listed after the map's
+ * statement lights, before the map: the trace stage finds it there. */
+#ifdef SPM_KERNEL_FILES
+#include "light_sun.clh"
+#elif defined(SPM_LIGHT_HOST_CODE)
+/* what a disc of radiance L at normal incidence sends through the disc of
+ * the bounding sphere: pi r^2 E, E = L pi sin^2 alpha */
+static double spm_light_power_sun(const spm_scene *sc, const float *p)
+{
+    double c[3], r;
+    spm_light_bounding_sphere(sc, c, &r);
+    return M_PI * r * r * M_PI * (double)p[SPM_LIGHT_P_C] * (double)p[SPM_LIGHT_P_SCALE];
+}
+#endif
+SPM_LIGHT_KIND(SUN,
+    .keyword = NULL, /* made by 'background sky' */
+    .define = "SPM_WITH_LIGHT_SUN",
+    .power = spm_light_power_sun,
+    .place = spm_light_place_distant)

@@ -149,6 +149,7 @@ allowed=(
     'scene_minilight.c:.*spm_lex_open\(&p.lx, file, err\)'
     'pbrt_spectra.c:.*spm_spectrum_load\(spm_data_path\(rel, path, sizeof path\)'
     'fluor.c:.*spm_csv_load\(path, &csv, err\)'
+    'sky.c:.*spm_csv_load\(path, t, err\)' # the program's own spectra/ (spm_data_path)
     'rgb2spec_table.c:.*fopen\(path, "rb"\)' # the program's own cache file, no scene's reference
 )
 (cd "$ROOT/host/scene" && grep -nE "$openers" *.c *.cpp | grep -vE '^[^:]+:[0-9]+:\s*(/?\*|//)' |

@@ -103,9 +103,16 @@ int spm_ref_light_toward(const spm_emitter *e, const float x[3], const spm_ref_h
 spm_u32 spm_ref_light_escape(const spm_geometry *g, const spm_trace_params *p, const float d[3],
                              const spm_ref_key *k, spm_u32 j, float *scale, float *pdf)
 {
-    if (g->nemitters > 0 && g->emitters[g->nemitters - 1].kind == SPM_LIGHT_ENVMAP)
-        return spm_ref_light_escape_ENVMAP(g, &g->emitters[g->nemitters - 1], d, k, j, scale,
-                                           pdf);
+    spm_u32 n = g->nemitters;
+    int map = n > 0 && g->emitters[n - 1].kind == SPM_LIGHT_ENVMAP;
+    /* the sun, next before the map: inside its disc, the disc alone */
+    if (n > (spm_u32)map && g->emitters[n - 1 - map].kind == SPM_LIGHT_SUN) {
+        spm_u32 c = spm_ref_light_escape_SUN(&g->emitters[n - 1 - map], d, scale, pdf);
+        if (c != SPM_NONE)
+            return c;
+    }
+    if (map)
+        return spm_ref_light_escape_ENVMAP(g, &g->emitters[n - 1], d, k, j, scale, pdf);
     *scale = 1.0f;
     *pdf = 0.0f;
     return spm_ref_light_background(p, d);

@@ -26,13 +26,15 @@ spm_u32 spm_ref_light_eval(const spm_material *m, float cos_e, float *scale);
 /* the background an escaping ray of direction d meets (SPM_NONE: dark) */
 spm_u32 spm_ref_light_background(const spm_trace_params *p, const float d[3]);
 /* What an escaping ray of direction d meets in vertex j's place of path k
- * (kernels/lights.clh light_escape): the environment map, the selection's
- * last entry when the scene has one, else the background; *scale the
- * colour's factor, *pdf light_sample's density of d (0: the background). */
+ * (kernels/lights.clh light_escape): a daylight sky's sun inside its disc
+ * (the entry before the map), the environment map, the selection's last
+ * entry when the scene has one, else the background; *scale the colour's
+ * factor, *pdf light_sample's density of d (0: the background). */
 spm_u32 spm_ref_light_escape(const spm_geometry *g, const spm_trace_params *p, const float d[3],
                              const spm_ref_key *k, spm_u32 j, float *scale, float *pdf);
 spm_u32 spm_ref_light_escape_ENVMAP(const spm_geometry *g, const spm_emitter *e, const float d[3],
                                     const spm_ref_key *k, spm_u32 j, float *scale, float *pdf);
+spm_u32 spm_ref_light_escape_SUN(const spm_emitter *e, const float d[3], float *scale, float *pdf);
 /* light_sample's density of the point a ray found at distance t on emitting
  * triangle tri (face cosine ce), in solid angle */
 float spm_ref_light_pdf_hit(const spm_geometry *g, spm_u32 tri, float t, float ce);

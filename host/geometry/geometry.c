@@ -186,13 +186,18 @@ static void list_emitters(const spm_scene *sc, spm_geometry *g)
             g->emitters[g->nemitters].colour = SPM_NONE; /* its material's */
             g->emitters[g->nemitters++].tri = (spm_u32)i;
         }
-    for (int i = 0; i < sc->nlights; i++) { /* the `light` statements' (lights.h) */
+    /* the `light` statements' (lights.h), then the sun, next to the map: the
+     * trace stage finds both at the table's end (kernels/lights.clh) */
+    for (int i = 0; i < 2 * sc->nlights; i++) {
+        const spm_scene_light *l = &sc->lights[i % sc->nlights];
+        if ((l->kind == SPM_LIGHT_SUN) != (i >= sc->nlights))
+            continue;
         spm_emitter *e = &g->emitters[g->nemitters];
-        e->kind = (spm_u32)sc->lights[i].kind;
+        e->kind = (spm_u32)l->kind;
         e->tri = 0xFFFFFFFFu;
-        e->colour = (spm_u32)sc->lights[i].colour;
-        spm_light_place(sc, &sc->lights[i], e->p);
-        w[g->nemitters++] = spm_light_power(sc, &sc->lights[i]);
+        e->colour = (spm_u32)l->colour;
+        spm_light_place(sc, l, e->p);
+        w[g->nemitters++] = spm_light_power(sc, l);
     }
     if (sc->env) /* last: the trace stage finds it there */
         add_envmap(sc, g, &w[g->nemitters]);
@@ -254,6 +259,8 @@ static int build(spm_scene *owned, void (*beside)(const spm_scene *), const spm_
             g->disp[i] = (float)scene->disp[i];
     }
     if (owned) { /* the scene's copy is not needed again: not held through the BVH build */
+        spm_light_bounding_sphere(owned, owned->sphere, &owned->sphere[3]);
+        owned->have_sphere = 1; /* the lights' place and power hooks read it */
         free(owned->tris);
         owned->tris = NULL;
         owned->ntris = 0;

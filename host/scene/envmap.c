@@ -19,6 +19,7 @@ void spm_envmap_free(spm_scene_envmap *e)
     free(e->rgb);
     free(e->colour);
     free(e->lum);
+    free(e->sky);
     free(e);
 }
 

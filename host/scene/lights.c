@@ -9,6 +9,12 @@
  * Bounds3::BoundingSphere); r = 0 for a scene with no triangles */
 void spm_light_bounding_sphere(const spm_scene *sc, double c[3], double *r)
 {
+    if (sc->have_sphere) { /* its triangles were consumed (geometry.h) */
+        for (int k = 0; k < 3; k++)
+            c[k] = sc->sphere[k];
+        *r = sc->sphere[3];
+        return;
+    }
     double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     for (int i = 0; i < sc->ntris; i++)
         for (int v = 0; v < 3; v++)

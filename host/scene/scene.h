@@ -87,6 +87,8 @@ typedef struct {
     int *colour;         /* per texel: its palette colour (a scene colour), -1 black */
     float *lum;          /* per texel: its luminance Y, the scale in */
     double duv_max, duv_mean; /* the palette's chromaticity error (envmap.h) */
+    struct spm_sky_s *sky; /* a daylight sky's model (sky.h): its palette is of
+                              daylight spectra, not of rgb; NULL: an image */
     char where[128];     /* the statement, "file:line:col" */
 } spm_scene_envmap;
 
@@ -136,6 +138,10 @@ typedef struct {
     int bg_down;         /* for one escaping downward, -1 none */
     spm_scene_envmap *env; /* the environment map (NULL: none; then bg_up and bg_down) */
     spm_scene_light *lights; /* the `light` statements' lights, in the file's order */
+    /* the triangles' bounding sphere (centre, radius), kept when the geometry
+     * consumes the triangles (lights.h spm_light_bounding_sphere) */
+    double sphere[4];
+    int have_sphere;
     int nlights;
     spm_scene_mesh *meshes; /* one per mesh statement, in the file's order */
     int nmeshes;

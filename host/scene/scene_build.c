@@ -7,6 +7,7 @@
 #include "materials.h"
 #include "texture.h"
 #include "envmap.h"
+#include "sky.h"
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -463,7 +464,8 @@ int spm_sb_finish(spm_scene_builder *b, const char *where, spm_error *err)
     spm_scene *s = b->s;
     if (prune_once(b, where, err))
         return 1;
-    if (spm_envmap_palette(s, err)) /* the map's colours, after the scene's own */
+    /* the map's colours, after the scene's own (a daylight sky's: sky.h) */
+    if (spm_sky_palette(s, err) || spm_envmap_palette(s, err))
         return 1;
     /* colours a type derives, last (materials.h derive) */
     for (int i = 0; i < s->nmaterials; i++) {

@@ -15,6 +15,7 @@
 #include "fluor.h"
 #include "scene_texture.h"
 #include "envmap.h"
+#include "sky.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -1153,14 +1154,15 @@ static int stmt_mesh(parser *p)
     return rc;
 }
 
-/* background up|down|both SPECTRUM, or background map FILE ... (envmap.h),
- * which is both */
+/* background up|down|both SPECTRUM, background map FILE ... (envmap.h) or
+ * background sky ... (sky.h), which are both */
 static int stmt_background(parser *p)
 {
     int dir = spm_lex_is(&p->lx, "up") ? 0 : spm_lex_is(&p->lx, "down") ? 1
-              : spm_lex_is(&p->lx, "both") || spm_lex_is(&p->lx, "map") ? 2 : -1;
+              : spm_lex_is(&p->lx, "both") || spm_lex_is(&p->lx, "map") ||
+                        spm_lex_is(&p->lx, "sky") ? 2 : -1;
     if (dir < 0)
-        return spm_lex_expected(&p->lx, p->err, "'up', 'down', 'both' or 'map'");
+        return spm_lex_expected(&p->lx, p->err, "'up', 'down', 'both', 'map' or 'sky'");
     for (int k = 0; k < 2; k++)
         if ((dir == k || dir == 2) && p->bg_line[k]) {
             char where[600];
@@ -1173,6 +1175,10 @@ static int stmt_background(parser *p)
     if (spm_lex_is(&p->lx, "map")) {
         p->bg_line[0] = p->bg_line[1] = line;
         return spm_envmap_statement(p->b.s, &p->lx, p->dir, p->err);
+    }
+    if (spm_lex_is(&p->lx, "sky")) {
+        p->bg_line[0] = p->bg_line[1] = line;
+        return spm_sky_statement(p->b.s, &p->lx, p->err);
     }
     if (spm_lex_next(&p->lx, p->err))
         return 1;
