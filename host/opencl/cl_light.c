@@ -12,8 +12,8 @@
 #include "cl_renderer.h"
 #include "film_splat.h"
 
-static const char *const light_files[] = {"kernels/trace.cl", "kernels/shade.cl",
-                                          "kernels/lighttrace.cl"};
+const char *const spm_cl_light_program_files[SPM_CL_LIGHT_PROGRAM_NFILES] = {
+    "kernels/trace.cl", "kernels/shade.cl", "kernels/lighttrace.cl"};
 
 /* What the fixed-point film needs of a device: 64-bit integer atomics for
  * the sums, doubles for their conversion. */
@@ -38,7 +38,7 @@ int spm_clr_light_build(spm_cl_renderer *r, const spm_render_plan *plan, const c
 {
     r->light = 1;
     if (light_device_check(r, err) ||
-        spm_cl_build(&r->cl, light_files, (int)(sizeof light_files / sizeof *light_files), defs,
+        spm_cl_build(&r->cl, spm_cl_light_program_files, SPM_CL_LIGHT_PROGRAM_NFILES, defs,
                      &r->prog, err))
         return 1;
     cl_int rc;
