@@ -46,6 +46,12 @@ same_as_reference() { # NAME SCENE SPP ARGS...
 same_as_reference ml "$SPIKY" 58 --mode ml
 same_as_reference hero "$SPIKY" 58 --mode hero
 same_as_reference metals "$DATA/scenes/metals.scene" 8 --mode ml
+# a thin lens (its lens point from the vertex's own dimensions) and a point light
+sed 's/^camera position \(.*\) fov 40$/camera position \1 fov 40 aperture 0.05 focus 1.0/' \
+    "$DATA/scenes/cornell.scene" > "$T/lens.scene"
+echo "light point 0.3 0.4 0.3 equal 5" >> "$T/lens.scene"
+check "the lens scene has its lens" grep -q "aperture 0.05" "$T/lens.scene"
+same_as_reference lens "$T/lens.scene" 16 --mode ml
 "$BIN" render "$SPIKY" --integrator light --width 32 --height 32 --spp 8 --seed 5 --quiet \
     -o "$T/sp.spectral.exr"
 check "spectral EXR, OpenCL: exit 0" test $? -eq 0
