@@ -6,6 +6,8 @@
  *   cl_render_program.c  the renderer's program: which kernels, with which
  *                        defines (built through cl_core.h)
  *   cl_kernels.c         kernel arguments (spm_kernel_args.h) and launches
+ *   cl_light.c           the light integrator's program and passes (chunks of
+ *                        subpaths, their splats summed in fixed point)
  *   cl_test_hooks.c      trace-only and shade-only passes for the tests, and
  *                        failure injection */
 #ifndef SPM_CL_RENDERER_H
