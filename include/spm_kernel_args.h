@@ -116,6 +116,43 @@
     X(__global int *, cl_mem, hits) S                                   \
     X(__global uint *, cl_mem, counters)
 
+/* The light integrator's kernels (kernels/lighttrace.cl, a program built with
+ * -DSPM_LIGHT_TRACE). spm_light_trace takes SPM_TRACE_ARGS (first_pixel
+ * unused), then: its subpaths are first_path ... of the pass; lpx the pixel
+ * words, SPM_MAX_DEPTH + 1 slabs of npaths (slab 0 the light's own splat). */
+#define SPM_LIGHT_TRACE_ARGS(X, S)                                      \
+    X(uint, spm_u32, first_path) S                                      \
+    X(__global uint *, cl_mem, lpx)
+
+/* ...each shade kernel's _lt twin takes SPM_SHADE_ARGS (xyz: the splats'
+ * values), the path and spectral arguments as the shade kernel, then these:
+ * the pixel words, the splats' pixels, lstat (count, largest exponent), the
+ * list's room, and (per-path lanes) the chunk's first subpath's offset in
+ * its pixel (kernels/shade.cl HERO_LT_PARAM). */
+#define SPM_SPLAT_SHADE_ARGS(X, S)                                      \
+    X(__global const uint *, cl_mem, lpx) S                             \
+    X(__global uint *, cl_mem, spx) S                                   \
+    X(__global int *, cl_mem, lstat) S                                  \
+    X(uint, spm_u32, scap) S                                            \
+    X(uint, spm_u32, pofs)
+
+/* spm_splat_add: splats [0, n) into the 64-bit sums acc (SPM_PATH_CH a
+ * pixel) at the unit 2^-shift; counters[2] counts non-finite splats. */
+#define SPM_SPLAT_ADD_ARGS(X, S)                                        \
+    X(__global const uint *, cl_mem, spx) S                             \
+    X(__global const float *, cl_mem, sval) S                           \
+    X(uint, spm_u32, n) S                                               \
+    X(int, cl_int, shift) S                                             \
+    X(__global long *, cl_mem, acc) S                                   \
+    X(__global uint *, cl_mem, counters)
+
+/* spm_splat_convert: the npix pixels' sums into pass, acc back to zero. */
+#define SPM_SPLAT_CONVERT_ARGS(X, S)                                    \
+    X(__global long *, cl_mem, acc) S                                   \
+    X(uint, spm_u32, npix) S                                            \
+    X(int, cl_int, shift) S                                             \
+    X(__global float *, cl_mem, pass)
+
 /* The work-group size of every launch. */
 #define SPM_LOCAL_SIZE 64
 

@@ -152,6 +152,17 @@ inline int shade_dispersed(spm_dev_head h, __global const spm_vertex *vp,
  * shade_body.clh: a 16-wide argument changes the x86 ABI on CPUs without
  * AVX-512, and clang warns of it. */
 #define HERO_VW 16
+/* A light subpath's key: a chunk starts at any subpath of the pass, so its
+ * record pi is subpath first_pixel spp + pofs + pi (kernels/lighttrace.cl). */
+#ifdef SPM_LIGHT_TRACE
+#define HERO_LT_PARAM , uint pofs
+#define HERO_LT_ARG , pofs
+#define HERO_LT_OFFSET pi += (uint16)pofs;
+#else
+#define HERO_LT_PARAM
+#define HERO_LT_ARG
+#define HERO_LT_OFFSET
+#endif
 #define HERO_PREP (SPM_LOCAL_SIZE / HERO_VW)
 #define HERO_HALVES(T, f, v) ((T)(f((v).lo), f((v).hi)))
 
@@ -174,7 +185,7 @@ inline int shade_dispersed(spm_dev_head h, __global const spm_vertex *vp,
  * by lane, uncontracted. */
 inline void hero_draw16(__global const float *hero, __global const uint *idx, uint e0, uint end,
                         uint seed, spm_divisor spp, uint first_sample, uint first_pixel,
-                        __local uint *bin, __local float *r)
+                        __local uint *bin, __local float *r HERO_LT_PARAM)
 {
 #pragma OPENCL FP_CONTRACT OFF /* rounds as the CPU reference */
     uint part[HERO_VW];
@@ -186,6 +197,7 @@ inline void hero_draw16(__global const float *hero, __global const uint *idx, ui
     }
     uint16 pi = src ? (uint16)(vload8(0, src), vload8(1, src))
                     : (uint16)(vload8(0, part), vload8(1, part));
+    HERO_LT_OFFSET
     uint16 t1 = (uint16)(mul_hi(pi.lo, (uint8)spp.mul), mul_hi(pi.hi, (uint8)spp.mul));
     uint16 q = SPM_DIVISOR_QUOTIENT(pi, t1, spp);
     uint16 h;
@@ -236,7 +248,7 @@ inline void hero_xyz(__global const float *hero, uint4 b, float4 r, float4 L, fl
         uint l = (uint)get_local_id(0);                                                \
         if (l < HERO_PREP)                                                             \
             hero_draw16(extra, idx, i - l + HERO_VW * l, end, seed, spp, first_sample, \
-                        first_pixel, hbin + HERO_VW * l, hr + HERO_VW * l);            \
+                        first_pixel, hbin + HERO_VW * l, hr + HERO_VW * l HERO_LT_ARG); \
         barrier(CLK_LOCAL_MEM_FENCE);                                                  \
     }
 #define HERO_LOCAL4(a, l)                                                              \

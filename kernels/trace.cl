@@ -149,6 +149,7 @@ SPM_ALWAYS_INLINE void escape(const spm_trace_params *p, __global const spm_emit
     hd->bg_c = hd->bg != SPM_NONE ? rrw * scale : 0.0f;
 }
 
+#ifndef SPM_LIGHT_TRACE /* the light integrator's program: kernels/lighttrace.cl */
 /* One batch of a pass; parameters: spm_kernel_args.h SPM_TRACE_ARGS. */
 __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 {
@@ -269,3 +270,4 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
     heads[gid] = spm_dev_head_pack(&hd);
     levels[gid] = (uchar)(level | (setby << SPM_SETBY_SHIFT));
 }
+#endif

@@ -40,6 +40,7 @@ check "kernel_variants lists the programs (exit $rc: $(head -1 "$T/variants.err"
 sort -u "$T/variants" > "$T/programs"
 # what the list must hold, so that an empty or partial one cannot pass
 check "the list has the render's program" grep -q "^kernels/trace.cl kernels/shade.cl	" "$T/programs"
+check "the list has the light integrator's program" grep -q "^kernels/trace.cl kernels/shade.cl kernels/lighttrace.cl	.*-DSPM_LIGHT_TRACE" "$T/programs"
 check "the list has spectral output builds" grep -q "	.*-DSPM_SPEC_BINS=" "$T/programs"
 check "the list has conductor builds" grep -q "	.*-DSPM_WITH_CONDUCTOR" "$T/programs"
 check "the list has dielectric builds" grep -q "	.*-DSPM_WITH_DIELECTRIC" "$T/programs"

@@ -2,10 +2,10 @@
 # specmip render --integrator light (the CPU reference): a render of the
 # Cornell box that records its integrator, the same pixels whatever the passes
 # (a render resumed from its film equals one straight through), and the
-# refusals, each with its reason and exit 2 and nothing written: a backend
-# that does not trace light subpaths, an unknown integrator, a background, a
+# refusals, each with its reason and exit 2 and nothing written: an unknown integrator, a background, a
 # dispersive glass, a rough dielectric, an orthographic camera, a resumed film of the other
-# integrator. How it converges to the path tracer is tests/test_light_integrator.c.
+# integrator. How it converges to the path tracer is tests/test_light_integrator.c;
+# the OpenCL backend's kernels against this reference, tests/cli_light_cl.sh.
 source "$(dirname "$0")/lib_cli.sh"
 attr() { oiiotool --info -v "$1" | sed -n "s/^ *$2: \"\{0,1\}\([^\"]*\)\"\{0,1\}$/\1/p"; }
 CORNELL=$DATA/scenes/cornell.scene
@@ -46,8 +46,6 @@ refused() { # refused NAME PATTERN ARGS...: exit 2, PATTERN on stderr, no output
     check "$name: says why" grep -q "$pat" "$T/no.err"
     check "$name: nothing written" test ! -e "$T/no.exr"
 }
-refused "OpenCL backend" "CPU reference only so far (--backend cpu)" \
-    render "$CORNELL" --integrator light --width 8 --height 8 --spp 1
 refused "unknown integrator" "integrator is path or light, not 'bdpt'" \
     render "$CORNELL" --backend cpu --integrator bdpt --width 8 --height 8 --spp 1
 { cat "$CORNELL"; echo "background up equal 1"; } > "$T/sky.scene"

@@ -44,6 +44,14 @@ for run in "${RUNS[@]}"; do
     close_images "$name: Oclgrind vs PoCL" "$T/p.exr" "$T/o.exr"
 done
 
+# The light integrator's program (kernels/lighttrace.cl; hero: the shade
+# kernel's work-group set-up and the chunk's key offset), clean and as PoCL's.
+grind "light hero" "$T/og.log" "$DATA/scenes/cornell_spiky.scene" --integrator light --mode hero \
+    "${R[@]}" -o "$T/o.exr"
+check "light hero: Oclgrind's log is empty" test ! -s "$T/og.log"
+"$BIN" render "$DATA/scenes/cornell_spiky.scene" --integrator light --mode hero "${R[@]}" -o "$T/p.exr"
+close_images "light hero: Oclgrind vs PoCL" "$T/p.exr" "$T/o.exr"
+
 # Registered as an ICD beside PoCL (Debian does not register it), the
 # simulator claims every device type, so the loader lists it first; specmip
 # numbers it after PoCL's CPU device and --device all leaves it out.

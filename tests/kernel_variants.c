@@ -3,8 +3,9 @@
  * beyond the ones every build adds (cl_core.c). The render's programs come from
  * the backend's own spm_cl_program_files / spm_cl_program_defines for every
  * mode with every slot used, without and with each spectral output bin width
- * the mode writes, on the default scene and each scene given (the shade
- * kernels' vector counts follow a scene's tables); then the ray replay's and
+ * the mode writes, and the light integrator's where it renders the scene, on
+ * the default scene and each scene given (the shade kernels' vector counts
+ * follow a scene's tables); then the ray replay's and
  * the operator benchmark's. Duplicates are left to the caller (sort -u).
  * Not a test itself: cli_kernel_warnings.sh compiles what it lists.
  * Usage: kernel_variants [SCENE...] */
@@ -12,10 +13,10 @@
 #include "bench_rays.h"
 #include "cl_testlib.h"
 
-static void print_files(void)
+static void print_files(const char *const *files, int n)
 {
-    for (int i = 0; i < SPM_CL_PROGRAM_NFILES; i++)
-        printf("%s%s", i ? " " : "", spm_cl_program_files[i]);
+    for (int i = 0; i < n; i++)
+        printf("%s%s", i ? " " : "", files[i]);
 }
 
 /* The plan of mode m with every slot used, and spectral output of nm nm (0: none). */
@@ -32,8 +33,14 @@ static int print_plan(const cl_test_scene *s, int m, int nm)
         plan.used[sl] = 1;
     char defs[1024];
     spm_cl_program_defines(&plan, 0, defs, sizeof defs, NULL);
-    print_files();
+    print_files(spm_cl_program_files, SPM_CL_PROGRAM_NFILES);
     printf("\t%s\n", defs);
+    spm_error why;
+    if (!spm_render_plan_integrator(&plan, SPM_INTEGRATOR_LIGHT, &why)) { /* its own program */
+        spm_cl_program_defines(&plan, 0, defs, sizeof defs, NULL);
+        print_files(spm_cl_light_program_files, SPM_CL_LIGHT_PROGRAM_NFILES);
+        printf("\t%s\n", defs);
+    }
     spm_render_plan_free(&plan);
     return 0;
 }

@@ -56,6 +56,7 @@ void spm_cl_destroy(spm_cl_renderer *r)
         clReleaseKernel(r->k_trace);
     if (r->k_accum)
         clReleaseKernel(r->k_accum);
+    spm_clr_light_release(r);
     if (r->prog)
         clReleaseProgram(r->prog);
     spm_clr_release_buffers(r);
@@ -240,7 +241,8 @@ int spm_clr_render_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, f
     if (spp == 0)
         return 0;
     pass_ctx c = {pass_xyz, st};
-    int rc = spm_clr_each_batch(r, first_sample, spp, 1, pass_one, &c, err);
+    int rc = r->light ? spm_clr_light_pass(r, first_sample, spp, pass_xyz, st, err)
+                      : spm_clr_each_batch(r, first_sample, spp, 1, pass_one, &c, err);
     if (rc == SPM_PASS_STOPPED)
         return rc;
     spm_u32 counters[SPM_NCOUNTERS];
@@ -327,6 +329,7 @@ static int check_device(int device, const spm_render_plan *plan, int width, int 
 
 const spm_backend_kind spm_backend_kind_opencl = {.name = "opencl",
                                                   .per_device = 1,
+                                                  .light = 1,
                                                   .compiles = 1,
                                                   .all_devices = all_devices,
                                                   .check = check_device,

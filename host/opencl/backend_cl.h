@@ -68,6 +68,10 @@ size_t spm_cl_batch_capacity(const spm_cl_renderer *r);
 extern const char *const spm_cl_program_files[SPM_CL_PROGRAM_NFILES];
 void spm_cl_program_defines(const spm_render_plan *plan, int device_index, char *defs, size_t size,
                             char (*kname)[64]);
+/* The light integrator's program (a plan of SPM_INTEGRATOR_LIGHT, whose
+ * defines add -DSPM_LIGHT_TRACE): these files, the same defines. */
+#define SPM_CL_LIGHT_PROGRAM_NFILES 3
+extern const char *const spm_cl_light_program_files[SPM_CL_LIGHT_PROGRAM_NFILES];
 
 /* Failure injection for multi-device tests: SPECMIP_CL_FAIL="DEV:PASS" makes
  * device DEV's pass number PASS (0-based, counted per handle) fail with an

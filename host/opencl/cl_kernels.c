@@ -11,6 +11,10 @@ typedef struct { SPM_SHADE_PATH_ARGS(ARG_FIELD, ) } shade_path_args;
 typedef struct { SPM_SHADE_SPEC_ARGS(ARG_FIELD, ) } shade_spec_args;
 typedef struct { SPM_SHADE_DISP_ARGS(ARG_FIELD, ) } shade_disp_args;
 typedef struct { SPM_ACCUM_ARGS(ARG_FIELD, ) } accum_args;
+typedef struct { SPM_LIGHT_TRACE_ARGS(ARG_FIELD, ) } light_trace_args;
+typedef struct { SPM_SPLAT_SHADE_ARGS(ARG_FIELD, ) } splat_shade_args;
+typedef struct { SPM_SPLAT_ADD_ARGS(ARG_FIELD, ) } splat_add_args;
+typedef struct { SPM_SPLAT_CONVERT_ARGS(ARG_FIELD, ) } splat_convert_args;
 
 static size_t round_up(size_t n)
 {
@@ -44,6 +48,10 @@ DEFINE_SETTER(set_shade_path_args, shade_path_args, SPM_SHADE_PATH_ARGS)
 DEFINE_SETTER(set_shade_spec_args, shade_spec_args, SPM_SHADE_SPEC_ARGS)
 DEFINE_SETTER(set_shade_disp_args, shade_disp_args, SPM_SHADE_DISP_ARGS)
 DEFINE_SETTER(set_accum_args, accum_args, SPM_ACCUM_ARGS)
+DEFINE_SETTER(set_light_trace_args, light_trace_args, SPM_LIGHT_TRACE_ARGS)
+DEFINE_SETTER(set_splat_shade_args, splat_shade_args, SPM_SPLAT_SHADE_ARGS)
+DEFINE_SETTER(set_splat_add_args, splat_add_args, SPM_SPLAT_ADD_ARGS)
+DEFINE_SETTER(set_splat_convert_args, splat_convert_args, SPM_SPLAT_CONVERT_ARGS)
 
 static int enqueue(spm_cl_renderer *r, cl_kernel k, const char *name, size_t offset, size_t n,
                    cl_event *ev, spm_error *err)
@@ -55,16 +63,50 @@ static int enqueue(spm_cl_renderer *r, cl_kernel k, const char *name, size_t off
                         what, err);
 }
 
-int spm_clr_run_trace(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_error *err)
+/* The trace stage's arguments, for spm_trace or spm_light_trace (k). */
+static int set_trace(spm_cl_renderer *r, cl_kernel k, const char *name, const batch *b,
+                     cl_uint *i, spm_error *err)
 {
     r->params.first_sample = b->first_sample;
     r->params.spp_per_pass = b->spp;
     trace_args a = {r->tris,  r->nodes, r->emitters,     r->mats, r->lvlk, r->light_pdf, r->vnormals,
                     r->disp, r->tex, r->uvs, r->envmap, r->params, r->init_level, (spm_u32)b->n, r->heads, r->verts,
                     r->levels, r->counters, b->first_pixel};
+    return set_trace_args(k, name, &a, i, err);
+}
+
+int spm_clr_run_trace(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_error *err)
+{
     cl_uint i = 0;
-    return set_trace_args(r->k_trace, "spm_trace", &a, &i, err) ||
+    return set_trace(r, r->k_trace, "spm_trace", b, &i, err) ||
            enqueue(r, r->k_trace, "spm_trace", 0, b->launch, ev, err);
+}
+
+int spm_clr_run_light_trace(spm_cl_renderer *r, const batch *b, size_t first, cl_event *ev,
+                            spm_error *err)
+{
+    light_trace_args la = {(spm_u32)first, r->lpx};
+    cl_uint i = 0;
+    return set_trace(r, r->k_ltrace, "spm_light_trace", b, &i, err) ||
+           set_light_trace_args(r->k_ltrace, "spm_light_trace", &la, &i, err) ||
+           enqueue(r, r->k_ltrace, "spm_light_trace", 0, b->launch, ev, err);
+}
+
+int spm_clr_run_splat_add(spm_cl_renderer *r, size_t n, int shift, size_t launch, cl_event *ev,
+                          spm_error *err)
+{
+    splat_add_args a = {r->spx, r->sval, (spm_u32)n, shift, r->acc, r->counters};
+    cl_uint i = 0;
+    return set_splat_add_args(r->k_sadd, "spm_splat_add", &a, &i, err) ||
+           enqueue(r, r->k_sadd, "spm_splat_add", 0, launch, ev, err);
+}
+
+int spm_clr_run_splat_convert(spm_cl_renderer *r, int shift, cl_event *ev, spm_error *err)
+{
+    splat_convert_args a = {r->acc, (spm_u32)r->npix, shift, r->lpass};
+    cl_uint i = 0;
+    return set_splat_convert_args(r->k_sconv, "spm_splat_convert", &a, &i, err) ||
+           enqueue(r, r->k_sconv, "spm_splat_convert", 0, r->npix, ev, err);
 }
 
 int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOTS + 1],
@@ -88,7 +130,8 @@ int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOT
          * either way). The last batch of a pass is launched at full size too,
          * for the same reason. */
         shade_args a = {r->heads, r->verts,  (spm_u32)b->n, ids,     (spm_u32)off[s],
-                        (spm_u32)off[s + 1], r->tab[s], r->cmf[s], r->xyz};
+                        (spm_u32)off[s + 1], r->tab[s], r->cmf[s], r->light ? r->sval : r->xyz};
+        splat_shade_args la = {r->lpx, r->spx, r->lstat, (spm_u32)r->scap, r->pofs};
         shade_path_args pa = {r->extra, r->params.seed, spm_divisor_make(b->spp), b->first_sample,
                               b->first_pixel};
         shade_spec_args sa = {r->smap[s], r->sfac[s]};
@@ -97,7 +140,8 @@ int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOT
         int rc = set_shade_args(r->k_shade[s], r->kname[s], &a, &i, err) ||
                  (r->mode->per_path && set_shade_path_args(r->k_shade[s], r->kname[s], &pa, &i, err)) ||
                  (r->pix_ch > 3 && set_shade_spec_args(r->k_shade[s], r->kname[s], &sa, &i, err)) ||
-                 (r->ndisp && set_shade_disp_args(r->k_shade[s], r->kname[s], &da, &i, err));
+                 (r->light ? set_splat_shade_args(r->k_shade[s], r->kname[s], &la, &i, err)
+                           : r->ndisp && set_shade_disp_args(r->k_shade[s], r->kname[s], &da, &i, err));
         if (rc || enqueue(r, r->k_shade[s], r->kname[s], 0, b->launch, &ev[s], err))
             return 1;
     }

@@ -6,6 +6,8 @@
  *   cl_render_program.c  the renderer's program: which kernels, with which
  *                        defines (built through cl_core.h)
  *   cl_kernels.c         kernel arguments (spm_kernel_args.h) and launches
+ *   cl_light.c           the light integrator's program and passes (chunks of
+ *                        subpaths, their splats summed in fixed point)
  *   cl_test_hooks.c      trace-only and shade-only passes for the tests, and
  *                        failure injection */
 #ifndef SPM_CL_RENDERER_H
@@ -53,6 +55,17 @@ struct spm_cl_renderer {
     spm_u32 *h_idx; /* bucket indices, the source of idx's non-blocking upload */
     size_t lhist[256]; /* levelled modes: the pass's level bytes counted by value (bucket()) */
     spm_u32 zero[SPM_NCOUNTERS];
+    /* the light integrator's (cl_light.c; light set: the program is
+     * kernels/lighttrace.cl's, k_shade the shade kernels' _lt twins): the
+     * pixel words of lcap subpaths, the chunk's splat list of room scap
+     * (pixels, values), lstat (count, largest exponent), the fixed-point
+     * sums and the pass image of npix pixels; pofs the chunk's offset in its
+     * first pixel (SPM_SPLAT_SHADE_ARGS) */
+    int light;
+    cl_kernel k_ltrace, k_sadd, k_sconv;
+    cl_mem lpx, spx, sval, lstat, acc, lpass;
+    size_t lcap, scap;
+    spm_u32 pofs;
     /* spm_clr_render_pass, or with SPECMIP_CL_FAIL the test hook around it */
     int (*run_pass)(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                     spm_pass_stats *st, spm_error *err);
@@ -99,6 +112,26 @@ int spm_clr_run_trace(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_erro
 int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOTS + 1],
                       cl_mem ids, int all, cl_event ev[NSLOTS], spm_error *err);
 int spm_clr_run_accumulate(spm_cl_renderer *r, const batch *b, cl_event *ev, spm_error *err);
+
+/* cl_kernels.c, the light integrator's: spm_light_trace for the n subpaths
+ * of b from subpath `first` of the pass; the splats' sums (n splats) at the
+ * unit 2^-shift, and their conversion into the pass image. */
+int spm_clr_run_light_trace(spm_cl_renderer *r, const batch *b, size_t first, cl_event *ev,
+                            spm_error *err);
+int spm_clr_run_splat_add(spm_cl_renderer *r, size_t n, int shift, size_t launch, cl_event *ev,
+                          spm_error *err);
+int spm_clr_run_splat_convert(spm_cl_renderer *r, int shift, cl_event *ev, spm_error *err);
+
+/* cl_light.c: the light integrator's program (after spm_cl_program_defines'
+ * defs), its warm-up, and a pass of it: subpaths in chunks of
+ * SPM_SPLAT_CHUNK, each traced, shaded into splats and summed in fixed point
+ * on the device, the pass image read into pass_xyz. */
+int spm_clr_light_build(spm_cl_renderer *r, const spm_render_plan *plan, const char *defs,
+                        spm_error *err);
+int spm_clr_light_warm_up(spm_cl_renderer *r, spm_error *err);
+int spm_clr_light_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
+                       spm_pass_stats *st, spm_error *err);
+void spm_clr_light_release(spm_cl_renderer *r);
 
 /* backend_cl.c: the pipeline's steps the test hooks reuse. */
 /* Samples [first_sample, first_sample + spp) of every pixel, batch by batch

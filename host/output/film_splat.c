@@ -58,7 +58,7 @@ static int finite_splat(const float *v, int ch)
  * do not depend on the order either. */
 static int chunk_shift(const spm_splats *s, int ch)
 {
-    int e = -1074, b = 0;
+    int e = -1074;
     for (size_t i = 0; i < s->n; i++) {
         const float *v = &s->v[(size_t)ch * i];
         if (!finite_splat(v, ch))
@@ -69,7 +69,13 @@ static int chunk_shift(const spm_splats *s, int ch)
                 e = ex;
         }
     }
-    while (((size_t)1 << b) < s->n)
+    return spm_splat_shift(e, s->n);
+}
+
+int spm_splat_shift(int e, size_t n)
+{
+    int b = 0;
+    while (((size_t)1 << b) < n)
         b++;
     return 62 - e - b;
 }

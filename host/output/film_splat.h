@@ -45,4 +45,8 @@ void spm_splat_acc_free(spm_splat_acc *a);
  * non-finite value is left out and counted in *nonfinite. Returns the
  * scale's exponent used (the fixed-point unit is 2^-shift). */
 int spm_splats_add_chunk(spm_splat_acc *a, const spm_splats *s, float *pass, uint64_t *nonfinite);
+/* The exponent of the fixed-point unit 2^-shift of a chunk of n splats whose
+ * largest binary exponent among finite values is e (frexp's; -1074: none):
+ * 62 - e - b with 2^b >= n. A device computes e and n itself and asks here. */
+int spm_splat_shift(int e, size_t n);
 #endif
