@@ -18,8 +18,16 @@
  * paths is a generous ceiling (measured: see the printed count), while a
  * real transport mismatch diverges on most paths. */
 #define MAX_DIVERGENT_FRACTION 1e-3
+/* Smooth glass spheres of 528 triangles refract those ulps across many more
+ * edges: 41 of 8192 paths (0.005) of textured_glass.scene diverge, as many
+ * with the ray cone's widening switched off on both sides; a mismatch in the
+ * cone's arithmetic moves the level of many lookups past a bounce (the
+ * kernel without its curvature term: 290 of 8192; without its roughness
+ * term: over 1000). */
+#define MAX_DIVERGENT_FRACTION_GLASS 1e-2
 
-static void compare_pass(const cl_test_scene *s, spm_cl_renderer *r, int mode, spm_u32 first)
+static void compare_pass_within(const cl_test_scene *s, spm_cl_renderer *r, int mode,
+                                spm_u32 first, double max_fraction)
 {
     size_t n = (size_t)W * H * SPP;
     spm_path *gp = spm_xcalloc(n, sizeof *gp), *cp = spm_xcalloc(n, sizeof *cp);
@@ -46,13 +54,17 @@ static void compare_pass(const cl_test_scene *s, spm_cl_renderer *r, int mode, s
            level_diff);
     /* the scene must exercise the comparison: bounces, lights, escapes */
     CHECK(vertices > n && lit > n / 4, "too little transport to compare (%zu, %zu)", vertices, lit);
-    CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu of %zu paths diverged",
-          diverged, n);
+    CHECK((double)diverged <= max_fraction * (double)n, "%zu of %zu paths diverged", diverged, n);
     CHECK(level_diff == 0, "%zu paths with equal records have different level bytes", level_diff);
     free(gp);
     free(cp);
     free(gl);
     free(cl);
+}
+
+static void compare_pass(const cl_test_scene *s, spm_cl_renderer *r, int mode, spm_u32 first)
+{
+    compare_pass_within(s, r, mode, first, MAX_DIVERGENT_FRACTION);
 }
 
 /* Hash of the whole pass's records as the kernel writes them in `mode`. */
@@ -156,6 +168,21 @@ int main(void)
         free(seen);
     } else {
         CHECK(0, "the textured scene loads");
+    }
+    cl_test_scene_close(&s);
+
+    /* the ray cone widened past curved mirrors and through smooth and rough
+     * glass before the textures' lookups (texture.clh tex_cone_bounce) */
+    snprintf(path, sizeof path, "%s/tests/data/scenes/textured_glass.scene", SPM_SOURCE_DIR);
+    if (cl_test_scene_load(&s, path, W, H) == 0) {
+        if (spm_cl_create(0, &s.geom, &s.tables, SPM_MODE_ML, SEED, &r, &err) == 0) {
+            compare_pass_within(&s, r, SPM_MODE_ML, 0, MAX_DIVERGENT_FRACTION_GLASS);
+            spm_cl_destroy(r);
+        } else {
+            CHECK(0, "spm_cl_create (textured glass): %s", err.msg);
+        }
+    } else {
+        CHECK(0, "the textured glass scene loads");
     }
     cl_test_scene_close(&s);
 
