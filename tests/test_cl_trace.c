@@ -23,7 +23,7 @@
  * with the ray cone's widening switched off on both sides; a mismatch in the
  * cone's arithmetic moves the level of many lookups past a bounce (the
  * kernel without its curvature term: 290 of 8192; without its roughness
- * term: over 1000). */
+ * term: 939 and 1096). */
 #define MAX_DIVERGENT_FRACTION_GLASS 1e-2
 
 static void compare_pass_within(const cl_test_scene *s, spm_cl_renderer *r, int mode,

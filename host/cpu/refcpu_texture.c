@@ -132,6 +132,6 @@ float spm_ref_cone_bounce(const spm_geometry *g, const spm_tri *tri, float sprea
     /* a diffuse lobe (pdf < 0) is cosine-sampled */
     float p = s->pdf < 0.0f ? fabsf(v3_dot(s->wi, n)) / SPM_PI_F : s->pdf;
     if (p > 0.0f)
-        spread += sqrtf(1.0f / (SPM_PI_F * p));
+        spread += SPM_CONE_LOBE * sqrtf(1.0f / (SPM_PI_F * p));
     return spread;
 }
