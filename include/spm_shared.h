@@ -620,6 +620,16 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
 #define SPM_ALPHA_RECORD 4
 #define SPM_ALPHA_MAP_HEAD 4
 
+/* The ray cone's widening past a lobe that is not a delta, as a fraction of
+ * the half-angle of a cone of the lobe's solid angle (kernels/texture.clh
+ * tex_cone_bounce). The whole half-angle blurs the texture over as wide a
+ * patch as the lobe integrates, which biases colour bleeding: against
+ * Mitsuba 3's unfiltered bitmap (docs/VALIDATION_MITSUBA.md "Textures") the
+ * 4 x 4-block mean dE00 was 0.67 with it, 0.27 with no widening, 0.30 with an
+ * eighth (the seed floor 0.15); an eighth still takes a diffuse bounce's
+ * lookups 3 levels coarser at the same distance. */
+#define SPM_CONE_LOBE 0.125f
+
 /* Smooth shading (kernels/shading.clh, host/cpu/refcpu_shading.c): where the
  * mirror reflection of the viewer about the interpolated normal falls below
  * the geometric surface, the reflection is lifted to this cosine above it

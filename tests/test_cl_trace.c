@@ -19,8 +19,16 @@
  * paths is a generous ceiling (measured: see the printed count), while a
  * real transport mismatch diverges on most paths. */
 #define MAX_DIVERGENT_FRACTION 1e-3
+/* Smooth glass spheres of 528 triangles refract those ulps across many more
+ * edges: 41 of 8192 paths (0.005) of textured_glass.scene diverge, as many
+ * with the ray cone's widening switched off on both sides; a mismatch in the
+ * cone's arithmetic moves the level of many lookups past a bounce (the
+ * kernel without its curvature term: 290 of 8192; without its roughness
+ * term: 939 and 1096). */
+#define MAX_DIVERGENT_FRACTION_GLASS 1e-2
 
-static void compare_pass(const cl_test_scene *s, spm_cl_renderer *r, int mode, spm_u32 first)
+static void compare_pass_within(const cl_test_scene *s, spm_cl_renderer *r, int mode,
+                                spm_u32 first, double max_fraction)
 {
     size_t n = (size_t)W * H * SPP;
     spm_path *gp = spm_xcalloc(n, sizeof *gp), *cp = spm_xcalloc(n, sizeof *cp);
@@ -47,13 +55,17 @@ static void compare_pass(const cl_test_scene *s, spm_cl_renderer *r, int mode, s
            level_diff);
     /* the scene must exercise the comparison: bounces, lights, escapes */
     CHECK(vertices > n && lit > n / 4, "too little transport to compare (%zu, %zu)", vertices, lit);
-    CHECK((double)diverged <= MAX_DIVERGENT_FRACTION * (double)n, "%zu of %zu paths diverged",
-          diverged, n);
+    CHECK((double)diverged <= max_fraction * (double)n, "%zu of %zu paths diverged", diverged, n);
     CHECK(level_diff == 0, "%zu paths with equal records have different level bytes", level_diff);
     free(gp);
     free(cp);
     free(gl);
     free(cl);
+}
+
+static void compare_pass(const cl_test_scene *s, spm_cl_renderer *r, int mode, spm_u32 first)
+{
+    compare_pass_within(s, r, mode, first, MAX_DIVERGENT_FRACTION);
 }
 
 /* Hash of the whole pass's records as the kernel writes them in `mode`. */
@@ -81,8 +93,9 @@ static uint64_t mode_records_hash(const cl_test_scene *s, int mode)
 }
 
 /* The kernel against the reference in ml on the scene file `rel` (under the
- * source tree), loaded into *s, which the caller closes: 0 if it loaded. */
-static int compare_file(cl_test_scene *s, const char *rel, const char *what)
+ * source tree), loaded into *s, which the caller closes, at most `frac` of
+ * the paths diverging: 0 if it loaded. */
+static int compare_file_within(cl_test_scene *s, const char *rel, const char *what, double frac)
 {
     char path[1024];
     spm_cl_renderer *r;
@@ -93,12 +106,17 @@ static int compare_file(cl_test_scene *s, const char *rel, const char *what)
         return 1;
     }
     if (spm_cl_create(0, &s->geom, &s->tables, SPM_MODE_ML, SEED, &r, &err) == 0) {
-        compare_pass(s, r, SPM_MODE_ML, 0);
+        compare_pass_within(s, r, SPM_MODE_ML, 0, frac);
         spm_cl_destroy(r);
     } else {
         CHECK(0, "spm_cl_create (%s): %s", what, err.msg);
     }
     return 0;
+}
+
+static int compare_file(cl_test_scene *s, const char *rel, const char *what)
+{
+    return compare_file_within(s, rel, what, MAX_DIVERGENT_FRACTION);
 }
 
 int main(void)
@@ -167,6 +185,12 @@ int main(void)
         CHECK(s.geom.ntex > 0 && s.geom.tex[SPM_TEXD_NPAL] == 3,
               "the coated textures have a palette each (%u palettes)",
               s.geom.ntex ? s.geom.tex[SPM_TEXD_NPAL] : 0u);
+    cl_test_scene_close(&s);
+
+    /* the ray cone widened past curved mirrors and through smooth and rough
+     * glass before the textures' lookups (texture.clh tex_cone_bounce) */
+    compare_file_within(&s, "tests/data/scenes/textured_glass.scene", "textured glass",
+                        MAX_DIVERGENT_FRACTION_GLASS);
     cl_test_scene_close(&s);
 
     /* emitters of unequal power: the kernel picks and weighs them through the

@@ -81,3 +81,39 @@ spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, 
     return tex[tex[SPM_TEXD_PALETTE] + (tw >> 16) * SPM_TEX_NODES_ALL +
                (nr * SPM_TEX_GRID + ng) * SPM_TEX_GRID + nb];
 }
+
+/* the largest of the edges' |(n_j - n_i) . (p_j - p_i)| / |p_j - p_i|^2 (0 flat) */
+static float curvature(const spm_geometry *g, const spm_tri *tri)
+{
+    if (tri->vn == 0u)
+        return 0.0f;
+    const float *vn = &g->vnormals[9 * (size_t)(tri->vn - 1u)];
+    const float *p[3] = {tri->v0, tri->v1, tri->v2};
+    float k = 0.0f;
+    for (int e = 0; e < 3; e++) {
+        int f = (e + 1) % 3;
+        float dp[3], dn[3];
+        v3_sub(dp, p[f], p[e]);
+        v3_sub(dn, &vn[3 * f], &vn[3 * e]);
+        k = fmaxf(k, fabsf(v3_dot(dn, dp)) / v3_dot(dp, dp));
+    }
+    return k;
+}
+
+float spm_ref_cone_bounce(const spm_geometry *g, const spm_tri *tri, float spread, float w,
+                          const float n[3], float eta, const float d[3],
+                          const spm_ref_bsample *s)
+{
+    if (s->refract) {
+        float ci = fabsf(v3_dot(d, n)), ct = fabsf(v3_dot(s->wi, n));
+        spread = spread * ci / fmaxf(eta * ct, 1e-6f) +
+                 fabsf(1.0f - 1.0f / eta) * curvature(g, tri) * w;
+    } else {
+        spread += 2.0f * curvature(g, tri) * w;
+    }
+    /* a diffuse lobe (pdf < 0) is cosine-sampled */
+    float p = s->pdf < 0.0f ? fabsf(v3_dot(s->wi, n)) / SPM_PI_F : s->pdf;
+    if (p > 0.0f)
+        spread += SPM_CONE_LOBE * sqrtf(1.0f / (SPM_PI_F * p));
+    return spread;
+}

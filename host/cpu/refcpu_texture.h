@@ -12,4 +12,11 @@
 spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, const float x[3],
                                const float d[3], float cone, const spm_ref_key *k, int j,
                                spm_u32 refl, spm_u32 base);
+
+/* The ray cone's spread past a vertex on triangle tri where the cone of width
+ * w, arriving along d, left as s says (shading normal n, relative index eta):
+ * kernels/texture.clh tex_cone_bounce's formulas. */
+float spm_ref_cone_bounce(const spm_geometry *g, const spm_tri *tri, float spread, float w,
+                          const float n[3], float eta, const float d[3],
+                          const spm_ref_bsample *s);
 #endif

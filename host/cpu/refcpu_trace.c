@@ -153,9 +153,10 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
     int seg = 0;        /* the last vertex records the length of its ray's segment */
     camera_ray(&p->cam, k.seed, k.pixel, k.sample, o, d);
     spm_u32 skip = 0xFFFFFFFFu;
-    /* a textured vertex's ray cone (texture.clh): a pixel's angle times the
-     * path's length so far, an orthographic pixel's width constant */
-    float spread = 2.0f * p->cam.tan_half / (float)p->cam.width, cone = p->cam.ortho ? spread : 0.0f;
+    /* a textured vertex's ray cone (texture.clh): width w, spread g, from a
+     * pixel's angle (an orthographic pixel's width, spread 0) */
+    float pix = 2.0f * p->cam.tan_half / (float)p->cam.width;
+    float cone_w = p->cam.ortho ? pix : 0.0f, cone_g = p->cam.ortho ? 0.0f : pix;
     for (int j = 0;; j++) {
         float t, x[3];
         spm_ref_hit hf;
@@ -183,9 +184,8 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         float mmean, minv;
         spm_u32 refl = spm_ref_lobe(m, &b, &mmean, &minv);
         if (g->ntex) {
-            if (!p->cam.ortho)
-                cone += spread * t;
-            refl = spm_ref_texture_colour(g, tri->material, (spm_u32)hit, x, d, cone, &k, j, refl,
+            cone_w += cone_g * t;
+            refl = spm_ref_texture_colour(g, tri->material, (spm_u32)hit, x, d, cone_w, &k, j, refl,
                                           m->refl);
         }
         spm_vertex *vx = &path->v[j];
@@ -222,6 +222,8 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         }
         weight *= s.wt;
         weight *= s.w;
+        if (g->ntex)
+            cone_g = spm_ref_cone_bounce(g, tri, cone_g, cone_w, hf.n, b.eta, d, &s);
         cpdf = s.pdf;
         seg = s.inside;
         path->x[j].lobe = s.cos_lobe;
