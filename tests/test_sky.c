@@ -50,7 +50,8 @@ static void dump_escape(FILE *out, const spm_scene *s, const spm_geometry *g, co
     memset(&p, 0, sizeof p);
     p.bg_up = p.bg_down = SPM_NONE;
     float fd[3] = {(float)d[0], (float)d[1], (float)d[2]}, scale, pdf;
-    spm_u32 c = spm_ref_light_escape(g, &p, fd, &scale, &pdf);
+    spm_ref_key k = {7u, 3u, 0u}; /* at a texel's centre the bilinear draw has one texel */
+    spm_u32 c = spm_ref_light_escape(g, &p, fd, &k, 1u, &scale, &pdf);
     double xyz[3] = {0.0, 0.0, 0.0};
     if (c != SPM_NONE)
         spm_xyz_emission(&s->colours[c].s, xyz);
