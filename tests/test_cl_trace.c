@@ -3,7 +3,8 @@
  * close, its level byte equal; and the records do not depend on the mode.
  * Also on MiniLight's Cornell box lit by a sun 1.5e11 away, and on the
  * textured box (scenes/textured.scene), whose vertices record colours the
- * texture lookup picks (kernels/texture.clh, host/cpu/refcpu_texture.c). */
+ * texture lookup picks (kernels/texture.clh, host/cpu/refcpu_texture.c), and
+ * on a textured room with glass and gold spheres that widen the ray cone. */
 #include "cl_testlib.h"
 #include "testutil.h"
 
@@ -67,6 +68,28 @@ static void compare_pass(const cl_test_scene *s, spm_cl_renderer *r, int mode, s
     compare_pass_within(s, r, mode, first, MAX_DIVERGENT_FRACTION);
 }
 
+/* One pass of tests/data/scenes/NAME in ml, kernel against reference. */
+static void compare_file(const char *name, double max_fraction)
+{
+    char path[1024];
+    cl_test_scene s;
+    spm_cl_renderer *r;
+    spm_error err;
+    snprintf(path, sizeof path, "%s/tests/data/scenes/%s", SPM_SOURCE_DIR, name);
+    if (cl_test_scene_load(&s, path, W, H) != 0) {
+        CHECK(0, "%s loads", name);
+        cl_test_scene_close(&s);
+        return;
+    }
+    if (spm_cl_create(0, &s.geom, &s.tables, SPM_MODE_ML, SEED, &r, &err) == 0) {
+        compare_pass_within(&s, r, SPM_MODE_ML, 0, max_fraction);
+        spm_cl_destroy(r);
+    } else {
+        CHECK(0, "spm_cl_create (%s): %s", name, err.msg);
+    }
+    cl_test_scene_close(&s);
+}
+
 /* Hash of the whole pass's records as the kernel writes them in `mode`. */
 static uint64_t mode_records_hash(const cl_test_scene *s, int mode)
 {
@@ -123,18 +146,7 @@ int main(void)
 
     /* coordinates up to 1e12 (scene_build.h): the sun's rays in float */
     char path[1024];
-    snprintf(path, sizeof path, "%s/tests/data/scenes/cornellbox_sun.ml.txt", SPM_SOURCE_DIR);
-    if (cl_test_scene_load(&s, path, W, H) == 0) {
-        if (spm_cl_create(0, &s.geom, &s.tables, SPM_MODE_ML, SEED, &r, &err) == 0) {
-            compare_pass(&s, r, SPM_MODE_ML, 0);
-            spm_cl_destroy(r);
-        } else {
-            CHECK(0, "spm_cl_create (far sun): %s", err.msg);
-        }
-    } else {
-        CHECK(0, "the far-sun scene loads");
-    }
-    cl_test_scene_close(&s);
+    compare_file("cornellbox_sun.ml.txt", MAX_DIVERGENT_FRACTION);
 
     /* textures: the records' colour ids are the lookups' picks, which must be
      * the reference's; and they must be picks, many colours beyond the
@@ -173,18 +185,7 @@ int main(void)
 
     /* the ray cone widened past curved mirrors and through smooth and rough
      * glass before the textures' lookups (texture.clh tex_cone_bounce) */
-    snprintf(path, sizeof path, "%s/tests/data/scenes/textured_glass.scene", SPM_SOURCE_DIR);
-    if (cl_test_scene_load(&s, path, W, H) == 0) {
-        if (spm_cl_create(0, &s.geom, &s.tables, SPM_MODE_ML, SEED, &r, &err) == 0) {
-            compare_pass_within(&s, r, SPM_MODE_ML, 0, MAX_DIVERGENT_FRACTION_GLASS);
-            spm_cl_destroy(r);
-        } else {
-            CHECK(0, "spm_cl_create (textured glass): %s", err.msg);
-        }
-    } else {
-        CHECK(0, "the textured glass scene loads");
-    }
-    cl_test_scene_close(&s);
+    compare_file("textured_glass.scene", MAX_DIVERGENT_FRACTION_GLASS);
 
     /* emitters of unequal power: the kernel picks and weighs them through the
      * table (spm_emitter) as the reference does */
