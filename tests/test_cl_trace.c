@@ -4,7 +4,8 @@
  * Also on MiniLight's Cornell box lit by a sun 1.5e11 away, and on the
  * textured box (scenes/textured.scene), whose vertices record colours the
  * texture lookup picks (kernels/texture.clh, host/cpu/refcpu_texture.c),
- * and on it with coated textured materials. */
+ * on it with coated textured materials, and on a textured room with glass
+ * and gold spheres that widen the ray cone. */
 #include "cl_testlib.h"
 #include "testutil.h"
 

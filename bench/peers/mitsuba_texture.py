@@ -20,6 +20,8 @@ import subprocess
 import mitsuba as mi
 import numpy as np
 
+from mitsuba_envmap import mean_rgb  # noqa: E402 (this folder's peer: oiiotool's means)
+
 W, H = 96, 64
 # the floor y = 0 and the back wall z = 1, their corners in the order u, v = (0 0) (1 0) (1 1) (0 1)
 FLOOR = [(-2, 0, -2), (2, 0, -2), (2, 0, 1), (-2, 0, 1)]
@@ -78,14 +80,6 @@ def write_obj(path, corners):
         f.write("f 1/1 3/3 2/2\nf 1/1 4/4 3/3\n")
 
 
-def mean_rgb(exr):
-    r = subprocess.run(["oiiotool", exr, "--printstats"], capture_output=True, text=True)
-    avg = [line.split(":")[1].split()[:3] for line in r.stdout.splitlines() if "Stats Avg" in line]
-    if not avg:
-        raise SystemExit(f"oiiotool could not read {exr}: {r.stderr.strip()}")
-    return avg[0]
-
-
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--spp", type=int, default=256)
@@ -111,13 +105,12 @@ def main():
                              write_async=False)
     sp = os.path.join(a.out, "specmip.exr")
     subprocess.run([a.specmip, "render", sc, "--mode", "truth", "--quiet", "-o", sp], check=True)
-    for name in ("specmip", "mitsuba1", "mitsuba2"):
-        print(name, "mean linear sRGB", *mean_rgb(os.path.join(a.out, name + ".exr")))
-    for a_, b_ in (("mitsuba1", "specmip"), ("mitsuba1", "mitsuba2")):
-        r = subprocess.run([a.specmip, "compare", os.path.join(a.out, a_ + ".exr"),
-                            os.path.join(a.out, b_ + ".exr")], capture_output=True, text=True)
-        mean = [l for l in r.stdout.splitlines() if l.startswith("dE00")][0].split()[1]
-        print(f"{b_} against {a_}: mean dE00 {mean}")
+    exr = {n: os.path.join(a.out, n + ".exr") for n in ("specmip", "mitsuba1", "mitsuba2")}
+    print("\n".join("%s mean linear sRGB %s" % (n, " ".join(mean_rgb(f))) for n, f in exr.items()))
+    for other in ("specmip", "mitsuba2"):
+        out = subprocess.run([a.specmip, "compare", exr["mitsuba1"], exr[other]],
+                             capture_output=True, text=True).stdout.splitlines()
+        print(other, "against mitsuba1: mean dE00", next(l for l in out if l.startswith("dE00")).split()[1])
 
 
 if __name__ == "__main__":
