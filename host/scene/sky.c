@@ -142,13 +142,13 @@ int spm_sky_statement(spm_scene *s, spm_lexer *lx, spm_error *err)
         double lo, hi;
         size_t off;
     } opt[] = {
-        {"elevation", "the sun's elevation in degrees (0 to 90)", 0.0, 90.0,
+        {"elevation", "the sun's elevation in degrees", 0.0, 90.0,
          offsetof(spm_sky, elevation)},
-        {"turbidity", "a turbidity (1.7 to 10)", 1.7, 10.0, offsetof(spm_sky, turbidity)},
+        {"turbidity", "a turbidity", 1.7, 10.0, offsetof(spm_sky, turbidity)},
         {"azimuth", "the sun's azimuth in degrees", -360.0, 360.0, offsetof(spm_sky, azimuth)},
-        {"scale", "a scale (0 or more)", 0.0, 1e30, offsetof(spm_sky, scale)},
-        {"sky", "the sky's factor (0 or more)", 0.0, 1e30, offsetof(spm_sky, sky)},
-        {"sun", "the sun's factor (0 or more)", 0.0, 1e30, offsetof(spm_sky, sun)}};
+        {"scale", "a scale", 0.0, 1e30, offsetof(spm_sky, scale)},
+        {"sky", "the sky's factor", 0.0, 1e30, offsetof(spm_sky, sky)},
+        {"sun", "the sun's factor", 0.0, 1e30, offsetof(spm_sky, sun)}};
     enum { NOPT = sizeof opt / sizeof opt[0] };
     char where[600];
     spm_lex_where(lx, where, sizeof where);
