@@ -15,14 +15,9 @@ int spm_ref_light_sample_DISTANT(const spm_geometry *g, const spm_material *mats
                                  spm_ref_lsample *ls)
 {
     (void)mats, (void)k, (void)dim;
-    float ts;
     for (int i = 0; i < 3; i++)
         ls->wi[i] = -e->p[SPM_LIGHT_P_DIR + i];
-    float cos_i = v3_dot(ls->wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
-    if ((cos_i < 0.0f) != (cos_o < 0.0f))
-        return 0;
-    spm_ref_record_ray(x, ls->wi, hit, SPM_RAY_CLOSEST);
-    if (spm_bvh_intersect(g, x, ls->wi, hit, &ts) >= 0)
+    if (!spm_ref_light_faces(ls->wi, h) || !spm_ref_light_unblocked(g, x, ls->wi, hit, INFINITY))
         return 0;
     return spm_ref_light_delta(ls, e, e->inv_pdf, e->p[SPM_LIGHT_P_SCALE]);
 }

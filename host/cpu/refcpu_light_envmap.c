@@ -148,7 +148,7 @@ int spm_ref_light_sample_ENVMAP(const spm_geometry *g, const spm_material *mats,
 {
     (void)mats;
     spm_u32 c;
-    float st, ts, uv[2];
+    float st, uv[2];
     float u1 = spm_ref_rnd(k, dim + SPM_DIM_EPOINT_A), u2 = spm_ref_rnd(k, dim + SPM_DIM_EPOINT_B);
     float puv = env_sample_dir(g, e, u1, u2, ls->wi, uv, &c, &st);
     float pdf_sa = puv > 0.0f && st > 0.0f ? puv / (2.0f * SPM_PI_F * SPM_PI_F * st) : 0.0f;
@@ -160,8 +160,7 @@ int spm_ref_light_sample_ENVMAP(const spm_geometry *g, const spm_material *mats,
     float cos_i = v3_dot(ls->wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
     if (!(pdf_sa > 0.0f) || colour == SPM_NONE || (cos_i < 0.0f) != (cos_o < 0.0f))
         return 0;
-    spm_ref_record_ray(x, ls->wi, hit, SPM_RAY_CLOSEST);
-    if (spm_bvh_intersect(g, x, ls->wi, hit, &ts) >= 0)
+    if (!spm_ref_light_unblocked(g, x, ls->wi, hit, INFINITY))
         return 0;
     ls->pdf = e->pdf * pdf_sa;
     ls->g = e->inv_pdf / pdf_sa;

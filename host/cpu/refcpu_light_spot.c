@@ -31,14 +31,13 @@ int spm_ref_light_sample_SPOT(const spm_geometry *g, const spm_material *mats,
                               spm_ref_lsample *ls)
 {
     (void)mats, (void)k, (void)dim;
-    float d2, ts;
+    float d2;
     if (!spm_ref_light_toward(e, x, h, ls, &d2))
         return 0;
     float f = spot_falloff(e, -v3_dot(ls->wi, &e->p[SPM_LIGHT_P_DIR]));
     if (!(f > 0.0f))
         return 0;
-    spm_ref_record_ray(x, ls->wi, hit, SPM_RAY_CLOSEST);
-    if (spm_bvh_intersect(g, x, ls->wi, hit, &ts) >= 0 && ts < sqrtf(d2))
+    if (!spm_ref_light_unblocked(g, x, ls->wi, hit, sqrtf(d2)))
         return 0;
     return spm_ref_light_delta(ls, e, e->inv_pdf / d2, e->p[SPM_LIGHT_P_SCALE] * f);
 }

@@ -38,14 +38,9 @@ int spm_ref_light_sample_SUN(const spm_geometry *g, const spm_material *mats, co
                              const spm_ref_hit *h, spm_ref_lsample *ls)
 {
     (void)mats;
-    float ts;
     sun_cone(e, spm_ref_rnd(k, dim + SPM_DIM_EPOINT_A), spm_ref_rnd(k, dim + SPM_DIM_EPOINT_B),
              ls->wi);
-    float cos_i = v3_dot(ls->wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
-    if ((cos_i < 0.0f) != (cos_o < 0.0f))
-        return 0;
-    spm_ref_record_ray(x, ls->wi, hit, SPM_RAY_CLOSEST);
-    if (spm_bvh_intersect(g, x, ls->wi, hit, &ts) >= 0)
+    if (!spm_ref_light_faces(ls->wi, h) || !spm_ref_light_unblocked(g, x, ls->wi, hit, INFINITY))
         return 0;
     float pdf_sa = 1.0f / (2.0f * SPM_PI_F * e->p[SPM_LIGHT_P_B]);
     ls->pdf = e->pdf * pdf_sa;

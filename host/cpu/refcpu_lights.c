@@ -89,6 +89,20 @@ int spm_ref_light_delta(spm_ref_lsample *ls, const spm_emitter *e, float g, floa
     return 1;
 }
 
+int spm_ref_light_unblocked(const spm_geometry *g, const float x[3], const float wi[3], spm_u32 hit,
+                            float dist)
+{
+    float ts;
+    spm_ref_record_ray(x, wi, hit, SPM_RAY_CLOSEST);
+    return !(spm_bvh_intersect(g, x, wi, hit, &ts) >= 0 && ts < dist);
+}
+
+int spm_ref_light_faces(const float wi[3], const spm_ref_hit *h)
+{
+    float cos_i = v3_dot(wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
+    return (cos_i < 0.0f) == (cos_o < 0.0f);
+}
+
 int spm_ref_light_toward(const spm_emitter *e, const float x[3], const spm_ref_hit *h,
                          spm_ref_lsample *ls, float *d2)
 {
@@ -96,8 +110,7 @@ int spm_ref_light_toward(const spm_emitter *e, const float x[3], const spm_ref_h
     v3_sub(ev, &e->p[SPM_LIGHT_P_POS], x);
     *d2 = v3_dot(ev, ev);
     v3_normalise(ls->wi, ev);
-    float cos_i = v3_dot(ls->wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
-    return *d2 > 0.0f && (cos_i < 0.0f) == (cos_o < 0.0f);
+    return *d2 > 0.0f && spm_ref_light_faces(ls->wi, h);
 }
 
 spm_u32 spm_ref_light_escape(const spm_geometry *g, const spm_trace_params *p, const float d[3],

@@ -72,6 +72,13 @@ void spm_ref_light_pdf_emission(const spm_geometry *g, spm_u32 k, const float o[
  * surface than the viewer (no transmission) */
 int spm_ref_light_toward(const spm_emitter *e, const float x[3], const spm_ref_hit *h,
                          spm_ref_lsample *ls, float *d2);
+/* the shadow ray from x along wi (recorded for the ray bench, as every
+ * light sample's): 1 when no triangle but hit's lies on it nearer than dist */
+int spm_ref_light_unblocked(const spm_geometry *g, const float x[3], const float wi[3], spm_u32 hit,
+                            float dist);
+/* 1 when wi leaves the surface (frame h) on the viewer's side: no light
+ * reaches the viewer through it (no transmission) */
+int spm_ref_light_faces(const float wi[3], const spm_ref_hit *h);
 /* a delta light's sample (no MIS): weight g, light e's colour at factor
  * scale; returns 1 */
 int spm_ref_light_delta(spm_ref_lsample *ls, const spm_emitter *e, float g, float scale);
