@@ -295,7 +295,7 @@ static void one_cell(int i, int j, int w, int h, float rgb[3])
  * PICK_N escapes at a texel's centre (each its drawn node's colour of Y = 1
  * times the texel's luminance) against the texel's own RGB in u'v'. A cell
  * mean's colour is off by the two shapes' distance times the other's share
- * of the cell's luminance (measured on the former palette below); the node
+ * of the cell's luminance (the former palette: 5.1e-3 and 8.8e-3); the node
  * pick's offset is its noise, within PICK_Z standard errors of the draws'
  * u'v' (a correct pick fails 1 in 10^6), plus the lift's error DUV_MAX. */
 #define PICK_N 20000
