@@ -58,7 +58,7 @@ int main(int argc, char **argv)
             const char *name = strrchr(argv[a], '/') ? strrchr(argv[a], '/') + 1 : argv[a];
             printf("| %s | %dx%d | %d | %d | %.4f | %.5f | %.3f | %.2f | %.2f |\n", name, e->w, e->h,
                    grids[g], e->ncolours, e->duv_max, e->duv_mean, secs,
-                   (8.0 * texels + 4.0 * row_floats() * e->ncolours) / 1e6, 16.0 * texels / 1e6);
+                   (12.0 * texels + 4.0 * row_floats() * e->ncolours) / 1e6, 16.0 * texels / 1e6);
             spm_envmap_free(s.env);
             free(s.colours);
         }

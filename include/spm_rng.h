@@ -74,12 +74,14 @@
  * lens's and hero's. */
 #define SPM_DIM_TEX_BASE 0x60000000u
 #define SPM_DIM_TEX(j, k) (SPM_DIM_TEX_BASE + 4u * (spm_u32)(j) + (spm_u32)(k))
-/* The environment map's bilinear lookup (kernels/light_envmap.clh): the
- * texel drawn along u and along v, SPM_DIM_ENV(j, 0 .. 1), by the light
- * sample at vertex j or by the ray escaping in vertex j's place (the two
- * never meet at one j); above the textures' range, below the lens's. */
+/* The environment map's lookup (kernels/light_envmap.clh): the texel drawn
+ * along u and along v, SPM_DIM_ENV(j, 0 .. 1), and the node of the texel's
+ * palette cell, SPM_DIM_ENV(j, 2), by the light sample at vertex j or by the
+ * ray escaping in vertex j's place (the two never meet at one j); above the
+ * textures' range, below the lens's. */
 #define SPM_DIM_ENV_BASE 0x70000000u
-#define SPM_DIM_ENV(j, k) (SPM_DIM_ENV_BASE + 2u * (spm_u32)(j) + (spm_u32)(k))
+#define SPM_DIM_ENV(j, k) (SPM_DIM_ENV_BASE + 3u * (spm_u32)(j) + (spm_u32)(k))
+#define SPM_DIM_ENV_NODE 2u
 
 /* "lowbias32" integer mixer (Wellons): full avalanche, cheap. Its steps on x
  * of any unsigned 32-bit integer type (the kernels also mix 16 keys at once). */

@@ -428,12 +428,19 @@ typedef struct {
  * floats for a map of w x h texels, rows top (+y) to bottom: the marginal
  * cdf over the rows (h + 1), each row's conditional cdf (w + 1 a row), each
  * texel's density in (u, v) of the 2-D distribution, its luminance (the map's
- * scale in), its palette colour id (a uint's bits; SPM_NONE: black). */
+ * scale in), its colour's base node on the palette grid (a uint's bits;
+ * SPM_NONE: black) and its fractions toward the next nodes (two 16-bit
+ * fixed-point numbers, a: low, b: high); then the nodes: the grid's stride
+ * along a (a uint) and n nodes of two each, a scene colour id (a uint's
+ * bits; SPM_NONE: unused) and the luminance of the node's RGB shape
+ * (host/scene/envmap.h, kernels/light_envmap.clh env_node). 20 bytes a texel. */
 #define SPM_ENV_COND(w, h) ((h) + 1u)
 #define SPM_ENV_PDF(w, h) (SPM_ENV_COND(w, h) + (h) * ((w) + 1u))
 #define SPM_ENV_LUM(w, h) (SPM_ENV_PDF(w, h) + (w) * (h))
-#define SPM_ENV_ID(w, h) (SPM_ENV_LUM(w, h) + (w) * (h))
-#define SPM_ENV_FLOATS(w, h) (SPM_ENV_ID(w, h) + (w) * (h))
+#define SPM_ENV_NODE(w, h) (SPM_ENV_LUM(w, h) + (w) * (h))
+#define SPM_ENV_FRAC(w, h) (SPM_ENV_NODE(w, h) + (w) * (h))
+#define SPM_ENV_NODES(w, h) (SPM_ENV_FRAC(w, h) + (w) * (h))
+#define SPM_ENV_FLOATS(w, h, n) (SPM_ENV_NODES(w, h) + 1u + 2u * (n))
 
 /* The light kinds (include/spm_lights.h): their tags SPM_LIGHT_NAME, one
  * per entry in its order. */

@@ -24,6 +24,7 @@
  *    black columns). */
 #include <string.h>
 #include "chi2_testlib.h"
+#include "colour.h"
 #include "envmap_testlib.h"
 #include "geometry.h"
 #include "refcpu_lights.h"
@@ -272,8 +273,83 @@ static void test_palette(void)
         return;
     printf("palette: %d colours, u'v' error max %.2e, mean %.2e\n", s.env->ncolours,
            s.env->duv_max, s.env->duv_mean);
-    CHECK(s.env->ncolours == 2, "two colours, %d in the palette", s.env->ncolours);
+    CHECK(s.env->ncolours >= 2 && s.env->ncolours <= 8,
+          "two colours, the nodes of their cells: 2 to 8 in the palette (%d)", s.env->ncolours);
     CHECK(s.env->duv_max < DUV_MAX, "u'v' error %.3g", s.env->duv_max);
+    spm_geometry_free(&g);
+    spm_scene_free(&s);
+}
+
+/* Two colours in one palette cell (face red, a = 2, b = 1 on the grid of
+ * 16): shapes (1, .15, .10) on the left half at twice the luminance and
+ * (1, .184, .117) on the right. */
+static void one_cell(int i, int j, int w, int h, float rgb[3])
+{
+    (void)j, (void)h;
+    int left = i < w / 2;
+    rgb[0] = left ? 2.0f : 1.0f, rgb[1] = left ? 0.30f : 0.184f, rgb[2] = left ? 0.20f : 0.117f;
+    envmap_quantise(rgb);
+}
+
+/* The colour a texel renders, in expectation its own: the mean XYZ of
+ * PICK_N escapes at a texel's centre (each its drawn node's colour of Y = 1
+ * times the texel's luminance) against the texel's own RGB in u'v'. A cell
+ * mean's colour is off by the two shapes' distance times the other's share
+ * of the cell's luminance (the former palette: 5.1e-3 and 8.8e-3); the node
+ * pick's offset is its noise, within PICK_Z standard errors of the draws'
+ * u'v' (a correct pick fails 1 in 10^6), plus the lift's error DUV_MAX. */
+#define PICK_N 20000
+#define PICK_Z 5.0
+
+static void uvp(const double xyz[3], double uv[2])
+{
+    double den = xyz[0] + 15.0 * xyz[1] + 3.0 * xyz[2];
+    uv[0] = 4.0 * xyz[0] / den, uv[1] = 9.0 * xyz[1] / den;
+}
+
+static void test_node_pick(void)
+{
+    const int w = 8, h = 4;
+    spm_scene s;
+    spm_geometry g;
+    if (write_load("envmap_cell.hdr", w, h, one_cell, "", &s, &g))
+        return;
+    const spm_emitter *e = &g.emitters[g.nemitters - 1];
+    for (int i = 1; i < w; i += 5) {
+        float c[3], fd[3];
+        double d[3], own[3], in[3], m[3] = {0.0, 0.0, 0.0}, a[2], b[2];
+        one_cell(i, 1, w, h, c);
+        direction((i + 0.5) / w, 1.5 / h, 0.0, d);
+        for (int k = 0; k < 3; k++)
+            fd[k] = (float)d[k], in[k] = c[k];
+        spm_linear_srgb_to_xyz(in, own);
+        int bad = 0;
+        double q[2] = {0.0, 0.0}, q2[2] = {0.0, 0.0};
+        for (spm_u32 n = 0; n < PICK_N; n++) {
+            float sc, pdf;
+            double xyz[3], p[2];
+            spm_u32 id = escape(&g, e, fd, n, &sc, &pdf);
+            if (id == SPM_NONE || id >= (spm_u32)s.ncolours) {
+                bad++;
+                continue;
+            }
+            spm_xyz_emission(&s.colours[id].s, xyz);
+            uvp(xyz, p);
+            for (int k = 0; k < 3; k++)
+                m[k] += sc * xyz[k] / PICK_N;
+            for (int k = 0; k < 2; k++)
+                q[k] += p[k] / PICK_N, q2[k] += p[k] * p[k] / PICK_N;
+        }
+        double se = sqrt(fmax(q2[0] - q[0] * q[0] + q2[1] - q[1] * q[1], 0.0) / (PICK_N - 1));
+        uvp(own, a);
+        uvp(m, b);
+        double du = hypot(a[0] - b[0], a[1] - b[1]);
+        printf("node pick at texel %d: mean u'v' (%.5f, %.5f), own (%.5f, %.5f), off %.2e "
+               "(se %.2e); Y %.4f of %.4f\n", i, b[0], b[1], a[0], a[1], du, se, m[1], own[1]);
+        CHECK(bad == 0, "every escape meets a colour of the palette (%d do not)", bad);
+        CHECK(du < PICK_Z * se + DUV_MAX, "texel %d's expected chromaticity its own: off %.2e u'v'",
+              i, du);
+    }
     spm_geometry_free(&g);
     spm_scene_free(&s);
 }
@@ -393,6 +469,7 @@ int main(void)
     test_bilinear();
     test_support();
     test_palette();
+    test_node_pick();
     test_chi2();
     test_strategies();
     TEST_END();

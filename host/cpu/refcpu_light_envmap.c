@@ -1,5 +1,5 @@
 /* The CPU reference's environment map kind (kernels/light_envmap.clh): an
- * equirectangular image, its texels a palette colour and a luminance each,
+ * equirectangular image, its texels a luminance and a palette node each,
  * interpolated bilinearly by drawing one of four texels, met by escaping
  * rays and sampled by the 2-D distribution of the interpolated luminance's
  * texel means x sin(theta) in g->env (spm_shared.h SPM_ENV_*); the
@@ -27,10 +27,36 @@ static int uniform(void)
 static spm_u32 env_w(const spm_emitter *e) { return (spm_u32)e->p[SPM_LIGHT_P_A]; }
 static spm_u32 env_h(const spm_emitter *e) { return (spm_u32)e->p[SPM_LIGHT_P_B]; }
 
-static spm_u32 env_id(const spm_geometry *g, const spm_emitter *e, spm_u32 t)
+/* the colour standing for texel t's, one node of its palette cell's four
+ * corners drawn by vertex j's SPM_DIM_ENV_NODE with the weights bilinear in
+ * the texel's fractions times each node's luminance
+ * (kernels/light_envmap.clh env_node) */
+static spm_u32 env_id(const spm_geometry *g, const spm_emitter *e, spm_u32 t, const spm_ref_key *key,
+                      spm_u32 j)
 {
-    spm_u32 id;
-    memcpy(&id, &g->env[SPM_ENV_ID(env_w(e), env_h(e)) + t], sizeof id);
+    spm_u32 w = env_w(e), h = env_h(e), n, f, s;
+    memcpy(&n, &g->env[SPM_ENV_NODE(w, h) + t], sizeof n);
+    memcpy(&f, &g->env[SPM_ENV_FRAC(w, h) + t], sizeof f);
+    if (n == SPM_NONE)
+        return SPM_NONE;
+    const float *nd = g->env + SPM_ENV_NODES(w, h);
+    memcpy(&s, &nd[0], sizeof s);
+    spm_u32 k[4] = {n, n + 1u, n + s, n + s + 1u}, pick = n, id;
+    float fa = (float)(f & 0xFFFFu) * (1.0f / 65535.0f), fb = (float)(f >> 16) * (1.0f / 65535.0f);
+    float wt[4] = {(1.0f - fa) * (1.0f - fb), (1.0f - fa) * fb, fa * (1.0f - fb), fa * fb}, sum = 0.0f;
+    for (int c = 0; c < 4; c++) {
+        wt[c] *= nd[2u + 2u * k[c]];
+        sum += wt[c];
+    }
+    float x = spm_ref_rnd(key, SPM_DIM_ENV(j, SPM_DIM_ENV_NODE)) * sum;
+    for (int c = 0; c < 4; c++)
+        if (wt[c] > 0.0f) {
+            pick = k[c];
+            if (x < wt[c])
+                break;
+            x -= wt[c];
+        }
+    memcpy(&id, &nd[1u + 2u * pick], sizeof id);
     return id;
 }
 
@@ -125,7 +151,7 @@ spm_u32 spm_ref_light_escape_ENVMAP(const spm_geometry *g, const spm_emitter *e,
                      : 0.0f;
     if (uniform())
         *pdf = e->pdf / (4.0f * SPM_PI_F);
-    return env_id(g, e, t);
+    return env_id(g, e, t, k, j);
 }
 
 /* the uniform baseline's direction: z = 1 - 2 u1, phi = 2 pi u2; its map
@@ -155,8 +181,9 @@ int spm_ref_light_sample_ENVMAP(const spm_geometry *g, const spm_material *mats,
     if (uniform())
         pdf_sa = uniform_dir(e, u1, u2, ls->wi, uv);
     /* vertex j of the path whose light sample this is (dim = SPM_DIM_VERTEX(j)) */
-    spm_u32 t = env_tap(e, uv, k, (dim - SPM_DIM_VERTEX(0)) / SPM_DIMS_PER_VERTEX);
-    spm_u32 colour = env_id(g, e, t);
+    spm_u32 j = (dim - SPM_DIM_VERTEX(0)) / SPM_DIMS_PER_VERTEX;
+    spm_u32 t = env_tap(e, uv, k, j);
+    spm_u32 colour = env_id(g, e, t, k, j);
     float cos_i = v3_dot(ls->wi, h->ng), cos_o = -v3_dot(h->d, h->ng);
     if (!(pdf_sa > 0.0f) || colour == SPM_NONE || (cos_i < 0.0f) != (cos_o < 0.0f))
         return 0;

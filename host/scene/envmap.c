@@ -18,6 +18,10 @@ void spm_envmap_free(spm_scene_envmap *e)
         return;
     free(e->rgb);
     free(e->colour);
+    free(e->node);
+    free(e->frac);
+    free(e->node_colour);
+    free(e->node_y);
     free(e->lum);
     free(e->sky);
     free(e);
@@ -100,19 +104,43 @@ int spm_envmap_statement(spm_scene *s, spm_lexer *lx, const char *dir, spm_error
            spm_lex_end_of_statement(lx, err);
 }
 
-/* The palette cell of a shape: the face of its largest component l, the
- * next two components (in the order l+1, l+2) in q steps;
- * -1 for black. */
-static int cell_of(const float rgb[3], int q)
+/* A shape's place on the node grid: the face l of its largest component,
+ * the next two components (in the order l+1, l+2) times q, x = a + fa and
+ * y = b + fb with the cell (a, b) < q; returns its base node (l, a, b), f
+ * its fractions in 16-bit fixed point; -1 for black. */
+static int place_of(const float rgb[3], int q, unsigned f[2])
 {
     float m = fmaxf(rgb[0], fmaxf(rgb[1], rgb[2]));
     if (!(m > 0.0f))
         return -1;
-    int l = rgb[0] >= rgb[1] && rgb[0] >= rgb[2] ? 0 : rgb[1] >= rgb[2] ? 1 : 2;
-    int a = (int)(rgb[(l + 1) % 3] / m * (float)q), b = (int)(rgb[(l + 2) % 3] / m * (float)q);
-    a = a < q ? a : q - 1;
-    b = b < q ? b : q - 1;
-    return (l * q + a) * q + b;
+    int l = rgb[0] >= rgb[1] && rgb[0] >= rgb[2] ? 0 : rgb[1] >= rgb[2] ? 1 : 2, c[2];
+    for (int k = 0; k < 2; k++) {
+        double x = (double)rgb[(l + 1 + k) % 3] / m * q;
+        c[k] = (int)x < q ? (int)x : q - 1;
+        f[k] = (unsigned)lround((x - c[k]) * 65535.0);
+    }
+    return (l * (q + 1) + c[0]) * (q + 1) + c[1];
+}
+
+/* node n's RGB shape on a grid of q steps: 1 at its face, a / q, b / q */
+static void node_shape(int n, int q, double rgb[3])
+{
+    int s = q + 1, l = n / (s * s), a = n / s % s, b = n % s;
+    rgb[l] = 1.0;
+    rgb[(l + 1) % 3] = (double)a / q;
+    rgb[(l + 2) % 3] = (double)b / q;
+}
+
+/* the four corners of base node n (stride s along a) and their weights,
+ * bilinear in the fractions f (16-bit) times each node's luminance y:
+ * w_k = w_bilinear,k Y_k (kernels/light_envmap.clh env_node) */
+static void corners(int n, int s, const unsigned f[2], const float *y, int k[4], double w[4])
+{
+    double fa = f[0] / 65535.0, fb = f[1] / 65535.0;
+    k[0] = n, k[1] = n + 1, k[2] = n + s, k[3] = n + s + 1;
+    w[0] = (1.0 - fa) * (1.0 - fb), w[1] = (1.0 - fa) * fb, w[2] = fa * (1.0 - fb), w[3] = fa * fb;
+    for (int i = 0; i < 4; i++)
+        w[i] *= y ? y[k[i]] : 1.0;
 }
 
 static double luminance(const float rgb[3])
@@ -130,16 +158,17 @@ static void uv_prime(const double xyz[3], double uv[2])
     uv[1] = den > 0.0 ? 9.0 * xyz[1] / den : 0.0;
 }
 
-/* Cell c's colour: its texels' luminance-weighted mean shape sum[0..2] / sum[3],
- * lifted, normalised to Y = 1, appended to the scene's colours; uv its u'v'. */
-static int add_colour(spm_scene *s, const spm_rgb2spec_table *tab, int c, const double sum[4],
-                      double uv[2], spm_error *err)
+/* Node n's colour: its shape lifted, normalised to Y = 1, appended to the
+ * scene's colours; xyz its XYZ (Y = 1). */
+static int add_colour(spm_scene *s, const spm_rgb2spec_table *tab, int n, int q, double xyz[3],
+                      spm_error *err)
 {
-    double shape[3] = {sum[0] / sum[3], sum[1] / sum[3], sum[2] / sum[3]}, coef[3], scale, xyz[3];
+    double shape[3], coef[3], scale;
+    node_shape(n, q, shape);
     spm_rgb2spec_texel(tab, SPM_TEXEL_EMISSION, shape, coef, &scale);
     spm_colour col;
     memset(&col, 0, sizeof col);
-    snprintf(col.name, sizeof col.name, "map %d", c);
+    snprintf(col.name, sizeof col.name, "map %d", n);
     if (spm_rgb2spec_texel_spectrum(SPM_TEXEL_EMISSION, coef, scale, &col.s, err))
         return 1;
     spm_xyz_emission(&col.s, xyz);
@@ -149,36 +178,41 @@ static int add_colour(spm_scene *s, const spm_rgb2spec_table *tab, int c, const 
         return 1;
     }
     spm_spectrum_scale(&col.s, 1.0 / xyz[1]);
-    uv_prime(xyz, uv);
+    double y = xyz[1];
+    for (int k = 0; k < 3; k++)
+        xyz[k] /= y;
     s->colours = spm_xrealloc(s->colours, ((size_t)s->ncolours + 1) * sizeof *s->colours);
     s->colours[s->ncolours++] = col;
     return 0;
 }
 
-/* Each texel's colour and luminance; the palette's chromaticity error: the
- * distance in u'v' of each texel's own colour (its linear sRGB) from its
- * cell's lifted spectrum, the largest and the luminance-weighted mean. */
-static void assign(spm_scene_envmap *e, int q, const int *cells, const double (*uv)[2])
+/* The palette's chromaticity error: the distance in u'v' of each texel's own
+ * colour (its linear sRGB) from the expectation of its drawn nodes' lifted
+ * spectra (their XYZ of Y = 1 mixed by the pick's weights), the largest and
+ * the luminance-weighted mean: the lift's error alone. */
+static void chroma_error(spm_scene_envmap *e, const double (*xyz)[3])
 {
     size_t n = (size_t)e->w * e->h;
     double wsum = 0.0, dsum = 0.0;
     e->duv_max = 0.0;
     for (size_t i = 0; i < n; i++) {
-        const float *rgb = &e->rgb[3 * i];
-        int c = cell_of(rgb, q);
-        double y = c >= 0 ? luminance(rgb) : 0.0;
-        e->colour[i] = c >= 0 && y > 0.0 ? cells[c] : -1;
-        e->lum[i] = e->colour[i] >= 0 ? (float)(y * e->scale) : 0.0f;
-        if (e->colour[i] < 0)
+        if (e->node[i] < 0)
             continue;
-        double in[3] = {rgb[0], rgb[1], rgb[2]}, xyz[3], t[2];
-        spm_linear_srgb_to_xyz(in, xyz);
-        uv_prime(xyz, t);
-        const double *p = uv[e->colour[i] - e->first];
-        double d = hypot(t[0] - p[0], t[1] - p[1]);
+        const float *rgb = &e->rgb[3 * i];
+        unsigned f[2] = {e->frac[i] & 0xFFFFu, e->frac[i] >> 16};
+        int k[4];
+        double w[4], m[3] = {0.0, 0.0, 0.0}, in[3] = {rgb[0], rgb[1], rgb[2]}, t[3], a[2], b[2];
+        corners(e->node[i], e->stride, f, e->node_y, k, w);
+        for (int c = 0; c < 4; c++)
+            for (int x = 0; x < 3 && w[c] > 0.0; x++)
+                m[x] += w[c] * xyz[k[c]][x];
+        spm_linear_srgb_to_xyz(in, t);
+        uv_prime(t, a);
+        uv_prime(m, b);
+        double d = hypot(a[0] - b[0], a[1] - b[1]);
         e->duv_max = d > e->duv_max ? d : e->duv_max;
-        dsum += d * y;
-        wsum += y;
+        dsum += d * t[1];
+        wsum += t[1];
     }
     e->duv_mean = wsum > 0.0 ? dsum / wsum : 0.0;
 }
@@ -186,6 +220,27 @@ static void assign(spm_scene_envmap *e, int q, const int *cells, const double (*
 int spm_envmap_palette(spm_scene *s, spm_error *err)
 {
     return spm_envmap_palette_grid(s, SPM_ENVMAP_GRID, err);
+}
+
+/* each texel's base node, fractions and luminance; marks the nodes a texel
+ * may draw (a weight above 0) in used */
+static void place_texels(spm_scene_envmap *e, int q, char *used)
+{
+    size_t n = (size_t)e->w * e->h;
+    for (size_t i = 0; i < n; i++) {
+        const float *rgb = &e->rgb[3 * i];
+        unsigned f[2] = {0, 0};
+        int b = place_of(rgb, q, f), k[4];
+        double y = b >= 0 ? luminance(rgb) : 0.0, w[4];
+        e->node[i] = y > 0.0 ? b : -1;
+        e->frac[i] = f[0] | f[1] << 16;
+        e->lum[i] = e->node[i] >= 0 ? (float)(y * e->scale) : 0.0f;
+        if (e->node[i] < 0)
+            continue;
+        corners(b, q + 1, f, NULL, k, w);
+        for (int c = 0; c < 4; c++)
+            used[k[c]] |= w[c] > 0.0;
+    }
 }
 
 int spm_envmap_palette_grid(spm_scene *s, int q, spm_error *err)
@@ -196,41 +251,38 @@ int spm_envmap_palette_grid(spm_scene *s, int q, spm_error *err)
     const spm_rgb2spec_table *tab = spm_rgb2spec_srgb(err);
     if (!tab)
         return 1;
-    int ncells = 3 * q * q, rc = 0;
     size_t n = (size_t)e->w * e->h;
-    double (*sum)[4] = spm_xcalloc((size_t)ncells, sizeof *sum), (*uv)[2];
-    int *cells = spm_xmalloc((size_t)ncells * sizeof *cells);
-    for (size_t i = 0; i < n; i++) {
-        const float *rgb = &e->rgb[3 * i];
-        int c = cell_of(rgb, q);
-        double y = c >= 0 ? luminance(rgb) : 0.0;
-        if (!(y > 0.0))
-            continue;
-        float m = fmaxf(rgb[0], fmaxf(rgb[1], rgb[2]));
-        for (int k = 0; k < 3; k++)
-            sum[c][k] += y * rgb[k] / m;
-        sum[c][3] += y;
-    }
-    uv = spm_xcalloc((size_t)ncells, sizeof *uv);
+    int rc = 0;
+    e->stride = q + 1;
+    e->nnodes = 3 * e->stride * e->stride;
+    e->node = spm_xmalloc(n * sizeof *e->node);
+    e->frac = spm_xmalloc(n * sizeof *e->frac);
+    e->lum = spm_xmalloc(n * sizeof *e->lum);
+    e->node_colour = spm_xmalloc((size_t)e->nnodes * sizeof *e->node_colour);
+    e->node_y = spm_xcalloc((size_t)e->nnodes, sizeof *e->node_y);
+    char *used = spm_xcalloc((size_t)e->nnodes, 1);
+    double (*xyz)[3] = spm_xcalloc((size_t)e->nnodes, sizeof *xyz);
+    place_texels(e, q, used);
     e->first = s->ncolours;
-    for (int c = 0; c < ncells && !rc; c++) {
-        cells[c] = -1;
-        if (sum[c][3] > 0.0) {
-            cells[c] = s->ncolours;
-            rc = add_colour(s, tab, c, sum[c], uv[s->ncolours - e->first], err);
-        }
+    for (int k = 0; k < e->nnodes && !rc; k++) {
+        double shape[3];
+        float f[3];
+        node_shape(k, q, shape);
+        for (int c = 0; c < 3; c++)
+            f[c] = (float)shape[c];
+        e->node_y[k] = (float)luminance(f);
+        e->node_colour[k] = used[k] ? s->ncolours : -1;
+        if (used[k])
+            rc = add_colour(s, tab, k, q, xyz[k], err);
     }
     e->ncolours = s->ncolours - e->first;
     if (!rc) {
-        e->colour = spm_xmalloc(n * sizeof *e->colour);
-        e->lum = spm_xmalloc(n * sizeof *e->lum);
-        assign(e, q, cells, (const double (*)[2])uv);
+        chroma_error(e, (const double (*)[3])xyz);
         free(e->rgb);
         e->rgb = NULL;
     }
-    free(sum);
-    free(uv);
-    free(cells);
+    free(used);
+    free(xyz);
     return rc;
 }
 
@@ -252,10 +304,38 @@ static double texel_mean(const spm_scene_envmap *e, int i, int j)
     return m;
 }
 
+/* The node part of the buffer at t (spm_shared.h SPM_ENV_NODE ..): an
+ * image's grid as made; a sky's palette (its own, of daylight spectra) as a
+ * grid of stride 1 whose texels sit on their colour's node (fractions 0).
+ * Past the last node, stride + 1 unused ones of luminance 0, so that a
+ * corner's read stays in the buffer and is never drawn. */
+static void node_tables(const spm_scene_envmap *e, float *t, size_t w, size_t h)
+{
+    size_t ntex = w * h;
+    int sky = e->node == NULL, stride = sky ? 1 : e->stride;
+    int nn = sky ? e->ncolours : e->nnodes;
+    float *nd = t + SPM_ENV_NODES(w, h);
+    spm_u32 us = (spm_u32)stride;
+    memcpy(&nd[0], &us, sizeof us);
+    for (int k = 0; k < nn + stride + 1; k++) {
+        int c = k >= nn ? -1 : sky ? e->first + k : e->node_colour[k];
+        spm_u32 id = c >= 0 ? (spm_u32)c : SPM_NONE;
+        memcpy(&nd[1 + 2 * k], &id, sizeof id);
+        nd[2 + 2 * k] = k >= nn ? 0.0f : sky ? 1.0f : e->node_y[k];
+    }
+    for (size_t i = 0; i < ntex; i++) {
+        int b = sky ? (e->colour[i] >= 0 ? e->colour[i] - e->first : -1) : e->node[i];
+        spm_u32 id = b >= 0 ? (spm_u32)b : SPM_NONE, f = sky ? 0u : e->frac[i];
+        memcpy(&t[SPM_ENV_NODE(w, h) + i], &id, sizeof id);
+        memcpy(&t[SPM_ENV_FRAC(w, h) + i], &f, sizeof f);
+    }
+}
+
 float *spm_envmap_tables(const spm_scene_envmap *e, size_t *n, double *mean)
 {
     spm_u32 w = (spm_u32)e->w, h = (spm_u32)e->h;
-    *n = SPM_ENV_FLOATS((size_t)w, (size_t)h);
+    size_t nn = (size_t)(e->node ? e->nnodes : e->ncolours) + (e->node ? e->stride : 1) + 1u;
+    *n = SPM_ENV_FLOATS((size_t)w, (size_t)h, nn);
     float *t = spm_xcalloc(*n, sizeof *t);
     float *cond = t + SPM_ENV_COND((size_t)w, h), *pdf = t + SPM_ENV_PDF((size_t)w, h);
     double *f = spm_xmalloc((size_t)w * h * sizeof *f), *rowint = spm_xmalloc((size_t)h * sizeof *rowint);
@@ -283,9 +363,8 @@ float *spm_envmap_tables(const spm_scene_envmap *e, size_t *n, double *mean)
     for (size_t i = 0; i < (size_t)w * h; i++) {
         pdf[i] = total > 0.0 ? (float)(f[i] / total) : 0.0f;
         t[SPM_ENV_LUM((size_t)w, h) + i] = e->lum[i];
-        spm_u32 id = e->colour[i] >= 0 ? (spm_u32)e->colour[i] : SPM_NONE;
-        memcpy(&t[SPM_ENV_ID((size_t)w, h) + i], &id, sizeof id);
     }
+    node_tables(e, t, w, h);
     free(f);
     free(rowint);
     *mean = total;

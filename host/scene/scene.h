@@ -84,7 +84,12 @@ typedef struct {
     double scale;        /* the factor of its radiance */
     double rotate;       /* degrees about +y */
     int first, ncolours; /* its palette */
-    int *colour;         /* per texel: its palette colour (a scene colour), -1 black */
+    int *colour;         /* per texel of a sky: its palette colour (a scene colour), -1 black */
+    int *node;           /* per texel of an image: its cell's base node on the grid, -1 black */
+    unsigned *frac;      /* per texel of an image: its fractions a | b << 16 (1 = 65535) */
+    int nnodes, stride;  /* an image's grid of nodes (envmap.h), the stride along a */
+    int *node_colour;    /* per node: its scene colour, -1 unused */
+    float *node_y;       /* per node: the luminance of its RGB shape */
     float *lum;          /* per texel: its luminance Y, the scale in */
     double duv_max, duv_mean; /* the palette's chromaticity error (envmap.h) */
     struct spm_sky_s *sky; /* a daylight sky's model (sky.h): its palette is of
