@@ -28,6 +28,9 @@ R=(--width 24 --height 18 --spp 2 --seed 9 --quiet)
 # and the environment map's trace kernel (its lookup and sampling, with the
 # conductor, the coated type and smooth shading beside it)
 RUNS+=("rgb $DATA/scenes/envmap.scene")
+# and the kinds of light that are not triangles: point, spot, distant, the
+# sky (an environment map) and its sun
+RUNS+=("ml $DATA/tests/data/scenes/delta_lights.scene")
 for run in "${RUNS[@]}"; do
     set -- $run
     mode=$1; shift
