@@ -26,7 +26,7 @@ for f in "$DATA"/scenes/coated.scene "$DATA"/scenes/coated_spiky.scene; do
     check "$b: $tris triangles, 2..200" num "$tris" '<=' 200
     check "$b: has coated materials" test "$(grep -c '^material .* coated ' "$f")" -ge 4
     "$BIN" render "$f" "${R[@]}" -o "$T/$b.exr" > /dev/null 2> "$T/$b.err"
-    check "$b: renders ($(head -c 300 "$T/$b.err"))" test $? -eq 0
+    rc=$?; check "$b: renders ($(head -c 300 "$T/$b.err"))" test $rc -eq 0
     check "$b: not black" num "$(mean_y "$T/$b.exr")" '>' 0
     "$BIN" render "$f" "${R[@]}" --mode ml --verbose -o "$T/$b.v.exr" > "$T/$b.v" 2>&1
     for m in $(awk '$1 == "material" && $3 == "coated" { print $2 }' "$f"); do

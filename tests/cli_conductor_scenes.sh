@@ -85,7 +85,7 @@ for f in "$DATA"/scenes/metals.scene "$DATA"/scenes/copper_sodium.scene; do
     # the same scene with the metal objects black
     sed -E 's/^(material [a-z]+_(smooth|rough)) .*/\1/' "$T/$b.scene" > "$T/$b.black.scene"
     "$BIN" render "$T/$b.scene" "${R[@]}" -o "$T/$b.exr" > /dev/null 2> "$T/$b.err"
-    check "$b: renders ($(head -c 300 "$T/$b.err"))" test $? -eq 0
+    rc=$?; check "$b: renders ($(head -c 300 "$T/$b.err"))" test $rc -eq 0
     check "$b: not black" num "$(mean_y "$T/$b.exr")" '>' 0
     "$BIN" render "$T/$b.black.scene" "${R[@]}" -o "$T/$b.black.exr" > /dev/null 2>&1
     check "$b: black-objects variant renders" test $? -eq 0

@@ -37,7 +37,7 @@ for b in prism sf11_sphere; do
     for be in opencl cpu; do
         for m in $("$BIN" modes | cut -f1); do
             "$BIN" render "$f" "${R[@]}" --backend $be --mode $m -o "$T/$b.$be.$m.exr" > /dev/null 2> "$T/err"
-            check "$b $be $m: renders ($(head -c 300 "$T/err"))" test $? -eq 0
+            rc=$?; check "$b $be $m: renders ($(head -c 300 "$T/err"))" test $rc -eq 0
         done
     done
     sed -E 's/^(material [a-z0-9]+) +dielectric .*/\1/' "$f" > "$T/$b.black.scene"
@@ -50,7 +50,7 @@ done
 #    bin in the slit's column, its rows summed)
 "$BIN" render "$DATA/scenes/prism.scene" --quiet --mode truth --spp 1024 --seed 5 --spectral-nm 1 \
     -o "$T/prism.exr" -o "$T/prism.spectral.exr" > /dev/null 2> "$T/err"
-check "prism: truth at 1 nm renders ($(head -c 300 "$T/err"))" test $? -eq 0
+rc=$?; check "prism: truth at 1 nm renders ($(head -c 300 "$T/err"))" test $rc -eq 0
 "$PY" - "$DATA/scenes/prism.scene" "$T/prism.spectral.exr" << 'PY' > "$T/dev.txt" 2>&1
 import math, sys
 import numpy as np, OpenImageIO as oiio
@@ -159,7 +159,7 @@ for i in range(12):
 PY
 for m in truth ml hero; do
     "$BIN" render "$T/inv.scene" --quiet --mode $m --spp 64 --seed 9 -o "$T/inv.$m.exr" > /dev/null 2> "$T/err"
-    check "invisible sphere $m: renders ($(head -c 300 "$T/err"))" test $? -eq 0
+    rc=$?; check "invisible sphere $m: renders ($(head -c 300 "$T/err"))" test $rc -eq 0
 done
 "$PY" - "$T"/inv.truth.exr "$T"/inv.ml.exr "$T"/inv.hero.exr << 'PY' > "$T/inv.txt" 2>&1
 import sys

@@ -32,13 +32,13 @@ N=256 SEEDS="11 12 13 14 15 16"
 S="$DATA/scenes/prism.scene"
 for s in 1 2; do
     "$BIN" render "$S" --quiet --backend cpu --mode truth --spp $((16 * N)) --seed $s -o "$T/ref$s.exr" > /dev/null 2> "$T/err"
-    check "reference $s renders ($(head -c 300 "$T/err"))" test $? -eq 0
+    rc=$?; check "reference $s renders ($(head -c 300 "$T/err"))" test $rc -eq 0
 done
 for m in truth hero; do
     for spp in $N $((4 * N)); do
         for s in $SEEDS; do
             "$BIN" render "$S" --quiet --mode $m --spp $spp --seed $s -o "$T/$m.$spp.$s.exr" > /dev/null 2> "$T/err"
-            check "$m $spp spp seed $s renders ($(head -c 300 "$T/err"))" test $? -eq 0
+            rc=$?; check "$m $spp spp seed $s renders ($(head -c 300 "$T/err"))" test $rc -eq 0
         done
     done
 done

@@ -34,7 +34,7 @@ for b in glass glass_deep; do
     check "$b: the black variant has no glass left" test "$(grep -c " dielectric " "$T/$b.black.scene")" -eq 0
     for m in truth ml rgb; do
         "$BIN" render "$f" "${R[@]}" --mode $m -o "$T/$b.$m.exr" > /dev/null 2> "$T/$b.err"
-        check "$b $m: renders ($(head -c 300 "$T/$b.err"))" test $? -eq 0
+        rc=$?; check "$b $m: renders ($(head -c 300 "$T/$b.err"))" test $rc -eq 0
     done
     check "$b: not black" num "$(mean_y "$T/$b.truth.exr")" '>' 0
     "$BIN" render "$T/$b.black.scene" "${R[@]}" --mode truth -o "$T/$b.black.exr" > /dev/null 2>&1

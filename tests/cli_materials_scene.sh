@@ -32,7 +32,7 @@ check "modes listed" test -n "$modes"
 for b in cpu opencl; do
     for m in $modes; do
         "$BIN" render "$f" "${R[@]}" --backend $b --mode $m -o "$T/$b.$m.exr" > /dev/null 2> "$T/$b.$m.err"
-        check "$b $m: renders ($(grep -v 'triangles, bounding box' "$T/$b.$m.err" | head -c 300))" test $? -eq 0
+        rc=$?; check "$b $m: renders ($(grep -v 'triangles, bounding box' "$T/$b.$m.err" | head -c 300))" test $rc -eq 0
         check "$b $m: not black" num "$(mean_y "$T/$b.$m.exr")" '>' 0
     done
     e=$(p99 "$T/$b.truth.exr" "$T/$b.ml.exr")

@@ -34,7 +34,7 @@ for m in truth ml; do
     for b in cpu opencl; do
         "$BIN" render "$T/spheres.scene" "${R[@]}" --mode $m --backend $b -o "$T/$m-$b.exr" \
             > /dev/null 2> "$T/$m-$b.err"
-        check "$m $b: renders ($(head -c 300 "$T/$m-$b.err"))" test $? -eq 0
+        rc=$?; check "$m $b: renders ($(head -c 300 "$T/$m-$b.err"))" test $rc -eq 0
     done
     check "$m: no material left unmapped ($(grep -m1 'not rendered' "$T/$m-cpu.err"))" \
         not_said_in "$T/$m-cpu.err" "not rendered"

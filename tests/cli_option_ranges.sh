@@ -103,8 +103,8 @@ study() {  # study DIR DEVICE
 }
 csvcol() { awk -F, -v n="$2" 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == n) c = i; next } { print $c }' "$1"; }
 study one 0; check "bench --device 0: exit 0" test $? -eq 0
-study two 0,1; check "bench --device 0,1: exit 0 ($(tail -1 two.err))" test $? -eq 0
-study all all; check "bench --device all: exit 0 ($(tail -1 all.err))" test $? -eq 0
+study two 0,1; rc=$?; check "bench --device 0,1: exit 0 ($(tail -1 two.err))" test $rc -eq 0
+study all all; rc=$?; check "bench --device all: exit 0 ($(tail -1 all.err))" test $rc -eq 0
 check "bench --device 0: one device rendered" test "$(csvcol one/bench.csv devices)" = 1
 check "bench --device 0,1: both devices rendered" test "$(csvcol two/bench.csv devices)" = 2
 check "bench --device all: both devices rendered" test "$(csvcol all/bench.csv devices)" = 2
