@@ -5,6 +5,8 @@
 #define SPM_ENVMAP_TESTLIB_H
 #include <math.h>
 #include <stdio.h>
+#include "geometry.h"
+#include "scene.h"
 
 typedef void (*envmap_texel_fn)(int i, int j, int w, int h, float rgb[3]);
 
@@ -97,4 +99,30 @@ static inline void envmap_striped(int i, int j, int w, int h, float rgb[3])
     if (i % 2 == 0)
         rgb[0] = rgb[1] = rgb[2] = 0.0f;
 }
+/* A scene of one small far triangle (a scene needs one) under the background
+ * statement `background` (a map or a sky), written to FILE, loaded into *s and
+ * its geometry built into *g: 0 on success (then the caller frees both). */
+static inline int envmap_test_scene(const char *file, const char *background, spm_scene *s,
+                                    spm_geometry *g)
+{
+    FILE *f = fopen(file, "w");
+    if (!f)
+        return 1;
+    fprintf(f, "image 8 8\ncamera position 0 0 0 direction 0 0 1 fov 40\n"
+               "spectrum grey equal\nmaterial m reflect grey 0.5\n"
+               "tri m 100 -100 100  101 -100 100  100 -100 101\n%s\n", background);
+    fclose(f);
+    spm_error err;
+    if (spm_scene_load(file, s, &err)) {
+        printf("load: %s\n", err.msg);
+        return 1;
+    }
+    if (spm_geometry_build(s, g, &err)) {
+        printf("geometry: %s\n", err.msg);
+        spm_scene_free(s);
+        return 1;
+    }
+    return 0;
+}
+
 #endif

@@ -34,24 +34,9 @@
 /* a scene of one small far triangle (a scene needs one) under the map */
 static int load(const char *map, const char *opts, spm_scene *s, spm_geometry *g)
 {
-    FILE *f = fopen("envmap_test.scene", "w");
-    if (!f)
-        return 1;
-    fprintf(f, "image 8 8\ncamera position 0 0 0 direction 0 0 1 fov 40\n"
-               "spectrum grey equal\nmaterial m reflect grey 0.5\n"
-               "tri m 100 -100 100  101 -100 100  100 -100 101\nbackground map %s %s\n", map, opts);
-    fclose(f);
-    spm_error err;
-    if (spm_scene_load("envmap_test.scene", s, &err)) {
-        printf("load: %s\n", err.msg);
-        return 1;
-    }
-    if (spm_geometry_build(s, g, &err)) {
-        printf("geometry: %s\n", err.msg);
-        spm_scene_free(s);
-        return 1;
-    }
-    return 0;
+    char line[1024];
+    snprintf(line, sizeof line, "background map %s %s", map, opts);
+    return envmap_test_scene("envmap_test.scene", line, s, g);
 }
 
 /* load() under a map of w x h texels fn writes first; 1 (a failure) when either fails */

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "colour.h"
+#include "envmap_testlib.h"
 #include "geometry.h"
 #include "refcpu_lights.h"
 #include "sky.h"
@@ -23,24 +24,7 @@ static const struct {
 
 static int load(const char *line, spm_scene *s, spm_geometry *g)
 {
-    FILE *f = fopen("sky_test.scene", "w");
-    if (!f)
-        return 1;
-    fprintf(f, "image 8 8\ncamera position 0 0 0 direction 0 0 1 fov 40\n"
-               "spectrum grey equal\nmaterial m reflect grey 0.5\n"
-               "tri m 100 -100 100  101 -100 100  100 -100 101\n%s\n", line);
-    fclose(f);
-    spm_error err;
-    if (spm_scene_load("sky_test.scene", s, &err)) {
-        printf("load: %s\n", err.msg);
-        return 1;
-    }
-    if (spm_geometry_build(s, g, &err)) {
-        printf("geometry: %s\n", err.msg);
-        spm_scene_free(s);
-        return 1;
-    }
-    return 0;
+    return envmap_test_scene("sky_test.scene", line, s, g);
 }
 
 /* what an escaping ray along d meets: its luminance and xy into the dump */
