@@ -1,7 +1,8 @@
 /* The ray replay of `specmip bench --rays`: each work-item one recorded ray
  * (spm_shared.h spm_ray) through the renderer's own traversal (traverse.clh,
  * as trace.cl calls it), nothing else: no random numbers, no path records.
- * Parameters: spm_kernel_args.h SPM_RAYS_ARGS. */
+ * Parameters: spm_kernel_args.h SPM_RAYS_ARGS. Built with -DSPM_RAYS_PACKET,
+ * the work-group traces its rays as one packet (traverse_packet.clh). */
 #pragma OPENCL FP_CONTRACT OFF
 #include "spm_shared.h"
 #include "spm_kernel_args.h"
@@ -11,6 +12,26 @@
 #endif
 #include "traverse.clh"
 
+#ifdef SPM_RAYS_PACKET
+#include "traverse_packet.clh"
+/* The packet variant (traverse_packet.clh): a work-group of at most
+ * SPM_PACKET_MAX rays of one kind; the lanes beyond nrays ride along. */
+__kernel void spm_rays(SPM_RAYS_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
+{
+    __local float4 lt[2 * SPM_PACKET_MAX];
+    uint gid = get_global_id(0);
+    int active = gid < nrays;
+    __global const spm_ray *r = &rays[first + (active ? gid : 0)];
+    float3 o = (float3)(r->o[0], r->o[1], r->o[2]);
+    float3 d = (float3)(r->d[0], r->d[1], r->d[2]);
+    float t;
+    int h = rays[first].emitter == SPM_RAY_CLOSEST
+                ? packet_traverse(nodes, tris, o, d, r->skip, active, &t, counters, lt)
+                : packet_shadow_hit(nodes, tris, o, d, r->skip, r->emitter, active, counters, lt);
+    if (active)
+        hits[first + gid] = h;
+}
+#else
 __kernel void spm_rays(SPM_RAYS_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 {
     uint gid = get_global_id(0);
@@ -24,3 +45,4 @@ __kernel void spm_rays(SPM_RAYS_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
                             ? intersect(nodes, tris, o, d, r->skip, &t, counters)
                             : shadow_hit(nodes, tris, o, d, r->skip, r->emitter, counters);
 }
+#endif

@@ -29,6 +29,27 @@ check "same shadow ray count from the file" \
 check "file: kernel = reference" \
   num "$(jnum "$T/b.json" '.reference.closest_differ + .reference.shadow_differ')" == 0
 
+# 2b. the packet variant (work-groups of 3: the last group has lanes beyond the
+#     rays) answers every ray as the reference, on the file's order and sorted;
+#     its lanes visit the union of the group's nodes, so more nodes per ray than
+#     one ray per work-item (which says the variant ran); the sort keeps the rays
+#     and changes their order
+"$BIN" "${B[@]}" --rays-load "$T/r.bin" --rays-packet --rays-group 3 --rays-stats > "$T/p.json" 2> "$T/err"
+check "packet replay runs (exit 0: $(head -1 "$T/err"))" test $? -eq 0
+check "packets: kernel = reference on every ray" \
+  num "$(jnum "$T/p.json" '.reference.closest_differ + .reference.shadow_differ')" == 0
+check "packets: more nodes per closest-hit ray than one ray per work-item" \
+  num "$(jnum "$T/p.json" .specmip.nodes_closest)" '>' "$(jnum "$T/a.json" .specmip.nodes_closest)"
+"$BIN" "${B[@]}" --rays-load "$T/r.bin" --rays-sort --rays-packet --rays-group 8 \
+  --rays-save "$T/sorted.bin" > "$T/q.json" 2> "$T/err"
+check "sorted packet replay runs (exit 0: $(head -1 "$T/err"))" test $? -eq 0
+check "sorted packets: kernel = reference on every ray" \
+  num "$(jnum "$T/q.json" '.reference.closest_differ + .reference.shadow_differ')" == 0
+check "sorted: as many rays" num "$(jnum "$T/q.json" '.rays_closest + .rays_shadow')" == \
+  "$(jnum "$T/a.json" '.rays_closest + .rays_shadow')"
+check "sorted: same size, other order" \
+  sh -c "test \$(wc -c < '$T/sorted.bin') -eq \$(wc -c < '$T/r.bin') && ! cmp -s '$T/sorted.bin' '$T/r.bin'"
+
 # 3. bad input: exit 2, the file and the problem named
 bad_file() {  # bad_file WHAT PATTERN ARGS...
   local what=$1 pat=$2; shift 2
@@ -46,6 +67,7 @@ bad_file "missing file" "nothere.bin" --rays "$T/s.scene" --rays-load "$T/nother
 bad_file "unwritable ray file" "nodir/r.bin" --rays "$T/s.scene" --size 8x8 --rays-save "$T/nodir/r.bin"
 bad_file "--embree without --rays" "go with --rays" --embree
 bad_file "bad --rays-spp" "rays-spp" --rays default --rays-spp 0
+bad_file "packets of more than 64" "at most 64" --rays default --size 8x8 --rays-packet --rays-group 65
 
 # 4. bench/scale.sh at a tiny size: a row per case with every column, the
 #    replay equal to the reference, and the chart

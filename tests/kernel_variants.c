@@ -66,7 +66,7 @@ int main(int argc, char **argv)
         if (rc)
             return 1;
     }
-    for (int k = 0; k < 2; k++)
+    for (int k = 0; k < 4; k++)
         printf("%s\t%s\n", spm_rays_program_file, spm_rays_program_defines[k]);
     printf("%s\t\n", spm_ops_program_file);
     return 0;

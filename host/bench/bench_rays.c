@@ -14,8 +14,11 @@
 #include "backends.h"
 #include "spm_kernel_args.h"
 
-/* Work-group size: the renderer's unless --rays-group sets one. */
+/* Work-group size: the renderer's unless --rays-group sets one; the variant
+ * (0 one ray per work-item, 1 packets: --rays-packet) picks the program's
+ * defines, spm_rays_program_defines[2 * variant + stats build]. */
 static size_t group = SPM_LOCAL_SIZE;
+static int variant;
 
 typedef struct {
     spm_ray *r;
@@ -190,6 +193,64 @@ int spm_rays_load(const char *path, const spm_geometry *g, spm_rayset *rs, spm_e
     return rc;
 }
 
+/* ---- a coherent order (--rays-sort) --------------------------------------- */
+typedef struct {
+    uint64_t key;
+    spm_u32 at;
+} ray_key;
+
+static int key_cmp(const void *a, const void *b)
+{
+    const ray_key *x = a, *y = b;
+    if (x->key != y->key)
+        return x->key < y->key ? -1 : 1;
+    return x->at < y->at ? -1 : x->at > y->at;
+}
+
+/* 10 bits of each cell coordinate interleaved (a Morton code) */
+static uint64_t morton3(const spm_u32 c[3])
+{
+    uint64_t m = 0;
+    for (int b = 0; b < 10; b++)
+        for (int k = 0; k < 3; k++)
+            m |= (uint64_t)((c[k] >> b) & 1u) << (3 * b + k);
+    return m;
+}
+
+/* Rays [b, e) stably by the octant of their direction, then their origin's
+ * cell of a 1024^3 grid over the origins' bounds in Morton order: neighbours
+ * in the order start near each other and head the same way. */
+static void sort_kind(spm_ray *rays, size_t b, size_t e)
+{
+    if (e - b < 2)
+        return;
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; k++)
+        lo[k] = hi[k] = rays[b].o[k];
+    for (size_t i = b; i < e; i++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fminf(lo[k], rays[i].o[k]);
+            hi[k] = fmaxf(hi[k], rays[i].o[k]);
+        }
+    ray_key *keys = spm_xmalloc((e - b) * sizeof *keys);
+    for (size_t i = b; i < e; i++) {
+        spm_u32 cell[3], octant = 0;
+        for (int k = 0; k < 3; k++) {
+            double span = (double)hi[k] - lo[k], u = span > 0 ? (rays[i].o[k] - lo[k]) / span : 0;
+            cell[k] = u >= 1 ? 1023u : (spm_u32)(u * 1024);
+            octant |= (spm_u32)(rays[i].d[k] < 0) << k;
+        }
+        keys[i - b] = (ray_key){(uint64_t)octant << 30 | morton3(cell), (spm_u32)(i - b)};
+    }
+    qsort(keys, e - b, sizeof *keys, key_cmp);
+    spm_ray *tmp = spm_xmalloc((e - b) * sizeof *tmp);
+    for (size_t i = 0; i < e - b; i++)
+        tmp[i] = rays[b + keys[i].at];
+    memcpy(rays + b, tmp, (e - b) * sizeof *tmp);
+    free(tmp);
+    free(keys);
+}
+
 /* ---- replay on OpenCL ---------------------------------------------------- */
 #define ARG_FIELD(dev, host, name) host name;
 typedef struct { SPM_RAYS_ARGS(ARG_FIELD, ) } rays_args;
@@ -264,7 +325,8 @@ static int count_costs(spm_cl_ctx *c, cl_program prog, rays_args *a, const spm_r
 }
 
 const char spm_rays_program_file[] = "kernels/rays.cl";
-const char *const spm_rays_program_defines[2] = {"", "-DSPM_RAYS_STATS"};
+const char *const spm_rays_program_defines[4] = {"", "-DSPM_RAYS_STATS", "-DSPM_RAYS_PACKET",
+                                                 "-DSPM_RAYS_PACKET -DSPM_RAYS_STATS"};
 
 int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, int repeat,
                    int stats, int *hits, spm_rays_timing *tm, char *devname, size_t devlen,
@@ -281,8 +343,9 @@ int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, 
     cl_kernel k = NULL;
     rays_args a;
     memset(&a, 0, sizeof a);
-    int bad = spm_cl_build(&c, files, 1, spm_rays_program_defines[0], &prog, err) ||
-          (stats && spm_cl_build(&c, files, 1, spm_rays_program_defines[1], &sprog, err));
+    const char *const *defs = spm_rays_program_defines + 2 * variant;
+    int bad = spm_cl_build(&c, files, 1, defs[0], &prog, err) ||
+          (stats && spm_cl_build(&c, files, 1, defs[1], &sprog, err));
     a.tris = buffer(&c, CL_MEM_READ_ONLY, (size_t)g->ntris * sizeof *g->tris, g->tris, err, &bad);
     a.nodes = buffer(&c, CL_MEM_READ_ONLY, (size_t)g->nwide * sizeof *g->wide, g->wide, err,
                  &bad);
@@ -536,6 +599,11 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
 {
     if (o->group)
         group = (size_t)o->group;
+    variant = o->packet;
+    if (variant && group > 64) {
+        spm_errorf(err, "--rays-packet: work-groups of at most 64 rays (--rays-group %zu)", group);
+        return SPM_EXIT_INPUT;
+    }
     spm_render_config cfg;
     spm_render_config_defaults(&cfg);
     cfg.scene_path = o->scene;
@@ -558,6 +626,10 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
     else
         rc = spm_rays_record(&s.plan, o->spp, &rs, err);
     double record_s = spm_now() - t0;
+    if (!rc && o->sort) { /* every traversal replays the same order */
+        sort_kind(rs.rays, 0, rs.nclosest);
+        sort_kind(rs.rays, rs.nclosest, rs.n);
+    }
     if (!rc && o->save && spm_rays_save(o->save, g, &rs, err))
         rc = SPM_EXIT_INPUT;
     int *hcl = spm_xmalloc((rs.n + 1) * sizeof *hcl), *href = spm_xmalloc((rs.n + 1) * sizeof *href);
@@ -601,8 +673,8 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
     }
     if (!rc) {
         size_t ns = rs.n - rs.nclosest;
-        snprintf(r.what, sizeof r.what, "specmip kernels/rays.cl on %s, work-groups of %zu", r.dev,
-                 group);
+        snprintf(r.what, sizeof r.what, "specmip kernels/rays.cl%s on %s, work-groups of %zu",
+                 variant ? " (packets)" : "", r.dev, group);
         if (o->json) {
             printf("{\n  \"scene\": ");
             json_str(stdout, o->scene ? o->scene : "default");

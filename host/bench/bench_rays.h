@@ -40,9 +40,10 @@ int spm_rays_save(const char *path, const spm_geometry *g, const spm_rayset *rs,
 int spm_rays_load(const char *path, const spm_geometry *g, spm_rayset *rs, spm_error *err);
 
 /* The replay's program: this file, built with each of these options (the
- * timed build, and the counting one of --rays-stats). */
+ * timed build, the counting one of --rays-stats, and the two of the packet
+ * variant). */
 extern const char spm_rays_program_file[];
-extern const char *const spm_rays_program_defines[2];
+extern const char *const spm_rays_program_defines[4];
 /* Replays through kernels/rays.cl on OpenCL device `device`: the fastest of
  * `repeat` timed launches per ray kind, after a warm-up; with stats, one more
  * run of the counting build for nodes and triangle tests. hits[n] receives
@@ -92,6 +93,8 @@ typedef struct {
     spm_u32 seed;
     int device, repeat, threads;
     int group;             /* the replay's work-group size; 0: the renderer's (SPM_LOCAL_SIZE) */
+    int packet;            /* 1: the packet variant (kernels/traverse_packet.clh) */
+    int sort;              /* 1: each kind sorted by direction octant and origin first */
     int stats, embree, embree_quality, json;
     const char *save, *load;
 } spm_rays_opts;

@@ -245,6 +245,13 @@ const spm_option spm_options[] = {
         "also count nodes visited and triangle tests per ray"),
     ROW(RAYS_GROUP, "--rays-group", "N", INT, 1, 1024, B,
         "the replay's work-group size, %R (default 64, the renderer's)"),
+    ROW(RAYS_PACKET, "--rays-packet", NULL, FLAG, 0, 0, B,
+        "replay through the packet variant instead: the rays of a\n"
+        "work-group share one node stream (kernels/traverse_packet.clh;\n"
+        "--rays-group at most 64)"),
+    ROW(RAYS_SORT, "--rays-sort", NULL, FLAG, 0, 0, B,
+        "replay each kind of ray sorted by direction octant, then\n"
+        "origin (Morton order), as a wavefront could between bounces"),
     ROW(EMBREE, "--embree", NULL, FLAG, 0, 0, B,
         "also replay through Embree 3 (when built with it), its runs\n"
         "alternating with the kernel's, and give specmip/Embree ratios"),
