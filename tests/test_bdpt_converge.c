@@ -19,6 +19,7 @@
 #include "scene.h"
 #include "tables.h"
 #include "testutil.h"
+#include "integrator_testlib.h"
 
 #define SIDE 16
 #define K 32      /* independent renders of each integrator */
@@ -29,52 +30,7 @@
                      floor under the gold boxes at 6.4, its rare large splats
                      missing from the spread of so few renders) */
 
-typedef struct {
-    spm_scene sc;
-    spm_geometry g;
-    spm_tables t;
-} scene;
-
-static int load(scene *s, const char *path)
-{
-    spm_error err;
-    spm_pretest_opts po;
-    spm_pretest_defaults(&po);
-    if (spm_scene_load(path, &s->sc, &err)) {
-        CHECK(0, "%s", err.msg);
-        return 1;
-    }
-    s->sc.width = s->sc.height = SIDE;
-    if (spm_geometry_build(&s->sc, &s->g, &err) || spm_tables_build(&s->sc, &po, &s->t, &err)) {
-        CHECK(0, "%s", err.msg);
-        return 1;
-    }
-    return 0;
-}
-
-/* one pass of SPP samples per pixel in mode ml: XYZ per pixel (a sample's mean) */
-static int render_xyz(const scene *s, int integrator, spm_u32 seed, double *y)
-{
-    spm_render_plan p;
-    spm_error err;
-    if (spm_render_plan_init(&p, &s->g, &s->t, SPM_MODE_ML, seed, &err) ||
-        spm_render_plan_integrator(&p, integrator, &err)) {
-        CHECK(0, "%s", err.msg);
-        return 1;
-    }
-    spm_backend *b = spm_backend_cpu_create(&p, &err);
-    float *img = calloc(p.npix * 3, sizeof *img);
-    spm_pass_stats st;
-    memset(&st, 0, sizeof st);
-    int rc = b->pass(b, 0, SPP, img, &st, &err);
-    CHECK(rc == 0, "pass: %s", err.msg);
-    for (size_t i = 0; i < 3 * p.npix; i++)
-        y[i] = img[i] / (double)SPP;
-    free(img);
-    b->destroy(b);
-    spm_render_plan_free(&p);
-    return rc;
-}
+typedef it_scene scene;
 
 enum { NP = 3 * SIDE * SIDE };
 
@@ -85,7 +41,7 @@ static int moments(const scene *s, int integrator, double *m, double *v)
     for (int i = 0; i < NP; i++)
         m[i] = v[i] = 0.0;
     for (spm_u32 k = 0; k < K; k++) {
-        if (render_xyz(s, integrator, 7919u * (spm_u32)(integrator + 1) + k, y))
+        if (it_render_xyz(s, SPM_MODE_ML, integrator, 7919u * (spm_u32)(integrator + 1) + k, SPP, y))
             return 1;
         for (int i = 0; i < NP; i++)
             m[i] += y[i], v[i] += y[i] * y[i];
@@ -131,7 +87,7 @@ static void converge(const char *path, const char *name)
 {
     static double m[3][NP], v[3][NP];
     scene s;
-    if (load(&s, path))
+    if (it_load(&s, path, SIDE))
         return;
     for (int i = 0; i < 3; i++)
         if (moments(&s, i, m[i], v[i]))
@@ -140,9 +96,7 @@ static void converge(const char *path, const char *name)
             m[SPM_INTEGRATOR_PATH], v[SPM_INTEGRATOR_PATH]);
     compare(name, "light", m[SPM_INTEGRATOR_BDPT], v[SPM_INTEGRATOR_BDPT],
             m[SPM_INTEGRATOR_LIGHT], v[SPM_INTEGRATOR_LIGHT]);
-    spm_tables_free(&s.t);
-    spm_geometry_free(&s.g);
-    spm_scene_free(&s.sc);
+    it_free(&s);
 }
 
 /* the glossy box under a point light: cornell.scene with each line starting
@@ -156,26 +110,6 @@ static const char *const glossy[][2] = {
     {"quad light ", "light point 0.278 0.35 0.2795 equal 43\n"}};
 #define NSUB 4
 
-static int write_glossy(const char *cornell, const char *path)
-{
-    FILE *in = fopen(cornell, "r"), *out = fopen(path, "w");
-    char line[1024];
-    int done = 0;
-    while (in && out && fgets(line, sizeof line, in)) {
-        int k = 0;
-        while (k < NSUB && strncmp(line, glossy[k][0], strlen(glossy[k][0])))
-            k++;
-        done += k < NSUB;
-        fputs(k < NSUB ? glossy[k][1] : line, out);
-    }
-    if (in)
-        fclose(in);
-    if (out)
-        fclose(out);
-    CHECK(done == NSUB, "%s: %d of the %d lines replaced", cornell, done, NSUB);
-    return done != NSUB;
-}
-
 int main(void)
 {
     char cornell[1024], dir[] = "/tmp/specmip_bdpt_XXXXXX", path[1200];
@@ -183,7 +117,7 @@ int main(void)
     converge(cornell, "cornell");
     CHECK(mkdtemp(dir) != NULL, "mkdtemp");
     snprintf(path, sizeof path, "%s/glossy_point.scene", dir);
-    if (!write_glossy(cornell, path))
+    if (!it_write_variant(cornell, path, glossy, NSUB))
         converge(path, "glossy_point");
     remove(path);
     rmdir(dir);
