@@ -22,6 +22,7 @@ check "bdpt and light: other pixels" other_pixels "$T/a.exr" "$T/l.exr"
 no_bdpt() { # no_bdpt NAME PATTERN ARGS...: exit 2, PATTERN on stderr, no output
     local what=$1 why=$2
     shift 2
+    rm -f "$T/no.exr"
     "$BIN" render "$@" --integrator bdpt --width 8 --height 8 --spp 1 -o "$T/no.exr" 2> "$T/no.err"
     check "$what: exit 2" test $? -eq 2
     check "$what: says why ($why)" grep -q "$why" "$T/no.err"
