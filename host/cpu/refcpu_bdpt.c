@@ -255,7 +255,9 @@ static int visible(const spm_geometry *g, const float a[3], spm_u32 skip, const 
 }
 
 /* s = 0: camera vertex pt = z[t-1] on an emitter, Le toward z[t-2]; the
- * light's densities of pt (pmf / area) and of its ray to z[t-2]. */
+ * light's densities of pt (pmf / area) and of its ray to z[t-2] (its
+ * emission sampling's: the front face's cosine lobe, none behind a
+ * two-sided face, which light subpaths never leave by). */
 static int join_emitter(const spm_geometry *g, const bd_subpath *z, int t, bd_join *J)
 {
     const bd_vertex *pt = &z->v[t - 1], *pm = &z->v[t - 2];
@@ -266,7 +268,7 @@ static int join_emitter(const spm_geometry *g, const bd_subpath *z, int t, bd_jo
     float w[3];
     toward(pt->p, pm->p, w);
     J->pt_rev = spm_ref_light_pmf(g, pt->tri) / tri->area;
-    J->ptm_rev = to_area(fabsf(v3_dot(w, tri->n)) / SPM_PI_F, pt, pm);
+    J->ptm_rev = to_area(fmaxf(v3_dot(w, tri->n), 0.0f) / SPM_PI_F, pt, pm);
     return J->c > 0.0f;
 }
 

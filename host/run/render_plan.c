@@ -191,6 +191,10 @@ static const char *bdpt_why(const spm_render_plan *p)
             p->geom->emitters[e].kind != SPM_LIGHT_POINT)
             return "it joins camera vertices to area and point lights only (a spot's cone, a "
                    "distant or sky light is not joined yet)";
+    for (int m = 0; m < p->tables->nmaterials; m++)
+        if (p->tables->materials[m].type & SPM_EMIT_TWOSIDED)
+            return "a two-sided emitter's back face is never left by a light subpath (its "
+                   "emission sampling covers the front), which MIS would weigh as if it were";
     if (p->params.disperse)
         return "both subpaths sharing one committed wavelength at dispersive glass is not "
                "implemented yet";
