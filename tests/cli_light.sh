@@ -46,8 +46,8 @@ refused() { # refused NAME PATTERN ARGS...: exit 2, PATTERN on stderr, no output
     check "$name: says why" grep -q "$pat" "$T/no.err"
     check "$name: nothing written" test ! -e "$T/no.exr"
 }
-refused "unknown integrator" "integrator is path or light, not 'bdpt'" \
-    render "$CORNELL" --backend cpu --integrator bdpt --width 8 --height 8 --spp 1
+refused "unknown integrator" "integrator is path, light or bdpt, not 'photon'" \
+    render "$CORNELL" --backend cpu --integrator photon --width 8 --height 8 --spp 1
 { cat "$CORNELL"; echo "background up equal 1"; } > "$T/sky.scene"
 refused "background" "background is no light a subpath starts from" \
     render "$T/sky.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1

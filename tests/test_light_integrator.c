@@ -22,6 +22,7 @@
 #include "scene.h"
 #include "tables.h"
 #include "testutil.h"
+#include "integrator_testlib.h"
 
 #define SIDE 16
 #define K 32      /* independent renders of each integrator */
@@ -29,81 +30,22 @@
 #define Z_MAX 5.0 /* per pixel and channel, Student's t with K - 1 = 31 degrees:
                      two-sided 2e-5, 1.5 % over the 768 values */
 
-typedef struct {
-    spm_scene sc;
-    spm_geometry g;
-    spm_tables t;
-} scene;
+typedef it_scene scene;
 
 static int load(scene *s, const char *path)
 {
-    spm_error err;
-    spm_pretest_opts po;
-    spm_pretest_defaults(&po);
-    if (spm_scene_load(path, &s->sc, &err)) {
-        CHECK(0, "%s", err.msg);
-        return 1;
-    }
-    s->sc.width = s->sc.height = SIDE;
-    if (spm_geometry_build(&s->sc, &s->g, &err) || spm_tables_build(&s->sc, &po, &s->t, &err)) {
-        CHECK(0, "%s", err.msg);
-        return 1;
-    }
-    return 0;
+    return it_load(s, path, SIDE);
 }
 
 static int plan_for(spm_render_plan *p, const scene *s, int mode, int integrator, spm_u32 seed)
 {
-    spm_error err;
-    if (spm_render_plan_init(p, &s->g, &s->t, mode, seed, &err) ||
-        spm_render_plan_integrator(p, integrator, &err)) {
-        CHECK(0, "%s", err.msg);
-        return 1;
-    }
-    return 0;
+    return it_plan(p, s, mode, integrator, seed);
 }
 
 /* One pass of SPP samples per pixel: its XYZ per pixel (the pass sums over SPP) */
 static int render_xyz(const scene *s, int mode, int integrator, spm_u32 seed, double *y)
 {
-    spm_render_plan p;
-    spm_error err;
-    if (plan_for(&p, s, mode, integrator, seed))
-        return 1;
-    spm_backend *b = spm_backend_cpu_create(&p, &err);
-    float *img = calloc(p.npix * 3, sizeof *img);
-    spm_pass_stats st;
-    memset(&st, 0, sizeof st);
-    int rc = b->pass(b, 0, SPP, img, &st, &err);
-    CHECK(rc == 0, "pass: %s", err.msg);
-    for (size_t i = 0; i < 3 * p.npix; i++)
-        y[i] = img[i] / (double)SPP;
-    free(img);
-    b->destroy(b);
-    spm_render_plan_free(&p);
-    return rc;
-}
-
-/* A variant of cornell.scene into path: each line starting with sub[k][0]
- * replaced by sub[k][1] (n of them, each once). */
-static int write_variant(const char *cornell, const char *path, const char *const (*sub)[2], int n)
-{
-    FILE *in = fopen(cornell, "r"), *out = fopen(path, "w");
-    char line[1024];
-    int done = 0;
-    while (in && out && fgets(line, sizeof line, in)) {
-        int k = 0;
-        while (k < n && strncmp(line, sub[k][0], strlen(sub[k][0])))
-            k++;
-        done += k < n;
-        fputs(k < n ? sub[k][1] : line, out);
-    }
-    if (in)
-        fclose(in);
-    if (out)
-        fclose(out);
-    CHECK(done == n, "%s: %d of the %d lines replaced", cornell, done, n);
-    return done != n;
+    return it_render_xyz(s, mode, integrator, seed, SPP, y);
 }
 
 /* the glossy box: its boxes a rough gold conductor and a rough coated blue */
@@ -263,12 +205,6 @@ static void fixed_point(void)
     free(perm);
 }
 
-static void scene_free(scene *s)
-{
-    spm_tables_free(&s->t);
-    spm_geometry_free(&s->g);
-    spm_scene_free(&s->sc);
-}
 
 static void variant(const char *cornell, const char *dir, const char *name,
                     const char *const (*sub)[2], int n)
@@ -276,9 +212,9 @@ static void variant(const char *cornell, const char *dir, const char *name,
     char path[1200];
     scene s;
     snprintf(path, sizeof path, "%s/%s.scene", dir, name);
-    if (!write_variant(cornell, path, sub, n) && !load(&s, path)) {
+    if (!it_write_variant(cornell, path, sub, n) && !load(&s, path)) {
         converge(&s, name);
-        scene_free(&s);
+        it_free(&s);
     }
     remove(path);
 }
@@ -293,7 +229,7 @@ int main(void)
         TEST_END();
     split_invariant(&s);
     converge(&s, "cornell");
-    scene_free(&s);
+    it_free(&s);
     CHECK(mkdtemp(dir) != NULL, "mkdtemp");
     variant(cornell, dir, "glossy", glossy, 3);
     variant(cornell, dir, "point", point, 1);

@@ -79,7 +79,8 @@ const spm_option spm_options[] = {
     ROW(INTEGRATOR, "--integrator", "I", TEXT, 0, 0, R,
         "path (default: camera paths with next-event estimation) |\n"
         "light (subpaths from the lights, each vertex splatted into\n"
-        "the pixel that sees it; the CPU reference, --backend cpu)"),
+        "the pixel that sees it; the CPU reference, --backend cpu) |\n"
+        "bdpt (both joined in every way, weighed by MIS; --backend cpu)"),
     ROW(SPP, "--spp", "N", INT, 1, SPM_SCENE_MAX_SPP, R,
         "samples per pixel, %R (default: the scene's, else 16)"),
     ROW(TIME, "--time", "SECONDS", REAL, 0.01, 1e7, R,

@@ -98,7 +98,7 @@ static int word_option(spm_opt_id id, const char *v, render_opts *o)
         return 0;
     case SPM_O_INTEGRATOR:
         if ((o->cfg.integrator = spm_integrator_parse(v)) < 0) {
-            fprintf(stderr, "specmip render: --integrator is path or light, not '%s'\n", v);
+            fprintf(stderr, "specmip render: --integrator is path, light or bdpt, not '%s'\n", v);
             return SPM_EXIT_INPUT;
         }
         return 0;

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "refcpu.h"
+#include "refcpu_bdpt.h"
 
 typedef struct {
     const spm_render_plan *plan;
@@ -36,9 +37,9 @@ static void reserve(cpu_impl *c, size_t n)
     c->cap = n;
 }
 
-/* A pass of the light integrator: npix spp subpaths in chunks of
- * SPM_SPLAT_CHUNK (film_splat.h), each traced, shaded into its splats and
- * added to the pass image in fixed point. */
+/* A pass of the light or bidirectional integrator: npix spp subpaths (or
+ * samples) in chunks of SPM_SPLAT_CHUNK (film_splat.h), each traced, shaded
+ * into its splats and added to the pass image in fixed point. */
 static int cpu_light_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                           spm_pass_stats *st)
 {
@@ -55,21 +56,28 @@ static int cpu_light_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, flo
     spm_trace_params p = spm_plan_pass_params(pl, first_sample, spp);
     for (size_t c0 = 0; c0 < n; c0 += SPM_SPLAT_CHUNK) {
         size_t nb = n - c0 < SPM_SPLAT_CHUNK ? n - c0 : SPM_SPLAT_CHUNK;
-        double t0 = spm_now();
-        spm_ref_light_trace_range(pl->geom, pl->tables->materials, pl->lvlk, (int)pl->start_level,
-                                  &p, c0, c0 + nb, c->lpaths, c->llevels);
-        double t1 = spm_now();
+        double t0 = spm_now(), t1 = t0;
+        size_t hist[256] = {0}, ncount = nb;
         c->splats.n = 0;
-        spm_ref_shade_splats(pl->mode, pl->shade, pl->spec, c->ch, &p, c0, c->lpaths, c->llevels,
-                             nb, &c->splats);
+        if (pl->integrator == SPM_INTEGRATOR_BDPT) { /* traced and shaded per sample */
+            spm_ref_bdpt_range(pl->geom, pl->tables->materials, pl->lvlk, (int)pl->start_level,
+                               pl->mode, pl->shade, pl->spec, c->ch, &p, c0, c0 + nb, &c->splats,
+                               hist);
+            ncount = c->splats.n;
+        } else {
+            spm_ref_light_trace_range(pl->geom, pl->tables->materials, pl->lvlk,
+                                      (int)pl->start_level, &p, c0, c0 + nb, c->lpaths, c->llevels);
+            t1 = spm_now();
+            spm_ref_shade_splats(pl->mode, pl->shade, pl->spec, c->ch, &p, c0, c->lpaths,
+                                 c->llevels, nb, &c->splats);
+            for (size_t i = 0; i < nb; i++) {
+                hist[c->llevels[i]]++;
+                st->truncated += c->lpaths[i].p.h.end == SPM_END_TRUNCATED;
+            }
+        }
         double t2 = spm_now();
         spm_splats_add_chunk(&c->acc, &c->splats, pass_xyz, &st->nonfinite);
-        size_t hist[256] = {0};
-        for (size_t i = 0; i < nb; i++) {
-            hist[c->llevels[i]]++;
-            st->truncated += c->lpaths[i].p.h.end == SPM_END_TRUNCATED;
-        }
-        spm_count_levels_hist(pl->mode, hist, nb, st);
+        spm_count_levels_hist(pl->mode, hist, ncount, st);
         st->trace_s += t1 - t0;
         st->shade_s += t2 - t1;
         st->accum_s += spm_now() - t2;
@@ -84,7 +92,7 @@ static int cpu_pass(spm_backend *b, spm_u32 first_sample, spm_u32 spp, float *pa
 {
     (void)err;
     cpu_impl *c = b->impl;
-    if (c->plan->integrator == SPM_INTEGRATOR_LIGHT)
+    if (c->plan->integrator != SPM_INTEGRATOR_PATH)
         return spp ? cpu_light_pass(b, first_sample, spp, pass_xyz, st) : 0;
     const spm_render_plan *pl = c->plan;
     size_t npix = pl->npix;
@@ -161,4 +169,4 @@ static spm_backend *create_kind(int device, const spm_render_plan *plan, spm_err
     return spm_backend_cpu_create(plan, err);
 }
 
-const spm_backend_kind spm_backend_kind_cpu = {.name = "cpu", .light = 1, .create = create_kind};
+const spm_backend_kind spm_backend_kind_cpu = {.name = "cpu", .light = 1, .bdpt = 1, .create = create_kind};

@@ -17,6 +17,7 @@
 #include "refcpu_camera.h"
 #include "refcpu_shading.h"
 #include "refcpu_feeler.h"
+#include "refcpu_bdpt.h"
 
 /* The pixel film point (fx, fy) in [-1, 1]^2 falls in (fy = 1 the top row),
  * the inverse of the camera ray's cx = 2 (x + u) / w - 1, cy = 1 - 2 (y + v) / h. */
@@ -210,4 +211,16 @@ void spm_ref_light_trace_range(const spm_geometry *g, const spm_material *mats,
     for (size_t i = begin; i < end; i++)
         levels[i - begin] =
             trace_light_path(g, mats, lvlk, start_level, p, i, &paths[i - begin]);
+}
+
+/* The pieces the bidirectional tracer shares (refcpu_bdpt.h). */
+spm_u32 spm_ref_lt_film_pixel(const spm_camera *cam, const float film[2])
+{
+    return film_pixel(cam, film);
+}
+
+spm_u32 spm_ref_lt_emission(const spm_geometry *g, const spm_material *mats, const spm_emitter *e,
+                            const float d[3], float *scale, float *cos_o)
+{
+    return emission(g, mats, e, d, scale, cos_o);
 }

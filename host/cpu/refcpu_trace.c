@@ -17,6 +17,7 @@
 #include "refcpu_shading.h"
 #include "refcpu_feeler.h"
 #include "refcpu_texture.h"
+#include "refcpu_bdpt.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -40,7 +41,7 @@ static int strategy_from_env(void)
 
 /* The camera ray of a jittered point in pixel (x, y), y = 0 at the top
  * (refcpu_camera.c); a thin lens draws its disk point from its own dimensions. */
-static void camera_ray(const spm_camera *cam, spm_u32 seed, spm_u32 pixel, spm_u32 sample,
+void spm_ref_pixel_ray(const spm_camera *cam, spm_u32 seed, spm_u32 pixel, spm_u32 sample,
                        float o[3], float d[3])
 {
     spm_u32 w = (spm_u32)cam->width, h = (spm_u32)cam->height;
@@ -151,7 +152,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
     float cpdf = -1.0f; /* the last vertex's density of its sampled ray, for MIS at the
                            emission it hits (< 0: not counted, 0: a delta) */
     int seg = 0;        /* the last vertex records the length of its ray's segment */
-    camera_ray(&p->cam, k.seed, k.pixel, k.sample, o, d);
+    spm_ref_pixel_ray(&p->cam, k.seed, k.pixel, k.sample, o, d);
     spm_u32 skip = 0xFFFFFFFFu;
     /* a textured vertex's ray cone (texture.clh): width w, spread g, from a
      * pixel's angle (an orthographic pixel's width, spread 0) */

@@ -38,6 +38,7 @@ typedef struct {
     int per_device;   /* one backend per device index (--device); else one, index ignored */
     int compiles;     /* builds kernels: PoCL's cache is watched during a timed render */
     int light;        /* renders --integrator light (render_plan.h SPM_INTEGRATOR_LIGHT) */
+    int bdpt;         /* renders --integrator bdpt (SPM_INTEGRATOR_BDPT) */
     /* --device all: the indices it selects (at most max; more are warned of). */
     int (*all_devices)(int *list, int *n, int max, spm_error *err);
     /* Before anything is built: the device exists (its name into name[256]) and

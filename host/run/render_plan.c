@@ -139,7 +139,7 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     return 0;
 }
 
-static const char *const integrator_names[SPM_INTEGRATOR_COUNT] = {"path", "light"};
+static const char *const integrator_names[SPM_INTEGRATOR_COUNT] = {"path", "light", "bdpt"};
 
 const char *spm_integrator_name(int integrator)
 {
@@ -167,12 +167,55 @@ static int rough_dielectric(const spm_tables *t)
     return 0;
 }
 
-/* What the light integrator does not render yet, each with its reason. */
+/* A type whose vertex picks one of its terms by a random number (the coated
+ * lobes, the rough diffuse terms, the fluorescent ones): its pdf is the
+ * picked term's, not a function of the two directions that MIS can weigh
+ * alike from both ends of a connected path. */
+static const char *picking_type(const spm_tables *t)
+{
+    for (int m = 0; m < t->nmaterials; m++) {
+        spm_u32 tag = SPM_MAT_TAG(t->materials[m]);
+        if (tag != SPM_MAT_LAMBERT && tag != SPM_MAT_CONDUCTOR && tag != SPM_MAT_DIELECTRIC)
+            return spm_material_types[tag].keyword ? spm_material_types[tag].keyword : "?";
+    }
+    return NULL;
+}
+
+/* What the bidirectional integrator refuses beyond the light integrator. */
+static const char *bdpt_why(const spm_render_plan *p)
+{
+    static char why[160];
+    const char *type = picking_type(p->tables);
+    for (size_t e = 0; e < (size_t)p->geom->nemitters; e++)
+        if (p->geom->emitters[e].kind != SPM_LIGHT_AREA &&
+            p->geom->emitters[e].kind != SPM_LIGHT_POINT)
+            return "it joins camera vertices to area and point lights only (a spot's cone, a "
+                   "distant or sky light is not joined yet)";
+    for (int m = 0; m < p->tables->nmaterials; m++)
+        if (p->tables->materials[m].type & SPM_EMIT_TWOSIDED)
+            return "a two-sided emitter's back face is never left by a light subpath (its "
+                   "emission sampling covers the front), which MIS would weigh as if it were";
+    if (p->params.disperse)
+        return "both subpaths sharing one committed wavelength at dispersive glass is not "
+               "implemented yet";
+    if (p->mode->per_path)
+        return "a connected path's hero wavelengths (terminated at dispersive vertices, as "
+               "pbrt-v4 does) are not carried yet";
+    if (type) {
+        snprintf(why, sizeof why, "material type '%s' picks one of its terms per vertex, and "
+                                  "MIS needs its density as a function of the two directions",
+                 type);
+        return why;
+    }
+    return NULL;
+}
+
+/* What the light integrators do not render yet, each with its reason. */
 int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err)
 {
     const spm_trace_params *tp = &p->params;
     const char *why = NULL;
-    if (i == SPM_INTEGRATOR_LIGHT) {
+    if (i != SPM_INTEGRATOR_PATH) {
         if (tp->cam.ortho)
             why = "an orthographic camera sees along one direction only, which no vertex's "
                   "connection to the camera meets";
@@ -193,6 +236,8 @@ int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err)
         else if (tp->nemitters == 0)
             why = "the scene has no light to start a subpath from";
     }
+    if (!why && i == SPM_INTEGRATOR_BDPT)
+        why = bdpt_why(p);
     if (why) {
         spm_errorf(err, "--integrator %s cannot render this scene: %s", spm_integrator_name(i),
                    why);

@@ -39,9 +39,10 @@ typedef struct {
 } spm_render_plan;
 
 /* The integrators: camera paths with next-event estimation (the default),
- * or subpaths from the lights splatted into the pixels they are seen in
- * (docs/ARCHITECTURE.md "Light subpaths"). */
-enum { SPM_INTEGRATOR_PATH, SPM_INTEGRATOR_LIGHT, SPM_INTEGRATOR_COUNT };
+ * subpaths from the lights splatted into the pixels they are seen in
+ * (docs/ARCHITECTURE.md "Light subpaths"), or both joined in every way
+ * (bidirectional, "Connected paths"). */
+enum { SPM_INTEGRATOR_PATH, SPM_INTEGRATOR_LIGHT, SPM_INTEGRATOR_BDPT, SPM_INTEGRATOR_COUNT };
 /* the integrator's name (--integrator), and the index of a name (-1: none) */
 const char *spm_integrator_name(int integrator);
 int spm_integrator_parse(const char *name);

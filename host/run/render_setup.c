@@ -186,7 +186,8 @@ int spm_render_setup_backends(const spm_render_config *c, spm_render_setup *s, s
     int rc;
     if (spm_render_plan_init(&s->plan, &s->geom, &s->tables, c->mode, c->seed, err))
         return SPM_EXIT_INPUT;
-    if (c->integrator != SPM_INTEGRATOR_PATH && !c->backend->light) {
+    if ((c->integrator == SPM_INTEGRATOR_LIGHT && !c->backend->light) ||
+        (c->integrator == SPM_INTEGRATOR_BDPT && !c->backend->bdpt)) {
         spm_errorf(err, "--integrator %s runs on the CPU reference only so far (--backend cpu)",
                    spm_integrator_name(c->integrator));
         return SPM_EXIT_INPUT;
