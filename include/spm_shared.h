@@ -590,18 +590,32 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
  *   [SPM_TEXD_NPAL]    the number of palettes
  *   [SPM_TEXD_ALPHA]   offset of a word per material: its opacity record's
  *                      offset, 0 opaque (SPM_ALPHA_* below); 0: no material has one
+ *   [SPM_TEXD_SURVIVE] offset of a float per palette entry: its colour's mean
+ *                      over the largest mean of its palette, r in
+ *                      [SPM_TEX_SURVIVE_MIN, 1]; Russian roulette at a
+ *                      textured vertex survives with P r and weighs 1 / (P r)
+ *                      (unbiased for any r > 0; P alone is the palette's
+ *                      brightest colour's)
  * a header: nlevels, wrap along u, wrap along v (spm_wrap), 0, then per level
  * its texels' offset, width, height, 0; texels 3 floats (linear RGB), rows top
  * to bottom. Texture coordinates: 6 floats per triangle (u, v at each vertex),
  * in the triangles' order, only in scenes with textures. */
 #define SPM_TEX_GRID 16
+/* The least survival ratio: a path on the darkest texel survives at least a
+ * quarter as often as on the brightest. Where the continuation carries the
+ * light (a sky that next-event estimation does not sample), the texel's own
+ * ratio (0.008 on a near-black texel) leaves too few paths: on
+ * tests/cli_texture_quad.sh's quad the worst block is 1.2-1.3 ΔE00 off at
+ * 512 spp with it, 0.6-1.0 with a quarter (docs/METHODS.md "Textures"). */
+#define SPM_TEX_SURVIVE_MIN 0.25
 #define SPM_TEXD_MATS 0
 #define SPM_TEXD_PALETTE 1
 #define SPM_TEXD_NODES 2
 #define SPM_TEXD_TEXS 3
 #define SPM_TEXD_NPAL 4
 #define SPM_TEXD_ALPHA 5
-#define SPM_TEXD_HEAD 6
+#define SPM_TEXD_SURVIVE 6
+#define SPM_TEXD_HEAD 7
 #define SPM_TEX_NODES_ALL (SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID)
 #define SPM_TEX_HEADER(nlevels) (4 + 4 * (nlevels))
 

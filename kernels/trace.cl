@@ -224,7 +224,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 
         /* the vertex; its reflectance counted per occurrence */
         uint refl = bsdf_lobe(m, &b, &mmean, &minv);
-        TEXTURE_PICK(t, refl, m.refl, tex, uvs, tr->material, (uint)hit, tr, pos, d, key, j);
+        TEXTURE_PICK(t, refl, m.refl, tr->material, (uint)hit, tr, pos, d, key, j, mmean, minv);
         if (refl != SPM_NONE)
             feel(lvlk, refl, occurrences(seen, j, refl), SPM_SETBY_REFLECTOR, &level, &setby);
         if (eid != SPM_NONE)

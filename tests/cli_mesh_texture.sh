@@ -61,7 +61,7 @@ with open(d + "/quad.ply", "wb") as f:
     f.write(struct.pack("<B3iB3i", 3, 0, 1, 2, 3, 0, 2, 3))
 PYEOF
 common='image 32 32
-spp 128
+spp 512
 camera position 0 0 -2  direction 0 0 1  orthographic 2
 spectrum d65 file illuminant_D65.csv
 background both d65 1'

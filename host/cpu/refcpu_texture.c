@@ -45,7 +45,7 @@ static spm_u32 grid_pick(const spm_u32 *nodes, float x, float *r)
 
 spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, const float x[3],
                                const float d[3], float cone, const spm_ref_key *k, int j,
-                               spm_u32 refl, spm_u32 base)
+                               spm_u32 refl, spm_u32 base, float *survive)
 {
     const spm_u32 *tex = g->tex;
     spm_u32 tw = g->ntex ? tex[tex[SPM_TEXD_MATS] + mat] : 0u, tx = tw & 0xFFFFu;
@@ -78,8 +78,9 @@ spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, 
     spm_u32 nr = grid_pick(nodes, word_float(t[0]), &r);
     spm_u32 ng = grid_pick(nodes, word_float(t[1]), &r);
     spm_u32 nb = grid_pick(nodes, word_float(t[2]), &r);
-    return tex[tex[SPM_TEXD_PALETTE] + (tw >> 16) * SPM_TEX_NODES_ALL +
-               (nr * SPM_TEX_GRID + ng) * SPM_TEX_GRID + nb];
+    spm_u32 at = (tw >> 16) * SPM_TEX_NODES_ALL + (nr * SPM_TEX_GRID + ng) * SPM_TEX_GRID + nb;
+    *survive = word_float(tex[tex[SPM_TEXD_SURVIVE] + at]);
+    return tex[tex[SPM_TEXD_PALETTE] + at];
 }
 
 /* the largest of the edges' |(n_j - n_i) . (p_j - p_i)| / |p_j - p_i|^2 (0 flat) */

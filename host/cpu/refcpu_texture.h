@@ -8,10 +8,11 @@
 /* The colour vertex j records on triangle `hit` (material mat; refl without
  * a texture) at x, seen along d by a ray cone of width `cone` there: the
  * texture's pick when refl is the material's base colour `base` (a coated
- * vertex's specular lobe records white: not textured). */
+ * vertex's specular lobe records white: not textured), and *survive its
+ * survival ratio (spm_shared.h SPM_TEXD_SURVIVE; untouched otherwise). */
 spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, const float x[3],
                                const float d[3], float cone, const spm_ref_key *k, int j,
-                               spm_u32 refl, spm_u32 base);
+                               spm_u32 refl, spm_u32 base, float *survive);
 
 /* The ray cone's spread past a vertex on triangle tri where the cone of width
  * w, arriving along d, left as s says (shading normal n, relative index eta):

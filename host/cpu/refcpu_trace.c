@@ -186,8 +186,11 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         spm_u32 refl = spm_ref_lobe(m, &b, &mmean, &minv);
         if (g->ntex) {
             cone_w += cone_g * t;
+            float r = 1.0f; /* Russian roulette on the pick's own mean (SPM_TEXD_SURVIVE) */
             refl = spm_ref_texture_colour(g, tri->material, (spm_u32)hit, x, d, cone_w, &k, j, refl,
-                                          m->refl);
+                                          m->refl, &r);
+            mmean *= r;
+            minv = r > 0.0f ? minv / r : 0.0f;
         }
         spm_vertex *vx = &path->v[j];
         vx->ids = (refl & 0xFFFFu) | (e << 16);

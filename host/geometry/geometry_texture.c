@@ -2,6 +2,7 @@
  * spm_geometry_textures; the layout: spm_shared.h SPM_TEXD_*). */
 #include "geometry.h"
 #include "texture.h"
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,7 +16,7 @@ static spm_u32 fbits(float f)
 /* words of the whole layout, for the scene's materials and textures */
 static size_t count_words(const spm_scene *s)
 {
-    size_t n = SPM_TEXD_HEAD + (size_t)s->nmaterials + (size_t)s->npalettes * SPM_TEX_NODES_ALL +
+    size_t n = SPM_TEXD_HEAD + (size_t)s->nmaterials + 2 * (size_t)s->npalettes * SPM_TEX_NODES_ALL +
                SPM_TEX_GRID + (size_t)s->ntextures;
     for (int t = 0; t < s->ntextures; t++) {
         n += SPM_TEX_HEADER(s->textures[t].nlevels);
@@ -43,6 +44,25 @@ static size_t put_texture(const spm_texture *t, spm_u32 *x, size_t w)
     return texels;
 }
 
+/* palette p's survival ratios from word w on (spm_shared.h SPM_TEXD_SURVIVE):
+ * mean(colour) / the largest mean among the palette's colours, at least
+ * SPM_TEX_SURVIVE_MIN; the word after */
+static size_t put_survival(const spm_scene *s, int p, spm_u32 *x, size_t w)
+{
+    const int *pal = s->palette + (size_t)p * SPM_TEX_NODES_ALL;
+    double top = 0.0;
+    for (int i = 0; i < SPM_TEX_NODES_ALL; i++)
+        if (pal[i] >= 0)
+            top = fmax(top, spm_spectrum_mean(&s->colours[pal[i]].s));
+    for (int i = 0; i < SPM_TEX_NODES_ALL; i++)
+        x[w++] = fbits(pal[i] >= 0 && top > 0.0
+                           ? (float)fmin(fmax(spm_spectrum_mean(&s->colours[pal[i]].s) / top,
+                                            SPM_TEX_SURVIVE_MIN),
+                                       1.0)
+                           : 1.0f);
+    return w;
+}
+
 void spm_geometry_textures(const spm_scene *s, spm_geometry *g)
 {
     int any = 0;
@@ -65,6 +85,11 @@ void spm_geometry_textures(const spm_scene *s, spm_geometry *g)
     x[SPM_TEXD_PALETTE] = (spm_u32)w;
     for (size_t i = 0; i < ngrid; i++)
         x[w++] = s->palette && s->palette[i] >= 0 ? (spm_u32)s->palette[i] : SPM_NONE;
+    x[SPM_TEXD_SURVIVE] = (spm_u32)w;
+    for (int p = 0; p < s->npalettes && s->palette; p++)
+        w = put_survival(s, p, x, w);
+    if (!s->palette)
+        w += ngrid;
     x[SPM_TEXD_NODES] = (spm_u32)w;
     float nodes[SPM_TEX_GRID];
     spm_tex_grid_nodes(nodes);
