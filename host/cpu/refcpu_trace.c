@@ -17,6 +17,7 @@
 #include "refcpu_shading.h"
 #include "refcpu_feeler.h"
 #include "refcpu_texture.h"
+#include "refcpu_metalrough.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -168,7 +169,9 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
             break;
         }
         const spm_tri *tri = &g->tris[hit];
-        const spm_material *m = &mats[tri->material];
+        spm_material mix;
+        spm_u32 mi = spm_ref_mix_pick(g, mats, (spm_u32)hit, x, &k, j, &mix);
+        const spm_material *m = &mix;
         if (seg && j > 0) /* the segment's length: a medium's absorption, in the shade stage */
             path->x[j - 1].lobe = t;
         hit_emission(g, m, hit, j, t, d, cpdf, weight, path, &f, lvlk);
@@ -185,7 +188,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         spm_u32 refl = spm_ref_lobe(m, &b, &mmean, &minv);
         if (g->ntex) {
             cone_w += cone_g * t;
-            refl = spm_ref_texture_colour(g, tri->material, (spm_u32)hit, x, d, cone_w, &k, j, refl,
+            refl = spm_ref_texture_colour(g, mi, (spm_u32)hit, x, d, cone_w, &k, j, refl,
                                           m->refl);
         }
         spm_vertex *vx = &path->v[j];
