@@ -229,7 +229,7 @@ int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int 
         if (m->has & SPM_MESH_HAS_IOR && (ior < 1.0 || ior > 4.0))
             TODO("%sior %g (taken as %g: the types' range is 1 to 4)", SEP, ior, clamp_ior(ior));
         /* a metallic map, or a metallic value between 0 and 1: the mix */
-    int mixed = t < 0.5 && (m->mr_map || (metallic > 0 && metallic < 1));
+        int mixed = t < 0.5 && (m->mr_map || (metallic > 0 && metallic < 1));
         if (mixed) {
             out = metallic_roughness(b, m, r, ior, metallic, rough, e, where, err);
         } else if (metallic >= 0.5) {
@@ -263,6 +263,9 @@ int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int 
         }
         if (mixed && m->texture != SPM_MESH_TEX_NONE)
             TODO("%sthe base colour texture on the metal (its mean colour there)", SEP);
+        if (!mixed && metallic > 0 && metallic < 1)
+            TODO("%smetallic %g on a transmissive material (taken as %s: the threshold is 0.5)",
+                 SEP, metallic, metallic >= 0.5 ? "1" : "0");
         if (m->mr_map && !mixed)
             TODO("%smetallic-roughness map '%s' (not on a transmissive material)", SEP,
                  m->mr_name);
