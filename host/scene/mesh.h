@@ -44,7 +44,9 @@ enum {
     SPM_MESH_IGN_LIGHT_RANGE = 1 << 12,
     SPM_MESH_IGN_EMISSIVE_TEXTURES = 1 << 13,
     SPM_MESH_IGN_OCCLUSION = 1 << 14,
-    SPM_MESH_IGN_COUNT = 15
+    SPM_MESH_IGN_SPECULAR_MAPS = 1 << 15,
+    SPM_MESH_IGN_TEX_TRANSFORM = 1 << 16,
+    SPM_MESH_IGN_COUNT = 17
 };
 /* "vertex normals", ... for bit i */
 const char *spm_mesh_ignored_name(int bit);

@@ -163,6 +163,9 @@ const char *spm_mesh_ignored_name(int bit)
         "as 1/d^2 without a cut-off)",
         "emissive textures (glTF emissiveTexture, MTL map_Ke: an emission is its factor alone, "
         "untextured)",
-        "occlusion maps (a path tracer computes the occlusion they stand for)"};
+        "occlusion maps (a path tracer computes the occlusion they stand for)",
+        "MTL specular maps (map_Ks, map_Ns: the Ks and Ns values are used throughout)",
+        "texture transforms and other texture coordinate sets (glTF KHR_texture_transform, "
+        "texCoord other than 0: textures are read untransformed at TEXCOORD_0)"};
     return bit >= 0 && bit < SPM_MESH_IGN_COUNT ? names[bit] : "?";
 }
