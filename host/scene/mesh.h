@@ -239,6 +239,10 @@ int spm_mesh_alpha_read(const struct aiMaterial *m, const char *model, spm_mesh_
                         spm_error *refused);
 int spm_mesh_alpha_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
                         int has_uvs, const char *mwhere, spm_error *err);
+/* An image a material names (Assimp's path, Windows separators taken as
+ * '/'), relative to the model's folder, checked by the path rule: 0, or 1
+ * with *refused filled (mesh_alpha.c; the opacity and metallic-roughness maps). */
+int spm_mesh_image_check(const char *ref, const char *model, spm_file *file, spm_error *refused);
 
 /* glTF's metallic-roughness map (mesh_metalrough.c). In the importer's
  * child: the metallicRoughnessTexture's name and path (beside the model,

@@ -30,14 +30,8 @@ int spm_mesh_mix_read(const struct aiMaterial *m, const char *model, spm_mesh_ma
         out->mr_map = SPM_MESH_MRMAP_EMBEDDED;
         return 0;
     }
-    char rel[1024], dir[SPM_PATH_MAX], where[SPM_PATH_MAX + 32];
-    snprintf(rel, sizeof rel, "%s", path.data);
-    for (char *c = rel; *c; c++) /* Windows separators as '/' */
-        if (*c == '\\')
-            *c = '/';
-    snprintf(where, sizeof where, "%s: image", model);
     spm_file file;
-    if (spm_path_check(spm_path_dir(model, dir, sizeof dir), rel, where, &file, refused))
+    if (spm_mesh_image_check(path.data, model, &file, refused))
         return 2;
     out->mr_map = SPM_MESH_MRMAP_FILE;
     snprintf(out->mr_file, sizeof out->mr_file, "%s", file.path);
