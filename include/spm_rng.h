@@ -74,6 +74,9 @@
  * lens's and hero's. */
 #define SPM_DIM_TEX_BASE 0x60000000u
 #define SPM_DIM_TEX(j, k) (SPM_DIM_TEX_BASE + 4u * (spm_u32)(j) + (spm_u32)(k))
+/* The metallic-roughness mix's choice at vertex j (spm_shared.h SPM_MIX_*):
+ * its own dimension, between the textures' and the environment map's. */
+#define SPM_DIM_MIX(j) (0x68000000u + (spm_u32)(j))
 /* The environment map's lookup (kernels/light_envmap.clh): the texel drawn
  * along u and along v, SPM_DIM_ENV(j, 0 .. 1), and the node of the texel's
  * palette cell, SPM_DIM_ENV(j, 2), by the light sample at vertex j or by the

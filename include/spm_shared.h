@@ -588,6 +588,8 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
  *   [SPM_TEXD_NODES]   offset of the SPM_TEX_GRID node values (floats)
  *   [SPM_TEXD_TEXS]    offset of a word per texture: its header's offset
  *   [SPM_TEXD_NPAL]    the number of palettes
+ *   [SPM_TEXD_MIX]     offset of a word per material: its metallic-roughness
+ *                      record's offset, 0 none (SPM_MIX_* below); 0: no material has one
  *   [SPM_TEXD_ALPHA]   offset of a word per material: its opacity record's
  *                      offset, 0 opaque (SPM_ALPHA_* below); 0: no material has one
  *   [SPM_TEXD_SURVIVE] offset of a float per palette entry: its colour's mean
@@ -614,8 +616,9 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
 #define SPM_TEXD_TEXS 3
 #define SPM_TEXD_NPAL 4
 #define SPM_TEXD_ALPHA 5
-#define SPM_TEXD_SURVIVE 6
-#define SPM_TEXD_HEAD 7
+#define SPM_TEXD_MIX 6
+#define SPM_TEXD_SURVIVE 7
+#define SPM_TEXD_HEAD 8
 #define SPM_TEX_NODES_ALL (SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID)
 #define SPM_TEX_HEADER(nlevels) (4 + 4 * (nlevels))
 
@@ -640,6 +643,19 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
 #define SPM_ALPHA_BLEND 2u
 #define SPM_ALPHA_RECORD 4
 #define SPM_ALPHA_MAP_HEAD 4
+
+/* glTF's metallic-roughness model (kernels/metalrough.clh,
+ * host/cpu/refcpu_metalrough.c, host/geometry/geometry_alpha.c; docs/METHODS.md
+ * "Metallic-roughness"): a material with a mix record is, at each hit, its
+ * own (dielectric-coated) self or its metal, another material of the scene
+ * (a conductor of F0 = its base colour), the metal with probability the
+ * metallic value m = factor x the map's bilinear value at the hit's (u, v);
+ * the material chosen takes alpha = (roughness factor x its map's value)^2
+ * (below SPM_COND_MIN_ALPHA: 0). The record, from its offset: the metal's
+ * material index, the metallic factor, the roughness factor (float bits),
+ * the metallic map's and the roughness map's offsets (0: none; maps as the
+ * opacity's, one byte a texel). The draw is SPM_DIM_MIX(j). */
+#define SPM_MIX_RECORD 5
 
 /* The ray cone's widening past a lobe that is not a delta, as a fraction of
  * the half-angle of a cone of the lobe's solid angle (kernels/texture.clh

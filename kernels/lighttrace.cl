@@ -170,8 +170,8 @@ __kernel void spm_light_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
             break;
         }
         __global const spm_tri *tr = &tris[hit];
-        spm_material m = mats[tr->material];
         float3 x = o + d * t;
+        SPM_MATERIAL_AT(m, mi, mats, tex, uvs, tr, (uint)hit, x, key, j); /* metalrough.clh */
         spm_frame fr;
         hit_frame(tr, vnormals, o, d, &fr);
 #ifdef SPM_WITH_VEXT

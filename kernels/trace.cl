@@ -24,6 +24,7 @@
 #include "lights.clh"
 #include "camera.clh"
 #include "texture.clh"
+#include "metalrough.clh"
 
 /* Level feeler: one colour met; lvlk[c * KMAX + min(k, KMAX) - 1] (k = occurrence count). */
 inline void feel(__global const uchar *lvlk, uint c, uint k, uint by, uint *level, uint *setby)
@@ -187,8 +188,8 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             break;
         }
         __global const spm_tri *tr = &tris[hit];
-        spm_material m = mats[tr->material];
         float3 pos = o + d * t;
+        SPM_MATERIAL_AT(m, mi, mats, tex, uvs, tr, (uint)hit, pos, key, j); /* metalrough.clh */
         spm_frame fr;
         hit_frame(tr, vnormals, o, d, &fr);
 
@@ -224,7 +225,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 
         /* the vertex; its reflectance counted per occurrence */
         uint refl = bsdf_lobe(m, &b, &mmean, &minv);
-        TEXTURE_PICK(t, refl, m.refl, tr->material, (uint)hit, tr, pos, d, key, j, mmean, minv);
+        TEXTURE_PICK(t, refl, m.refl, mi, (uint)hit, tr, pos, d, key, j, mmean, minv);
         if (refl != SPM_NONE)
             feel(lvlk, refl, occurrences(seen, j, refl), SPM_SETBY_REFLECTOR, &level, &setby);
         if (eid != SPM_NONE)

@@ -130,7 +130,7 @@ scene map.obj; refused "child: MTL map outside" "'../outside/tex.png'" "map.obj:
 
 # 4. No reader under host/scene/ opens a file but through the rule: the
 # openers below appear only on the lines listed (each takes a checked spm_file)
-openers='(^|[^_a-z])fopen\(|spm_fopen_input\(|[^_a-z]open\(|ImageInput::open|aiImportFile|spm_csv_load\(|spm_spectrum_load\(|spm_fluor_load_donaldson\(|spm_texture_mean_file\(|spm_texture_read_file\(|spm_texture_read_alpha_file\(|spm_lex_open\('
+openers='(^|[^_a-z])fopen\(|spm_fopen_input\(|[^_a-z]open\(|ImageInput::open|aiImportFile|spm_csv_load\(|spm_spectrum_load\(|spm_fluor_load_donaldson\(|spm_texture_mean_file\(|spm_texture_read_file\(|spm_texture_read_alpha_file\(|spm_texture_read_channel_file\(|spm_lex_open\('
 allowed=(
     'mesh_import.c:.*aiImportFileEx\(file->path, aiProcess_Triangulate, &io\)'
     'texture_io.cpp:.*ImageInput::open\(file->path(, unassociated\(\))?\)'
@@ -141,6 +141,7 @@ allowed=(
     'scene_texture.c:.*spm_texture_read_file\(&f, &rgb,'
     'scene_texture.c:.*spm_texture_read_alpha_file\(&x->file, 0, &a,' # checked at the statement
     'mesh_alpha.c:.*spm_texture_read_alpha_file\(&f, m->alpha_map' # the parent's, checked again
+    'mesh_metalrough.c:.*spm_texture_read_channel_file\(&f, c,' # the parent's, checked again
     'envmap.c:.*spm_texture_read_file\(f, &rgb,'
     'scene_parse.c:.*spm_spectrum_load\(d->file.path,'
     'scene_parse.c:.*spm_fluor_load_donaldson\(path.path,'

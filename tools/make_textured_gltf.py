@@ -8,7 +8,14 @@ baseColorFactor) for comparisons. tests/cli_gltf_texture.sh renders them.
 usage: make_textured_gltf.py FOLDER
 writes FOLDER/board.gltf (the board, z = 0, facing -z, (-1, -1) to (1, 1);
 the lamp at z = 0.5 behind it, facing +z, away from the board and a camera
-in front), board_base.png, lamp_emissive.png and board_peer.gltf.
+in front), board_base.png, lamp_emissive.png and board_peer.gltf; and two
+boards with a metallicRoughnessTexture (glTF: roughness in green, metallic in
+blue, linear): board_mr.gltf, the textured board whose 4 x 4 blocks are
+metal and dielectric in a checkerboard (metallic 1 where row + column is
+even), roughness 0.1 to 0.85 by block, and mr_furnace.gltf, a board of base
+colour factor 0.8 grey with the same checkerboard, roughness 0 (smooth),
+for the white furnace of tests/cli_gltf_metalrough.sh; both images are
+board_mr.png and furnace_mr.png.
 The board's material: baseColorTexture x baseColorFactor (1 1 1), metallic 0,
 roughness 0.5 (a coated material of alpha 0.25 in specmip); the lamp's:
 emissiveTexture x emissiveFactor (1 1 1), base colour black."""
@@ -101,6 +108,24 @@ def main(folder):
         pmats.append({"name": "block%d" % b, "pbrMetallicRoughness": dict(
             plastic, baseColorFactor=[srgb_decode(v) for v in code] + [1])})
     gltf(folder + "/board_peer.gltf", quads, pmats, [])
+    metal_roughness(folder, board, square)
+
+
+def metal_roughness(folder, board, square):
+    """The metallic checkerboard boards (the module's docstring)."""
+    def mr(rough):  # metallic (blue) 255 on the blocks whose row + column is even
+        return lambda x, y: (0, rough(y // BLOCK, x // BLOCK),
+                             255 if (y // BLOCK + x // BLOCK) % 2 == 0 else 0)
+    n = 4 * BLOCK
+    png(folder + "/board_mr.png", n, n, mr(lambda r, c: 25 + 15 * (4 * r + c)))
+    png(folder + "/furnace_mr.png", n, n, mr(lambda r, c: 0))
+    textured = {"name": "board_mr", "pbrMetallicRoughness": {
+        "baseColorTexture": {"index": 0}, "metallicRoughnessTexture": {"index": 1}}}
+    gltf(folder + "/board_mr.gltf", [(board, square, 0)], [textured],
+         ["board_base.png", "board_mr.png"])
+    grey = {"name": "furnace_mr", "pbrMetallicRoughness": {
+        "baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicRoughnessTexture": {"index": 0}}}
+    gltf(folder + "/mr_furnace.gltf", [(board, square, 0)], [grey], ["furnace_mr.png"])
 
 
 if __name__ == "__main__":

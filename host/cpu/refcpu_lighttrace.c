@@ -13,6 +13,7 @@
 #include "geometry_vec3.h"
 #include "spm_rng.h"
 #include "refcpu_bsdf.h"
+#include "refcpu_metalrough.h"
 #include "refcpu_lights.h"
 #include "refcpu_camera.h"
 #include "refcpu_shading.h"
@@ -163,7 +164,9 @@ static uint8_t trace_light_path(const spm_geometry *g, const spm_material *mats,
             h->end = SPM_END_ESCAPED;
             break;
         }
-        const spm_material *m = &mats[g->tris[hit].material];
+        spm_material mix;
+        spm_ref_mix_pick(g, mats, (spm_u32)hit, x, &k, j, &mix);
+        const spm_material *m = &mix;
         if (seg && j > 0) /* the segment's length inside: its absorption, in the shade stage */
             path->x[j - 1].lobe = t;
         spm_ref_bsdf b;

@@ -18,6 +18,7 @@
 #include "refcpu_feeler.h"
 #include "refcpu_texture.h"
 #include "refcpu_bdpt.h"
+#include "refcpu_metalrough.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -169,7 +170,9 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
             break;
         }
         const spm_tri *tri = &g->tris[hit];
-        const spm_material *m = &mats[tri->material];
+        spm_material mix;
+        spm_u32 mi = spm_ref_mix_pick(g, mats, (spm_u32)hit, x, &k, j, &mix);
+        const spm_material *m = &mix;
         if (seg && j > 0) /* the segment's length: a medium's absorption, in the shade stage */
             path->x[j - 1].lobe = t;
         hit_emission(g, m, hit, j, t, d, cpdf, weight, path, &f, lvlk);
@@ -187,7 +190,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         if (g->ntex) {
             cone_w += cone_g * t;
             float r = 1.0f; /* Russian roulette on the pick's own mean (SPM_TEXD_SURVIVE) */
-            refl = spm_ref_texture_colour(g, tri->material, (spm_u32)hit, x, d, cone_w, &k, j, refl,
+            refl = spm_ref_texture_colour(g, mi, (spm_u32)hit, x, d, cone_w, &k, j, refl,
                                           m->refl, &r);
             mmean *= r;
             minv = r > 0.0f ? minv / r : 0.0f;

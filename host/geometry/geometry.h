@@ -78,6 +78,14 @@ int spm_geometry_has_alpha(const spm_geometry *g);
  * 1 where the surface is there (always for a material without opacity). */
 int spm_alpha_there(const spm_geometry *g, spm_u32 tri, const float o[3], const float d[3],
                     float t);
+/* A one-byte map's bilinear value at (u, v) in [0, 1] (spm_shared.h
+ * SPM_ALPHA_MAP_HEAD: the opacity's and the metallic-roughness maps). */
+float spm_byte_map_bilinear(const spm_u32 *m, float u, float v);
+/* The metallic-roughness mix at point p of triangle tri (spm_shared.h
+ * SPM_MIX_*): the metal's material index, the metallic value and the width
+ * alpha there; -1 when tri's material has no mix. */
+int spm_mix_values(const spm_geometry *g, spm_u32 tri, const float p[3], float *metallic,
+                   float *alpha);
 int spm_emitter_table_build(spm_emitter *em, const double *w, int n);
 spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg, int w, int h);
 /* The camera of scene s: spm_camera_make, or the frame its up vector, mirror

@@ -33,23 +33,51 @@ static size_t map_words(const spm_alpha_map *m)
 
 size_t spm_geometry_alpha_words(const spm_scene *s)
 {
-    size_t n = 0;
-    for (int m = 0; m < s->nmaterials; m++)
+    size_t n = 0, mix = 0;
+    for (int m = 0; m < s->nmaterials; m++) {
         n += s->materials[m].alpha_mode ? SPM_ALPHA_RECORD : 0;
-    if (!n)
+        mix += s->materials[m].mix_metal ? SPM_MIX_RECORD : 0;
+    }
+    if (!n && !mix)
         return 0;
     for (int i = 0; i < s->nalphas; i++)
         n += map_words(&s->alphas[i]);
-    return n + (size_t)s->nmaterials;
+    return n + (n ? (size_t)s->nmaterials : 0) + (mix ? mix + (size_t)s->nmaterials : 0);
 }
 
-/* The maps first (their offsets in *offs), then a word per material, then
- * the records. */
+/* the metallic-roughness records (SPM_MIX_*) from word w on: a word per
+ * material, then the records; the words' end */
+static size_t mix_put(const spm_scene *s, const spm_u32 *offs, spm_u32 *x, size_t w)
+{
+    x[SPM_TEXD_MIX] = (spm_u32)w;
+    size_t rec = w + (size_t)s->nmaterials;
+    for (int i = 0; i < s->nmaterials; i++) {
+        const spm_scene_material *m = &s->materials[i];
+        if (!m->mix_metal)
+            continue;
+        x[w + (size_t)i] = (spm_u32)rec;
+        x[rec] = (spm_u32)(m->mix_metal - 1);
+        x[rec + 1] = fbits(m->mix_metallic);
+        x[rec + 2] = fbits(m->mix_rough);
+        x[rec + 3] = m->mix_mmap > 0 && m->mix_mmap <= s->nalphas ? offs[m->mix_mmap - 1] : 0u;
+        x[rec + 4] = m->mix_rmap > 0 && m->mix_rmap <= s->nalphas ? offs[m->mix_rmap - 1] : 0u;
+        rec += SPM_MIX_RECORD;
+    }
+    return rec;
+}
+
+/* The maps first (their offsets in *offs), then a word per material and the
+ * opacity records, then the mix's. */
 size_t spm_geometry_alpha_put(const spm_scene *s, spm_u32 *x, size_t w)
 {
     if (!spm_geometry_alpha_words(s))
         return w;
     spm_u32 *offs = spm_xcalloc((size_t)s->nalphas + 1, sizeof *offs);
+    int any_alpha = 0, any_mix = 0;
+    for (int i = 0; i < s->nmaterials; i++) {
+        any_alpha |= s->materials[i].alpha_mode != 0;
+        any_mix |= s->materials[i].mix_metal != 0;
+    }
     for (int i = 0; i < s->nalphas; i++) {
         const spm_alpha_map *m = &s->alphas[i];
         offs[i] = (spm_u32)w;
@@ -59,19 +87,25 @@ size_t spm_geometry_alpha_put(const spm_scene *s, spm_u32 *x, size_t w)
             x[w + SPM_ALPHA_MAP_HEAD + k / 4] |= (spm_u32)m->a[k] << (8 * (k % 4));
         w += map_words(m);
     }
-    x[SPM_TEXD_ALPHA] = (spm_u32)w;
-    size_t rec = w + (size_t)s->nmaterials;
-    for (int i = 0; i < s->nmaterials; i++) {
-        const spm_scene_material *m = &s->materials[i];
-        if (!m->alpha_mode)
-            continue;
-        x[w + (size_t)i] = (spm_u32)rec;
-        x[rec] = (spm_u32)m->alpha_mode;
-        x[rec + 1] = fbits(m->alpha_cutoff);
-        x[rec + 2] = fbits(m->alpha_factor);
-        x[rec + 3] = m->alpha_map > 0 && m->alpha_map <= s->nalphas ? offs[m->alpha_map - 1] : 0u;
-        rec += SPM_ALPHA_RECORD;
+    size_t rec = w;
+    if (any_alpha) {
+        x[SPM_TEXD_ALPHA] = (spm_u32)w;
+        rec = w + (size_t)s->nmaterials;
+        for (int i = 0; i < s->nmaterials; i++) {
+            const spm_scene_material *m = &s->materials[i];
+            if (!m->alpha_mode)
+                continue;
+            x[w + (size_t)i] = (spm_u32)rec;
+            x[rec] = (spm_u32)m->alpha_mode;
+            x[rec + 1] = fbits(m->alpha_cutoff);
+            x[rec + 2] = fbits(m->alpha_factor);
+            x[rec + 3] =
+                m->alpha_map > 0 && m->alpha_map <= s->nalphas ? offs[m->alpha_map - 1] : 0u;
+            rec += SPM_ALPHA_RECORD;
+        }
     }
+    if (any_mix)
+        rec = mix_put(s, offs, x, rec);
     free(offs);
     return rec;
 }
@@ -114,7 +148,7 @@ static float texel(const spm_u32 *m, int i, int j)
 
 /* The map's bilinear value at (u, v): the four texel centres around
  * (u w - 1/2, (1 - v) h - 1/2), weighted by the fractions; in [0, 1]. */
-static float map_bilinear(const spm_u32 *m, float u, float v)
+float spm_byte_map_bilinear(const spm_u32 *m, float u, float v)
 {
     int w = (int)m[0], h = (int)m[1];
     float x = spm_tex_wrap_coord(u, m[2]) * (float)w - 0.5f;
@@ -143,11 +177,39 @@ int spm_alpha_there(const spm_geometry *g, spm_u32 tri, const float o[3], const 
         for (int i = 0; i < 3; i++)
             p[i] = o[i] + d[i] * t;
         spm_tri_uv(tr, g->uvs + 6u * tri, p, &u, &v);
-        a = a * map_bilinear(x + x[r + 3], u, v);
+        a = a * spm_byte_map_bilinear(x + x[r + 3], u, v);
     }
     if (x[r] == SPM_ALPHA_MASK)
         return a >= bitsf(x[r + 1]);
     spm_u32 h = spm_alpha_hash(tri, fbits(o[0]), fbits(o[1]), fbits(o[2]), fbits(d[0]),
                                fbits(d[1]), fbits(d[2]));
     return (float)(h >> 8) * SPM_RNG_UNIT < a;
+}
+
+/* The metallic-roughness record of triangle tri's material at point p
+ * (SPM_MIX_*): the metal's material index, *metallic and *alpha; -1 when the
+ * material has none (kernels/metalrough.clh mix_values). */
+int spm_mix_values(const spm_geometry *g, spm_u32 tri, const float p[3], float *metallic,
+                   float *alpha)
+{
+    const spm_u32 *x = g->tex;
+    if (!g->ntex || !x[SPM_TEXD_MIX])
+        return -1;
+    const spm_tri *tr = &g->tris[tri];
+    spm_u32 r = x[x[SPM_TEXD_MIX] + tr->material];
+    if (!r)
+        return -1;
+    float mt = bitsf(x[r + 1]), ro = bitsf(x[r + 2]);
+    if (x[r + 3] || x[r + 4]) {
+        float u, v;
+        spm_tri_uv(tr, g->uvs + 6u * tri, p, &u, &v);
+        if (x[r + 3])
+            mt = mt * spm_byte_map_bilinear(x + x[r + 3], u, v);
+        if (x[r + 4])
+            ro = ro * spm_byte_map_bilinear(x + x[r + 4], u, v);
+    }
+    float a = ro * ro;
+    *metallic = mt;
+    *alpha = a < (float)SPM_COND_MIN_ALPHA ? 0.0f : fminf(a, 1.0f);
+    return (int)x[r];
 }

@@ -67,7 +67,8 @@ void spm_geometry_textures(const spm_scene *s, spm_geometry *g)
 {
     int any = 0;
     for (int m = 0; m < s->nmaterials; m++)
-        any |= (s->materials[m].tex != 0 && s->palette) || s->materials[m].alpha_mode != 0;
+        any |= (s->materials[m].tex != 0 && s->palette) || s->materials[m].alpha_mode != 0 ||
+               s->materials[m].mix_metal != 0;
     if (!any)
         return;
     g->uvs = spm_xcalloc((size_t)g->ntris * 6 + 1, sizeof *g->uvs);

@@ -44,7 +44,9 @@ enum {
     SPM_MESH_IGN_LIGHT_RANGE = 1 << 12,
     SPM_MESH_IGN_EMISSIVE_TEXTURES = 1 << 13,
     SPM_MESH_IGN_OCCLUSION = 1 << 14,
-    SPM_MESH_IGN_COUNT = 15
+    SPM_MESH_IGN_SPECULAR_MAPS = 1 << 15,
+    SPM_MESH_IGN_TEX_TRANSFORM = 1 << 16,
+    SPM_MESH_IGN_COUNT = 17
 };
 /* "vertex normals", ... for bit i */
 const char *spm_mesh_ignored_name(int bit);
@@ -84,7 +86,13 @@ typedef struct {
     int32_t alpha_map;
     char alpha_name[96];       /* the opacity image as the file names it */
     char alpha_file[SPM_PATH_MAX];
+    /* glTF's metallicRoughnessTexture (mesh_metalrough.c): SPM_MESH_MRMAP_*,
+     * its name as the file gives it and its checked path ("" embedded) */
+    int32_t mr_map;
+    char mr_name[96];
+    char mr_file[SPM_PATH_MAX];
 } spm_mesh_material;
+enum { SPM_MESH_MRMAP_NONE = 0, SPM_MESH_MRMAP_FILE = 1, SPM_MESH_MRMAP_EMBEDDED = 2 };
 enum { SPM_MESH_ALPHA_OPAQUE = 0, SPM_MESH_ALPHA_MASK = 1, SPM_MESH_ALPHA_BLEND = 2 };
 enum { SPM_MESH_AMAP_NONE = 0, SPM_MESH_AMAP_BASE = 1, SPM_MESH_AMAP_FILE = 2 };
 enum { SPM_MESH_FMT_OTHER = 0, SPM_MESH_FMT_GLTF = 1, SPM_MESH_FMT_OBJ = 2 };
@@ -231,6 +239,22 @@ int spm_mesh_alpha_read(const struct aiMaterial *m, const char *model, spm_mesh_
                         spm_error *refused);
 int spm_mesh_alpha_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
                         int has_uvs, const char *mwhere, spm_error *err);
+/* An image a material names (Assimp's path, Windows separators taken as
+ * '/'), relative to the model's folder, checked by the path rule: 0, or 1
+ * with *refused filled (mesh_alpha.c; the opacity and metallic-roughness maps). */
+int spm_mesh_image_check(const char *ref, const char *model, spm_file *file, spm_error *refused);
+
+/* glTF's metallic-roughness map (mesh_metalrough.c). In the importer's
+ * child: the metallicRoughnessTexture's name and path (beside the model,
+ * checked by the path rule; 2 with *refused filled when outside). In the
+ * parent: the material with its metallic (blue) and roughness (green)
+ * channels bound to its mix record (SPM_MIX_*), or `material` unchanged
+ * when it has no mix; a map that cannot be read, or on a mesh without
+ * texture coordinates, is warned about and the factors alone are used. */
+int spm_mesh_mix_read(const struct aiMaterial *m, const char *model, spm_mesh_material *out,
+                      spm_error *refused);
+int spm_mesh_mix_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
+                      int has_uvs, const char *mwhere, spm_error *err);
 
 /* A file material bound to a scene material. */
 typedef struct {

@@ -226,6 +226,22 @@ static int has_colour(const struct aiMaterial *m, const char *key, unsigned type
     return 1;
 }
 
+/* 1 when a texture of `type` is read through a transform (glTF's
+ * KHR_texture_transform, which Assimp gives as a UV transform) or from
+ * another coordinate set than the first (texCoord): neither is applied. */
+static int uv_transformed(const struct aiMaterial *m, enum aiTextureType type)
+{
+    struct aiUVTransform t;
+    int src = 0;
+    if (aiGetMaterialIntegerArray(m, AI_MATKEY_UVWSRC(type, 0), &src, NULL) == aiReturn_SUCCESS &&
+        src != 0)
+        return 1;
+    if (aiGetMaterialUVTransform(m, AI_MATKEY_UVTRANSFORM(type, 0), &t) != aiReturn_SUCCESS)
+        return 0;
+    return t.mTranslation.x != 0 || t.mTranslation.y != 0 || t.mScaling.x != 1 ||
+           t.mScaling.y != 1 || t.mRotation != 0;
+}
+
 /* A material; what it holds that is ignored goes to *ignored. Assimp's own
  * default material (for files without materials) gets no name: such a mesh
  * needs a `material` clause. A base-colour texture's mean multiplies the
@@ -287,10 +303,17 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
 #undef GETF
     if (spm_mesh_alpha_read(m, file->path, out, refused))
         return 1;
-    for (int type = 1; type <= AI_TEXTURE_TYPE_MAX; type++)
+    if (spm_mesh_mix_read(m, file->path, out, refused))
+        return 1;
+    for (int type = 1; type <= AI_TEXTURE_TYPE_MAX; type++) {
+        if (aiGetMaterialTextureCount(m, (enum aiTextureType)type) > 0 &&
+            uv_transformed(m, (enum aiTextureType)type))
+            *ignored |= SPM_MESH_IGN_TEX_TRANSFORM;
         if (aiGetMaterialTextureCount(m, (enum aiTextureType)type) > 0 &&
             !(base_tex && (type == aiTextureType_BASE_COLOR || type == aiTextureType_DIFFUSE)) &&
-            !(out->alpha_map == SPM_MESH_AMAP_FILE && type == aiTextureType_OPACITY))
+            !(out->alpha_map == SPM_MESH_AMAP_FILE && type == aiTextureType_OPACITY) &&
+            !(out->mr_map && (type == aiTextureType_UNKNOWN || type == aiTextureType_METALNESS ||
+                              type == aiTextureType_DIFFUSE_ROUGHNESS)))
             *ignored |= type == aiTextureType_NORMALS || type == aiTextureType_HEIGHT ||
                                   type == aiTextureType_NORMAL_CAMERA
                               ? SPM_MESH_IGN_NORMAL_MAPS
@@ -298,7 +321,10 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
                               ? SPM_MESH_IGN_EMISSIVE_TEXTURES
                         : type == aiTextureType_LIGHTMAP || type == aiTextureType_AMBIENT_OCCLUSION
                               ? SPM_MESH_IGN_OCCLUSION
+                        : obj && (type == aiTextureType_SPECULAR || type == aiTextureType_SHININESS)
+                              ? SPM_MESH_IGN_SPECULAR_MAPS
                               : SPM_MESH_IGN_TEXTURES;
+    }
     return 0;
 }
 

@@ -103,10 +103,16 @@ static double clamp_alpha(double alpha)
 /* A coated material: the lifted base colour r under a coating of index ior
  * and width alpha, emitting e. */
 static int coated(spm_scene_builder *b, const spm_mesh_material *m, int r, double ior,
-                  double alpha, int e, const char *where, spm_error *err)
+                  double alpha, int e, const spm_scene_material *mix, const char *where,
+                  spm_error *err)
 {
     spm_scene_material proto;
     memset(&proto, 0, sizeof proto);
+    if (mix) {
+        proto.mix_metal = mix->mix_metal;
+        proto.mix_metallic = mix->mix_metallic;
+        proto.mix_rough = mix->mix_rough;
+    }
     snprintf(proto.name, sizeof proto.name, "%.63s", m->name[0] ? m->name : "mesh");
     proto.type = SPM_MAT_COATED;
     proto.etype = SPM_EMIT_AREA;
@@ -180,6 +186,28 @@ static int glass(spm_scene_builder *b, const spm_mesh_material *m, double ior, d
     return spm_sb_material_typed(b, &proto, where, err);
 }
 
+/* glTF's metallic-roughness model where the metallic value varies or lies
+ * between 0 and 1: the coated base (alpha = roughness^2) with a mix record
+ * naming its metal, the conductor of F0 = the base colour (spm_shared.h
+ * SPM_MIX_*, kernels/metalrough.clh); its maps are bound after
+ * (spm_mesh_mix_bind). */
+static int metallic_roughness(spm_scene_builder *b, const spm_mesh_material *m, int r,
+                              double ior, double metallic, double rough, int e,
+                              const char *where, spm_error *err)
+{
+    int metal_i = metal(b, m, m->diffuse, rough * rough, e, where, err);
+    if (metal_i < 0)
+        return -1;
+    snprintf(b->s->materials[metal_i].name, sizeof b->s->materials[metal_i].name, "%.56s:metal",
+             m->name[0] ? m->name : "mesh");
+    spm_scene_material mix;
+    memset(&mix, 0, sizeof mix);
+    mix.mix_metal = 1 + metal_i;
+    mix.mix_metallic = (float)(metallic > 1 ? 1 : metallic);
+    mix.mix_rough = (float)rough;
+    return coated(b, m, r, ior, rough * rough, e, &mix, where, err);
+}
+
 int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int r, int e,
                           double scale, const char *where, spm_error *err)
 {
@@ -200,10 +228,11 @@ int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int 
         double t = m->has & SPM_MESH_HAS_TRANSMISSION ? m->transmission : 0.0;
         if (m->has & SPM_MESH_HAS_IOR && (ior < 1.0 || ior > 4.0))
             TODO("%sior %g (taken as %g: the types' range is 1 to 4)", SEP, ior, clamp_ior(ior));
-        if (metallic > 0 && metallic < 1)
-            TODO("%smetallic %g (taken as %s: the threshold is 0.5)", SEP, metallic,
-                 metallic >= 0.5 ? "1" : "0");
-        if (metallic >= 0.5) {
+        /* a metallic map, or a metallic value between 0 and 1: the mix */
+        int mixed = t < 0.5 && (m->mr_map || (metallic > 0 && metallic < 1));
+        if (mixed) {
+            out = metallic_roughness(b, m, r, ior, metallic, rough, e, where, err);
+        } else if (metallic >= 0.5) {
             /* a conductor of F0 = base colour, alpha = roughness^2; transmission
              * and ior are the dielectric part's, which a metal has not */
             if (t > 0)
@@ -230,8 +259,16 @@ int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int 
                 TODO("%stransmission %g (taken as 0: the threshold is 0.5)", SEP, t);
             /* glTF's dielectric BRDF: a specular layer of index ior over the
              * base colour */
-            out = coated(b, m, r, ior, alpha, e, where, err);
+            out = coated(b, m, r, ior, alpha, e, NULL, where, err);
         }
+        if (mixed && m->texture != SPM_MESH_TEX_NONE)
+            TODO("%sthe base colour texture on the metal (its mean colour there)", SEP);
+        if (!mixed && metallic > 0 && metallic < 1)
+            TODO("%smetallic %g on a transmissive material (taken as %s: the threshold is 0.5)",
+                 SEP, metallic, metallic >= 0.5 ? "1" : "0");
+        if (m->mr_map && !mixed)
+            TODO("%smetallic-roughness map '%s' (not on a transmissive material)", SEP,
+                 m->mr_name);
         if (m->has & SPM_MESH_HAS_VOLUME && metallic < 0.5 && t < 0.5 && m->thickness > 0)
             TODO("%sa volume without transmission (not rendered)", SEP);
     } else if (m->format == SPM_MESH_FMT_OBJ) {
@@ -244,7 +281,7 @@ int spm_mesh_map_material(spm_scene_builder *b, const spm_mesh_material *m, int 
         else if (ks && !nonblack(m->diffuse, 1e-3f))
             out = metal(b, m, m->specular, alpha, e, where, err);
         else if (ks)
-            out = coated(b, m, r, mtl_ior(m), alpha, e, where, err);
+            out = coated(b, m, r, mtl_ior(m), alpha, e, NULL, where, err);
     }
     if (n)
         spm_warnf("%s: not rendered as the file says: %s", where, todo);

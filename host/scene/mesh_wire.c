@@ -104,9 +104,12 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
         mats[i].texture_file[sizeof mats[i].texture_file - 1] = 0;
         mats[i].alpha_name[sizeof mats[i].alpha_name - 1] = 0;
         mats[i].alpha_file[sizeof mats[i].alpha_file - 1] = 0;
+        mats[i].mr_name[sizeof mats[i].mr_name - 1] = 0;
+        mats[i].mr_file[sizeof mats[i].mr_file - 1] = 0;
         if (mats[i].texture < SPM_MESH_TEX_NONE || mats[i].texture > SPM_MESH_TEX_UNREAD ||
             mats[i].alpha_mode < SPM_MESH_ALPHA_OPAQUE || mats[i].alpha_mode > SPM_MESH_ALPHA_BLEND ||
-            mats[i].alpha_map < SPM_MESH_AMAP_NONE || mats[i].alpha_map > SPM_MESH_AMAP_FILE) {
+            mats[i].alpha_map < SPM_MESH_AMAP_NONE || mats[i].alpha_map > SPM_MESH_AMAP_FILE ||
+            mats[i].mr_map < SPM_MESH_MRMAP_NONE || mats[i].mr_map > SPM_MESH_MRMAP_EMBEDDED) {
             spm_errorf(err, "%s: the importer returned a bad material", path);
             return 1;
         }
@@ -160,6 +163,9 @@ const char *spm_mesh_ignored_name(int bit)
         "as 1/d^2 without a cut-off)",
         "emissive textures (glTF emissiveTexture, MTL map_Ke: an emission is its factor alone, "
         "untextured)",
-        "occlusion maps (a path tracer computes the occlusion they stand for)"};
+        "occlusion maps (a path tracer computes the occlusion they stand for)",
+        "MTL specular maps (map_Ks, map_Ns: the Ks and Ns values are used throughout)",
+        "texture transforms and other texture coordinate sets (glTF KHR_texture_transform, "
+        "texCoord other than 0: textures are read untransformed at TEXCOORD_0)"};
     return bit >= 0 && bit < SPM_MESH_IGN_COUNT ? names[bit] : "?";
 }

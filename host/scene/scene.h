@@ -37,6 +37,12 @@ typedef struct {
     int alpha_mode;
     float alpha_cutoff, alpha_factor;
     int alpha_map;
+    /* glTF metallic-roughness (spm_shared.h SPM_MIX_*): 1 + the metal's
+     * material index (0: no mix), the metallic and roughness factors, and
+     * their maps (1 + an index in the scene's one-byte maps, `alphas`; 0 none) */
+    int mix_metal;
+    float mix_metallic, mix_rough;
+    int mix_mmap, mix_rmap;
 } spm_scene_material;
 
 /* An opacity map: one byte a texel (alpha x 255 rounded), rows top to

@@ -161,6 +161,9 @@ int spm_sb_material_typed(spm_scene_builder *b, const spm_scene_material *proto,
     if (proto->alpha_mode) /* a cut-out is not the opaque surface */
         n += snprintf(key + n, sizeof key - (size_t)n, " a%d %a %a %d", proto->alpha_mode,
                       proto->alpha_cutoff, proto->alpha_factor, proto->alpha_map);
+    if (proto->mix_metal) /* a metallic-roughness mix is not its coated base */
+        n += snprintf(key + n, sizeof key - (size_t)n, " m%d %a %a %d %d", proto->mix_metal,
+                      proto->mix_metallic, proto->mix_rough, proto->mix_mmap, proto->mix_rmap);
     if (proto->flags) /* a two-sided light is not a one-sided one */
         n += snprintf(key + n, sizeof key - (size_t)n, " f%x", proto->flags);
     int i = spm_names_get(&b->material_index, key);
@@ -392,6 +395,9 @@ static void prune(spm_scene *s)
         cmap[i] = -1;
     for (int t = 0; t < s->ntris; t++)
         mmap[s->tris[t].material] = 0;
+    for (int i = 0; i < s->nmaterials; i++) /* a used mix's metal (a conductor: no mix) */
+        if (mmap[i] == 0 && s->materials[i].mix_metal > 0)
+            mmap[s->materials[i].mix_metal - 1] = 0;
     int nm = 0;
     for (int i = 0; i < s->nmaterials; i++)
         if (mmap[i] == 0) {
@@ -399,6 +405,9 @@ static void prune(spm_scene *s)
             s->materials[nm++] = s->materials[i];
         }
     s->nmaterials = nm;
+    for (int i = 0; i < nm; i++)
+        if (s->materials[i].mix_metal > 0)
+            s->materials[i].mix_metal = 1 + mmap[s->materials[i].mix_metal - 1];
     for (int t = 0; t < s->ntris; t++)
         s->tris[t].material = mmap[s->tris[t].material];
     /* Colours in order of first use, so the numbering does not depend on leftovers. */

@@ -102,6 +102,10 @@ int spm_texture_read_data(const char *hint, const void *data, size_t size, float
  * pixel, rows top to bottom. */
 int spm_texture_read_alpha_file(const spm_file *file, int alpha_only, float **a, int *w, int *h,
                                 char *why, size_t whylen);
+/* Channel `channel` of an image as stored (data, as opacity: a metallic or
+ * roughness map), its first when it has fewer channels; as above. */
+int spm_texture_read_channel_file(const spm_file *file, int channel, float **a, int *w, int *h,
+                                  char *why, size_t whylen);
 #ifdef __cplusplus
 }
 #endif

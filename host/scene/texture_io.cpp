@@ -68,7 +68,8 @@ static int read_linear(std::unique_ptr<ImageInput> in, float **rgb, int *w, int 
 }
 
 // One channel as stored, no sRGB decoding (opacity is data, not colour): the
-// alpha channel when the file has one (RGBA, grey and alpha), else the first.
+// alpha channel when the file has one (RGBA, grey and alpha), else the first;
+// alpha_only -1 - c: channel c (the first when the image has fewer).
 static int read_alpha(std::unique_ptr<ImageInput> in, int alpha_only, float **a, int *w, int *h,
                       char *why, size_t whylen)
 {
@@ -77,7 +78,8 @@ static int read_alpha(std::unique_ptr<ImageInput> in, int alpha_only, float **a,
     if (spec.deep || spec.width <= 0 || spec.height <= 0 || spec.depth > 1 || spec.nchannels < 1 ||
         npix > SPM_TEXTURE_MAX_PIXELS)
         return fail(why, whylen, "unsupported image");
-    int ch = spec.alpha_channel >= 0 ? spec.alpha_channel
+    int ch = alpha_only < 0 ? (-alpha_only - 1 < spec.nchannels ? -alpha_only - 1 : 0)
+             : spec.alpha_channel >= 0 ? spec.alpha_channel
              : spec.nchannels == 2 || spec.nchannels == 4 ? spec.nchannels - 1 : -1;
     *a = nullptr;
     if (ch < 0 && alpha_only)
@@ -109,6 +111,16 @@ extern "C" int spm_texture_read_alpha_file(const spm_file *file, int alpha_only,
     if (!in)
         return fail(why, whylen, OIIO::geterror());
     return read_alpha(std::move(in), alpha_only, a, w, h, why, whylen);
+}
+
+extern "C" int spm_texture_read_channel_file(const spm_file *file, int channel, float **a,
+                                             int *w, int *h, char *why, size_t whylen)
+{
+    OIIO::attribute("threads", 1);
+    auto in = ImageInput::open(file->path);
+    if (!in)
+        return fail(why, whylen, OIIO::geterror());
+    return read_alpha(std::move(in), -1 - channel, a, w, h, why, whylen);
 }
 
 // Colours as the file stores them: a PNG's (or TIFF's) colour beside an alpha
