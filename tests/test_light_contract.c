@@ -155,7 +155,7 @@ static double ls_pdf(void *ctx, const double wo[3], const double wl[3])
         return 0.0;
     const float *n = c->g->tris[e].n;
     float ce = -(d[0] * n[0] + d[1] * n[1] + d[2] * n[2]);
-    return ce > 0.0f ? spm_ref_light_pdf_hit(c->g, (spm_u32)e, t, ce) : 0.0;
+    return ce > 0.0f ? spm_ref_light_pdf_hit(c->g, c->x, c->hit, (spm_u32)e, t, ce) : 0.0;
 }
 
 static void chi2_light_sample(double alpha_test)
