@@ -41,7 +41,8 @@ static int render_blocks(const char *strategy, int sampler, spm_u32 seed, double
         setenv("SPECMIP_TEST_STRATEGY", strategy, 1);
     else
         unsetenv("SPECMIP_TEST_STRATEGY");
-    rt_render_job j = {"strategies.scene", SPM_MODE_RGB, SPP, seed, SIZE, 0.0, "cpu", sampler};
+    rt_render_job j = {"strategies.scene", SPM_MODE_RGB, SPP, seed, SIZE, 0.0, "cpu"};
+    rt_light_sampler = sampler;
     rt_render_out o;
     if (rt_render(&j, &o, NULL, NULL))
         return 1;

@@ -142,8 +142,8 @@ spm_u32 spm_ref_light_escape(const spm_geometry *g, const spm_trace_params *p, c
             return c;
     }
     if (map)
-        return spm_ref_light_escape_ENVMAP(g, &g->emitters[n - 1], spm_ref_light_pmf(g, d, 0, n - 1),
-                                           d, k, j, scale, pdf);
+        return spm_ref_light_escape_ENVMAP(g, &g->emitters[n - 1],
+                                           spm_ref_light_pmf(g, d, 0, n - 1), d, k, j, scale, pdf);
     *scale = 1.0f;
     *pdf = 0.0f;
     return spm_ref_light_background(p, d);

@@ -84,7 +84,8 @@ static spm_u32 light_weight(const spm_material *m, const spm_ref_bsdf *b, const 
  * its size), escale: the emission's factor there. A face that does not emit
  * counts nothing. */
 static void lobe_hit(const spm_geometry *g, const float o[3], spm_u32 from, spm_u32 tri, float ce,
-                     float t, float cpdf, float weight, spm_u32 memit, float escale, spm_vertex_ext *x, feeler *f,
+                     float t, float cpdf, float weight, spm_u32 memit, float escale,
+                     spm_vertex_ext *x, feeler *f,
                      const uint8_t *lvlk)
 {
     if (!(ce > 0.0f))
@@ -121,7 +122,8 @@ static void escape(const spm_geometry *g, const spm_trace_params *p, const float
  * counted there with its MIS weight (lobe_hit; the ray left o on triangle
  * from). */
 static void hit_emission(const spm_geometry *g, const spm_material *m, int hit, int j, float t,
-                         const float o[3], const float d[3], spm_u32 from, float cpdf, float weight, spm_path *path, feeler *f,
+                         const float o[3], const float d[3], spm_u32 from, float cpdf,
+                         float weight, spm_path *path, feeler *f,
                          const uint8_t *lvlk)
 {
     const spm_tri *tri = &g->tris[hit];
@@ -135,7 +137,8 @@ static void hit_emission(const spm_geometry *g, const spm_material *m, int hit, 
         feel(f, lvlk, memit, 1, SPM_SETBY_EMITTER);
     }
     if (j > 0 && cpdf >= 0.0f && memit != SPM_NONE)
-        lobe_hit(g, o, from, (spm_u32)hit, ecos, t, cpdf, weight, memit, escale, &path->x[j - 1], f, lvlk);
+        lobe_hit(g, o, from, (spm_u32)hit, ecos, t, cpdf, weight, memit, escale, &path->x[j - 1],
+                 f, lvlk);
 }
 
 static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const uint8_t *lvlk,

@@ -274,7 +274,8 @@ void spm_light_tree_attach(spm_geometry *g, const spm_material *mats)
         build_node(&t, it, n, 0ull, 0);
     size_t head = SPM_LTREE_HEAD + (size_t)ninf, nodes = (size_t)t.n * SPM_LTREE_NODE;
     g->ntree = (int)(head + nodes + 2 * (size_t)g->nemitters);
-    g->light_pdf = spm_xrealloc(g->light_pdf, ((size_t)g->ntris + (size_t)g->ntree) * sizeof(float));
+    size_t words = (size_t)g->ntris + (size_t)g->ntree;
+    g->light_pdf = spm_xrealloc(g->light_pdf, words * sizeof(float));
     float *f = g->light_pdf + g->ntris;
     memset(f, 0, (size_t)g->ntree * sizeof *f);
     put_u32(&f[SPM_LTREE_H_NODES], (spm_u32)t.n);
