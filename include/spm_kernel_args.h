@@ -17,8 +17,9 @@
  * counters[0]: truncated paths; counters[1]: BVH stack overflows.
  * lvlk: the level feeler's table, a level per colour c and k, the times a path
  * meets c: lvlk[c * SPM_PRETEST_KMAX + k - 1] (host/spectral/tables.h).
- * light_pdf: per triangle its probability of being picked as the light
- * (spm_geometry.light_pdf; 0: not an emitter), for MIS at a rough lobe.
+ * light_pdf: per triangle its probability of being picked by power as the
+ * light (spm_geometry.light_pdf; 0: not an emitter), for MIS at a rough
+ * lobe; with p.light_tree, the light tree after them (spm_light_tree.h).
  * vnormals: the smooth triangles' vertex normals (spm_tri.vn; a placeholder
  * in a scene without them, never read).
  * disp: the dispersive glasses' index tables (spm_geometry disp; a

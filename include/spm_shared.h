@@ -422,6 +422,8 @@ typedef struct {
     spm_u32 emit_power;    /* 1: emitters picked by power (spm_emitter cdf); 0: uniformly */
     spm_u32 disperse;      /* 1: a path commits to a wavelength at its first dispersive
                               vertex (SPM_VX_LAMBDA); 0: dispersive glass takes n_d */
+    spm_u32 light_tree;    /* 1: next-event estimation picks through the light tree
+                              (spm_light_tree.h) after light_pdf's ntris words */
 } spm_trace_params;
 
 /* The environment map's buffer (spm_geometry env, the trace stage's envmap),

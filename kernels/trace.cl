@@ -114,16 +114,19 @@ SPM_ALWAYS_INLINE uint light_weight(spm_material m, const spm_bsdf *b, const spm
     return ls->colour;
 }
 
-/* The emission a sampled ray hit (colour memit, factor escale), counted at
+/* The emission a sampled ray from o (on triangle from) hit at distance t on
+ * triangle hit (colour memit, factor escale, face cosine ecos), counted at
  * the vertex that sampled it (record x) with the throughput rrw and the
- * power heuristic of its density cpdf against the light sample's lpdf
- * (light_pdf_hit); cpdf 0 (a delta) weighs 1. */
-SPM_ALWAYS_INLINE void count_hit(float lpdf, float cpdf, float rrw, uint memit, float escale,
-                      __global spm_vertex_ext *x)
+ * power heuristic of its density cpdf against the light sample's
+ * (light_pdf_hit, the selection's pmf from o); cpdf 0 (a delta) weighs 1. */
+SPM_ALWAYS_INLINE void count_hit(const spm_trace_params *p, __global const spm_emitter *emitters,
+                                 __global const float *light_pdf, __global const spm_tri *tris,
+                                 float3 o, uint from, uint hit, float t, float ecos, float cpdf,
+                                 float rrw, uint memit, float escale, __global spm_vertex_ext *x)
 {
     float wm = 1.0f;
     if (cpdf > 0.0f)
-        wm = mis_power(cpdf, lpdf);
+        wm = mis_power(cpdf, light_pdf_hit(p, emitters, light_pdf, tris, o, from, hit, t, ecos));
     x->ids = (x->ids & 0xFFFFu) | SPM_VX_HIT_BITS(memit);
     x->hit_c = rrw * wm * escale;
 }
@@ -135,12 +138,13 @@ SPM_ALWAYS_INLINE void count_hit(float lpdf, float cpdf, float rrw, uint memit, 
  * vertex's sampled rays count no emission (cpdf < 0: its light sample
  * weighed 1). The two-colour background weighs 1. */
 SPM_ALWAYS_INLINE void escape(const spm_trace_params *p, __global const spm_emitter *emitters,
-                              __global const float *envmap, float3 d, spm_key key, uint j,
-                              float cpdf, float rrw, spm_path_head *hd)
+                              __global const float *light_pdf, __global const float *envmap,
+                              float3 d, spm_key key, uint j, float cpdf, float rrw,
+                              spm_path_head *hd)
 {
     float scale, lpdf;
     hd->end = SPM_END_ESCAPED;
-    hd->bg = light_escape(p, emitters, envmap, d, key, j, &scale, &lpdf);
+    hd->bg = light_escape(p, emitters, light_pdf, envmap, d, key, j, &scale, &lpdf);
 #if SPM_ON_LIGHT_ENVMAP
     if (lpdf > 0.0f && j > 0u)
         scale *= cpdf < 0.0f ? 0.0f : cpdf > 0.0f ? mis_power(cpdf, lpdf) : 1.0f;
@@ -182,7 +186,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         float t;
         int hit = intersect(nodes, tris, o, d, skip, &t, counters SPM_ALPHA_ARGS);
         if (hit < 0) { /* the background: MiniLight's sky for an upward ray, or the map */
-            escape(&p, emitters, envmap, d, key, j, cpdf, rrw, &hd);
+            escape(&p, emitters, light_pdf, envmap, d, key, j, cpdf, rrw, &hd);
             if (hd.bg != SPM_NONE)
                 feel(lvlk, hd.bg, 1u, SPM_SETBY_EMITTER, &level, &setby);
             break;
@@ -208,8 +212,8 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
             xrec[(size_t)(j - 1u) * npaths].lobe = t;
         /* emission the last vertex's sampled ray hit, counted there */
         if (cpdf >= 0.0f && memit != SPM_NONE && ecos > 0.0f) {
-            count_hit(cpdf > 0.0f ? light_pdf_hit(light_pdf, (uint)hit, tr, t, ecos) : 0.0f, cpdf,
-                      rrw, memit, escale, &xrec[(size_t)(j - 1u) * npaths]);
+            count_hit(&p, emitters, light_pdf, tris, o, skip, (uint)hit, t, ecos, cpdf, rrw, memit,
+                      escale, &xrec[(size_t)(j - 1u) * npaths]);
             feel(lvlk, memit, 1u, SPM_SETBY_EMITTER, &level, &setby);
         }
 #endif

@@ -74,6 +74,7 @@ static inline spm_trace_params cl_test_params(const cl_test_scene *s, spm_u32 se
     p.ntris = (spm_u32)s->geom.ntris;
     p.nemitters = (spm_u32)s->geom.nemitters;
     p.emit_power = (spm_u32)s->geom.emit_power;
+    p.light_tree = s->geom.ntree > 0;
     p.bg_up = s->tables.bg_up;
     p.bg_down = s->tables.bg_down;
     p.seed = seed;

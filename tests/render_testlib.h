@@ -29,6 +29,10 @@ typedef struct {
     const char *backend;  /* backends.h's name; NULL: OpenCL device 0 */
 } rt_render_job;
 
+/* --light-sampler of every rt_render (render_setup.h SPM_LIGHT_SAMPLER_*;
+ * 0: by the scene) */
+static int rt_light_sampler;
+
 /* A bundled scene's file name, or an absolute path as it is. */
 static inline void rt_scene_path(const char *name, char *path, size_t n)
 {
@@ -51,6 +55,7 @@ static inline int rt_render(const rt_render_job *j, rt_render_out *o, rt_inspect
     cfg.spp = j->spp;
     cfg.seed = j->seed;
     cfg.width = cfg.height = j->size;
+    cfg.light_sampler = rt_light_sampler;
     if (j->threshold > 0)
         cfg.pretest.threshold = j->threshold;
     if (j->backend && !(cfg.backend = spm_backend_kind_find(j->backend))) {

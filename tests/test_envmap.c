@@ -53,7 +53,7 @@ static spm_u32 escape(const spm_geometry *g, const spm_emitter *e, const float d
                       float *scale, float *pdf)
 {
     spm_ref_key k = {7u, 3u, n};
-    return spm_ref_light_escape_ENVMAP(g, e, d, &k, 1u, scale, pdf);
+    return spm_ref_light_escape_ENVMAP(g, e, e->pdf, d, &k, 1u, scale, pdf);
 }
 
 static void grey_ramp(int i, int j, int w, int h, float rgb[3])

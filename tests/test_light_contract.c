@@ -6,6 +6,8 @@
  *    (light_pdf_hit of the emitter a ray along it meets, 0 when the blocker
  *    is met first), and each sample's claimed density against it; the point
  *    light's samples are deltas, outside the histogram (tests/chi2_testlib.h);
+ *    by the power table and through the light tree (the pmf light_pdf_hit
+ *    reads then the walk's from the point);
  *  - a one-vertex light tracer: rays from light_sample_emission (a light by
  *    the selection's pmf, then its point and direction with their
  *    densities) onto a diffuse floor, binned by the pixel that sees where
@@ -20,6 +22,7 @@
 #include "chi2_testlib.h"
 #include "geomtest_scene.h"
 #include "geometry.h"
+#include "light_tree.h"
 #include "refcpu_lights.h"
 #include "spm_rng.h"
 
@@ -155,16 +158,18 @@ static double ls_pdf(void *ctx, const double wo[3], const double wl[3])
         return 0.0;
     const float *n = c->g->tris[e].n;
     float ce = -(d[0] * n[0] + d[1] * n[1] + d[2] * n[2]);
-    return ce > 0.0f ? spm_ref_light_pdf_hit(c->g, (spm_u32)e, t, ce) : 0.0;
+    return ce > 0.0f ? spm_ref_light_pdf_hit(c->g, c->x, c->hit, (spm_u32)e, t, ce) : 0.0;
 }
 
-static void chi2_light_sample(double alpha_test)
+static void chi2_light_sample(double alpha_test, int tree)
 {
     spm_scene s;
     spm_geometry g;
     spm_tables t;
     if (build(&s, &g, &t, 1, 0.5f))
         return;
+    if (tree) /* the selection and light_pdf_hit's pmf through the light tree */
+        spm_light_tree_attach(&g, t.materials);
     lsample_ctx c;
     memset(&c, 0, sizeof c);
     c.g = &g, c.mats = t.materials;
@@ -175,7 +180,8 @@ static void chi2_light_sample(double alpha_test)
     memcpy(c.h.ng, g.tris[c.hit].n, sizeof c.h.ng);
     memcpy(c.h.n, up, sizeof up);
     double wo[3] = {0.0, 0.0, 1.0};
-    chi2_sampler smp = {"light_sample (area lights)", &c, ls_sample, ls_pdf, NULL};
+    chi2_sampler smp = {tree ? "light_sample (area lights, tree)" : "light_sample (area lights)",
+                        &c, ls_sample, ls_pdf, NULL};
     chi2_run(&smp, wo, 400000L, 0, alpha_test);
     scene_free(&s, &g, &t);
 }
@@ -429,9 +435,10 @@ static void distant_disc(double alpha_test)
 
 int main(void)
 {
-    chi2_light_sample(st_sidak(ALPHA, 3));
-    chi2_spot_emission(st_sidak(ALPHA, 3));
-    distant_disc(st_sidak(ALPHA, 3));
+    chi2_light_sample(st_sidak(ALPHA, 4), 0);
+    chi2_light_sample(st_sidak(ALPHA, 4), 1);
+    chi2_spot_emission(st_sidak(ALPHA, 4));
+    distant_disc(st_sidak(ALPHA, 4));
     light_tracer();
     TEST_END();
 }

@@ -81,6 +81,11 @@ const spm_option spm_options[] = {
         "light (subpaths from the lights, each vertex splatted into\n"
         "the pixel that sees it; the CPU reference, --backend cpu) |\n"
         "bdpt (both joined in every way, weighed by MIS; --backend cpu)"),
+    ROW(LIGHT_SAMPLER, "--light-sampler", "S", TEXT, 0, 0, R,
+        "how next-event estimation picks a light: tree (a light tree,\n"
+        "by power, distance and orientation to the shading point) |\n"
+        "power (in proportion to power); default tree for a scene of\n"
+        "at least 64 placed lights, else power"),
     ROW(SPP, "--spp", "N", INT, 1, SPM_SCENE_MAX_SPP, R,
         "samples per pixel, %R (default: the scene's, else 16)"),
     ROW(TIME, "--time", "SECONDS", REAL, 0.01, 1e7, R,

@@ -102,6 +102,12 @@ static int word_option(spm_opt_id id, const char *v, render_opts *o)
             return SPM_EXIT_INPUT;
         }
         return 0;
+    case SPM_O_LIGHT_SAMPLER:
+        if ((o->cfg.light_sampler = spm_light_sampler_parse(v)) < 0) {
+            fprintf(stderr, "specmip render: --light-sampler is tree or power, not '%s'\n", v);
+            return SPM_EXIT_INPUT;
+        }
+        return 0;
     case SPM_O_SPECTRAL_NM:
         if (strcmp(v, "1") && strcmp(v, "5")) {
             fprintf(stderr, "specmip render: --spectral-nm is 1 or 5, not '%s'\n", v);

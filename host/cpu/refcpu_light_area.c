@@ -28,11 +28,14 @@ spm_u32 spm_ref_light_eval(const spm_material *m, float cos_e, float *scale)
     }
 }
 
-float spm_ref_light_pdf_hit(const spm_geometry *g, spm_u32 tri, float t, float ce)
+float spm_ref_light_pdf_hit(const spm_geometry *g, const float o[3], spm_u32 from, spm_u32 tri,
+                            float t, float ce)
 {
     const spm_tri *tr = &g->tris[tri];
     float d2 = t * t, d2min = SPM_D2_MIN_REL * tr->area;
-    return spm_ref_light_pmf(g, tri) * (d2 > d2min ? d2 : d2min) / (tr->area * ce);
+    float pmf = g->ntree ? spm_ref_light_pmf(g, o, from, spm_ref_ltree_area_index(g, tri))
+                         : g->light_pdf[tri];
+    return pmf * (d2 > d2min ? d2 : d2min) / (tr->area * ce);
 }
 
 int spm_ref_light_sample_AREA(const spm_geometry *g, const spm_material *mats, const spm_emitter *e,
@@ -67,8 +70,8 @@ int spm_ref_light_sample_AREA(const spm_geometry *g, const spm_material *mats, c
         return 0; /* light and viewer on different sides: no transmission */
     float d2 = v3_dot(ev, ev), d2min = SPM_D2_MIN_REL * em->area;
     float d2c = d2 > d2min ? d2 : d2min;
-    ls->pdf = spm_ref_light_pmf(g, ei) * d2c / (em->area * cos_e);
-    ls->g = e->inv_pdf * cos_e * em->area / d2c;
+    ls->pdf = ls->pmf * d2c / (em->area * cos_e);
+    ls->g = ls->inv_pmf * cos_e * em->area / d2c;
     ls->colour = spm_ref_light_eval(&mats[em->material], cos_e, &ls->scale);
     ls->delta = 0;
     return 1;

@@ -19,7 +19,7 @@ int spm_ref_light_sample_DISTANT(const spm_geometry *g, const spm_material *mats
         ls->wi[i] = -e->p[SPM_LIGHT_P_DIR + i];
     if (!spm_ref_light_faces(ls->wi, h) || !spm_ref_light_unblocked(g, x, ls->wi, hit, INFINITY))
         return 0;
-    return spm_ref_light_delta(ls, e, e->inv_pdf, e->p[SPM_LIGHT_P_SCALE]);
+    return spm_ref_light_delta(ls, e, ls->inv_pmf, e->p[SPM_LIGHT_P_SCALE]);
 }
 
 /* along its direction (density 1) from a point uniform on the disc of

@@ -139,18 +139,19 @@ static spm_u32 env_tap(const spm_emitter *e, const float uv[2], const spm_ref_ke
     return (spm_u32)(r * w + i);
 }
 
-spm_u32 spm_ref_light_escape_ENVMAP(const spm_geometry *g, const spm_emitter *e, const float d[3],
-                                    const spm_ref_key *k, spm_u32 j, float *scale, float *pdf)
+spm_u32 spm_ref_light_escape_ENVMAP(const spm_geometry *g, const spm_emitter *e, float pmf,
+                                    const float d[3], const spm_ref_key *k, spm_u32 j, float *scale,
+                                    float *pdf)
 {
     spm_u32 w = env_w(e), h = env_h(e), c;
     float st, uv[2];
     env_uv(e, d, uv, &c, &st);
     spm_u32 t = env_tap(e, uv, k, j);
     *scale = g->env[SPM_ENV_LUM(w, h) + t];
-    *pdf = st > 0.0f ? e->pdf * g->env[SPM_ENV_PDF(w, h) + c] / (2.0f * SPM_PI_F * SPM_PI_F * st)
+    *pdf = st > 0.0f ? pmf * g->env[SPM_ENV_PDF(w, h) + c] / (2.0f * SPM_PI_F * SPM_PI_F * st)
                      : 0.0f;
     if (uniform())
-        *pdf = e->pdf / (4.0f * SPM_PI_F);
+        *pdf = pmf / (4.0f * SPM_PI_F);
     return env_id(g, e, t, k, j);
 }
 
@@ -189,8 +190,8 @@ int spm_ref_light_sample_ENVMAP(const spm_geometry *g, const spm_material *mats,
         return 0;
     if (!spm_ref_light_unblocked(g, x, ls->wi, hit, INFINITY))
         return 0;
-    ls->pdf = e->pdf * pdf_sa;
-    ls->g = e->inv_pdf / pdf_sa;
+    ls->pdf = ls->pmf * pdf_sa;
+    ls->g = ls->inv_pmf / pdf_sa;
     ls->scale = g->env[SPM_ENV_LUM(env_w(e), env_h(e)) + t];
     ls->colour = colour;
     ls->delta = 0;

@@ -18,7 +18,7 @@ int spm_ref_light_sample_POINT(const spm_geometry *g, const spm_material *mats,
         return 0;
     if (!spm_ref_light_unblocked(g, x, ls->wi, hit, sqrtf(d2)))
         return 0;
-    return spm_ref_light_delta(ls, e, e->inv_pdf / d2, e->p[SPM_LIGHT_P_SCALE]);
+    return spm_ref_light_delta(ls, e, ls->inv_pmf / d2, e->p[SPM_LIGHT_P_SCALE]);
 }
 
 /* from the point (density 1), a uniform direction (density 1 / (4 pi)) */

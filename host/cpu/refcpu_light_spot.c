@@ -39,7 +39,7 @@ int spm_ref_light_sample_SPOT(const spm_geometry *g, const spm_material *mats,
         return 0;
     if (!spm_ref_light_unblocked(g, x, ls->wi, hit, sqrtf(d2)))
         return 0;
-    return spm_ref_light_delta(ls, e, e->inv_pdf / d2, e->p[SPM_LIGHT_P_SCALE] * f);
+    return spm_ref_light_delta(ls, e, ls->inv_pmf / d2, e->p[SPM_LIGHT_P_SCALE] * f);
 }
 
 /* from the apex (density 1), uniform in the cone: cos = 1 - u3 (1 - cos c),

@@ -24,12 +24,13 @@ static int sun_inside(const spm_emitter *e, const float d[3])
     return v3_dot(d, &e->p[SPM_LIGHT_P_DIR]) > 0.0f && v3_dot(c, c) <= e->p[SPM_LIGHT_P_C];
 }
 
-spm_u32 spm_ref_light_escape_SUN(const spm_emitter *e, const float d[3], float *scale, float *pdf)
+spm_u32 spm_ref_light_escape_SUN(const spm_emitter *e, float pmf, const float d[3], float *scale,
+                                 float *pdf)
 {
     if (!sun_inside(e, d))
         return SPM_NONE;
     *scale = e->p[SPM_LIGHT_P_SCALE];
-    *pdf = e->pdf / (2.0f * SPM_PI_F * e->p[SPM_LIGHT_P_B]);
+    *pdf = pmf / (2.0f * SPM_PI_F * e->p[SPM_LIGHT_P_B]);
     return e->colour;
 }
 
@@ -43,8 +44,8 @@ int spm_ref_light_sample_SUN(const spm_geometry *g, const spm_material *mats, co
     if (!spm_ref_light_faces(ls->wi, h) || !spm_ref_light_unblocked(g, x, ls->wi, hit, INFINITY))
         return 0;
     float pdf_sa = 1.0f / (2.0f * SPM_PI_F * e->p[SPM_LIGHT_P_B]);
-    ls->pdf = e->pdf * pdf_sa;
-    ls->g = e->inv_pdf / pdf_sa;
+    ls->pdf = ls->pmf * pdf_sa;
+    ls->g = ls->inv_pmf / pdf_sa;
     ls->scale = e->p[SPM_LIGHT_P_SCALE];
     ls->colour = e->colour;
     ls->delta = 0;

@@ -4,12 +4,15 @@
 #include "refcpu.h"
 #include "geometry_vec3.h"
 
-float spm_ref_light_pmf(const spm_geometry *g, spm_u32 tri)
+/* by power a constant per light, through the tree a walk from x */
+float spm_ref_light_pmf(const spm_geometry *g, const float x[3], spm_u32 from, spm_u32 em)
 {
-    return g->light_pdf[tri];
+    if (g->ntree)
+        return spm_ref_ltree_pmf(g, x, g->tris[from].n, em);
+    return g->emitters[em].pdf;
 }
 
-/* The light for a vertex (spm_shared.h spm_emitter): by power through the
+/* The power selection (spm_shared.h spm_emitter): by power through the
  * table, or MiniLight's uniform pick when the powers are equal. */
 const spm_emitter *spm_ref_light_pick(const spm_geometry *g, const spm_ref_key *k, spm_u32 dim)
 {
@@ -26,7 +29,19 @@ int spm_ref_light_sample(const spm_geometry *g, const spm_material *mats, const 
                          spm_u32 dim, const float x[3], spm_u32 hit, const spm_ref_hit *h,
                          spm_ref_lsample *ls)
 {
-    const spm_emitter *e = spm_ref_light_pick(g, k, dim);
+    const spm_emitter *e;
+    if (g->ntree) { /* the tree's pick from x */
+        int em = spm_ref_ltree_pick(g, x, g->tris[hit].n, spm_ref_rnd(k, dim + SPM_DIM_EMITTER),
+                                    &ls->pmf);
+        if (em < 0)
+            return 0;
+        e = &g->emitters[em];
+        ls->inv_pmf = 1.0f / ls->pmf;
+    } else {
+        e = spm_ref_light_pick(g, k, dim);
+        ls->pmf = e->pdf;
+        ls->inv_pmf = e->inv_pdf;
+    }
     switch (e->kind) {
 #define SPM_LIGHT_KIND(NAME, ...) \
     case SPM_LIGHT_##NAME: return spm_ref_light_sample_##NAME(g, mats, e, k, dim, x, hit, h, ls);
@@ -116,16 +131,19 @@ int spm_ref_light_toward(const spm_emitter *e, const float x[3], const spm_ref_h
 spm_u32 spm_ref_light_escape(const spm_geometry *g, const spm_trace_params *p, const float d[3],
                              const spm_ref_key *k, spm_u32 j, float *scale, float *pdf)
 {
-    spm_u32 n = g->nemitters;
+    spm_u32 n = g->nemitters, s = n - 1 - (n > 0 && g->emitters[n - 1].kind == SPM_LIGHT_ENVMAP);
     int map = n > 0 && g->emitters[n - 1].kind == SPM_LIGHT_ENVMAP;
-    /* the sun, next before the map: inside its disc, the disc alone */
-    if (n > (spm_u32)map && g->emitters[n - 1 - map].kind == SPM_LIGHT_SUN) {
-        spm_u32 c = spm_ref_light_escape_SUN(&g->emitters[n - 1 - map], d, scale, pdf);
+    /* the sun, next before the map: inside its disc, the disc alone (no
+     * shading point: the pmf of a light beside the tree is the same from all) */
+    if (n > (spm_u32)map && g->emitters[s].kind == SPM_LIGHT_SUN) {
+        float pmf = spm_ref_light_pmf(g, d, 0, s);
+        spm_u32 c = spm_ref_light_escape_SUN(&g->emitters[s], pmf, d, scale, pdf);
         if (c != SPM_NONE)
             return c;
     }
     if (map)
-        return spm_ref_light_escape_ENVMAP(g, &g->emitters[n - 1], d, k, j, scale, pdf);
+        return spm_ref_light_escape_ENVMAP(g, &g->emitters[n - 1],
+                                           spm_ref_light_pmf(g, d, 0, n - 1), d, k, j, scale, pdf);
     *scale = 1.0f;
     *pdf = 0.0f;
     return spm_ref_light_background(p, d);

@@ -14,11 +14,23 @@ typedef struct {
     float g, pdf, scale;
     spm_u32 colour;
     int delta;
+    float pmf, inv_pmf; /* the selection's probability of the light, and its inverse */
 } spm_ref_lsample;
 
-/* the selection's probability of triangle tri (0: not a light) */
-float spm_ref_light_pmf(const spm_geometry *g, spm_u32 tri);
-/* the light the selection picks with vertex dimension dim's number */
+/* The light tree's walk (refcpu_light_tree.c; g->ntree > 0): the emitter it
+ * picks from shading point x of geometric normal n with uniform number u
+ * (-1: none lights x), *pmf its probability; the probability of emitter em
+ * (the pick's, by the same walk); the emitter index of area light triangle
+ * tri. */
+int spm_ref_ltree_pick(const spm_geometry *g, const float x[3], const float n[3], float u,
+                       float *pmf);
+float spm_ref_ltree_pmf(const spm_geometry *g, const float x[3], const float n[3], spm_u32 em);
+spm_u32 spm_ref_ltree_area_index(const spm_geometry *g, spm_u32 tri);
+/* The selection's probability of light em from shading point x on triangle
+ * from (its geometric normal; the light tree's) */
+float spm_ref_light_pmf(const spm_geometry *g, const float x[3], spm_u32 from, spm_u32 em);
+/* the light the power selection picks with vertex dimension dim's number
+ * (the light tracer's, which has no shading point) */
 const spm_emitter *spm_ref_light_pick(const spm_geometry *g, const spm_ref_key *k, spm_u32 dim);
 /* the emission of material m toward cosine cos_e > 0 to its face: its colour
  * and *scale (SPM_NONE: none) */
@@ -32,12 +44,15 @@ spm_u32 spm_ref_light_background(const spm_trace_params *p, const float d[3]);
  * factor, *pdf light_sample's density of d (0: the background). */
 spm_u32 spm_ref_light_escape(const spm_geometry *g, const spm_trace_params *p, const float d[3],
                              const spm_ref_key *k, spm_u32 j, float *scale, float *pdf);
-spm_u32 spm_ref_light_escape_ENVMAP(const spm_geometry *g, const spm_emitter *e, const float d[3],
-                                    const spm_ref_key *k, spm_u32 j, float *scale, float *pdf);
-spm_u32 spm_ref_light_escape_SUN(const spm_emitter *e, const float d[3], float *scale, float *pdf);
-/* light_sample's density of the point a ray found at distance t on emitting
- * triangle tri (face cosine ce), in solid angle */
-float spm_ref_light_pdf_hit(const spm_geometry *g, spm_u32 tri, float t, float ce);
+spm_u32 spm_ref_light_escape_ENVMAP(const spm_geometry *g, const spm_emitter *e, float pmf,
+                                    const float d[3], const spm_ref_key *k, spm_u32 j, float *scale,
+                                    float *pdf);
+spm_u32 spm_ref_light_escape_SUN(const spm_emitter *e, float pmf, const float d[3], float *scale,
+                                 float *pdf);
+/* light_sample's density of the point a ray from o (on triangle from) found
+ * at distance t on emitting triangle tri (face cosine ce), in solid angle */
+float spm_ref_light_pdf_hit(const spm_geometry *g, const float o[3], spm_u32 from, spm_u32 tri,
+                            float t, float ce);
 /* A light sample from x on triangle hit (frame h) with vertex dimension dim's
  * random numbers; 0 when occluded, back-facing or on the other side. */
 int spm_ref_light_sample(const spm_geometry *g, const spm_material *mats, const spm_ref_key *k,

@@ -85,15 +85,16 @@ static spm_u32 light_weight(const spm_material *m, const spm_ref_bsdf *b, const 
  * (spm_ref_light_pdf_hit); ce: the face's cosine to the viewer (twosided:
  * its size), escale: the emission's factor there. A face that does not emit
  * counts nothing. */
-static void lobe_hit(const spm_geometry *g, spm_u32 tri, float ce, float t, float cpdf,
-                     float weight, spm_u32 memit, float escale, spm_vertex_ext *x, feeler *f,
+static void lobe_hit(const spm_geometry *g, const float o[3], spm_u32 from, spm_u32 tri, float ce,
+                     float t, float cpdf, float weight, spm_u32 memit, float escale,
+                     spm_vertex_ext *x, feeler *f,
                      const uint8_t *lvlk)
 {
     if (!(ce > 0.0f))
         return;
     float wm = 1.0f;
     if (cpdf > 0.0f)
-        wm = spm_ref_cond_power(cpdf, mis_pick(spm_ref_light_pdf_hit(g, tri, t, ce)));
+        wm = spm_ref_cond_power(cpdf, mis_pick(spm_ref_light_pdf_hit(g, o, from, tri, t, ce)));
     x->ids = (x->ids & 0xFFFFu) | SPM_VX_HIT_BITS(memit);
     x->hit_c = weight * wm * escale;
     feel(f, lvlk, memit, 1, SPM_SETBY_EMITTER);
@@ -120,9 +121,11 @@ static void escape(const spm_geometry *g, const spm_trace_params *p, const float
 
 /* The hit's emission: the first hit's (an emitting face towards the viewer),
  * and the one the last vertex's sampled ray hit (cpdf its density, >= 0),
- * counted there with its MIS weight (lobe_hit). */
+ * counted there with its MIS weight (lobe_hit; the ray left o on triangle
+ * from). */
 static void hit_emission(const spm_geometry *g, const spm_material *m, int hit, int j, float t,
-                         const float d[3], float cpdf, float weight, spm_path *path, feeler *f,
+                         const float o[3], const float d[3], spm_u32 from, float cpdf,
+                         float weight, spm_path *path, feeler *f,
                          const uint8_t *lvlk)
 {
     const spm_tri *tri = &g->tris[hit];
@@ -136,7 +139,8 @@ static void hit_emission(const spm_geometry *g, const spm_material *m, int hit, 
         feel(f, lvlk, memit, 1, SPM_SETBY_EMITTER);
     }
     if (j > 0 && cpdf >= 0.0f && memit != SPM_NONE)
-        lobe_hit(g, (spm_u32)hit, ecos, t, cpdf, weight, memit, escale, &path->x[j - 1], f, lvlk);
+        lobe_hit(g, o, from, (spm_u32)hit, ecos, t, cpdf, weight, memit, escale, &path->x[j - 1],
+                 f, lvlk);
 }
 
 static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const uint8_t *lvlk,
@@ -175,7 +179,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         const spm_material *m = &mix;
         if (seg && j > 0) /* the segment's length: a medium's absorption, in the shade stage */
             path->x[j - 1].lobe = t;
-        hit_emission(g, m, hit, j, t, d, cpdf, weight, path, &f, lvlk);
+        hit_emission(g, m, hit, j, t, o, d, skip, cpdf, weight, path, &f, lvlk);
         spm_ref_bsdf b;
         spm_ref_begin(m, &hf, &k, j, &walk, &b);
         spm_u32 dim = SPM_DIM_VERTEX(j);

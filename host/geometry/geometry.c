@@ -210,7 +210,7 @@ static void list_emitters(const spm_scene *sc, spm_geometry *g)
     for (int i = 0; i < g->nemitters; i++)
         if (g->emitters[i].kind == SPM_LIGHT_AREA)
             g->light_pdf[g->emitters[i].tri] = g->emitters[i].pdf;
-    free(w);
+    g->light_w = w; /* the light tree's (light_tree.h) */
 }
 
 typedef struct {
@@ -293,6 +293,7 @@ void spm_geometry_free(spm_geometry *g)
     free(g->wide);
     free(g->emitters);
     free(g->light_pdf);
+    free(g->light_w);
     free(g->vnormals);
     free(g->disp);
     free(g->uvs);

@@ -24,7 +24,11 @@ typedef struct {
     spm_emitter *emitters;  /* triangles with emission and area > 0, and their pick table */
     int nemitters;
     int emit_power;         /* 1: picked by power (spm_emitter); 0: uniformly (equal powers) */
-    float *light_pdf;       /* per triangle: its probability of being picked as the light (0: none) */
+    float *light_pdf;       /* per triangle: its probability of being picked by power as the
+                               light (0: none); then, with --light-sampler tree, the light
+                               tree's ntree words (include/spm_light_tree.h) */
+    int ntree;              /* 0: no light tree */
+    double *light_w;        /* each emitter's power, the selection's weight (host only) */
     float *vnormals;        /* nine floats per smooth triangle (spm_tri.vn), NULL when none */
     int nvn;                /* smooth triangles: 0 in a scene without vertex normals */
     float *disp;            /* the dispersive glasses' index tables (scene.h disp), NULL when none */

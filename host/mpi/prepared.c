@@ -120,6 +120,7 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
     gs.wide = NULL; /* collapsed again from the nodes on unpacking */
     gs.emitters = NULL;
     gs.light_pdf = NULL;
+    gs.light_w = NULL;
     gs.vnormals = NULL;
     gs.disp = NULL;
     gs.uvs = NULL;
@@ -129,7 +130,7 @@ void *spm_prepared_pack(const spm_geometry *g, const spm_tables *t, const spm_pr
     put_array(&w, g->tris, (size_t)g->ntris * sizeof *g->tris);
     put_array(&w, g->nodes, (size_t)g->nnodes * sizeof *g->nodes);
     put_array(&w, g->emitters, (size_t)g->nemitters * sizeof *g->emitters);
-    put_array(&w, g->light_pdf, (size_t)g->ntris * sizeof *g->light_pdf);
+    put_array(&w, g->light_pdf, ((size_t)g->ntris + (size_t)g->ntree) * sizeof *g->light_pdf);
     put_array(&w, g->vnormals, (size_t)g->nvn * 9 * sizeof *g->vnormals);
     put_array(&w, g->disp, (size_t)g->ndisp * SPM_TRUTH_BINS * sizeof *g->disp);
     put_array(&w, g->uvs, g->ntex ? (size_t)g->ntris * 6 * sizeof *g->uvs : 0);
@@ -160,13 +161,13 @@ int spm_prepared_unpack(const void *buf, size_t n, spm_geometry *g, spm_tables *
     *info = h.info;
     get(&r, g, sizeof *g);
     int ntris = g->ntris, nnodes = g->nnodes, nem = g->nemitters, nvn = g->nvn, ndisp = g->ndisp;
-    if (ntris < 0 || nnodes < 0 || nem < 0 || nvn < 0 || ndisp < 0)
+    if (ntris < 0 || nnodes < 0 || nem < 0 || nvn < 0 || ndisp < 0 || g->ntree < 0)
         r.bad = 1;
     g->tris = get_array(&r, (size_t)ntris * sizeof *g->tris);
     g->nodes = get_array(&r, (size_t)nnodes * sizeof *g->nodes);
     g->wide = NULL;
     g->emitters = get_array(&r, (size_t)nem * sizeof *g->emitters);
-    g->light_pdf = get_array(&r, (size_t)ntris * sizeof *g->light_pdf);
+    g->light_pdf = get_array(&r, ((size_t)ntris + (size_t)g->ntree) * sizeof *g->light_pdf);
     g->vnormals = get_array(&r, (size_t)nvn * 9 * sizeof *g->vnormals);
     g->disp = get_array(&r, (size_t)ndisp * SPM_TRUTH_BINS * sizeof *g->disp);
     g->uvs = get_array(&r, g->ntex ? (size_t)ntris * 6 * sizeof *g->uvs : 0);

@@ -31,7 +31,8 @@
     X(tris, "triangles", (size_t)g->ntris * sizeof(spm_tri), g->tris)              \
     X(nodes, "BVH", (size_t)g->nwide * sizeof(spm_bvh4_node), g->wide)             \
     X(emitters, "emitters", (size_t)g->nemitters * sizeof(spm_emitter), g->emitters) \
-    X(light_pdf, "light pdfs", (size_t)g->ntris * sizeof(float), g->light_pdf)      \
+    X(light_pdf, "light selection", ((size_t)g->ntris + (size_t)g->ntree) * sizeof(float),  \
+      g->light_pdf)                                                                 \
     X(vnormals, "vertex normals", (size_t)g->nvn * 9 * sizeof(float), g->vnormals)  \
     X(disp, "dispersive indices", (size_t)g->ndisp * SPM_TRUTH_BINS * sizeof(float), g->disp) \
     X(tex, "textures", g->ntex * sizeof(spm_u32), g->tex)                          \

@@ -96,6 +96,7 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     tp->ntris = (spm_u32)g->ntris;
     tp->nemitters = (spm_u32)g->nemitters;
     tp->emit_power = (spm_u32)g->emit_power;
+    tp->light_tree = g->ntree > 0;
     tp->bg_up = t->bg_up;
     tp->bg_down = t->bg_down;
     tp->seed = seed;

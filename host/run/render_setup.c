@@ -6,6 +6,7 @@
 #include <string.h>
 #include "film_spectral.h"
 #include "interrupt.h"
+#include "light_tree.h"
 #include "render_hints.h"
 #include "scene_hints.h"
 
@@ -142,6 +143,23 @@ void spm_render_size(int want_w, int want_h, int *w, int *h)
     *given = want;
 }
 
+int spm_light_sampler_parse(const char *name)
+{
+    return !strcmp(name, "power") ? SPM_LIGHT_SAMPLER_POWER
+           : !strcmp(name, "tree") ? SPM_LIGHT_SAMPLER_TREE : -1;
+}
+
+/* The tree where it wins: on many lights with a place (measured in
+ * docs/LIGHT_TREE.md); by power on a few, whose images it keeps. */
+static int use_tree(int sampler, const spm_geometry *g)
+{
+    int placed = 0;
+    for (int i = 0; i < g->nemitters; i++)
+        placed += spm_light_placed(g->emitters[i].kind);
+    return sampler == SPM_LIGHT_SAMPLER_TREE ||
+           (sampler == SPM_LIGHT_SAMPLER_AUTO && placed >= SPM_LIGHT_TREE_AUTO_MIN);
+}
+
 int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_error *err)
 {
     memset(s, 0, sizeof *s);
@@ -163,6 +181,8 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
         return failed();
     spm_render_hint_emitters(&s->scene, &s->geom);
     rc = spm_tables_build(&s->scene, &c->pretest, &s->tables, err);
+    if (!rc && use_tree(c->light_sampler, &s->geom))
+        spm_light_tree_attach(&s->geom, s->tables.materials);
     s->times.tables_s = spm_now() - t2;
     if (rc)
         return failed();

@@ -32,7 +32,16 @@ typedef struct {
     double time_s;
     spm_camera_override cam;  /* --look-from, --look-at, --fov */
     int integrator;           /* --integrator (render_plan.h SPM_INTEGRATOR_*; 0: path) */
+    int light_sampler;        /* --light-sampler (SPM_LIGHT_SAMPLER_*; 0: by the scene) */
 } spm_render_config;
+
+/* How next-event estimation picks a light (--light-sampler): by the scene
+ * (the tree from SPM_LIGHT_TREE_AUTO_MIN placed lights on), in proportion
+ * to power, or through the light tree (host/geometry/light_tree.h). */
+enum { SPM_LIGHT_SAMPLER_AUTO, SPM_LIGHT_SAMPLER_POWER, SPM_LIGHT_SAMPLER_TREE };
+#define SPM_LIGHT_TREE_AUTO_MIN 64
+/* the sampler a name gives (-1: none) */
+int spm_light_sampler_parse(const char *name);
 
 /* Wall seconds of each stage of a render (`render --stats`); setup fills the
  * first four, the command the rest. */

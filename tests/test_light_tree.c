@@ -1,0 +1,231 @@
+/* The light tree's selection (host/geometry/light_tree.c built, the CPU
+ * reference's walk host/cpu/refcpu_light_tree.c) on a scene of many
+ * triangle lights of mixed power and orientation, point and spot lights and
+ * a distant light beside the tree:
+ *  - the pmf of every light at random shading points sums to 1 (or every
+ *    light has pmf 0 and the pick finds none);
+ *  - with one light, the pmf is the power table's (1) wherever the light
+ *    can reach;
+ *  - chi-squared of the lights the pick draws at a shading point against
+ *    the pmf the same walk gives each, and each pick's claimed pmf against
+ *    it. */
+#include <string.h>
+#include "chi2_testlib.h"
+#include "geomtest_scene.h"
+#include "geometry.h"
+#include "light_tree.h"
+#include "refcpu_lights.h"
+
+#define ALPHA 0.01
+#define NTRI 400
+#define NPOINTS 40
+#define CHI2_POINTS 4
+#define CHI2_DRAWS 400000L
+
+static spm_scene_light pl[3];
+
+/* NTRI small triangles in [-1, 1]^3 facing random ways, of emissions 0.1 to
+ * 1000; a floor; a point, a spot and (with beside) a distant light */
+static int build(spm_scene *s, spm_geometry *g, spm_tables *t, int ntri, int beside)
+{
+    uint64_t seed = 17;
+    ts_init(s);
+    int floor_m = ts_material(s, ts_colour(s, SPM_KIND_REFLECTANCE, 0.5), -1);
+    ts_quad(s, floor_m, (float[]){-5, -1, -5}, (float[]){-5, -1, 5}, (float[]){5, -1, 5},
+            (float[]){5, -1, -5});
+    int mats[4];
+    for (int k = 0; k < 4; k++)
+        mats[k] = ts_material(s, -1, ts_colour(s, SPM_KIND_EMISSION, pow(10.0, k - 1.0)));
+    for (int i = 0; i < ntri; i++) {
+        float v[3][3];
+        double c[3] = {2 * chi2_u01(&seed) - 1, 2 * chi2_u01(&seed) - 1, 2 * chi2_u01(&seed) - 1};
+        for (int a = 0; a < 3; a++)
+            for (int k = 0; k < 3; k++)
+                v[a][k] = (float)(c[k] + 0.1 * (chi2_u01(&seed) - 0.5));
+        ts_tri(s, mats[(int)(4 * chi2_u01(&seed)) & 3], v[0], v[1], v[2]);
+    }
+    int white = ts_colour(s, SPM_KIND_EMISSION, 1.0);
+    int nl = 0;
+    if (ntri > 1) {
+        pl[nl] = (spm_scene_light){.kind = SPM_LIGHT_POINT, .colour = white};
+        memcpy(&pl[nl].p[SPM_LIGHT_P_POS], (float[]){0.3f, 0.9f, -0.2f}, 3 * sizeof(float));
+        pl[nl++].p[SPM_LIGHT_P_SCALE] = 2.0f;
+        pl[nl] = (spm_scene_light){.kind = SPM_LIGHT_SPOT, .colour = white};
+        memcpy(&pl[nl].p[SPM_LIGHT_P_POS], (float[]){-0.5f, 0.5f, 0.5f}, 3 * sizeof(float));
+        memcpy(&pl[nl].p[SPM_LIGHT_P_DIR], (float[]){0.0f, -1.0f, 0.0f}, 3 * sizeof(float));
+        pl[nl].p[SPM_LIGHT_P_A] = 0.6f;
+        pl[nl].p[SPM_LIGHT_P_B] = 0.4f;
+        pl[nl].p[SPM_LIGHT_P_C] = cosf(0.6f);
+        pl[nl++].p[SPM_LIGHT_P_SCALE] = 5.0f;
+    }
+    if (beside) {
+        pl[nl] = (spm_scene_light){.kind = SPM_LIGHT_DISTANT, .colour = white};
+        memcpy(&pl[nl].p[SPM_LIGHT_P_DIR], (float[]){0.0f, -1.0f, 0.0f}, 3 * sizeof(float));
+        pl[nl++].p[SPM_LIGHT_P_SCALE] = 1.0f;
+    }
+    s->lights = pl;
+    s->nlights = nl;
+    spm_error err;
+    if (spm_geometry_build(s, g, &err)) {
+        CHECK(0, "build: %s", err.msg);
+        return 1;
+    }
+    ts_tables(s, t);
+    spm_light_tree_attach(g, t->materials);
+    return 0;
+}
+
+static void scene_free(spm_scene *s, spm_geometry *g, spm_tables *t)
+{
+    s->lights = NULL; /* static */
+    spm_tables_free(t);
+    spm_geometry_free(g);
+    ts_free(s);
+}
+
+/* a shading point in [-1.5, 1.5]^3 and a unit normal (the geometric normal
+ * of triangle `from`, which the walk reads, is set to it) */
+static void shading_point(uint64_t *seed, float x[3], float n[3])
+{
+    double l = 0.0, v[3];
+    for (int k = 0; k < 3; k++) {
+        x[k] = (float)(3.0 * chi2_u01(seed) - 1.5);
+        v[k] = 2.0 * chi2_u01(seed) - 1.0;
+        l += v[k] * v[k];
+    }
+    for (int k = 0; k < 3; k++)
+        n[k] = (float)(v[k] / sqrt(l));
+}
+
+static void pmf_sums_to_one(void)
+{
+    spm_scene s;
+    spm_geometry g;
+    spm_tables t;
+    for (int beside = 0; beside < 2; beside++) {
+        if (build(&s, &g, &t, NTRI, beside))
+            return;
+        uint64_t seed = 5;
+        double worst = 0.0;
+        int empty = 0;
+        for (int q = 0; q < NPOINTS; q++) {
+            float x[3], n[3], pmf;
+            shading_point(&seed, x, n);
+            double sum = 0.0;
+            for (int e = 0; e < g.nemitters; e++)
+                sum += spm_ref_ltree_pmf(&g, x, n, (spm_u32)e);
+            if (sum == 0.0) { /* nothing lights x: the pick finds none either */
+                empty++;
+                CHECK(spm_ref_ltree_pick(&g, x, n, 0.5f, &pmf) < 0, "pmf 0 everywhere but a pick");
+                continue;
+            }
+            worst = fmax(worst, fabs(sum - 1.0));
+        }
+        /* float products along a trail of ~12 nodes, summed over 400 lights:
+         * measured within 7e-8 */
+        printf("pmf sum (%s): worst |sum - 1| %.2g over %d points (%d lit by none)\n",
+               beside ? "with a distant light" : "tree only", worst, NPOINTS, empty);
+        CHECK(worst <= 1e-4, "pmf sums off 1 by %.3g", worst);
+        CHECK(empty < NPOINTS / 4, "%d of %d points lit by no light", empty, NPOINTS);
+        scene_free(&s, &g, &t);
+    }
+}
+
+static void single_light(void)
+{
+    spm_scene s;
+    spm_geometry g;
+    spm_tables t;
+    if (build(&s, &g, &t, 1, 0))
+        return;
+    uint64_t seed = 9;
+    int checked = 0;
+    for (int q = 0; q < NPOINTS; q++) {
+        float x[3], n[3], pmf = -1.0f;
+        shading_point(&seed, x, n);
+        float p = spm_ref_ltree_pmf(&g, x, n, 0u);
+        int k = spm_ref_ltree_pick(&g, x, n, (float)chi2_u01(&seed), &pmf);
+        if (k < 0) { /* behind the light: it cannot reach x */
+            CHECK(p == 0.0f, "no pick but pmf %g", p);
+            continue;
+        }
+        checked++;
+        CHECK(k == 0 && p == g.emitters[0].pdf && pmf == p,
+              "one light: picked %d, pmf %g and %g, power table's %g", k, p, pmf, g.emitters[0].pdf);
+    }
+    printf("one light: pmf equal to the power table's at %d of %d points\n", checked, NPOINTS);
+    CHECK(checked >= NPOINTS / 4, "only %d points in front of the one light", checked);
+    scene_free(&s, &g, &t);
+}
+
+/* Pearson's statistic of the lights picked at x against n pmf, the
+ * lights expected below the minimum pooled; the claimed pmf against pmf */
+static void chi2_at(const spm_geometry *g, const float x[3], const float nrm[3], uint64_t *seed,
+                    double alpha)
+{
+    int ne = g->nemitters;
+    double *obs = calloc((size_t)ne + 1, sizeof *obs), *pmf = calloc((size_t)ne + 1, sizeof *pmf);
+    for (int e = 0; e < ne; e++)
+        pmf[e] = spm_ref_ltree_pmf(g, x, nrm, (spm_u32)e);
+    long none = 0, off = 0;
+    for (long i = 0; i < CHI2_DRAWS; i++) {
+        float p;
+        int k = spm_ref_ltree_pick(g, x, nrm, (float)chi2_u01(seed), &p);
+        if (k < 0) {
+            none++;
+            continue;
+        }
+        obs[k] += 1.0;
+        off += !(fabs(p / pmf[k] - 1.0) <= 1e-5); /* the same walk: the same float */
+    }
+    double stat = 0.0, po = (double)none, pe = 0.0, mass = 0.0;
+    int cells = 0;
+    for (int e = 0; e < ne; e++) {
+        double ex = pmf[e] * CHI2_DRAWS;
+        mass += pmf[e];
+        if (ex < CHI2_MIN_EXPECTED) {
+            po += obs[e], pe += ex;
+        } else {
+            stat += (obs[e] - ex) * (obs[e] - ex) / ex;
+            cells++;
+        }
+    }
+    pe += CHI2_DRAWS * fmax(0.0, 1.0 - mass);
+    if (pe > 0.0) {
+        stat += (po - pe) * (po - pe) / pe;
+        cells++;
+    }
+    double pval = st_chi2_sf(stat, cells - 1);
+    printf("pick at (%.2f %.2f %.2f): chi2 %.1f over %d cells, p %.3g (reject below %.2g); "
+           "%ld of %ld claimed pmfs off\n", x[0], x[1], x[2], stat, cells, pval, alpha, off,
+           CHI2_DRAWS);
+    CHECK(pval >= alpha, "pick vs pmf: chi2 %.1f over %d cells, p %.3g", stat, cells, pval);
+    CHECK(off == 0, "%ld picks claim a pmf other than the walk's", off);
+    CHECK(cells >= 20, "only %d cells: the pick spreads over too few lights", cells);
+    free(obs);
+    free(pmf);
+}
+
+static void chi2_pick(double alpha)
+{
+    spm_scene s;
+    spm_geometry g;
+    spm_tables t;
+    if (build(&s, &g, &t, NTRI, 1))
+        return;
+    uint64_t seed = 23;
+    for (int q = 0; q < CHI2_POINTS; q++) {
+        float x[3], n[3];
+        shading_point(&seed, x, n);
+        chi2_at(&g, x, n, &seed, alpha);
+    }
+    scene_free(&s, &g, &t);
+}
+
+int main(void)
+{
+    pmf_sums_to_one();
+    single_light();
+    chi2_pick(st_sidak(ALPHA, CHI2_POINTS));
+    TEST_END();
+}
