@@ -79,7 +79,7 @@ const spm_option spm_options[] = {
     ROW(INTEGRATOR, "--integrator", "I", TEXT, 0, 0, R,
         "path (default: camera paths with next-event estimation) |\n"
         "light (subpaths from the lights, each vertex splatted into\n"
-        "the pixel that sees it; the CPU reference, --backend cpu) |\n"
+        "the pixel that sees it) |\n"
         "bdpt (both joined in every way, weighed by MIS; --backend cpu)"),
     ROW(LIGHT_SAMPLER, "--light-sampler", "S", TEXT, 0, 0, R,
         "how next-event estimation picks a light: tree (a light tree,\n"
