@@ -267,7 +267,7 @@ static int join_emitter(const spm_geometry *g, const bd_subpath *z, int t, bd_jo
     const spm_tri *tri = &g->tris[pt->tri];
     float w[3];
     toward(pt->p, pm->p, w);
-    J->pt_rev = spm_ref_light_pmf(g, pt->tri) / tri->area;
+    J->pt_rev = g->light_pdf[pt->tri] / tri->area; /* the light subpaths pick by power */
     J->ptm_rev = to_area(fmaxf(v3_dot(w, tri->n), 0.0f) / SPM_PI_F, pt, pm);
     return J->c > 0.0f;
 }
