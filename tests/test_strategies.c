@@ -1,7 +1,9 @@
 /* Strategies that must agree: on scenes/strategies.scene (rough and smooth
  * conductors, a rough coating, rough and smooth glass under a large dim and a
- * small bright light, each two triangles picked by power), the full MIS
- * estimator, light sampling alone and the material's lobe alone
+ * small bright light, each two triangles picked by power) and on
+ * scenes/emissive_texture.scene (a room lit by a textured light: the texel a
+ * light sample's point looks up against the one a lobe's ray hits), the full
+ * MIS estimator, light sampling alone and the material's lobe alone
  * (SPECMIP_TEST_STRATEGY, host/cpu/refcpu_trace.c) estimate the same image.
  *
  * Each strategy renders the scene (CPU reference, rgb: the strategies are
@@ -33,13 +35,13 @@ static const char *const strategies[3] = {NULL, "light", "lobe"};
 /* Block means of the luminance of one render, into b[NB] (the 4x4 blocks,
  * then 8x8, 16x16 and the whole image: a bias spread thin over the image
  * shows at the coarser scales); 0 or 1 on failure. */
-static int render_blocks(const char *strategy, spm_u32 seed, double *b)
+static int render_blocks(const char *scene, const char *strategy, spm_u32 seed, double *b)
 {
     if (strategy)
         setenv("SPECMIP_TEST_STRATEGY", strategy, 1);
     else
         unsetenv("SPECMIP_TEST_STRATEGY");
-    rt_render_job j = {"strategies.scene", SPM_MODE_RGB, SPP, seed, SIZE, 0.0, "cpu"};
+    rt_render_job j = {scene, SPM_MODE_RGB, SPP, seed, SIZE, 0.0, "cpu"};
     rt_render_out o;
     if (rt_render(&j, &o, NULL, NULL))
         return 1;
@@ -60,14 +62,15 @@ static int render_blocks(const char *strategy, spm_u32 seed, double *b)
     return 0;
 }
 
-int main(void)
+/* The three strategies on one scene, compared pairwise per block. */
+static void compare(const char *scene)
 {
     static double blk[3][SEEDS][NB];
     for (int s = 0; s < 3; s++)
         for (int k = 0; k < SEEDS; k++)
-            if (render_blocks(strategies[s], 1000u + (spm_u32)k, blk[s][k])) {
-                CHECK(0, "render %s seed %d", strategies[s] ? strategies[s] : "mis", k);
-                TEST_END();
+            if (render_blocks(scene, strategies[s], 1000u + (spm_u32)k, blk[s][k])) {
+                CHECK(0, "%s: render %s seed %d", scene, strategies[s] ? strategies[s] : "mis", k);
+                return;
             }
     unsetenv("SPECMIP_TEST_STRATEGY");
     /* the strategies trace the same paths (the same random numbers) and only
@@ -93,14 +96,24 @@ int main(void)
         }
         for (int k = 0; k < SEEDS; k++)
             image[0] += blk[0][k][NB - 1] / SEEDS, image[1] += blk[s][k][NB - 1] / SEEDS;
-        printf("mis vs %-5s: image mean %.5f vs %.5f, worst block %d: difference %.5f +- %.5f, "
-               "|z| %.2f (bound %.2f)\n", strategies[s], image[0], image[1], at, dm_at, se_at,
+        printf("%s: mis vs %-5s: image mean %.5f vs %.5f, worst block %d: difference %.5f +- %.5f, "
+               "|z| %.2f (bound %.2f)\n", scene, strategies[s], image[0], image[1], at, dm_at, se_at,
                worst, zmax_allowed);
-        CHECK(worst <= zmax_allowed, "mis vs %s: block %d differs by %.5f +- %.5f, |z| %.2f > %.2f",
-              strategies[s], at, dm_at, se_at, worst, zmax_allowed);
-        CHECK(differ > NB / 4, "mis vs %s: only %d of %d blocks differ for one seed: the switch "
-              "did nothing?", strategies[s], differ, NB);
+        CHECK(worst <= zmax_allowed, "%s: mis vs %s: block %d differs by %.5f +- %.5f, |z| %.2f > %.2f",
+              scene, strategies[s], at, dm_at, se_at, worst, zmax_allowed);
+        CHECK(differ > NB / 4, "%s: mis vs %s: only %d of %d blocks differ for one seed: the "
+              "switch did nothing?", scene, strategies[s], differ, NB);
         CHECK(image[0] > 0.0, "the image is black");
     }
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1) { /* one scene of scenes/, by name */
+        compare(argv[1]);
+        TEST_END();
+    }
+    compare("strategies.scene");
+    compare("emissive_texture.scene");
     TEST_END();
 }

@@ -201,6 +201,8 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
         if (map[i] >= 0)
             map[i] = spm_mesh_texture_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
         if (map[i] >= 0)
+            map[i] = spm_mesh_etexture_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
+        if (map[i] >= 0)
             map[i] = spm_mesh_alpha_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
         if (map[i] < 0)
             return 1;

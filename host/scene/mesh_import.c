@@ -249,6 +249,9 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
     int base_tex = spm_mesh_texture_apply(sc, m, file->path, out, refused);
     if (base_tex == 2)
         return 1;
+    int emit_tex = spm_mesh_etexture_apply(sc, m, file->path, out, refused);
+    if (emit_tex == 2)
+        return 1;
     if (has_colour(m, AI_MATKEY_COLOR_EMISSIVE, out->emission)) {
         float strength;
         if (aiGetMaterialFloatArray(m, AI_MATKEY_EMISSIVE_INTENSITY, &strength, NULL) ==
@@ -290,7 +293,8 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
     for (int type = 1; type <= AI_TEXTURE_TYPE_MAX; type++)
         if (aiGetMaterialTextureCount(m, (enum aiTextureType)type) > 0 &&
             !(base_tex && (type == aiTextureType_BASE_COLOR || type == aiTextureType_DIFFUSE)) &&
-            !(out->alpha_map == SPM_MESH_AMAP_FILE && type == aiTextureType_OPACITY))
+            !(out->alpha_map == SPM_MESH_AMAP_FILE && type == aiTextureType_OPACITY) &&
+            !(emit_tex && type == aiTextureType_EMISSIVE))
             *ignored |= type == aiTextureType_NORMALS || type == aiTextureType_HEIGHT ||
                                   type == aiTextureType_NORMAL_CAMERA
                               ? SPM_MESH_IGN_NORMAL_MAPS

@@ -103,8 +103,12 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
         mats[i].texture_why[sizeof mats[i].texture_why - 1] = 0;
         mats[i].texture_file[sizeof mats[i].texture_file - 1] = 0;
         mats[i].alpha_name[sizeof mats[i].alpha_name - 1] = 0;
+        mats[i].etexture_name[sizeof mats[i].etexture_name - 1] = 0;
+        mats[i].etexture_why[sizeof mats[i].etexture_why - 1] = 0;
+        mats[i].etexture_file[sizeof mats[i].etexture_file - 1] = 0;
         mats[i].alpha_file[sizeof mats[i].alpha_file - 1] = 0;
         if (mats[i].texture < SPM_MESH_TEX_NONE || mats[i].texture > SPM_MESH_TEX_UNREAD ||
+            mats[i].etexture < SPM_MESH_TEX_NONE || mats[i].etexture > SPM_MESH_TEX_UNREAD ||
             mats[i].alpha_mode < SPM_MESH_ALPHA_OPAQUE || mats[i].alpha_mode > SPM_MESH_ALPHA_BLEND ||
             mats[i].alpha_map < SPM_MESH_AMAP_NONE || mats[i].alpha_map > SPM_MESH_AMAP_FILE) {
             spm_errorf(err, "%s: the importer returned a bad material", path);
