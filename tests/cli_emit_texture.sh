@@ -11,8 +11,14 @@
 # random pixel). The worst block at 128 spp, seed 5, is 0.39 off (truth,
 # rgb), 0.57 (ml), 0.84 (hero); the light tracer's 0.65 (seed 5; 1.34 at 128
 # subpaths a pixel), measured. The same quad facing
-# away shows nothing (one-sided emission is kept). colour-science and
-# OpenImageIO's Python module come from tools/setup.sh (build/pyenv).
+# away shows nothing (one-sided emission is kept).
+# The same from a glTF (tools/make_textured_gltf.py blocks_lamp.gltf): the
+# blocks image as the emissiveTexture of a panel facing the camera, times
+# emissiveFactor (1 0.8 0.6) and KHR_materials_emissive_strength 2.5: per
+# block within CIEDE2000 1 of the decoded texel times (2.5 2 1.5), in every
+# mode on both backends at 64 spp (hero at 256), nothing warned.
+# colour-science and OpenImageIO's Python module come from tools/setup.sh
+# (build/pyenv).
 source "$(dirname "$0")/lib_cli.sh"
 PY=${SPECMIP_PYTHON:-$(cd "$(dirname "$BIN")" && pwd)/pyenv/bin/python}
 check "colour-science and OpenImageIO importable by $PY (tools/setup.sh)" \
@@ -46,6 +52,24 @@ for backend in opencl cpu; do
   "$BIN" render "$T/quad.scene" --backend $backend --mode ml --integrator light --seed 5 --spp 1024 --quiet \
     -o "$T/$backend-light.exr" 2>"$T/err" || { bad "$backend light: $(cat "$T/err")"; continue; }
   blocks "$backend ml, light tracer" "$T/$backend-light.exr"
+done
+python3 "$ROOT/tools/make_textured_gltf.py" "$T" || bad "no model written"
+printf 'image 32 32\nspp 64\ncamera position 0 0 -2  direction 0 0 1  fov 53.1301024
+mesh blocks_lamp.gltf\n' > "$T/lamp.scene"
+for backend in opencl cpu; do
+  for mode in truth ref ml mlc hero rgb; do
+    spp=64; [ $mode = hero ] && spp=256
+    "$BIN" render "$T/lamp.scene" --backend $backend --mode $mode --seed 5 --spp $spp \
+      -o "$T/lamp-$backend-$mode.exr" > /dev/null 2>"$T/err" ||
+      { bad "lamp $backend $mode: $(cat "$T/err")"; continue; }
+    check "lamp $backend $mode: nothing warned: $(cat "$T/err")" bash -c "! grep -q warning '$T/err'"
+    "$PY" "$ROOT/tests/texture_blocks.py" "$T/board_base.png" "$T/lamp-$backend-$mode.exr" \
+      2.5,2,1.5 > "$T/py" 2>&1
+    rc=$?
+    check "lamp $backend $mode: every block within dE00 1 of texel x factor x strength: $(tail -3 "$T/py")" \
+      test $rc -eq 0
+    echo "lamp $backend $mode $(tail -1 "$T/py")"
+  done
 done
 "$BIN" render "$T/back.scene" --backend cpu --mode rgb -o "$T/back.exr" 2>"$T/err" ||
   bad "back: $(cat "$T/err")"

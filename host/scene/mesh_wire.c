@@ -158,8 +158,8 @@ const char *spm_mesh_ignored_name(int bit)
         "vertex normals", "texture coordinates", "vertex colours", "textures", "normal maps",
         "glossy and metallic parameters", "opacity", "cameras", "lights",
         "animations, skins and morph targets", "points and lines",
-        "glTF emissive strengths (KHR_materials_emissive_strength, which Assimp 5.2 does not "
-        "read: emissions are the emissiveFactor alone)",
+        "glTF emissive strengths that are not a non-negative number "
+        "(KHR_materials_emissive_strength: the emissiveFactor alone is used)",
         "glTF light ranges (KHR_lights_punctual `range`: specmip's point and spot lights fall "
         "as 1/d^2 without a cut-off)",
         "emissive textures (glTF emissiveTexture, MTL map_Ke: an emission is its factor alone, "
