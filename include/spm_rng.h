@@ -85,6 +85,15 @@
 #define SPM_DIM_ENV_BASE 0x70000000u
 #define SPM_DIM_ENV(j, k) (SPM_DIM_ENV_BASE + 3u * (spm_u32)(j) + (spm_u32)(k))
 #define SPM_DIM_ENV_NODE 2u
+/* A textured emitter's lookup (kernels/light_area.clh emit_texture): the texel
+ * along x and along y and the grid corner, SPM_DIM_ETEX(j, 0 .. 2) where the
+ * ray of vertex j - 1 (or the camera's, j = 0) hits it, SPM_DIM_ETEX(j, 3 .. 5)
+ * at the point vertex j's light sample draws on it (a vertex can be both),
+ * j = SPM_MAX_DEPTH at a light subpath's start; between the textures' range
+ * and the map's. */
+#define SPM_DIM_ETEX_BASE 0x68000000u
+#define SPM_DIM_ETEX(j, k) (SPM_DIM_ETEX_BASE + 8u * (spm_u32)(j) + (spm_u32)(k))
+#define SPM_DIM_ETEX_NEE 3u
 
 /* "lowbias32" integer mixer (Wellons): full avalanche, cheap. Its steps on x
  * of any unsigned 32-bit integer type (the kernels also mix 16 keys at once). */

@@ -600,6 +600,10 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
  *                      textured vertex survives with P r and weighs 1 / (P r)
  *                      (unbiased for any r > 0; P alone is the palette's
  *                      brightest colour's)
+ *   [SPM_TEXD_EMIT]    offset of two words per material: 1 + the texture on its
+ *                      emission (0 none) in the low 16 bits, its palette (of
+ *                      emission spectra) in the high ones; the factor its
+ *                      radiance takes (float bits); 0: no material has one
  * a header: nlevels, wrap along u, wrap along v (spm_wrap), 0, then per level
  * its texels' offset, width, height, 0; texels 3 floats (linear RGB), rows top
  * to bottom. Texture coordinates: 6 floats per triangle (u, v at each vertex),
@@ -620,7 +624,8 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
 #define SPM_TEXD_ALPHA 5
 #define SPM_TEXD_MIX 6
 #define SPM_TEXD_SURVIVE 7
-#define SPM_TEXD_HEAD 8
+#define SPM_TEXD_EMIT 8
+#define SPM_TEXD_HEAD 9
 #define SPM_TEX_NODES_ALL (SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID)
 #define SPM_TEX_HEADER(nlevels) (4 + 4 * (nlevels))
 

@@ -90,10 +90,14 @@ SPM_ALWAYS_INLINE int lt_start(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA), spm_
                           key_rng(k, SPM_DIM_LT_EMIT + 3u), o, d, &pp, &pd);
     if (!(pp > 0.0f && pd > 0.0f))
         return 0;
+    float ts = 1.0f; /* a textured emission's factor at o, looked up once */
     *colour = lt_emission(tris, mats, e, *d, &scale, &cos_o);
+    if (e->kind == SPM_LIGHT_AREA)
+        *colour = emit_texture(tex, uvs, e->tri, &tris[e->tri], *o, k, SPM_MAX_DEPTH, 0u, *colour,
+                               &ts);
     if (*colour == SPM_NONE)
         return 0;
-    *beta = scale * cos_o / (e->pdf * pp * pd);
+    *beta = scale * ts * cos_o / (e->pdf * pp * pd);
     *skip = e->kind == SPM_LIGHT_AREA ? e->tri : 0xFFFFFFFFu;
     hd->first_emit = *colour;
     if (e->kind != SPM_LIGHT_AREA) /* a delta in position: no camera ray meets it */
@@ -105,7 +109,7 @@ SPM_ALWAYS_INLINE int lt_start(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA), spm_
         *px0 = SPM_NONE;
         return 1;
     }
-    hd->first_emit_c = scale * cos_o * w / (e->pdf * pp);
+    hd->first_emit_c = scale * ts * cos_o * w / (e->pdf * pp);
     return 1;
 }
 

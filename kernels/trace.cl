@@ -201,7 +201,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         float ecos = dot3(fr.back, fr.ng), escale;
         if (m.type & SPM_EMIT_TWOSIDED)
             ecos = fabs(ecos);
-        uint memit = light_eval(m, ecos, &escale);
+        uint memit = light_eval_at(m, ecos, &escale, tex, uvs, (uint)hit, tr, pos, key, j, 0u);
         if (j == 0 && memit != SPM_NONE && (ecos > 0.0f || (m.type & SPM_EMIT_TWOSIDED))) {
             hd.first_emit = memit;
             hd.first_emit_c = escale;

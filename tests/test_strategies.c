@@ -1,7 +1,9 @@
 /* Strategies that must agree: on scenes/strategies.scene (rough and smooth
  * conductors, a rough coating, rough and smooth glass under a large dim and a
- * small bright light, each two triangles picked by power), the full MIS
- * estimator, light sampling alone and the material's lobe alone
+ * small bright light, each two triangles picked by power) and on
+ * scenes/emissive_texture.scene (a room lit by a textured light: the texel a
+ * light sample's point looks up against the one a lobe's ray hits), the full
+ * MIS estimator, light sampling alone and the material's lobe alone
  * (SPECMIP_TEST_STRATEGY, host/cpu/refcpu_trace.c) estimate the same image.
  *
  * Each strategy renders the scene (CPU reference, rgb: the strategies are
@@ -35,13 +37,14 @@ static const char *const strategies[3] = {NULL, "light", "lobe"};
 /* Block means of the luminance of one render, into b[NB] (the 4x4 blocks,
  * then 8x8, 16x16 and the whole image: a bias spread thin over the image
  * shows at the coarser scales); 0 or 1 on failure. */
-static int render_blocks(const char *strategy, int sampler, spm_u32 seed, double *b)
+static int render_blocks(const char *scene, const char *strategy, int sampler, spm_u32 seed,
+                         double *b)
 {
     if (strategy)
         setenv("SPECMIP_TEST_STRATEGY", strategy, 1);
     else
         unsetenv("SPECMIP_TEST_STRATEGY");
-    rt_render_job j = {"strategies.scene", SPM_MODE_RGB, SPP, seed, SIZE, 0.0, "cpu"};
+    rt_render_job j = {scene, SPM_MODE_RGB, SPP, seed, SIZE, 0.0, "cpu"};
     rt_light_sampler = sampler;
     rt_render_out o;
     if (rt_render(&j, &o, NULL, NULL))
@@ -63,14 +66,16 @@ static int render_blocks(const char *strategy, int sampler, spm_u32 seed, double
     return 0;
 }
 
-static void agree(int sampler)
+/* The three strategies on one scene under one light sampler, compared
+ * pairwise per block. */
+static void compare(const char *scene, int sampler)
 {
     static double blk[3][SEEDS][NB];
     const char *sname = sampler == SPM_LIGHT_SAMPLER_TREE ? "tree" : "power";
     for (int s = 0; s < 3; s++)
         for (int k = 0; k < SEEDS; k++)
-            if (render_blocks(strategies[s], sampler, 1000u + (spm_u32)k, blk[s][k])) {
-                CHECK(0, "render %s seed %d", strategies[s] ? strategies[s] : "mis", k);
+            if (render_blocks(scene, strategies[s], sampler, 1000u + (spm_u32)k, blk[s][k])) {
+                CHECK(0, "%s: render %s seed %d", scene, strategies[s] ? strategies[s] : "mis", k);
                 return;
             }
     unsetenv("SPECMIP_TEST_STRATEGY");
@@ -97,20 +102,25 @@ static void agree(int sampler)
         }
         for (int k = 0; k < SEEDS; k++)
             image[0] += blk[0][k][NB - 1] / SEEDS, image[1] += blk[s][k][NB - 1] / SEEDS;
-        printf("%-5s mis vs %-5s: image mean %.5f vs %.5f, worst block %d: difference %.5f +- %.5f, "
-               "|z| %.2f (bound %.2f)\n", sname, strategies[s], image[0], image[1], at, dm_at, se_at,
-               worst, zmax_allowed);
-        CHECK(worst <= zmax_allowed, "%s mis vs %s: block %d differs by %.5f +- %.5f, |z| %.2f > %.2f",
-              sname, strategies[s], at, dm_at, se_at, worst, zmax_allowed);
-        CHECK(differ > NB / 4, "mis vs %s: only %d of %d blocks differ for one seed: the switch "
-              "did nothing?", strategies[s], differ, NB);
+        printf("%s (%s): mis vs %-5s: image mean %.5f vs %.5f, worst block %d: difference %.5f "
+               "+- %.5f, |z| %.2f (bound %.2f)\n", scene, sname, strategies[s], image[0], image[1],
+               at, dm_at, se_at, worst, zmax_allowed);
+        CHECK(worst <= zmax_allowed, "%s (%s): mis vs %s: block %d differs by %.5f +- %.5f, |z| %.2f > %.2f",
+              scene, sname, strategies[s], at, dm_at, se_at, worst, zmax_allowed);
+        CHECK(differ > NB / 4, "%s: mis vs %s: only %d of %d blocks differ for one seed: the "
+              "switch did nothing?", scene, strategies[s], differ, NB);
         CHECK(image[0] > 0.0, "the image is black");
     }
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
-    agree(SPM_LIGHT_SAMPLER_POWER);
-    agree(SPM_LIGHT_SAMPLER_TREE);
+    if (argc > 1) { /* one scene of scenes/, by name */
+        compare(argv[1], SPM_LIGHT_SAMPLER_POWER);
+        TEST_END();
+    }
+    compare("strategies.scene", SPM_LIGHT_SAMPLER_POWER);
+    compare("strategies.scene", SPM_LIGHT_SAMPLER_TREE);
+    compare("emissive_texture.scene", SPM_LIGHT_SAMPLER_POWER);
     TEST_END();
 }

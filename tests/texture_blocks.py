@@ -1,7 +1,8 @@
 """A textured quad's image against its 4 x 4 blocks texture (tests/cli_texture_quad.sh,
 tests/cli_mesh_texture.sh): per block, the middle half of its pixels' mean linear sRGB
 within CIEDE2000 1 of the decoded texel. usage: texture_blocks.py write TEXTURE.png (an 8-bit sRGB PNG of 32 x 32 pixels, 4 x 4
-blocks of 16 colours), or texture_blocks.py TEXTURE.png IMAGE.exr, or
+blocks of 16 colours), or texture_blocks.py TEXTURE.png IMAGE.exr [FACTOR] (the image
+divided by FACTOR first, one number or R,G,B: an emission's factor), or
 texture_blocks.py pair PEER.exr IMAGE.exr LIMIT (each block against the same block of
 a peer image of the same size, within CIEDE2000 LIMIT);
 exit 1 when a block is off, printing it, then the worst."""
@@ -36,7 +37,12 @@ if sys.argv[1] == "pair":  # a peer image's blocks in place of the texels
 else:
     tex = oiio.ImageBuf(sys.argv[1]).get_pixels(oiio.UINT8)[..., :3] / 255.0
     img = oiio.ImageBuf(sys.argv[2]).get_pixels(oiio.FLOAT)[..., :3]
+    if len(sys.argv) > 3:  # one factor, or one per channel: "R,G,B"
+        img = img / np.array([float(f) for f in sys.argv[3].split(",")])
     lin = colour.models.eotf_sRGB(tex)
+if img.shape[0] < 32 or img.shape[1] < 32:
+    print("the image is %s, not 32 x 32" % (img.shape,))
+    sys.exit(1)
 white = colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"]
 def lab(rgb):
     return colour.XYZ_to_Lab(colour.sRGB_to_XYZ(rgb, apply_cctf_decoding=False), white)

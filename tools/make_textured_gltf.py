@@ -8,7 +8,11 @@ baseColorFactor) for comparisons. tests/cli_gltf_texture.sh renders them.
 usage: make_textured_gltf.py FOLDER
 writes FOLDER/board.gltf (the board, z = 0, facing -z, (-1, -1) to (1, 1);
 the lamp at z = 0.5 behind it, facing +z, away from the board and a camera
-in front), board_base.png, lamp_emissive.png and board_peer.gltf; and two
+in front), board_base.png, lamp_emissive.png, board_peer.gltf and
+blocks_lamp.gltf (a panel of the board's size and place, its winding
+reversed to emit toward -z, whose
+emissiveTexture is board_base.png, emissiveFactor EMISSIVE_FACTOR and
+KHR_materials_emissive_strength EMISSIVE_STRENGTH); and two
 boards with a metallicRoughnessTexture (glTF: roughness in green, metallic in
 blue, linear): board_mr.gltf, the textured board whose 4 x 4 blocks are
 metal and dielectric in a checkerboard (metallic 1 where row + column is
@@ -27,6 +31,8 @@ CODES = [(200, 60, 50), (60, 160, 70), (50, 80, 190), (230, 210, 60),
          (90, 200, 200), (250, 140, 30), (100, 60, 30), (160, 200, 120),
          (30, 40, 90), (220, 170, 160), (70, 70, 160), (200, 30, 120)]
 BLOCK = 8  # pixels a block
+EMISSIVE_FACTOR = [1.0, 0.8, 0.6]
+EMISSIVE_STRENGTH = 2.5
 
 
 def srgb_decode(c):
@@ -45,7 +51,7 @@ def png(path, w, h, pixel):
                 chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
-def gltf(path, quads, materials, images):
+def gltf(path, quads, materials, images, extensions=None):
     """quads: (corners (4 x xyz, counter-clockwise seen from the front), uvs
     (4 x (u, v), v up) or None, material index); one mesh of one primitive per quad."""
     buf, views, accessors, meshes = b"", [], [], []
@@ -74,6 +80,8 @@ def gltf(path, quads, materials, images):
            "buffers": [{"byteLength": len(buf), "uri": "data:application/octet-stream;base64," +
                         base64.b64encode(buf).decode()}],
            "bufferViews": views, "accessors": accessors}
+    if extensions:
+        doc["extensionsUsed"] = extensions
     if images:
         doc["images"] = [{"uri": u} for u in images]
         doc["textures"] = [{"source": i} for i in range(len(images))]
@@ -108,6 +116,14 @@ def main(folder):
         pmats.append({"name": "block%d" % b, "pbrMetallicRoughness": dict(
             plastic, baseColorFactor=[srgb_decode(v) for v in code] + [1])})
     gltf(folder + "/board_peer.gltf", quads, pmats, [])
+    lamp_mat = {"name": "blocks_lamp", "pbrMetallicRoughness": dict(plastic, baseColorFactor=[0, 0, 0, 1]),
+                "emissiveTexture": {"index": 0}, "emissiveFactor": EMISSIVE_FACTOR,
+                "extensions": {"KHR_materials_emissive_strength": {
+                    "emissiveStrength": EMISSIVE_STRENGTH}}}
+    front = [(1, -1, 0), (-1, -1, 0), (-1, 1, 0), (1, 1, 0)]  # the board's, wound to face -z
+    gltf(folder + "/blocks_lamp.gltf", [(front, [(1, 0), (0, 0), (0, 1), (1, 1)], 0)], [lamp_mat],
+         ["board_base.png"],
+         ["KHR_materials_emissive_strength"])
     metal_roughness(folder, board, square)
 
 

@@ -4,6 +4,8 @@
 #include "geometry_vec3.h"
 #include "refcpu.h"
 #include "refcpu_lights.h"
+#include "refcpu_texture.h"
+#include <string.h>
 
 /* a uniform emitter, its colour the material's emission */
 static spm_u32 light_eval_AREA(const spm_material *m, float cos_e, float *scale)
@@ -26,6 +28,28 @@ spm_u32 spm_ref_light_eval(const spm_material *m, float cos_e, float *scale)
         *scale = 0.0f;
         return SPM_NONE;
     }
+}
+
+spm_u32 spm_ref_emit_texture(const spm_geometry *g, spm_u32 hit, const float x[3],
+                             const spm_ref_key *k, spm_u32 j, spm_u32 k0, spm_u32 c, float *scale)
+{
+    const spm_u32 *tex = g->tex;
+    if (!g->ntex || tex[SPM_TEXD_EMIT] == 0u || c == SPM_NONE)
+        return c;
+    const spm_tri *tr = &g->tris[hit];
+    const spm_u32 *mw = tex + tex[SPM_TEXD_EMIT] + 2u * tr->material;
+    spm_u32 tx = mw[0] & 0xFFFFu;
+    if (tx == 0u)
+        return c;
+    float u, v, f;
+    spm_tri_uv(tr, g->uvs + 6u * hit, x, &u, &v);
+    spm_u32 node = spm_ref_texture_node(g, tex + tex[tex[SPM_TEXD_TEXS] + tx - 1u], 0u, u, v,
+                                        spm_ref_rnd(k, SPM_DIM_ETEX(j, k0)),
+                                        spm_ref_rnd(k, SPM_DIM_ETEX(j, k0 + 1u)),
+                                        spm_ref_rnd(k, SPM_DIM_ETEX(j, k0 + 2u)));
+    memcpy(&f, &mw[1], sizeof f);
+    *scale *= f;
+    return tex[tex[SPM_TEXD_PALETTE] + (mw[0] >> 16) * SPM_TEX_NODES_ALL + node];
 }
 
 float spm_ref_light_pdf_hit(const spm_geometry *g, const float o[3], spm_u32 from, spm_u32 tri,
@@ -73,6 +97,8 @@ int spm_ref_light_sample_AREA(const spm_geometry *g, const spm_material *mats, c
     ls->pdf = ls->pmf * d2c / (em->area * cos_e);
     ls->g = ls->inv_pmf * cos_e * em->area / d2c;
     ls->colour = spm_ref_light_eval(&mats[em->material], cos_e, &ls->scale);
+    ls->colour = spm_ref_emit_texture(g, ei, q, k, (dim - SPM_DIM_VERTEX(0)) / SPM_DIMS_PER_VERTEX,
+                                      SPM_DIM_ETEX_NEE, ls->colour, &ls->scale);
     ls->delta = 0;
     return 1;
 }

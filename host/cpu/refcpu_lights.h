@@ -35,6 +35,12 @@ const spm_emitter *spm_ref_light_pick(const spm_geometry *g, const spm_ref_key *
 /* the emission of material m toward cosine cos_e > 0 to its face: its colour
  * and *scale (SPM_NONE: none) */
 spm_u32 spm_ref_light_eval(const spm_material *m, float cos_e, float *scale);
+/* colour c and factor *scale of emitting triangle hit's material at its
+ * point x, with a texture on the emission: the palette colour picked there
+ * from dimensions SPM_DIM_ETEX(j, k0 .. k0 + 2), *scale times the
+ * material's factor (kernels/light_area.clh emit_texture) */
+spm_u32 spm_ref_emit_texture(const spm_geometry *g, spm_u32 hit, const float x[3],
+                             const spm_ref_key *k, spm_u32 j, spm_u32 k0, spm_u32 c, float *scale);
 /* the background an escaping ray of direction d meets (SPM_NONE: dark) */
 spm_u32 spm_ref_light_background(const spm_trace_params *p, const float d[3]);
 /* What an escaping ray of direction d meets in vertex j's place of path k

@@ -80,7 +80,7 @@ static spm_u32 emission(const spm_geometry *g, const spm_material *mats, const s
 /* The light's own vertex seen by the camera (an area light: a point light
  * is a delta no camera ray meets): Le |cos| We / (pdf_Wi pmf pdf_pos). */
 static void light_vertex(const spm_geometry *g, const spm_material *mats, const spm_emitter *e,
-                         const spm_ref_key *k, const float o[3], float pdf_pos,
+                         const spm_ref_key *k, const float o[3], float pdf_pos, float ts,
                          spm_light_path *lp)
 {
     float wi[3], scale, cos_o;
@@ -90,7 +90,7 @@ static void light_vertex(const spm_geometry *g, const spm_material *mats, const 
     float w = camera_link(&g->cam, g, k, SPM_DIM_LT_LENS, o, e->tri, wi, &px);
     if (!(w > 0.0f) || emission(g, mats, e, wi, &scale, &cos_o) == SPM_NONE)
         return;
-    lp->p.h.first_emit_c = scale * cos_o * w / (e->pdf * pdf_pos);
+    lp->p.h.first_emit_c = scale * ts * cos_o * w / (e->pdf * pdf_pos);
     lp->px[0] = px;
 }
 
@@ -127,13 +127,16 @@ static int start(const spm_geometry *g, const spm_material *mats, const spm_ref_
     spm_ref_light_sample_emission(g, (spm_u32)(e - g->emitters), u, o, d, &pp, &pd);
     if (!(pp > 0.0f && pd > 0.0f))
         return 0;
+    float ts = 1.0f; /* a textured emission's factor at o, looked up once */
     *colour = emission(g, mats, e, d, &scale, &cos_o);
+    if (e->kind == SPM_LIGHT_AREA)
+        *colour = spm_ref_emit_texture(g, e->tri, o, k, SPM_MAX_DEPTH, 0u, *colour, &ts);
     if (*colour == SPM_NONE)
         return 0;
-    *beta = scale * cos_o / (e->pdf * pp * pd);
+    *beta = scale * ts * cos_o / (e->pdf * pp * pd);
     *skip = e->kind == SPM_LIGHT_AREA ? e->tri : 0xFFFFFFFFu;
     lp->p.h.first_emit = *colour;
-    light_vertex(g, mats, e, k, o, pp, lp);
+    light_vertex(g, mats, e, k, o, pp, ts, lp);
     return 1;
 }
 

@@ -43,6 +43,23 @@ static spm_u32 grid_pick(const spm_u32 *nodes, float x, float *r)
     return lo;
 }
 
+spm_u32 spm_ref_texture_node(const spm_geometry *g, const spm_u32 *h, spm_u32 l, float u, float v,
+                             float r1, float r2, float r3)
+{
+    const spm_u32 *tex = g->tex, *lv = h + 4u + 4u * l;
+    int w = (int)lv[1], ht = (int)lv[2];
+    u = spm_tex_wrap_coord(u, h[1]);
+    v = spm_tex_wrap_coord(v, h[2]);
+    int ix = spm_wrap_index(tap(u * (float)w, r1), w, (spm_wrap)h[1]);
+    int iy = spm_wrap_index(tap((1.0f - v) * (float)ht, r2), ht, (spm_wrap)h[2]);
+    const spm_u32 *t = tex + lv[0] + 3u * ((spm_u32)iy * (spm_u32)w + (spm_u32)ix);
+    const spm_u32 *nodes = tex + tex[SPM_TEXD_NODES];
+    spm_u32 nr = grid_pick(nodes, word_float(t[0]), &r3);
+    spm_u32 ng = grid_pick(nodes, word_float(t[1]), &r3);
+    spm_u32 nb = grid_pick(nodes, word_float(t[2]), &r3);
+    return (nr * SPM_TEX_GRID + ng) * SPM_TEX_GRID + nb;
+}
+
 spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, const float x[3],
                                const float d[3], float cone, const spm_ref_key *k, int j,
                                spm_u32 refl, spm_u32 base, float *survive)
@@ -64,21 +81,10 @@ spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, 
     spm_u32 l = (spm_u32)lod;
     if (spm_ref_rnd(k, SPM_DIM_TEX(j, 0)) < lod - (float)l)
         l++;
-    const spm_u32 *lv = h + 4u + 4u * l;
-    int w = (int)lv[1], ht = (int)lv[2];
-    u = spm_tex_wrap_coord(u, h[1]);
-    v = spm_tex_wrap_coord(v, h[2]);
-    int ix = spm_wrap_index(tap(u * (float)w, spm_ref_rnd(k, SPM_DIM_TEX(j, 1))), w,
-                            (spm_wrap)h[1]);
-    int iy = spm_wrap_index(tap((1.0f - v) * (float)ht, spm_ref_rnd(k, SPM_DIM_TEX(j, 2))), ht,
-                            (spm_wrap)h[2]);
-    const spm_u32 *t = tex + lv[0] + 3u * ((spm_u32)iy * (spm_u32)w + (spm_u32)ix);
-    const spm_u32 *nodes = tex + tex[SPM_TEXD_NODES];
-    float r = spm_ref_rnd(k, SPM_DIM_TEX(j, 3));
-    spm_u32 nr = grid_pick(nodes, word_float(t[0]), &r);
-    spm_u32 ng = grid_pick(nodes, word_float(t[1]), &r);
-    spm_u32 nb = grid_pick(nodes, word_float(t[2]), &r);
-    spm_u32 at = (tw >> 16) * SPM_TEX_NODES_ALL + (nr * SPM_TEX_GRID + ng) * SPM_TEX_GRID + nb;
+    spm_u32 node = spm_ref_texture_node(g, h, l, u, v, spm_ref_rnd(k, SPM_DIM_TEX(j, 1)),
+                                        spm_ref_rnd(k, SPM_DIM_TEX(j, 2)),
+                                        spm_ref_rnd(k, SPM_DIM_TEX(j, 3)));
+    spm_u32 at = (tw >> 16) * SPM_TEX_NODES_ALL + node;
     *survive = word_float(tex[tex[SPM_TEXD_SURVIVE] + at]);
     return tex[tex[SPM_TEXD_PALETTE] + at];
 }

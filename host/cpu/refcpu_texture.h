@@ -14,6 +14,12 @@ spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, 
                                const float d[3], float cone, const spm_ref_key *k, int j,
                                spm_u32 refl, spm_u32 base, float *survive);
 
+/* The grid node picked at (u, v) on level l of the texture whose header is
+ * h (texel along x by r1, along y by r2, the cell's corner by r3): its index
+ * in a palette (kernels/texture.clh tex_node_at). */
+spm_u32 spm_ref_texture_node(const spm_geometry *g, const spm_u32 *h, spm_u32 l, float u, float v,
+                             float r1, float r2, float r3);
+
 /* The ray cone's spread past a vertex on triangle tri where the cone of width
  * w, arriving along d, left as s says (shading normal n, relative index eta):
  * kernels/texture.clh tex_cone_bounce's formulas. */

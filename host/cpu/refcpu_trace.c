@@ -124,15 +124,16 @@ static void escape(const spm_geometry *g, const spm_trace_params *p, const float
  * counted there with its MIS weight (lobe_hit; the ray left o on triangle
  * from). */
 static void hit_emission(const spm_geometry *g, const spm_material *m, int hit, int j, float t,
-                         const float o[3], const float d[3], spm_u32 from, float cpdf,
-                         float weight, spm_path *path, feeler *f,
-                         const uint8_t *lvlk)
+                         const float o[3], const float d[3], const float x[3],
+                         const spm_ref_key *k, spm_u32 from, float cpdf, float weight,
+                         spm_path *path, feeler *f, const uint8_t *lvlk)
 {
     const spm_tri *tri = &g->tris[hit];
     float ecos = -v3_dot(d, tri->n), escale; /* the emitting face's cosine to the viewer */
     if (m->type & SPM_EMIT_TWOSIDED)
         ecos = fabsf(ecos);
-    spm_u32 memit = spm_ref_light_eval(m, ecos, &escale);
+    spm_u32 memit = spm_ref_emit_texture(g, (spm_u32)hit, x, k, (spm_u32)j, 0u,
+                                         spm_ref_light_eval(m, ecos, &escale), &escale);
     if (j == 0 && memit != SPM_NONE && (-v3_dot(d, tri->n) > 0.0f || (m->type & SPM_EMIT_TWOSIDED))) {
         path->h.first_emit = memit; /* local emission: first hit, an emitting face */
         path->h.first_emit_c = escale;
@@ -179,7 +180,7 @@ static uint8_t trace_path(const spm_geometry *g, const spm_material *mats, const
         const spm_material *m = &mix;
         if (seg && j > 0) /* the segment's length: a medium's absorption, in the shade stage */
             path->x[j - 1].lobe = t;
-        hit_emission(g, m, hit, j, t, o, d, skip, cpdf, weight, path, &f, lvlk);
+        hit_emission(g, m, hit, j, t, o, d, x, &k, skip, cpdf, weight, path, &f, lvlk);
         spm_ref_bsdf b;
         spm_ref_begin(m, &hf, &k, j, &walk, &b);
         spm_u32 dim = SPM_DIM_VERTEX(j);

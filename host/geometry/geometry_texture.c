@@ -18,6 +18,11 @@ static size_t count_words(const spm_scene *s)
 {
     size_t n = SPM_TEXD_HEAD + (size_t)s->nmaterials + 2 * (size_t)s->npalettes * SPM_TEX_NODES_ALL +
                SPM_TEX_GRID + (size_t)s->ntextures;
+    for (int m = 0; m < s->nmaterials; m++)
+        if (s->materials[m].etex) { /* the emission words (SPM_TEXD_EMIT) */
+            n += 2 * (size_t)s->nmaterials;
+            break;
+        }
     for (int t = 0; t < s->ntextures; t++) {
         n += SPM_TEX_HEADER(s->textures[t].nlevels);
         for (int l = 0; l < s->textures[t].nlevels; l++)
@@ -67,8 +72,8 @@ void spm_geometry_textures(const spm_scene *s, spm_geometry *g)
 {
     int any = 0;
     for (int m = 0; m < s->nmaterials; m++)
-        any |= (s->materials[m].tex != 0 && s->palette) || s->materials[m].alpha_mode != 0 ||
-               s->materials[m].mix_metal != 0;
+        any |= ((s->materials[m].tex != 0 || s->materials[m].etex != 0) && s->palette) ||
+               s->materials[m].alpha_mode != 0 || s->materials[m].mix_metal != 0;
     if (!any)
         return;
     g->uvs = spm_xcalloc((size_t)g->ntris * 6 + 1, sizeof *g->uvs);
@@ -83,6 +88,17 @@ void spm_geometry_textures(const spm_scene *s, spm_geometry *g)
     x[SPM_TEXD_MATS] = (spm_u32)w;
     for (int m = 0; m < s->nmaterials; m++)
         x[w++] = (spm_u32)s->materials[m].tex | (spm_u32)s->materials[m].tpal << 16;
+    int emits = 0;
+    for (int m = 0; m < s->nmaterials; m++)
+        emits |= s->materials[m].etex != 0;
+    if (emits) {
+        x[SPM_TEXD_EMIT] = (spm_u32)w;
+        for (int m = 0; m < s->nmaterials; m++) {
+            const spm_scene_material *sm = &s->materials[m];
+            x[w++] = (spm_u32)sm->etex | (spm_u32)sm->etpal << 16;
+            x[w++] = fbits(sm->etex ? sm->escale : 0.0f);
+        }
+    }
     x[SPM_TEXD_PALETTE] = (spm_u32)w;
     for (size_t i = 0; i < ngrid; i++)
         x[w++] = s->palette && s->palette[i] >= 0 ? (spm_u32)s->palette[i] : SPM_NONE;

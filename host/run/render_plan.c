@@ -211,6 +211,20 @@ static const char *bdpt_why(const spm_render_plan *p)
     return NULL;
 }
 
+/* 1 when a material of g has a texture on its surface (a reflectance) or an
+ * opacity; a texture on an emission is not one. */
+static int surface_textures(const spm_geometry *g, int nmaterials)
+{
+    if (!g->ntex)
+        return 0;
+    if (spm_geometry_has_alpha(g))
+        return 1;
+    for (int m = 0; m < nmaterials; m++)
+        if (g->tex[g->tex[SPM_TEXD_MATS] + (spm_u32)m] & 0xFFFFu)
+            return 1;
+    return 0;
+}
+
 /* What the light integrators do not render yet, each with its reason. */
 int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err)
 {
@@ -228,9 +242,9 @@ int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err)
                   "not implemented";
         else if (tp->disperse)
             why = "a light subpath does not commit to a wavelength at dispersive glass yet";
-        else if (p->geom->ntex)
+        else if (surface_textures(p->geom, p->tables->nmaterials))
             why = "a light subpath does not look up textures or opacity yet (its vertices "
-                  "would carry the material's mean colour)";
+                  "would carry the material's mean colour; a textured emission it does)";
         else if (rough_dielectric(p->tables))
             why = "a rough dielectric's eval has no transmission, which a vertex's connection to "
                   "the camera through it needs";

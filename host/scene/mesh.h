@@ -63,6 +63,14 @@ typedef struct {
                                   again by the parent, which binds it: mesh_texture.c); ""
                                   for an embedded image */
     float factor[3];           /* the colour factor the texture's mean multiplied */
+    /* the emissive texture (glTF emissiveTexture, MTL map_Ke), found as the
+     * base colour's is: SPM_MESH_TEX_*, its mean (emission stays the factor
+     * alone: the parent binds the image or multiplies the mean in) */
+    int32_t etexture;
+    float etexture_mean[3];
+    char etexture_name[96];
+    char etexture_why[128];
+    char etexture_file[SPM_PATH_MAX];
     /* What the file says beyond the diffuse colour (mesh_pbr.c maps it):
      * SPM_MESH_HAS_* bits for the values the file gave, and the values. */
     int32_t format;            /* SPM_MESH_FMT_*: whose conventions the values follow */

@@ -201,6 +201,8 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
         if (map[i] >= 0)
             map[i] = spm_mesh_texture_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
         if (map[i] >= 0)
+            map[i] = spm_mesh_etexture_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
+        if (map[i] >= 0)
             map[i] = spm_mesh_alpha_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
         if (map[i] >= 0)
             map[i] = spm_mesh_mix_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
@@ -400,7 +402,7 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
         }
         kept++;
         const spm_scene_material *sm = &b->s->materials[map[src->mat]];
-        if (sm->tex || sm->alpha_map || sm->mix_mmap || sm->mix_rmap) {
+        if (sm->tex || sm->etex || sm->alpha_map || sm->mix_mmap || sm->mix_rmap) {
             float uv[6] = {0, 0, 0, 0, 0, 0};
             for (int v = 0; v < 3 && d->uvs; v++)
                 memcpy(uv + 2 * v, d->uvs[t].uv[flip && v ? 3 - v : v], sizeof(float[2]));

@@ -1,5 +1,5 @@
 /* What specmip reads from a glTF's JSON itself, where Assimp 5.2 does not
- * hand it on: KHR_materials_dispersion, and the cameras (Assimp's aiCamera
+ * hand it on: KHR_materials_dispersion and _emissive_strength, and the cameras (Assimp's aiCamera
  * gives a horizontal field of view scaled linearly from yfov); the walk of
  * the default scene's nodes that places cameras and lights
  * (mesh_gltf_lights.c). */
@@ -32,6 +32,14 @@ void spm_mesh_gltf_materials(const spm_file *model, spm_mesh_data *d)
             d->mats[i].dispersion = (float)disp->number;
             d->mats[i].has |= SPM_MESH_HAS_DISPERSION;
         }
+        /* emission = emissiveTexture x emissiveFactor x emissiveStrength */
+        const spm_json *es = spm_json_get(spm_json_get(ext, "KHR_materials_emissive_strength"),
+                                          "emissiveStrength");
+        if (es && !(es->type == SPM_JSON_NUMBER && isfinite(es->number) && es->number >= 0.0))
+            d->ignored |= SPM_MESH_IGN_EMISSIVE_STRENGTH;
+        else if (es)
+            for (int c = 0; c < 3; c++)
+                d->mats[i].emission[c] = (float)(d->mats[i].emission[c] * es->number);
     }
     spm_json_free(doc);
 }

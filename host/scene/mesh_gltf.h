@@ -1,11 +1,14 @@
 /* What specmip reads from a glTF's JSON itself, where Assimp 5.2 does not
- * hand it on (mesh_gltf.c): materials' KHR_materials_dispersion, cameras. */
+ * hand it on (mesh_gltf.c): materials' KHR_materials_dispersion and
+ * _emissive_strength, cameras. */
 #ifndef SPM_MESH_GLTF_H
 #define SPM_MESH_GLTF_H
 #include "mesh.h"
 
 /* Each material's KHR_materials_dispersion into d's materials (Assimp keeps
- * the file's order); nothing for a file that is not glTF (by its name). */
+ * the file's order), and its KHR_materials_emissive_strength multiplied
+ * into its emission (one that is not a non-negative number is ignored:
+ * d->ignored); nothing for a file that is not glTF (by its name). */
 void spm_mesh_gltf_materials(const spm_file *model, spm_mesh_data *d);
 
 /* A camera of the file's default scene, placed by its node's transform

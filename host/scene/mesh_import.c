@@ -265,10 +265,14 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
     int base_tex = spm_mesh_texture_apply(sc, m, file->path, out, refused);
     if (base_tex == 2)
         return 1;
+    int emit_tex = spm_mesh_etexture_apply(sc, m, file->path, out, refused);
+    if (emit_tex == 2)
+        return 1;
     if (has_colour(m, AI_MATKEY_COLOR_EMISSIVE, out->emission)) {
         float strength;
-        if (aiGetMaterialFloatArray(m, AI_MATKEY_EMISSIVE_INTENSITY, &strength, NULL) ==
-            aiReturn_SUCCESS)
+        if (!spm_mesh_gltf_is(path) && /* a glTF's: from its JSON (mesh_gltf.c) */
+            aiGetMaterialFloatArray(m, AI_MATKEY_EMISSIVE_INTENSITY, &strength, NULL) ==
+                aiReturn_SUCCESS)
             for (int i = 0; i < 3; i++)
                 out->emission[i] *= strength;
     }
@@ -313,7 +317,8 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
             !(base_tex && (type == aiTextureType_BASE_COLOR || type == aiTextureType_DIFFUSE)) &&
             !(out->alpha_map == SPM_MESH_AMAP_FILE && type == aiTextureType_OPACITY) &&
             !(out->mr_map && (type == aiTextureType_UNKNOWN || type == aiTextureType_METALNESS ||
-                              type == aiTextureType_DIFFUSE_ROUGHNESS)))
+                              type == aiTextureType_DIFFUSE_ROUGHNESS)) &&
+            !(emit_tex && type == aiTextureType_EMISSIVE))
             *ignored |= type == aiTextureType_NORMALS || type == aiTextureType_HEIGHT ||
                                   type == aiTextureType_NORMAL_CAMERA
                               ? SPM_MESH_IGN_NORMAL_MAPS
@@ -538,19 +543,17 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
         if (m->mNumBones || m->mNumAnimMeshes)
             k.ignored |= SPM_MESH_IGN_ANIMATION;
     }
-    /* embedded images other than the base-colour ones are ignored textures */
+    /* embedded images other than the base-colour and emissive ones are ignored textures */
     for (unsigned i = 0; i < sc->mNumTextures; i++) {
         char name[32];
         snprintf(name, sizeof name, "embedded image %u", i);
         int base = 0;
         for (unsigned j = 0; j < sc->mNumMaterials; j++)
-            base |= k.used[j] && mats[j].texture && !strcmp(mats[j].texture_name, name);
+            base |= k.used[j] && ((mats[j].texture && !strcmp(mats[j].texture_name, name)) ||
+                                  (mats[j].etexture && !strcmp(mats[j].etexture_name, name)));
         if (!base)
             k.ignored |= SPM_MESH_IGN_TEXTURES;
     }
-    if ((ends_with_ci(path, ".gltf") || ends_with_ci(path, ".glb")) &&
-        file_mentions(file, "KHR_materials_emissive_strength"))
-        k.ignored |= SPM_MESH_IGN_EMISSIVE_STRENGTH;
     if (sc->mNumCameras)
         k.ignored |= SPM_MESH_IGN_CAMERAS;
     if (sc->mNumLights && !spm_mesh_gltf_is(path))

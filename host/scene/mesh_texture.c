@@ -9,6 +9,7 @@
 #include "texture.h"
 #include <assimp/material.h>
 #include <assimp/scene.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -50,36 +51,45 @@ static const struct aiTexture *embedded(const struct aiScene *sc, const char *pa
     return NULL;
 }
 
-/* The mean of the texture `path` names: 0, or 1 with why filled, or 2 with
- * why the path rule's error. */
+/* Where one texture of a material is described: its name as the file gives
+ * it, why it was not read, its file's path (checked), its mean. */
+typedef struct {
+    char (*name)[96];
+    char (*why)[128];
+    char (*file)[SPM_PATH_MAX];
+    float *mean;
+} image_slot;
+
+/* The mean of the texture `path` names into slot *out: 0, or 1 with why
+ * filled, or 2 with why the path rule's error. */
 static int texture_mean(const struct aiScene *sc, const char *model, const char *path,
-                        spm_mesh_material *out, spm_error *refused)
+                        const image_slot *out, spm_error *refused)
 {
     int index = -1;
     const struct aiTexture *t = embedded(sc, path, &index);
     if (t || path[0] == '*') {
-        snprintf(out->texture_name, sizeof out->texture_name, "embedded image %d", index);
+        snprintf(*out->name, sizeof *out->name, "embedded image %d", index);
         if (!t) {
-            snprintf(out->texture_name, sizeof out->texture_name, "%.95s", path);
-            snprintf(out->texture_why, sizeof out->texture_why, "the file has no such image");
+            snprintf(*out->name, sizeof *out->name, "%.95s", path);
+            snprintf(*out->why, sizeof *out->why, "the file has no such image");
             return 1;
         }
         if (t->mHeight > 0) {
             if ((long long)t->mWidth * t->mHeight > SPM_TEXTURE_MAX_PIXELS || !t->pcData) {
-                snprintf(out->texture_why, sizeof out->texture_why, "unsupported image");
+                snprintf(*out->why, sizeof *out->why, "unsupported image");
                 return 1;
             }
-            texel_mean(t, out->texture_mean);
+            texel_mean(t, out->mean);
             return 0;
         }
         /* compressed (PNG, JPEG...): mWidth bytes; the hint is the format's extension */
         char name[32];
         snprintf(name, sizeof name, "embedded.%.8s", t->achFormatHint[0] ? t->achFormatHint : "png");
-        return spm_texture_mean_data(name, t->pcData, t->mWidth, out->texture_mean,
-                                     out->texture_why, sizeof out->texture_why);
+        return spm_texture_mean_data(name, t->pcData, t->mWidth, out->mean,
+                                     *out->why, sizeof *out->why);
     }
     /* a file: relative to the model's folder; Windows separators as '/' */
-    snprintf(out->texture_name, sizeof out->texture_name, "%.95s", path);
+    snprintf(*out->name, sizeof *out->name, "%.95s", path);
     char rel[1024], dir[SPM_PATH_MAX], where[SPM_PATH_MAX + 32];
     snprintf(rel, sizeof rel, "%s", path);
     for (char *c = rel; *c; c++)
@@ -89,14 +99,14 @@ static int texture_mean(const struct aiScene *sc, const char *model, const char 
     spm_file file;
     if (spm_path_check(spm_path_dir(model, dir, sizeof dir), rel, where, &file, refused))
         return 2;
-    snprintf(out->texture_file, sizeof out->texture_file, "%s", file.path);
+    snprintf(*out->file, sizeof *out->file, "%s", file.path);
     struct stat st;
     if (stat(file.path, &st) != 0 || !S_ISREG(st.st_mode)) {
-        snprintf(out->texture_why, sizeof out->texture_why, "no such file beside the model");
+        snprintf(*out->why, sizeof *out->why, "no such file beside the model");
         return 1;
     }
-    return spm_texture_mean_file(&file, out->texture_mean, out->texture_why,
-                                 sizeof out->texture_why);
+    return spm_texture_mean_file(&file, out->mean, *out->why,
+                                 sizeof *out->why);
 }
 
 int spm_mesh_texture_apply(const struct aiScene *sc, const struct aiMaterial *m,
@@ -113,7 +123,8 @@ int spm_mesh_texture_apply(const struct aiScene *sc, const struct aiMaterial *m,
     if (aiGetMaterialTexture(m, type, 0, &path, NULL, NULL, NULL, NULL, NULL, NULL) !=
         aiReturn_SUCCESS)
         return 0;
-    int rc = texture_mean(sc, model, path.data, out, refused);
+    image_slot slot = {&out->texture_name, &out->texture_why, &out->texture_file, out->texture_mean};
+    int rc = texture_mean(sc, model, path.data, &slot, refused);
     if (rc) {
         out->texture = SPM_MESH_TEX_UNREAD;
         return rc == 2 ? 2 : 1;
@@ -126,23 +137,38 @@ int spm_mesh_texture_apply(const struct aiScene *sc, const struct aiMaterial *m,
     return 1;
 }
 
-/* The image of m's texture file, times its colour factor, into the scene:
- * its index, or -1 with why filled. */
-static int bind_image(spm_scene_builder *b, const spm_mesh_material *m, const char *mwhere,
-                      char *why, size_t whylen)
+int spm_mesh_etexture_apply(const struct aiScene *sc, const struct aiMaterial *m,
+                            const char *model, spm_mesh_material *out, spm_error *refused)
+{
+    struct aiString path;
+    if (aiGetMaterialTextureCount(m, aiTextureType_EMISSIVE) == 0 ||
+        aiGetMaterialTexture(m, aiTextureType_EMISSIVE, 0, &path, NULL, NULL, NULL, NULL, NULL,
+                             NULL) != aiReturn_SUCCESS)
+        return 0;
+    image_slot slot = {&out->etexture_name, &out->etexture_why, &out->etexture_file,
+                       out->etexture_mean};
+    int rc = texture_mean(sc, model, path.data, &slot, refused);
+    out->etexture = rc ? SPM_MESH_TEX_UNREAD : SPM_MESH_TEX_MEAN;
+    return rc == 2 ? 2 : 1;
+}
+
+/* The image of texture file `path`, times factor per channel, into the
+ * scene: its index, or -1 with why filled. */
+static int bind_image(spm_scene_builder *b, const char *path, const float factor[3],
+                      const char *mwhere, char *why, size_t whylen)
 {
     spm_file f;
     spm_error e;
     float *rgb;
     int w, h;
-    if (spm_path_check_joined(m->texture_file, mwhere, &f, &e)) {
+    if (spm_path_check_joined(path, mwhere, &f, &e)) {
         snprintf(why, whylen, "%.290s", e.msg);
         return -1;
     }
     if (spm_texture_read_file(&f, &rgb, &w, &h, why, whylen))
         return -1;
     for (size_t i = 0; i < (size_t)3 * w * h; i++)
-        rgb[i] *= m->factor[i % 3];
+        rgb[i] *= factor[i % 3];
     spm_texture t;
     spm_texture_from_pixels(w, h, rgb, SPM_WRAP_REPEAT, SPM_WRAP_REPEAT, &t);
     free(rgb);
@@ -164,7 +190,7 @@ int spm_mesh_texture_bind(spm_scene_builder *b, const spm_mesh_material *m, int 
         snprintf(why, sizeof why, "the mesh has no texture coordinates");
     else if (!spm_material_textured(proto.type))
         snprintf(why, sizeof why, "%s", SPM_TEXTURED_TYPES_WHY);
-    int t = why[0] ? -1 : bind_image(b, m, mwhere, why, sizeof why);
+    int t = why[0] ? -1 : bind_image(b, m->texture_file, m->factor, mwhere, why, sizeof why);
     if (t < 0) {
         spm_mesh_texture_warn(m, mwhere, why);
         return material;
@@ -182,4 +208,50 @@ void spm_mesh_texture_warn(const spm_mesh_material *m, const char *mwhere, const
     else if (m->texture == SPM_MESH_TEX_UNREAD)
         spm_warnf("%s: base-colour texture '%s' cannot be read (%s): the material's colour "
                   "alone is used", mwhere, m->texture_name, m->texture_why);
+}
+
+/* Why m's emissive texture is not bound per point ("" when it is). */
+static void etexture_why(const spm_mesh_material *m, int has_uvs, char *why, size_t n)
+{
+    why[0] = 0;
+    if (!m->etexture_file[0])
+        snprintf(why, n, "embedded images are not textured per point yet");
+    else if (!has_uvs)
+        snprintf(why, n, "the mesh has no texture coordinates");
+}
+
+int spm_mesh_etexture_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
+                           int has_uvs, const char *mwhere, spm_error *err)
+{
+    spm_scene_material proto = b->s->materials[material];
+    if (m->etexture == SPM_MESH_TEX_NONE || proto.emit < 0)
+        return material; /* no texture, or a factor of 0: nothing emits */
+    if (m->etexture == SPM_MESH_TEX_UNREAD) {
+        spm_warnf("%s: emissive texture '%s' cannot be read (%s): the emissive factor alone "
+                  "is used", mwhere, m->etexture_name, m->etexture_why);
+        return material;
+    }
+    /* the texels times the factor over its largest component, which is the
+     * emission's scale: the texels stay within the colour grid's [0, 1] */
+    float fm = fmaxf(m->emission[0], fmaxf(m->emission[1], m->emission[2])), f[3];
+    double mean[3];
+    for (int c = 0; c < 3; c++)
+        f[c] = m->emission[c] / fm, mean[c] = (double)m->emission[c] * m->etexture_mean[c];
+    char why[300];
+    etexture_why(m, has_uvs, why, sizeof why);
+    int t = why[0] ? -1 : bind_image(b, m->etexture_file, f, mwhere, why, sizeof why);
+    if (t < 0)
+        spm_warnf("%s: emissive texture '%s' replaced by its mean colour (%.3g %.3g %.3g, "
+                  "linear) times the emissive factor: %s", mwhere, m->etexture_name,
+                  m->etexture_mean[0], m->etexture_mean[1], m->etexture_mean[2], why);
+    spm_names fits;
+    spm_names_init(&fits);
+    int e = spm_sb_rgb_colour(b, &fits, mean, SPM_KIND_EMISSION, mwhere, err);
+    spm_names_free(&fits);
+    if (e < -1)
+        return -1;
+    proto.emit = e; /* the mean's: what the light pick reads (-1: a black image, dark) */
+    if (t >= 0 && e >= 0)
+        proto.etex = 1 + t, proto.escale = fm;
+    return spm_sb_material_typed(b, &proto, mwhere, err);
 }

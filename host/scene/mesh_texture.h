@@ -38,6 +38,12 @@ struct aiMaterial;
  * filled when its file is outside where the scene may read (paths.h). */
 int spm_mesh_texture_apply(const struct aiScene *sc, const struct aiMaterial *m,
                            const char *model, spm_mesh_material *out, spm_error *refused);
+/* In the importer's child: the material's emissive texture (glTF
+ * emissiveTexture, MTL map_Ke), if it has one, found and its mean taken
+ * (out->etexture* say what happened; out->emission stays the factor).
+ * Returns 1 if it has one, 2 with *refused filled as above. */
+int spm_mesh_etexture_apply(const struct aiScene *sc, const struct aiMaterial *m,
+                            const char *model, spm_mesh_material *out, spm_error *refused);
 /* In the parent, when a file material's colour is used: the warning that its
  * texture was replaced by its mean for the reason `why` (or could not be
  * read). `mwhere` names the statement, file and material. */
@@ -48,6 +54,14 @@ void spm_mesh_texture_warn(const spm_mesh_material *m, const char *mwhere, const
  * material's index. Else the warning above and `material`. -1 with err. */
 int spm_mesh_texture_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
                           int has_uvs, const char *mwhere, spm_error *err);
+/* In the parent: m's emissive texture on the scene material `material`: an
+ * image file on a mesh with texture coordinates textures its emission per
+ * point (texels times the emissive factor; the material's emission the
+ * mean's, for the light pick), else the emission is the factor times the
+ * texture's mean, with a warning; unreadable: the factor alone, warned.
+ * The material's index, -1 with err. */
+int spm_mesh_etexture_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
+                           int has_uvs, const char *mwhere, spm_error *err);
 #endif
 #ifdef __cplusplus
 }

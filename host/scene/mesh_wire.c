@@ -103,10 +103,14 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
         mats[i].texture_why[sizeof mats[i].texture_why - 1] = 0;
         mats[i].texture_file[sizeof mats[i].texture_file - 1] = 0;
         mats[i].alpha_name[sizeof mats[i].alpha_name - 1] = 0;
+        mats[i].etexture_name[sizeof mats[i].etexture_name - 1] = 0;
+        mats[i].etexture_why[sizeof mats[i].etexture_why - 1] = 0;
+        mats[i].etexture_file[sizeof mats[i].etexture_file - 1] = 0;
         mats[i].alpha_file[sizeof mats[i].alpha_file - 1] = 0;
         mats[i].mr_name[sizeof mats[i].mr_name - 1] = 0;
         mats[i].mr_file[sizeof mats[i].mr_file - 1] = 0;
         if (mats[i].texture < SPM_MESH_TEX_NONE || mats[i].texture > SPM_MESH_TEX_UNREAD ||
+            mats[i].etexture < SPM_MESH_TEX_NONE || mats[i].etexture > SPM_MESH_TEX_UNREAD ||
             mats[i].alpha_mode < SPM_MESH_ALPHA_OPAQUE || mats[i].alpha_mode > SPM_MESH_ALPHA_BLEND ||
             mats[i].alpha_map < SPM_MESH_AMAP_NONE || mats[i].alpha_map > SPM_MESH_AMAP_FILE ||
             mats[i].mr_map < SPM_MESH_MRMAP_NONE || mats[i].mr_map > SPM_MESH_MRMAP_EMBEDDED) {
@@ -157,8 +161,8 @@ const char *spm_mesh_ignored_name(int bit)
         "vertex normals", "texture coordinates", "vertex colours", "textures", "normal maps",
         "glossy and metallic parameters", "opacity", "cameras", "lights",
         "animations, skins and morph targets", "points and lines",
-        "glTF emissive strengths (KHR_materials_emissive_strength, which Assimp 5.2 does not "
-        "read: emissions are the emissiveFactor alone)",
+        "glTF emissive strengths that are not a non-negative number "
+        "(KHR_materials_emissive_strength: the emissiveFactor alone is used)",
         "glTF light ranges (KHR_lights_punctual `range`: specmip's point and spot lights fall "
         "as 1/d^2 without a cut-off)",
         "emissive textures (glTF emissiveTexture, MTL map_Ke: an emission is its factor alone, "

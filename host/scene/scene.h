@@ -31,6 +31,10 @@ typedef struct {
     int tex;        /* 1 + the scene texture on its reflectance (Lambertian, coated), 0 none */
     int tpal;       /* the palette its texels pick from (scene.h palette): 0 the lifted
                        grid, k > 0 one its type derived (materials.h derive) */
+    int etex;       /* 1 + the scene texture on its emission, 0 none (emit then the
+                       texture's mean, for the lights' selection by power) */
+    int etpal;      /* the palette of emission spectra its emission texels pick from */
+    float escale;   /* the factor a textured emission's radiance takes */
     /* opacity (spm_shared.h SPM_ALPHA_*): mode 0 opaque, SPM_ALPHA_MASK or
      * SPM_ALPHA_BLEND; alpha = factor x the map's value (1 + its index in
      * the scene's alpha maps, 0: the factor alone) */

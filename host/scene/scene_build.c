@@ -158,6 +158,8 @@ int spm_sb_material_typed(spm_scene_builder *b, const spm_scene_material *proto,
     }
     if (proto->tex) /* a textured reflectance is not its mean */
         n += snprintf(key + n, sizeof key - (size_t)n, " t%d", proto->tex);
+    if (proto->etex) /* nor a textured emission */
+        n += snprintf(key + n, sizeof key - (size_t)n, " e%d %a", proto->etex, proto->escale);
     if (proto->alpha_mode) /* a cut-out is not the opaque surface */
         n += snprintf(key + n, sizeof key - (size_t)n, " a%d %a %a %d", proto->alpha_mode,
                       proto->alpha_cutoff, proto->alpha_factor, proto->alpha_map);

@@ -57,7 +57,9 @@ typedef struct {
     int kw_line, kw_col;     /* the current statement's keyword: where it stands */
     spm_mesh_cache meshes;   /* lifted mesh colours, shared by the scene's meshes */
     spm_scene_textures textures;
-    int texture_ok;          /* a texture may be applied per point here (a reflectance) */
+    int texture_ok;          /* a texture may be applied per point here: 1 a reflectance,
+                                2 an emission */
+    double texture_scale;    /* the scale after an emission's texture */
     char texture_where[600]; /* where the material's reflectance named a texture */
     char *reading[SPM_INCLUDE_DEPTH]; /* the files being read, outermost first (canonical) */
     int nreading;
@@ -307,11 +309,12 @@ static int colour_ref_as(parser *p, spm_kind kind, int shape_only, int optical)
         if (spm_lex_next(&p->lx, p->err))
             return -1;
         p->textures.last = 0;
-        int c = spm_scene_texture_colour(&p->textures, &p->lx, &p->b, kind, p->err);
+        int c = spm_scene_texture_colour(&p->textures, &p->lx, &p->b, kind, &p->texture_scale,
+                                         p->err);
         if (c >= 0 && !p->texture_ok)
             spm_scene_texture_as_mean(&p->textures, p->textures.last - 1, kind, where,
-                                      "textures are applied per point to a reflectance");
-        if (c >= 0 && p->texture_ok)
+                                      "textures are applied per point to a reflectance or an emission");
+        if (c >= 0 && p->texture_ok == 1)
             snprintf(p->texture_where, sizeof p->texture_where, "%s", where);
         return c;
     }
@@ -687,12 +690,16 @@ static int material_param(parser *p, const spm_mparam *pa, spm_scene_material *m
         *(pa->kind == SPM_MP_NUMBER ? &m->p[pa->slot] : &m->ep[pa->slot]) = v; /* an emitter's: ep */
         return 0;
     }
-    p->texture_ok = pa->slot == SPM_MSLOT_REFL && pa->kind == SPM_MP_REFLECTANCE;
+    p->texture_ok = pa->slot == SPM_MSLOT_REFL && pa->kind == SPM_MP_REFLECTANCE ? 1
+                    : pa->slot == SPM_MSLOT_EMIT && pa->kind == SPM_MP_EMISSION ? 2
+                                                                                 : 0;
     p->textures.last = 0;
     int c = colour_ref_as(p, pa->kind == SPM_MP_EMISSION ? SPM_KIND_EMISSION : SPM_KIND_REFLECTANCE,
                           pa->kind == SPM_MP_SHAPE, pa->kind == SPM_MP_OPTICAL);
-    if (p->texture_ok)
+    if (p->texture_ok == 1)
         m->tex = p->textures.last; /* 1 + the parser's texture: the material decides */
+    if (p->texture_ok == 2 && p->textures.last) /* every emitter type is textured per point */
+        m->etex = p->textures.last, m->escale = (float)p->texture_scale;
     p->texture_ok = 0;
     if (c < 0)
         return 1;
@@ -888,6 +895,8 @@ static int stmt_material(parser *p)
     } else if (m.tex) {
         m.tex = spm_scene_texture_adopt(&p->textures, m.tex - 1, &p->b);
     }
+    if (m.etex)
+        m.etex = spm_scene_texture_adopt(&p->textures, m.etex - 1, &p->b);
     int idx = spm_sb_material_typed(&p->b, &m, where, p->err);
     if (idx < 0)
         return 1;
@@ -943,7 +952,8 @@ static int stmt_polygon(parser *p, int nverts)
             spm_errorf(p->err, "%s%s", where, inner.msg);
             return 1;
         }
-        if (p->b.s->materials[m].tex || p->b.s->materials[m].alpha_map) {
+        const spm_scene_material *sm = &p->b.s->materials[m];
+        if (sm->tex || sm->etex || sm->alpha_map) {
             float tuv[6] = {uv[0][0], uv[0][1], uv[tri + 1][0], uv[tri + 1][1], uv[tri + 2][0],
                             uv[tri + 2][1]};
             spm_sb_tri_uv(&p->b, tuv);

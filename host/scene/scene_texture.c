@@ -204,14 +204,18 @@ int spm_scene_texture_alpha(spm_scene_textures *t, spm_lexer *lx, spm_scene_buil
 }
 
 int spm_scene_texture_colour(spm_scene_textures *t, spm_lexer *lx, spm_scene_builder *b,
-                             spm_kind kind, spm_error *err)
+                             spm_kind kind, double *scale, spm_error *err)
 {
     char where[600];
     spm_lex_where(lx, where, sizeof where);
     spm_scene_tex *x = named(t, lx, err);
     if (!x)
         return -1;
-    double rgb[3] = {x->mean[0], x->mean[1], x->mean[2]};
+    *scale = 1.0;
+    if (kind == SPM_KIND_EMISSION && spm_lex_is_number(lx) &&
+        spm_lex_number(lx, "an emission scale (a luminance) above 0", 1e-30, HUGE_VAL, scale, err))
+        return -1;
+    double rgb[3] = {x->mean[0] * *scale, x->mean[1] * *scale, x->mean[2] * *scale};
     int c = spm_sb_rgb_colour(b, &t->fits, rgb, kind, where, err);
     if (c == -1) { /* black */
         spm_spectrum zero;

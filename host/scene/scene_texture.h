@@ -43,11 +43,12 @@ void spm_scene_textures_free(spm_scene_textures *t);
  * folder. 0, or 1 with err naming where. */
 int spm_scene_texture_statement(spm_scene_textures *t, spm_lexer *lx, const char *dir,
                                 spm_error *err);
-/* After the word 'texture' in a colour's place: the name, and the colour of
- * `kind` its mean gives (an index of the builder), with t->last set to 1 +
+/* After the word 'texture' in a colour's place: the name (an emission: and
+ * an optional SCALE, into *scale, else 1), and the colour of `kind` its mean
+ * (times the scale) gives (an index of the builder), with t->last set to 1 +
  * the texture. -1 with err on error. */
 int spm_scene_texture_colour(spm_scene_textures *t, spm_lexer *lx, spm_scene_builder *b,
-                             spm_kind kind, spm_error *err);
+                             spm_kind kind, double *scale, spm_error *err);
 /* Texture i applied as its mean colour (a use that is not textured per
  * point): warned once per kind, naming where. */
 void spm_scene_texture_as_mean(spm_scene_textures *t, int i, spm_kind kind, const char *where,

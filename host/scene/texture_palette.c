@@ -58,6 +58,61 @@ static double spectrum_mean(const spm_spectrum *s)
     return m / SPM_TRUTH_BINS;
 }
 
+/* Whether texture t (0-based) is on a reflectance (which = 0; a texture no
+ * emission names counts, as every adopted one did before emissions were
+ * textured) or on an emission (which = 1). */
+static int texture_for(const spm_scene *s, int t, int which)
+{
+    int refl = 0, emit = 0;
+    for (int m = 0; m < s->nmaterials; m++)
+        refl |= s->materials[m].tex == t + 1, emit |= s->materials[m].etex == t + 1;
+    return which ? emit : refl || !emit;
+}
+
+/* The grid nodes the texels of the textures for `which` can reach. */
+static unsigned char *mark_used(const spm_scene *s, const float nodes[SPM_TEX_GRID], int which)
+{
+    unsigned char *used = spm_xcalloc((size_t)SPM_TEX_NODES_ALL, 1);
+    for (int t = 0; t < s->ntextures; t++)
+        for (int l = 0; texture_for(s, t, which) && l < s->textures[t].nlevels; l++) {
+            const spm_texmap *m = &s->textures[t].lv[l];
+            for (size_t i = 0; i < (size_t)m->w * m->h; i++)
+                mark_texel(nodes, m->rgb + 3 * i, used);
+        }
+    return used;
+}
+
+/* The palette of emission spectra (the second, after the lifted one) for
+ * the textured emissions: node (r, g, b) lifted as an RGB emission is
+ * (rgb2spec.h spm_rgb_to_emission: the lift of the colour over its largest
+ * component times D65, its luminance the node's), so a texel's expected
+ * luminance is its own and the texture's mean is the mean texel's; a black
+ * node emits nothing (SPM_NONE). */
+static int emission_palette(spm_scene_builder *b, const float nodes[SPM_TEX_GRID],
+                            const char *where, spm_error *err)
+{
+    spm_scene *s = b->s;
+    int k = s->npalettes++, rc = 0;
+    s->palette = spm_xrealloc(s->palette, (size_t)s->npalettes * SPM_TEX_NODES_ALL * sizeof *s->palette);
+    int *to = s->palette + (size_t)k * SPM_TEX_NODES_ALL;
+    unsigned char *used = mark_used(s, nodes, 1);
+    spm_names fits;
+    spm_names_init(&fits);
+    for (int i = 0; i < SPM_TEX_NODES_ALL; i++) {
+        int r = i / (SPM_TEX_GRID * SPM_TEX_GRID), g = i / SPM_TEX_GRID % SPM_TEX_GRID;
+        double rgb[3] = {nodes[r], nodes[g], nodes[i % SPM_TEX_GRID]};
+        to[i] = -1;
+        if (used[i] && !rc && (to[i] = spm_sb_rgb_colour(b, &fits, rgb, SPM_KIND_EMISSION, where, err)) < -1)
+            rc = 1;
+        to[i] = to[i] < 0 ? -1 : to[i];
+    }
+    spm_names_free(&fits);
+    free(used);
+    for (int m = 0; m < s->nmaterials; m++)
+        s->materials[m].etpal = k;
+    return rc;
+}
+
 int spm_sb_texture_palette(spm_scene_builder *b, const char *where, spm_error *err)
 {
     spm_scene *s = b->s;
@@ -66,13 +121,7 @@ int spm_sb_texture_palette(spm_scene_builder *b, const char *where, spm_error *e
     const int n = SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID;
     float nodes[SPM_TEX_GRID];
     spm_tex_grid_nodes(nodes);
-    unsigned char *used = spm_xcalloc((size_t)n, 1);
-    for (int t = 0; t < s->ntextures; t++)
-        for (int l = 0; l < s->textures[t].nlevels; l++) {
-            const spm_texmap *m = &s->textures[t].lv[l];
-            for (size_t i = 0; i < (size_t)m->w * m->h; i++)
-                mark_texel(nodes, m->rgb + 3 * i, used);
-        }
+    unsigned char *used = mark_used(s, nodes, 0);
     s->palette = spm_xmalloc((size_t)n * sizeof *s->palette);
     s->npalettes = 1;
     spm_names fits;
@@ -105,5 +154,8 @@ int spm_sb_texture_palette(spm_scene_builder *b, const char *where, spm_error *e
     for (int m = 0; m < s->nmaterials && !rc; m++)
         if (s->materials[m].tex)
             s->materials[m].refl = best;
+    for (int m = 0; m < s->nmaterials && !rc; m++)
+        if (s->materials[m].etex)
+            return emission_palette(b, nodes, where, err);
     return rc;
 }
