@@ -397,7 +397,8 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
             break;
         }
         kept++;
-        if (b->s->materials[map[src->mat]].tex || b->s->materials[map[src->mat]].alpha_map) {
+        const spm_scene_material *sm = &b->s->materials[map[src->mat]];
+        if (sm->tex || sm->alpha_map || sm->nmap) {
             float uv[6] = {0, 0, 0, 0, 0, 0};
             for (int v = 0; v < 3 && d->uvs; v++)
                 memcpy(uv + 2 * v, d->uvs[t].uv[flip && v ? 3 - v : v], sizeof(float[2]));

@@ -734,6 +734,28 @@ static int opacity_clause(parser *p, spm_scene_material *m)
     return 0;
 }
 
+/* normal texture NAME [scale S], the lexer on 'normal': the material's
+ * normal map, the texture's values as a tangent-space normal; S (default 1,
+ * glTF's normalTexture scale) scales its x and y (spm_shared.h SPM_NMAP_*;
+ * any material type). */
+static int normal_clause(parser *p, spm_scene_material *m)
+{
+    double scale = 1.0;
+    if (spm_lex_next(&p->lx, p->err))
+        return 1;
+    if (!spm_lex_is(&p->lx, "texture"))
+        return spm_lex_expected(&p->lx, p->err, "'texture NAME' after 'normal'");
+    if (spm_lex_next(&p->lx, p->err) ||
+        (m->nmap = spm_scene_texture_nmap(&p->textures, &p->lx, &p->b, p->err)) < 0)
+        return 1;
+    if (spm_lex_is(&p->lx, "scale") &&
+        (spm_lex_next(&p->lx, p->err) ||
+         spm_lex_number(&p->lx, "a normal map scale", -100.0, 100.0, &scale, p->err)))
+        return 1;
+    m->nmap_scale = (float)scale;
+    return 0;
+}
+
 /* The clauses of material type mt, then every emitter type's, into cl (ctag:
  * SPM_EMIT_TYPES for the material's own, else the emitter's tag). */
 static int clause_list(const spm_mtype_desc *mt, const spm_mparam **cl, unsigned *ctag)
@@ -819,6 +841,11 @@ static int stmt_material(parser *p)
     while (p->lx.type != SPM_TOK_NEWLINE && p->lx.type != SPM_TOK_EOF) {
         if (!m.alpha_mode && spm_lex_is(&p->lx, "opacity")) { /* any type's */
             if (opacity_clause(p, &m))
+                return 1;
+            continue;
+        }
+        if (!m.nmap && spm_lex_is(&p->lx, "normal")) { /* any type's */
+            if (normal_clause(p, &m))
                 return 1;
             continue;
         }
@@ -943,7 +970,8 @@ static int stmt_polygon(parser *p, int nverts)
             spm_errorf(p->err, "%s%s", where, inner.msg);
             return 1;
         }
-        if (p->b.s->materials[m].tex || p->b.s->materials[m].alpha_map) {
+        const spm_scene_material *sm = &p->b.s->materials[m];
+        if (sm->tex || sm->alpha_map || sm->nmap) {
             float tuv[6] = {uv[0][0], uv[0][1], uv[tri + 1][0], uv[tri + 1][1], uv[tri + 2][0],
                             uv[tri + 2][1]};
             spm_sb_tri_uv(&p->b, tuv);
