@@ -88,6 +88,78 @@ for backend in cpu opencl; do
     bad "$backend: the unmapped plane is not uniform (${U[0]} ${U[1]})"
 done
 
+# mesh files: the plane as OBJ with 'norm' and with 'map_Bump -bm 1', their
+# lifted grey in place of the spectrum: each facet's share of facet 0 as the
+# scene format's plane's, within 1 % (the same map, bilinear alike; measured
+# equal to 5 digits); as glTF with normalTexture (scale 1); a grey bump image
+# is a height map: warned about, the plane flat.
+"$PY" - "$T" <<'EOF2'
+import base64, json, struct, sys
+out = sys.argv[1]
+obj = ('mtllib %s.mtl\nv -1 0 0.5\nv 1 0 0.5\nv 1 0 -0.5\nv -1 0 -0.5\n'
+       'vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl bumpy\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n')
+for name, line in (('norm', 'norm ridge.ppm'), ('bump', 'map_Bump -bm 1 ridge.ppm'),
+                   ('grey', 'map_Bump grey.pgm')):
+    open('%s/%s.obj' % (out, name), 'w').write(obj % name)
+    open('%s/%s.mtl' % (out, name), 'w').write('newmtl bumpy\nKd 0.05 0.05 0.05\n%s\n' % line)
+open(out + '/grey.pgm', 'w').write('P2 4 4 255\n' + ' '.join(['0', '255'] * 8) + '\n')
+pos = [-1, 0, 0.5, 1, 0, 0.5, 1, 0, -0.5, -1, 0, -0.5]
+uv = [0, 1, 1, 1, 1, 0, 0, 0]  # glTF's v runs down the image
+idx = [0, 1, 2, 0, 2, 3]
+data = struct.pack('<12f8f6H', *pos, *uv, *idx)
+g = {'asset': {'version': '2.0'}, 'scene': 0, 'scenes': [{'nodes': [0]}], 'nodes': [{'mesh': 0}],
+     'buffers': [{'byteLength': len(data),
+                  'uri': 'data:application/octet-stream;base64,' + base64.b64encode(data).decode()}],
+     'bufferViews': [{'buffer': 0, 'byteOffset': 0, 'byteLength': 48},
+                     {'buffer': 0, 'byteOffset': 48, 'byteLength': 32},
+                     {'buffer': 0, 'byteOffset': 80, 'byteLength': 12}],
+     'accessors': [{'bufferView': 0, 'componentType': 5126, 'count': 4, 'type': 'VEC3',
+                    'min': [-1, 0, -0.5], 'max': [1, 0, 0.5]},
+                   {'bufferView': 1, 'componentType': 5126, 'count': 4, 'type': 'VEC2'},
+                   {'bufferView': 2, 'componentType': 5123, 'count': 6, 'type': 'SCALAR'}],
+     'meshes': [{'primitives': [{'attributes': {'POSITION': 0, 'TEXCOORD_0': 1}, 'indices': 2,
+                                 'material': 0}]}],
+     'materials': [{'name': 'bumpy', 'normalTexture': {'index': 0, 'scale': 1},
+                    'pbrMetallicRoughness': {'baseColorFactor': [0.05, 0.05, 0.05, 1],
+                                             'metallicFactor': 0}}],
+     'textures': [{'source': 0}], 'images': [{'uri': 'ridge.ppm'}]}
+json.dump(g, open(out + '/gl.gltf', 'w'))
+EOF2
+lit=$(grep '^light' "$T/plane.scene")
+for m in norm bump grey gl; do
+  f=$m.obj; [ $m = gl ] && f=gl.gltf
+  printf 'image 64 32\ncamera position 0 5 0 direction 0 -1 0 up 0 0 -1 orthographic 2\nspectrum white equal\n%s\nmesh %s\n' \
+      "$lit" "$f" > "$T/m_$m.scene"
+  "$BIN" render "$T/m_$m.scene" --backend cpu --spp 16 --quiet -o "$T/m_$m.exr" 2>"$T/m_$m.err" ||
+    bad "render of m_$m.scene: $(cat "$T/m_$m.err")"
+done
+"$BIN" render "$T/plane.scene" --backend cpu --spp 16 --quiet -o "$T/plane16.exr" 2>"$T/err" ||
+  bad "render of plane.scene: $(cat "$T/err")"
+mapfile -t P < <(facets "$T/plane16.exr")
+for m in norm bump; do
+  mapfile -t M < <(facets "$T/m_$m.exr")
+  for k in 1 2 3; do
+    a=$(awk -v p="${P[$k]}" -v q="${P[0]}" 'BEGIN { print p / q }')
+    b=$(awk -v p="${M[$k]:-0}" -v q="${M[0]:-1}" 'BEGIN { print p / q }')
+    near "$b" "$a" 0.01 && ok || bad "$m: facet $k at $b of facet 0, the scene format's plane's $a"
+  done
+done
+# glTF's material is a coated base (metallic 0): its facets alternate alike,
+# the one leaning from the light the darker
+mapfile -t M < <(facets "$T/m_gl.exr")
+for k in 2 3; do
+  j=$((k - 2))
+  near "${M[$k]:-0}" "${M[$j]:-1}" "$(awk -v r="${M[$j]:-1}" 'BEGIN { print 0.01 * r }')" && ok ||
+    bad "glTF: facet $k ${M[$k]:-} is not facet $j's ${M[$j]:-}"
+done
+num "${M[1]:-1}" '<' "$(awk -v r="${M[0]:-0}" 'BEGIN { print 0.75 * r }')" && ok ||
+  bad "glTF: the normal texture does not bend the plane (facets ${M[0]:-} ${M[1]:-})"
+mapfile -t M < <(facets "$T/m_grey.exr")
+near "${M[1]:-0}" "${M[0]:-1}" "$(awk -v r="${M[0]:-1}" 'BEGIN { print 0.01 * r }')" && ok ||
+  bad "a grey bump map bends the plane (${M[0]:-} ${M[1]:-})"
+check "a grey bump map is warned about: $(cat "$T/m_grey.err")" \
+    grep -q "bump map 'grey.pgm' is a grey height map: not rendered" "$T/m_grey.err"
+
 # flat: the map (0.5, 0.5, 1) changes no pixel
 python3 "$ROOT/tools/gen_meshes.py" "$T" > /dev/null || { echo "FAIL: gen_meshes.py"; exit 1; }
 flat_tex='texture flat checker 1 0.5 0.5 1 0.5 0.5 1'

@@ -84,7 +84,18 @@ typedef struct {
     int32_t alpha_map;
     char alpha_name[96];       /* the opacity image as the file names it */
     char alpha_file[SPM_PATH_MAX];
+    /* A normal map (mesh_nmap.c): SPM_MESH_NMAP_*, its scale (glTF
+     * normalTexture scale, OBJ -bm), the image as the file names it and its
+     * path (checked by the path rule, again by the parent). */
+    int32_t nmap;
+    float nmap_scale;
+    char nmap_name[96];
+    char nmap_file[SPM_PATH_MAX];
 } spm_mesh_material;
+/* none; glTF normalTexture or OBJ norm; OBJ bump or map_Bump (a normal map
+ * when its image has colour, as Blender writes them; a grey one is a height
+ * map, not rendered) */
+enum { SPM_MESH_NMAP_NONE = 0, SPM_MESH_NMAP_NORMAL = 1, SPM_MESH_NMAP_BUMP = 2 };
 enum { SPM_MESH_ALPHA_OPAQUE = 0, SPM_MESH_ALPHA_MASK = 1, SPM_MESH_ALPHA_BLEND = 2 };
 enum { SPM_MESH_AMAP_NONE = 0, SPM_MESH_AMAP_BASE = 1, SPM_MESH_AMAP_FILE = 2 };
 enum { SPM_MESH_FMT_OTHER = 0, SPM_MESH_FMT_GLTF = 1, SPM_MESH_FMT_OBJ = 2 };
@@ -231,6 +242,16 @@ int spm_mesh_alpha_read(const struct aiMaterial *m, const char *model, spm_mesh_
                         spm_error *refused);
 int spm_mesh_alpha_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
                         int has_uvs, const char *mwhere, spm_error *err);
+
+/* A material's normal map (mesh_nmap.c), as spm_mesh_alpha_read and
+ * spm_mesh_alpha_bind do opacity: read in the child (2 with *refused when the
+ * image is outside where the scene may read), bound in the parent (the
+ * material with it, or `material` when it has none or it cannot be applied:
+ * warned about by name). */
+int spm_mesh_nmap_read(const struct aiMaterial *m, const char *model, spm_mesh_material *out,
+                       spm_error *refused);
+int spm_mesh_nmap_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
+                       int has_uvs, const char *mwhere, spm_error *err);
 
 /* A file material bound to a scene material. */
 typedef struct {

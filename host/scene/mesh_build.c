@@ -202,6 +202,8 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
             map[i] = spm_mesh_texture_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
         if (map[i] >= 0)
             map[i] = spm_mesh_alpha_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
+        if (map[i] >= 0)
+            map[i] = spm_mesh_nmap_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
         if (map[i] < 0)
             return 1;
     }

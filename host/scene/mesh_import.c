@@ -285,12 +285,14 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
     }
     GETF(AI_MATKEY_OPACITY, opacity, SPM_MESH_HAS_OPACITY)
 #undef GETF
-    if (spm_mesh_alpha_read(m, file->path, out, refused))
+    if (spm_mesh_alpha_read(m, file->path, out, refused) ||
+        spm_mesh_nmap_read(m, file->path, out, refused))
         return 1;
     for (int type = 1; type <= AI_TEXTURE_TYPE_MAX; type++)
         if (aiGetMaterialTextureCount(m, (enum aiTextureType)type) > 0 &&
             !(base_tex && (type == aiTextureType_BASE_COLOR || type == aiTextureType_DIFFUSE)) &&
-            !(out->alpha_map == SPM_MESH_AMAP_FILE && type == aiTextureType_OPACITY))
+            !(out->alpha_map == SPM_MESH_AMAP_FILE && type == aiTextureType_OPACITY) &&
+            !(out->nmap && (type == aiTextureType_NORMALS || type == aiTextureType_HEIGHT)))
             *ignored |= type == aiTextureType_NORMALS || type == aiTextureType_HEIGHT ||
                                   type == aiTextureType_NORMAL_CAMERA
                               ? SPM_MESH_IGN_NORMAL_MAPS
