@@ -238,6 +238,9 @@ void spm_mesh_gulbrandsen(const spm_spectrum *f0, spm_spectrum *eta, spm_spectru
  * the factor alone is used. -1 with err. */
 struct aiScene;
 struct aiMaterial;
+/* An image a model names (`name`, '\\' taken as '/'), found beside it under
+ * the path rule: 0 with *file, 1 with *refused. mesh_alpha.c */
+int spm_mesh_image_ref(const char *model, const char *name, spm_file *file, spm_error *refused);
 int spm_mesh_alpha_read(const struct aiMaterial *m, const char *model, spm_mesh_material *out,
                         spm_error *refused);
 int spm_mesh_alpha_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,

@@ -33,6 +33,17 @@ static void gltf_alpha(const struct aiMaterial *m, spm_mesh_material *out)
     }
 }
 
+int spm_mesh_image_ref(const char *model, const char *name, spm_file *file, spm_error *refused)
+{
+    char rel[1024], dir[SPM_PATH_MAX], where[SPM_PATH_MAX + 32];
+    snprintf(rel, sizeof rel, "%s", name);
+    for (char *c = rel; *c; c++) /* Windows separators as '/' */
+        if (*c == '\\')
+            *c = '/';
+    snprintf(where, sizeof where, "%s: image", model);
+    return spm_path_check(spm_path_dir(model, dir, sizeof dir), rel, where, file, refused);
+}
+
 /* Any other format: its opacity (OBJ d, 1 - Tr) and opacity map (OBJ map_d,
  * a file beside the model) as stochastic opacity. 2 when the map is refused. */
 static int other_alpha(const struct aiMaterial *m, const char *model, spm_mesh_material *out,
@@ -49,15 +60,9 @@ static int other_alpha(const struct aiMaterial *m, const char *model, spm_mesh_m
     out->alpha_mode = SPM_MESH_ALPHA_BLEND;
     if (!has_map)
         return 0;
-    char rel[1024], dir[SPM_PATH_MAX], where[SPM_PATH_MAX + 32];
     snprintf(out->alpha_name, sizeof out->alpha_name, "%.95s", path.data);
-    snprintf(rel, sizeof rel, "%s", path.data);
-    for (char *c = rel; *c; c++) /* Windows separators as '/' */
-        if (*c == '\\')
-            *c = '/';
-    snprintf(where, sizeof where, "%s: image", model);
     spm_file file;
-    if (spm_path_check(spm_path_dir(model, dir, sizeof dir), rel, where, &file, refused))
+    if (spm_mesh_image_ref(model, path.data, &file, refused))
         return 2;
     out->alpha_map = SPM_MESH_AMAP_FILE;
     snprintf(out->alpha_file, sizeof out->alpha_file, "%s", file.path);

@@ -37,14 +37,8 @@ int spm_mesh_nmap_read(const struct aiMaterial *m, const char *model, spm_mesh_m
     out->nmap = type == aiTextureType_NORMALS ? SPM_MESH_NMAP_NORMAL : SPM_MESH_NMAP_BUMP;
     if (path.data[0] == '*') /* an embedded image: nmap_file stays empty */
         return 0;
-    char rel[1024], dir[SPM_PATH_MAX], where[SPM_PATH_MAX + 32];
-    snprintf(rel, sizeof rel, "%s", path.data);
-    for (char *c = rel; *c; c++) /* Windows separators as '/' */
-        if (*c == '\\')
-            *c = '/';
-    snprintf(where, sizeof where, "%s: image", model);
     spm_file file;
-    if (spm_path_check(spm_path_dir(model, dir, sizeof dir), rel, where, &file, refused))
+    if (spm_mesh_image_ref(model, path.data, &file, refused))
         return 2;
     snprintf(out->nmap_file, sizeof out->nmap_file, "%s", file.path);
     return 0;
