@@ -756,6 +756,17 @@ static int normal_clause(parser *p, spm_scene_material *m)
     return 0;
 }
 
+/* A clause of any type at the lexer, each once: opacity, normal. 1 read, 0
+ * none there, -1 with the error. */
+static int any_type_clause(parser *p, spm_scene_material *m)
+{
+    if (!m->alpha_mode && spm_lex_is(&p->lx, "opacity"))
+        return opacity_clause(p, m) ? -1 : 1;
+    if (!m->nmap && spm_lex_is(&p->lx, "normal"))
+        return normal_clause(p, m) ? -1 : 1;
+    return 0;
+}
+
 /* The clauses of material type mt, then every emitter type's, into cl (ctag:
  * SPM_EMIT_TYPES for the material's own, else the emitter's tag). */
 static int clause_list(const spm_mtype_desc *mt, const spm_mparam **cl, unsigned *ctag)
@@ -839,16 +850,11 @@ static int stmt_material(parser *p)
                        k == 0 ? "" : k == ncl - 1 ? " or " : ", ", cl[k]->clause);
     snprintf(expected + ne, sizeof expected - (size_t)ne, " (each once)");
     while (p->lx.type != SPM_TOK_NEWLINE && p->lx.type != SPM_TOK_EOF) {
-        if (!m.alpha_mode && spm_lex_is(&p->lx, "opacity")) { /* any type's */
-            if (opacity_clause(p, &m))
-                return 1;
+        int any = any_type_clause(p, &m);
+        if (any < 0)
+            return 1;
+        if (any)
             continue;
-        }
-        if (!m.nmap && spm_lex_is(&p->lx, "normal")) { /* any type's */
-            if (normal_clause(p, &m))
-                return 1;
-            continue;
-        }
         int k = 0;
         while (k < ncl && !spm_lex_is(&p->lx, cl[k]->clause))
             k++;
