@@ -604,6 +604,10 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
  *                      emission (0 none) in the low 16 bits, its palette (of
  *                      emission spectra) in the high ones; the factor its
  *                      radiance takes (float bits); 0: no material has one
+ *   [SPM_TEXD_NMAP]    offset of a word per material: its normal map record's
+ *                      offset, 0 none (SPM_NMAP_* below); 0: no material has one
+ *   [SPM_TEXD_TANGENT] offset of 12 floats per triangle (in the triangles'
+ *                      order): a tangent and its handedness at each vertex
  * a header: nlevels, wrap along u, wrap along v (spm_wrap), 0, then per level
  * its texels' offset, width, height, 0; texels 3 floats (linear RGB), rows top
  * to bottom. Texture coordinates: 6 floats per triangle (u, v at each vertex),
@@ -625,7 +629,9 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
 #define SPM_TEXD_MIX 6
 #define SPM_TEXD_SURVIVE 7
 #define SPM_TEXD_EMIT 8
-#define SPM_TEXD_HEAD 9
+#define SPM_TEXD_NMAP 9
+#define SPM_TEXD_TANGENT 10
+#define SPM_TEXD_HEAD 11
 #define SPM_TEX_NODES_ALL (SPM_TEX_GRID * SPM_TEX_GRID * SPM_TEX_GRID)
 #define SPM_TEX_HEADER(nlevels) (4 + 4 * (nlevels))
 
@@ -663,6 +669,21 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
  * the metallic map's and the roughness map's offsets (0: none; maps as the
  * opacity's, one byte a texel). The draw is SPM_DIM_MIX(j). */
 #define SPM_MIX_RECORD 5
+/* Normal maps (kernels/shading.clh, host/cpu/refcpu_shading.c,
+ * host/geometry/geometry_nmap.c; docs/METHODS.md "Normal maps"): a tangent-space
+ * normal m = (2 c - 1) (scale, scale, 1) of texel c, bilinear at the hit's
+ * (u, v), bends the interpolated normal N (the face's on a flat triangle) to
+ * unit(m.x T + m.y B + m.z N), T the interpolated vertex tangent and
+ * B = s (N x T) (MikkTSpace's, glTF's: s the handedness); then the smooth
+ * shading's rule against leaks applies. The record: scale (float bits), the
+ * map's offset. A map: width, height, wrap along u, wrap along v, then one
+ * word a texel, (m + 1) / 2 in 10 bits a component (x lowest) on the codes
+ * k = 511 (1 + m) so that m = 0 and m = 1 are exact: a flat map (0.5, 0.5, 1)
+ * leaves the normal as it is. Kernels of scenes with one are built with
+ * SPM_WITH_NMAP (and SPM_WITH_SMOOTH). */
+#define SPM_NMAP_RECORD 2
+#define SPM_NMAP_MAP_HEAD 4
+#define SPM_NMAP_CODE 511.0f
 
 /* The ray cone's widening past a lobe that is not a delta, as a fraction of
  * the half-angle of a cone of the lobe's solid angle (kernels/texture.clh

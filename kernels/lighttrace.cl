@@ -177,7 +177,7 @@ __kernel void spm_light_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
         float3 x = o + d * t;
         SPM_MATERIAL_AT(m, mi, mats, tex, uvs, tr, (uint)hit, x, key, j); /* metalrough.clh */
         spm_frame fr;
-        hit_frame(tr, vnormals, o, d, &fr);
+        hit_frame(tr, vnormals, tex, uvs, (uint)hit, o, d, &fr);
 #ifdef SPM_WITH_VEXT
         if (seg && j > 0u) /* the segment's length inside: its absorption, in the shade stage */
             xrec[(size_t)(j - 1u) * npaths].lobe = t;

@@ -17,14 +17,14 @@
 #include "spm_rng.h"
 #include "spm_kernel_args.h"
 #include "traverse.clh"
-#ifdef SPM_WITH_SMOOTH
-#include "shading.clh"
-#endif
 #include "bsdf.clh"
 #include "lights.clh"
 #include "camera.clh"
 #include "texture.clh"
 #include "metalrough.clh"
+#ifdef SPM_WITH_SMOOTH
+#include "shading.clh"
+#endif
 
 /* Level feeler: one colour met; lvlk[c * KMAX + min(k, KMAX) - 1] (k = occurrence count). */
 inline void feel(__global const uchar *lvlk, uint c, uint k, uint by, uint *level, uint *setby)
@@ -69,13 +69,15 @@ SPM_ALWAYS_INLINE void camera_key_ray(const spm_camera *cam, spm_key k, float3 *
 /* The hit's shading frame *fr, the one place a type finds it: the shading
  * normal (on the viewer's side) and tangent every type shades with; gn, the
  * geometric normal on the viewer's side, decides which side a direction is
- * on (kernels/shading.clh). A flat triangle's is gn and its own tangent.
+ * on (kernels/shading.clh). A flat triangle's is gn and its own tangent;
+ * a normal map (triangle `hit`'s material's, tex and uvs) bends either.
  * Written through a pointer, not returned: a returned struct is a noalias
  * (sret) argument, whose inlining leaves an llvm.experimental.noalias.scope.decl
  * when the frame stays in memory (shading_frame takes its fields' addresses),
  * an intrinsic Oclgrind 21.10 cannot run. */
-SPM_ALWAYS_INLINE void hit_frame(__global const spm_tri *tr, __global const float *vnormals, float3 o,
-                                 float3 d, spm_frame *fr)
+SPM_ALWAYS_INLINE void hit_frame(__global const spm_tri *tr, __global const float *vnormals,
+                                 __global const uint *tex, __global const float *uvs, uint hit,
+                                 float3 o, float3 d, spm_frame *fr)
 {
     fr->ng = ld3(tr->n);
     fr->back = -d;
@@ -85,7 +87,12 @@ SPM_ALWAYS_INLINE void hit_frame(__global const spm_tri *tr, __global const floa
     fr->smooth = 0;
 #ifdef SPM_WITH_SMOOTH
     fr->smooth = tr->vn != 0u;
-    if (fr->smooth)
+    int mapped = 0;
+#ifdef SPM_WITH_NMAP
+    mapped = nmap_frame(tex, uvs, hit, tr, vnormals, o, d, fr->back, fr->gn, &fr->n, &fr->t);
+    fr->smooth |= mapped;
+#endif
+    if (fr->smooth && !mapped)
         shading_frame(tr, vnormals + 9u * (tr->vn - 1u), o, d, fr->back, fr->gn, &fr->n, &fr->t);
 #endif
     fr->b = cross3(fr->n, fr->t);
@@ -195,7 +202,7 @@ __kernel void spm_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         float3 pos = o + d * t;
         SPM_MATERIAL_AT(m, mi, mats, tex, uvs, tr, (uint)hit, pos, key, j); /* metalrough.clh */
         spm_frame fr;
-        hit_frame(tr, vnormals, o, d, &fr);
+        hit_frame(tr, vnormals, tex, uvs, (uint)hit, o, d, &fr);
 
         /* local emission, first vertex only, front face (either face when twosided) */
         float ecos = dot3(fr.back, fr.ng), escale;

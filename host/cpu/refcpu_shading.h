@@ -15,6 +15,12 @@
  * are vn (nine floats), gn the geometric normal on the viewer's side. */
 void spm_ref_shading_frame(const spm_tri *tr, const float vn[9], const float o[3],
                            const float d[3], const float gn[3], float sn[3], float st[3]);
+/* The shading frame of a hit on triangle `hit` of g whose material has a
+ * normal map (spm_shared.h SPM_NMAP_*; kernels/shading.clh nmap_frame's
+ * formulas): 1 with sn, st; 0 (untouched) without a map or where the map's
+ * tangent-space x and y are both 0. */
+int spm_ref_nmap_frame(const spm_geometry *g, spm_u32 hit, const float o[3], const float d[3],
+                       const float gn[3], float sn[3], float st[3]);
 /* A conductor vertex's frame from a normal on the viewer's side n and a unit
  * tangent t perpendicular to it (spm_ref_cond_make's, for a shading frame). */
 void spm_ref_cond_frame(const float n[3], const float t[3], const float d[3], float alpha,

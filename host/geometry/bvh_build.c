@@ -475,6 +475,7 @@ int spm_bvh_build_threads(spm_geometry *g, int nthreads, spm_error *err)
         perm[i] = x.pr[i].id;
     free(x.pr);
     spm_geometry_uvs_permute(g, perm);
+    spm_geometry_tangents_permute(g, perm);
     permute_tris(g->tris, perm, n);
     free(perm);
     spm_bvh_node *nodes = spm_xmalloc((size_t)nnodes * sizeof *nodes);

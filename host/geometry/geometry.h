@@ -76,6 +76,27 @@ size_t spm_geometry_alpha_put(const spm_scene *s, spm_u32 *x, size_t w);
  * test's, as kernels/texture.clh and alpha.clh compute them. */
 void spm_tri_uv(const spm_tri *tr, const float uv[6], const float p[3], float *u, float *v);
 float spm_tex_wrap_coord(float u, spm_u32 mode);
+/* Normal maps in the texture words (geometry_nmap.c, spm_shared.h
+ * SPM_NMAP_*): whether a material of s has one (its kernels: SPM_WITH_NMAP),
+ * the words they take with every triangle's tangents, putting them from word
+ * w on (the words' end), and the tangents put into the BVH's triangle order. */
+int spm_geometry_has_nmap(const spm_scene *s);
+size_t spm_geometry_nmap_words(const spm_scene *s);
+size_t spm_geometry_nmap_put(const spm_scene *s, spm_u32 *x, size_t w);
+void spm_geometry_tangents_permute(spm_geometry *g, const int *perm);
+/* A triangle's corners for the tangents: position, normal (any length: the
+ * face's on a flat triangle) and (u, v). */
+typedef struct {
+    float p[3][3], n[3][3], uv[3][2];
+} spm_tangent_in;
+/* Per vertex of each of the n triangles a unit tangent and its handedness
+ * (x, y, z, +-1), made as MikkTSpace makes them: each face's dP/du (from its
+ * (u, v) derivatives) made perpendicular to a corner's normal, weighed by the
+ * corner's angle and summed over the corners that share position, normal,
+ * (u, v) and handedness (the sign of (N x T) . dP/dv), then made
+ * perpendicular to the normal again (Gram-Schmidt); where nothing is left (no
+ * (u, v) variation), any tangent perpendicular to the normal. */
+void spm_tangents_make(const spm_tangent_in *in, int n, float (*out)[12]);
 /* 1 when a material of g has an opacity record (its kernels: SPM_WITH_ALPHA). */
 int spm_geometry_has_alpha(const spm_geometry *g);
 /* Whether a hit at distance t on triangle tri along the ray (o, d) counts:

@@ -28,7 +28,7 @@ static size_t count_words(const spm_scene *s)
         for (int l = 0; l < s->textures[t].nlevels; l++)
             n += 3 * (size_t)s->textures[t].lv[l].w * s->textures[t].lv[l].h;
     }
-    return n + spm_geometry_alpha_words(s);
+    return n + spm_geometry_alpha_words(s) + spm_geometry_nmap_words(s);
 }
 
 /* texture t's header and texels from word w on; the word after them */
@@ -73,7 +73,8 @@ void spm_geometry_textures(const spm_scene *s, spm_geometry *g)
     int any = 0;
     for (int m = 0; m < s->nmaterials; m++)
         any |= ((s->materials[m].tex != 0 || s->materials[m].etex != 0) && s->palette) ||
-               s->materials[m].alpha_mode != 0 || s->materials[m].mix_metal != 0;
+               s->materials[m].alpha_mode != 0 || s->materials[m].mix_metal != 0 ||
+               s->materials[m].nmap != 0;
     if (!any)
         return;
     g->uvs = spm_xcalloc((size_t)g->ntris * 6 + 1, sizeof *g->uvs);
@@ -119,7 +120,7 @@ void spm_geometry_textures(const spm_scene *s, spm_geometry *g)
         x[offs + (size_t)t] = (spm_u32)w;
         w = put_texture(&s->textures[t], x, w);
     }
-    spm_geometry_alpha_put(s, x, w);
+    spm_geometry_nmap_put(s, x, spm_geometry_alpha_put(s, x, w));
 }
 
 void spm_geometry_uvs_permute(spm_geometry *g, const int *perm)

@@ -115,9 +115,13 @@ int spm_render_plan_init(spm_render_plan *p, const spm_geometry *g, const spm_ta
     if (g->cam.lens_radius > 0.0f && nd < (int)sizeof p->type_defines)
         nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
                        "-DSPM_WITH_LENS ");
-    if (g->nvn && nd < (int)sizeof p->type_defines) /* smooth triangles: kernels/shading.clh */
+    int nmap = g->ntex && g->tex[SPM_TEXD_NMAP];
+    if ((g->nvn || nmap) && nd < (int)sizeof p->type_defines) /* kernels/shading.clh */
         nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
                        "-DSPM_WITH_SMOOTH ");
+    if (nmap && nd < (int)sizeof p->type_defines) /* normal maps: shading.clh */
+        nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
+                       "-DSPM_WITH_NMAP ");
     if (g->ntex && nd < (int)sizeof p->type_defines) /* textured materials: kernels/texture.clh */
         nd += snprintf(p->type_defines + nd, sizeof p->type_defines - (size_t)nd,
                        "-DSPM_WITH_TEXTURE ");

@@ -99,8 +99,19 @@ typedef struct {
     int32_t mr_map;
     char mr_name[96];
     char mr_file[SPM_PATH_MAX];
+    /* A normal map (mesh_nmap.c): SPM_MESH_NMAP_*, its scale (glTF
+     * normalTexture scale, OBJ -bm), the image as the file names it and its
+     * path (checked by the path rule, again by the parent). */
+    int32_t nmap;
+    float nmap_scale;
+    char nmap_name[96];
+    char nmap_file[SPM_PATH_MAX];
 } spm_mesh_material;
 enum { SPM_MESH_MRMAP_NONE = 0, SPM_MESH_MRMAP_FILE = 1, SPM_MESH_MRMAP_EMBEDDED = 2 };
+/* none; glTF normalTexture or OBJ norm; OBJ bump or map_Bump (a normal map
+ * when its image has colour, as Blender writes them; a grey one is a height
+ * map, not rendered) */
+enum { SPM_MESH_NMAP_NONE = 0, SPM_MESH_NMAP_NORMAL = 1, SPM_MESH_NMAP_BUMP = 2 };
 enum { SPM_MESH_ALPHA_OPAQUE = 0, SPM_MESH_ALPHA_MASK = 1, SPM_MESH_ALPHA_BLEND = 2 };
 enum { SPM_MESH_AMAP_NONE = 0, SPM_MESH_AMAP_BASE = 1, SPM_MESH_AMAP_FILE = 2 };
 enum { SPM_MESH_FMT_OTHER = 0, SPM_MESH_FMT_GLTF = 1, SPM_MESH_FMT_OBJ = 2 };
@@ -249,7 +260,7 @@ int spm_mesh_alpha_bind(spm_scene_builder *b, const spm_mesh_material *m, int ma
                         int has_uvs, const char *mwhere, spm_error *err);
 /* An image a material names (Assimp's path, Windows separators taken as
  * '/'), relative to the model's folder, checked by the path rule: 0, or 1
- * with *refused filled (mesh_alpha.c; the opacity and metallic-roughness maps). */
+ * with *refused filled (mesh_alpha.c; the opacity, metallic-roughness and normal maps). */
 int spm_mesh_image_check(const char *ref, const char *model, spm_file *file, spm_error *refused);
 
 /* glTF's metallic-roughness map (mesh_metalrough.c). In the importer's
@@ -263,6 +274,16 @@ int spm_mesh_mix_read(const struct aiMaterial *m, const char *model, spm_mesh_ma
                       spm_error *refused);
 int spm_mesh_mix_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
                       int has_uvs, const char *mwhere, spm_error *err);
+
+/* A material's normal map (mesh_nmap.c), as spm_mesh_alpha_read and
+ * spm_mesh_alpha_bind do opacity: read in the child (2 with *refused when the
+ * image is outside where the scene may read), bound in the parent (the
+ * material with it, or `material` when it has none or it cannot be applied:
+ * warned about by name). */
+int spm_mesh_nmap_read(const struct aiMaterial *m, const char *model, spm_mesh_material *out,
+                       spm_error *refused);
+int spm_mesh_nmap_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
+                       int has_uvs, const char *mwhere, spm_error *err);
 
 /* A file material bound to a scene material. */
 typedef struct {

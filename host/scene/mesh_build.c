@@ -206,6 +206,8 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
             map[i] = spm_mesh_alpha_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
         if (map[i] >= 0)
             map[i] = spm_mesh_mix_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
+        if (map[i] >= 0)
+            map[i] = spm_mesh_nmap_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
         if (map[i] < 0)
             return 1;
     }
@@ -402,7 +404,7 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
         }
         kept++;
         const spm_scene_material *sm = &b->s->materials[map[src->mat]];
-        if (sm->tex || sm->etex || sm->alpha_map || sm->mix_mmap || sm->mix_rmap) {
+        if (sm->tex || sm->etex || sm->alpha_map || sm->mix_mmap || sm->mix_rmap || sm->nmap) {
             float uv[6] = {0, 0, 0, 0, 0, 0};
             for (int v = 0; v < 3 && d->uvs; v++)
                 memcpy(uv + 2 * v, d->uvs[t].uv[flip && v ? 3 - v : v], sizeof(float[2]));

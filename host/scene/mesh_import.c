@@ -305,7 +305,8 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
     }
     GETF(AI_MATKEY_OPACITY, opacity, SPM_MESH_HAS_OPACITY)
 #undef GETF
-    if (spm_mesh_alpha_read(m, file->path, out, refused))
+    if (spm_mesh_alpha_read(m, file->path, out, refused) ||
+        spm_mesh_nmap_read(m, file->path, out, refused))
         return 1;
     if (spm_mesh_mix_read(m, file->path, out, refused))
         return 1;
@@ -318,7 +319,8 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
             !(out->alpha_map == SPM_MESH_AMAP_FILE && type == aiTextureType_OPACITY) &&
             !(out->mr_map && (type == aiTextureType_UNKNOWN || type == aiTextureType_METALNESS ||
                               type == aiTextureType_DIFFUSE_ROUGHNESS)) &&
-            !(emit_tex && type == aiTextureType_EMISSIVE))
+            !(emit_tex && type == aiTextureType_EMISSIVE) &&
+            !(out->nmap && (type == aiTextureType_NORMALS || type == aiTextureType_HEIGHT)))
             *ignored |= type == aiTextureType_NORMALS || type == aiTextureType_HEIGHT ||
                                   type == aiTextureType_NORMAL_CAMERA
                               ? SPM_MESH_IGN_NORMAL_MAPS

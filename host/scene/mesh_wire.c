@@ -109,6 +109,10 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
         mats[i].alpha_file[sizeof mats[i].alpha_file - 1] = 0;
         mats[i].mr_name[sizeof mats[i].mr_name - 1] = 0;
         mats[i].mr_file[sizeof mats[i].mr_file - 1] = 0;
+        mats[i].nmap_name[sizeof mats[i].nmap_name - 1] = 0;
+        mats[i].nmap_file[sizeof mats[i].nmap_file - 1] = 0;
+        if (mats[i].nmap < SPM_MESH_NMAP_NONE || mats[i].nmap > SPM_MESH_NMAP_BUMP)
+            mats[i].nmap = SPM_MESH_NMAP_NONE, mats[i].nmap_file[0] = 0;
         if (mats[i].texture < SPM_MESH_TEX_NONE || mats[i].texture > SPM_MESH_TEX_UNREAD ||
             mats[i].etexture < SPM_MESH_TEX_NONE || mats[i].etexture > SPM_MESH_TEX_UNREAD ||
             mats[i].alpha_mode < SPM_MESH_ALPHA_OPAQUE || mats[i].alpha_mode > SPM_MESH_ALPHA_BLEND ||

@@ -47,6 +47,10 @@ typedef struct {
     int mix_metal;
     float mix_metallic, mix_rough;
     int mix_mmap, mix_rmap;
+    /* a normal map (spm_shared.h SPM_NMAP_*): 1 + its index in the scene's
+     * normal maps, 0 none; its scale on the tangent-space x and y */
+    int nmap;
+    float nmap_scale;
 } spm_scene_material;
 
 /* An opacity map: one byte a texel (alpha x 255 rounded), rows top to
@@ -57,12 +61,22 @@ typedef struct {
     unsigned char *a;
 } spm_alpha_map;
 
+/* A normal map: one word a texel (spm_shared.h SPM_NMAP_*: the tangent-space
+ * normal's components in 10 bits each), rows top to bottom, its wrap modes. */
+typedef struct {
+    int w, h;
+    int wrap[2];
+    unsigned *q;
+} spm_normal_map;
+
 typedef struct {
     float p[3][3];
     int material;
     int line;  /* source line, for messages */
     int vn;    /* 0: flat; k > 0: smooth, its vertex normals are vnormals[k - 1] */
     int uv;    /* 0: none; k > 0: its texture coordinates are uvs[k - 1] */
+    int tg;    /* 0: none (made where a normal map needs them); k > 0: the file's
+                  tangents, tangents[k - 1] */
 } spm_scene_tri;
 
 /* The triangles a mesh statement added, tris[first, first + n), and their
@@ -149,6 +163,12 @@ typedef struct {
     int npalettes;
     spm_alpha_map *alphas; /* the opacity maps materials use (spm_scene_material.alpha_map) */
     int nalphas;
+    spm_normal_map *nmaps; /* the normal maps materials use (spm_scene_material.nmap) */
+    int nnmaps;
+    /* per triangle with the file's tangents (spm_scene_tri.tg): at each vertex
+     * a tangent (x, y, z) and its handedness w = +-1 (glTF TANGENT's) */
+    float (*tangents)[12];
+    int ntangents;
     int bg_up;           /* colour for a ray escaping upward (+y), -1 none */
     int bg_down;         /* for one escaping downward, -1 none */
     spm_scene_envmap *env; /* the environment map (NULL: none; then bg_up and bg_down) */

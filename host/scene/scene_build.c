@@ -29,6 +29,10 @@ void spm_scene_free(spm_scene *s)
     for (int i = 0; i < s->nalphas; i++)
         free(s->alphas[i].a);
     free(s->alphas);
+    for (int i = 0; i < s->nnmaps; i++)
+        free(s->nmaps[i].q);
+    free(s->nmaps);
+    free(s->tangents);
     free(s->meshes);
     free(s->lights);
     free(s->rerad);
@@ -166,6 +170,8 @@ int spm_sb_material_typed(spm_scene_builder *b, const spm_scene_material *proto,
     if (proto->mix_metal) /* a metallic-roughness mix is not its coated base */
         n += snprintf(key + n, sizeof key - (size_t)n, " m%d %a %a %d %d", proto->mix_metal,
                       proto->mix_metallic, proto->mix_rough, proto->mix_mmap, proto->mix_rmap);
+    if (proto->nmap) /* a bumped surface is not the smooth one */
+        n += snprintf(key + n, sizeof key - (size_t)n, " n%d %a", proto->nmap, proto->nmap_scale);
     if (proto->flags) /* a two-sided light is not a one-sided one */
         n += snprintf(key + n, sizeof key - (size_t)n, " f%x", proto->flags);
     int i = spm_names_get(&b->material_index, key);
@@ -276,6 +282,37 @@ int spm_sb_alpha_pixels(spm_scene_builder *b, const float *a, int w, int h, int 
     s->alphas = reserve(s->alphas, s->nalphas, &b->cap_alphas, sizeof *s->alphas);
     s->alphas[s->nalphas] = m;
     return s->nalphas++;
+}
+
+int spm_sb_tri_tangents(spm_scene_builder *b, const float t[12])
+{
+    spm_scene *s = b->s;
+    if (s->ntris < 1 || s->tris[s->ntris - 1].tg)
+        return 1;
+    s->tangents = reserve(s->tangents, s->ntangents, &b->cap_tangents, sizeof *s->tangents);
+    memcpy(s->tangents[s->ntangents++], t, sizeof *s->tangents);
+    s->tris[s->ntris - 1].tg = s->ntangents;
+    return 0;
+}
+
+/* a component m in [-1, 1] (clamped; NaN 0) on the codes 0 .. 1022, m = 0 at 511 */
+static unsigned nmap_code(float m)
+{
+    m = m > -1.0f ? (m < 1.0f ? m : 1.0f) : (m == m ? -1.0f : 0.0f);
+    return (unsigned)lrintf(SPM_NMAP_CODE * (1.0f + m));
+}
+
+int spm_sb_nmap_pixels(spm_scene_builder *b, const float *rgb, int w, int h, int wrap_u,
+                       int wrap_v)
+{
+    spm_scene *s = b->s;
+    spm_normal_map m = {w, h, {wrap_u, wrap_v}, spm_xmalloc((size_t)w * h * sizeof *m.q)};
+    for (size_t i = 0; i < (size_t)w * h; i++) /* m = 2 c - 1 */
+        m.q[i] = nmap_code(2.0f * rgb[3 * i] - 1.0f) | nmap_code(2.0f * rgb[3 * i + 1] - 1.0f) << 10 |
+                 nmap_code(2.0f * rgb[3 * i + 2] - 1.0f) << 20;
+    s->nmaps = reserve(s->nmaps, s->nnmaps, &b->cap_nmaps, sizeof *s->nmaps);
+    s->nmaps[s->nnmaps] = m;
+    return s->nnmaps++;
 }
 
 int spm_sb_camera(spm_scene_builder *b, const double eye[3], const double dir[3], double fov,

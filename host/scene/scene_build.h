@@ -31,6 +31,7 @@
 typedef struct {
     spm_scene *s;
     int cap_colours, cap_materials, cap_tris, cap_vnormals, cap_uvs, cap_textures, cap_alphas;
+    int cap_nmaps, cap_tangents;
     int pruned;                /* spm_sb_prune has run */
     spm_names colour_index;    /* colour content key -> index (sharing) */
     spm_names material_index;  /* "refl emit" -> index (sharing) */
@@ -66,6 +67,13 @@ int spm_sb_texture(spm_scene_builder *b, struct spm_texture_s *t);
  * stored as bytes, scene.h spm_alpha_map) into the scene: its index. */
 int spm_sb_alpha_pixels(spm_scene_builder *b, const float *a, int w, int h, int wrap_u,
                         int wrap_v);
+/* A normal map of w x h linear RGB texels c (rows top to bottom) into the
+ * scene, as m = 2 c - 1 (scene.h spm_normal_map): its index. */
+int spm_sb_nmap_pixels(spm_scene_builder *b, const float *rgb, int w, int h, int wrap_u,
+                       int wrap_v);
+/* The last triangle's tangents from its file (scene.h tangents): 0, or 1 when
+ * it has them already or there is none. */
+int spm_sb_tri_tangents(spm_scene_builder *b, const float t[12]);
 /* Drops what no triangle uses (spm_sb_finish does it first unless it ran):
  * a parser that adds colours for what is left calls it, adds them, then
  * spm_sb_finish. 0, or 1 with err (no triangles). */

@@ -741,6 +741,39 @@ static int opacity_clause(parser *p, spm_scene_material *m)
     return 0;
 }
 
+/* normal texture NAME [scale S], the lexer on 'normal': the material's
+ * normal map, the texture's values as a tangent-space normal; S (default 1,
+ * glTF's normalTexture scale) scales its x and y (spm_shared.h SPM_NMAP_*;
+ * any material type). */
+static int normal_clause(parser *p, spm_scene_material *m)
+{
+    double scale = 1.0;
+    if (spm_lex_next(&p->lx, p->err))
+        return 1;
+    if (!spm_lex_is(&p->lx, "texture"))
+        return spm_lex_expected(&p->lx, p->err, "'texture NAME' after 'normal'");
+    if (spm_lex_next(&p->lx, p->err) ||
+        (m->nmap = spm_scene_texture_nmap(&p->textures, &p->lx, &p->b, p->err)) < 0)
+        return 1;
+    if (spm_lex_is(&p->lx, "scale") &&
+        (spm_lex_next(&p->lx, p->err) ||
+         spm_lex_number(&p->lx, "a normal map scale", -100.0, 100.0, &scale, p->err)))
+        return 1;
+    m->nmap_scale = (float)scale;
+    return 0;
+}
+
+/* A clause of any type at the lexer, each once: opacity, normal. 1 read, 0
+ * none there, -1 with the error. */
+static int any_type_clause(parser *p, spm_scene_material *m)
+{
+    if (!m->alpha_mode && spm_lex_is(&p->lx, "opacity"))
+        return opacity_clause(p, m) ? -1 : 1;
+    if (!m->nmap && spm_lex_is(&p->lx, "normal"))
+        return normal_clause(p, m) ? -1 : 1;
+    return 0;
+}
+
 /* The clauses of material type mt, then every emitter type's, into cl (ctag:
  * SPM_EMIT_TYPES for the material's own, else the emitter's tag). */
 static int clause_list(const spm_mtype_desc *mt, const spm_mparam **cl, unsigned *ctag)
@@ -824,11 +857,11 @@ static int stmt_material(parser *p)
                        k == 0 ? "" : k == ncl - 1 ? " or " : ", ", cl[k]->clause);
     snprintf(expected + ne, sizeof expected - (size_t)ne, " (each once)");
     while (p->lx.type != SPM_TOK_NEWLINE && p->lx.type != SPM_TOK_EOF) {
-        if (!m.alpha_mode && spm_lex_is(&p->lx, "opacity")) { /* any type's */
-            if (opacity_clause(p, &m))
-                return 1;
+        int any = any_type_clause(p, &m);
+        if (any < 0)
+            return 1;
+        if (any)
             continue;
-        }
         int k = 0;
         while (k < ncl && !spm_lex_is(&p->lx, cl[k]->clause))
             k++;
@@ -953,7 +986,7 @@ static int stmt_polygon(parser *p, int nverts)
             return 1;
         }
         const spm_scene_material *sm = &p->b.s->materials[m];
-        if (sm->tex || sm->etex || sm->alpha_map) {
+        if (sm->tex || sm->etex || sm->alpha_map || sm->nmap) {
             float tuv[6] = {uv[0][0], uv[0][1], uv[tri + 1][0], uv[tri + 1][1], uv[tri + 2][0],
                             uv[tri + 2][1]};
             spm_sb_tri_uv(&p->b, tuv);

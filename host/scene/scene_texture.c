@@ -203,6 +203,28 @@ int spm_scene_texture_alpha(spm_scene_textures *t, spm_lexer *lx, spm_scene_buil
     return x->alpha_index;
 }
 
+int spm_scene_texture_nmap(spm_scene_textures *t, spm_lexer *lx, spm_scene_builder *b,
+                           spm_error *err)
+{
+    char where[600], why[256];
+    spm_lex_where(lx, where, sizeof where);
+    spm_scene_tex *x = named(t, lx, err);
+    if (!x || x->nmap_index)
+        return x ? x->nmap_index : -1;
+    const spm_texmap *l0 = &x->tex.lv[0];
+    float *rgb = l0->rgb;
+    int w = l0->w, h = l0->h;
+    if (x->file.path[0] && spm_texture_read_data_file(&x->file, &rgb, &w, &h, why, sizeof why)) {
+        spm_errorf(err, "%s: texture image '%s' cannot be read as a normal map: %s", where,
+                   x->source, why);
+        return -1;
+    }
+    x->nmap_index = 1 + spm_sb_nmap_pixels(b, rgb, w, h, (int)x->tex.wrap[0], (int)x->tex.wrap[1]);
+    if (rgb != l0->rgb)
+        free(rgb);
+    return x->nmap_index;
+}
+
 int spm_scene_texture_colour(spm_scene_textures *t, spm_lexer *lx, spm_scene_builder *b,
                              spm_kind kind, double *scale, spm_error *err)
 {

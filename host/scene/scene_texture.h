@@ -27,6 +27,7 @@ typedef struct {
     spm_file file;    /* the image file, checked ("" for a checkerboard) */
     double scale;     /* its 'scale' (1 without) */
     int alpha_index;  /* 1 + its opacity map in the scene once made, 0 before */
+    int nmap_index;   /* 1 + its normal map in the scene once made, 0 before */
 } spm_scene_tex;
 
 typedef struct {
@@ -56,6 +57,12 @@ void spm_scene_texture_as_mean(spm_scene_textures *t, int i, spm_kind kind, cons
 /* Texture i on a reflectance per point: 1 + its index in the scene (moved
  * there at the first use). */
 int spm_scene_texture_adopt(spm_scene_textures *t, int i, spm_scene_builder *b);
+/* After the word 'texture' in a normal clause: the name, and 1 + the
+ * scene's normal map made from it (once per texture): an image file's RGB as
+ * stored, not decoded (a normal map is data), or a checkerboard's colours.
+ * -1 with err. */
+int spm_scene_texture_nmap(spm_scene_textures *t, spm_lexer *lx, spm_scene_builder *b,
+                           spm_error *err);
 /* After the word 'texture' in an opacity clause: the name, and 1 + the
  * scene's opacity map made from it (once per texture): an image file's
  * alpha channel (its first channel without one) as stored, not decoded;

@@ -96,6 +96,10 @@ int spm_texture_read_file(const spm_file *file, float **rgb, int *w, int *h, cha
                           size_t whylen);
 int spm_texture_read_data(const char *hint, const void *data, size_t size, float **rgb, int *w,
                           int *h, char *why, size_t whylen);
+/* The same as stored, integer codes over their maximum without sRGB
+ * decoding: an image of data, not colour (a normal map). */
+int spm_texture_read_data_file(const spm_file *file, float **rgb, int *w, int *h, char *why,
+                               size_t whylen);
 /* An opacity image (texture_io.cpp): its alpha channel, or its first
  * channel when it has none (alpha_only: *a NULL then), as stored (integer
  * codes over their maximum, no sRGB decoding: opacity is data), one float a

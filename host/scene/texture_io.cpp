@@ -29,7 +29,7 @@ static int fail(char *why, size_t n, const std::string &msg)
 }
 
 static int read_linear(std::unique_ptr<ImageInput> in, float **rgb, int *w, int *h, char *why,
-                       size_t whylen)
+                       size_t whylen, bool data = false)
 {
     const ImageSpec &spec = in->spec();
     long long npix = (long long)spec.width * spec.height;
@@ -46,7 +46,7 @@ static int read_linear(std::unique_ptr<ImageInput> in, float **rgb, int *w, int 
         return fail(why, whylen, in->geterror());
     // integer codes are sRGB-encoded unless the file says linear (as image_io.cpp
     // reads images); float and half are linear already
-    bool encoded = !spec.format.is_floating_point() &&
+    bool encoded = !data && !spec.format.is_floating_point() &&
                    strcasecmp(spec.get_string_attribute("oiio:ColorSpace").c_str(), "linear") != 0;
     float *out = (float *)malloc(sizeof(float) * 3 * (size_t)npix);
     if (!out)
@@ -142,6 +142,16 @@ extern "C" int spm_texture_read_file(const spm_file *file, float **rgb, int *w, 
     if (!in)
         return fail(why, whylen, OIIO::geterror());
     return read_linear(std::move(in), rgb, w, h, why, whylen);
+}
+
+extern "C" int spm_texture_read_data_file(const spm_file *file, float **rgb, int *w, int *h,
+                                          char *why, size_t whylen)
+{
+    OIIO::attribute("threads", 1);
+    auto in = ImageInput::open(file->path, unassociated());
+    if (!in)
+        return fail(why, whylen, OIIO::geterror());
+    return read_linear(std::move(in), rgb, w, h, why, whylen, true);
 }
 
 extern "C" int spm_texture_read_data(const char *hint, const void *data, size_t size,
