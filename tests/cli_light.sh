@@ -3,7 +3,7 @@
 # Cornell box that records its integrator, the same pixels whatever the passes
 # (a render resumed from its film equals one straight through), and the
 # refusals, each with its reason and exit 2 and nothing written: an unknown integrator, a background, a
-# dispersive glass, a rough dielectric, an orthographic camera, a resumed film of the other
+# fluorescence, a rough dielectric, an orthographic camera, a resumed film of the other
 # integrator. How it converges to the path tracer is tests/test_light_integrator.c;
 # the OpenCL backend's kernels against this reference, tests/cli_light_cl.sh.
 source "$(dirname "$0")/lib_cli.sh"
@@ -53,8 +53,8 @@ refused "background" "background is no light a subpath starts from" \
     render "$T/sky.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 refused "environment map" "background is no light a subpath starts from" \
     render "$DATA/scenes/envmap.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
-refused "dispersive glass" "does not commit to a wavelength" \
-    render "$DATA/scenes/prism.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
+refused "fluorescence" "fluorescence along a light subpath" \
+    render "$DATA/scenes/fluorescent.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 sed 's/^material tall_box  reflect blue_sky/material tall_box  dielectric ior 1.5 alpha 0.3/' \
     "$CORNELL" > "$T/rough.scene"
 refused "rough dielectric" "rough dielectric's eval has no transmission" \
