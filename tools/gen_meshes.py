@@ -1201,10 +1201,10 @@ def slit_quad():
 
 
 PRISM_WALL_HEAD = """# Prism on a wall: a narrow spot light (a cone of half-angle %(cone)g degrees)
-# shines on a %(apex)g-degree prism of Schott N-SF11 (n from 1.807 at 450 nm
-# to 1.774 at 650 nm) turned for minimum deviation at 550 nm, which throws
-# the light's spectrum onto a white wall: a rainbow of about 35 pixels,
-# violet farthest from the light's own direction. The camera looks at the
+# shines on a %(apex)g-degree prism of Schott N-SF11 (n from 1.819 at 450 nm
+# to 1.777 at 650 nm) turned for minimum deviation at 550 nm, which throws
+# the light's spectrum onto a white wall: 450 to 650 nm spread over 45
+# pixels, violet farthest from the light's own direction. The camera looks at the
 # wall only (the prism and the light are outside its view), so all it sees
 # arrives through the glass from a point-like source: next-event estimation
 # never finds it and a path tracer renders the wall black. Render it with
