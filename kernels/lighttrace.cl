@@ -57,8 +57,12 @@ SPM_ALWAYS_INLINE uint lt_emission(__global const spm_tri *tris, __global const 
                                    float *cos_o)
 {
     *cos_o = 1.0f;
-    if (e->kind != SPM_LIGHT_AREA) {
+    if (e->kind != SPM_LIGHT_AREA) { /* I, times a spot's falloff (it samples its whole cone) */
         *scale = e->p[SPM_LIGHT_P_SCALE];
+#ifdef SPM_WITH_LIGHT_SPOT
+        if (e->kind == SPM_LIGHT_SPOT)
+            *scale *= light_spot_falloff(e, dot3(d, light_spot_vec(e, SPM_LIGHT_P_DIR)));
+#endif
         return e->colour;
     }
     __global const spm_tri *tr = &tris[e->tri];

@@ -32,7 +32,62 @@
 #define HSUM8(v) HSUM4((v).lo + (v).hi)
 #define HSUM16(v) HSUM8((v).lo + (v).hi)
 
+#ifdef SPM_LIGHT_TRACE
+/* One splat sv (SPM_PATH_CH floats) of pixel px into the chunk's list at the
+ * next slot of lstat[0] (the pixel in spx, the values in sval); lstat[1]
+ * keeps the largest binary exponent of a finite splat's values (frexp's, as
+ * host/output/film_splat.c): the fixed-point unit of the chunk. Slots from
+ * scap on are counted but not written. */
+__attribute__((always_inline)) inline void splat_append(const float *sv, uint px,
+                                                       __global uint *spx, __global float *sval,
+                                                       __global int *lstat, uint scap)
+{
+    uint slot = atomic_inc((__global uint *)&lstat[0]);
+    int fin = 1, e = -1074;
+    for (uint c = 0; c < SPM_PATH_CH; c++) {
+        fin &= (as_uint(sv[c]) & 0x7f800000u) != 0x7f800000u;
+        int ex;
+        if (sv[c] != 0.0f && (frexp(sv[c], &ex), ex > e))
+            e = ex;
+    }
+    if (fin && e > -1074)
+        atomic_max(&lstat[1], e);
+    if (slot >= scap)
+        return;
+    spx[slot] = px;
+    for (uint c = 0; c < SPM_PATH_CH; c++)
+        sval[(size_t)SPM_PATH_CH * slot + c] = sv[c];
+}
+#endif
+
 #ifdef SPM_WITH_DISPERSION
+/* The first vertex of record dx (n vertices) that committed its path to a
+ * wavelength: its index (n: none), *b the 1 nm bin, *w 1 / its pdf. */
+inline uint disp_commit(__global const spm_vertex_ext *dx, uint npaths, uint n, uint *b, float *w)
+{
+    for (uint j = 0; j < n; j++) {
+        spm_vertex_ext x = dx[(size_t)j * npaths];
+        *b = SPM_VX_LAMBDA(x);
+        *w = x.light;
+        if (*b != SPM_NONE)
+            return j;
+    }
+    return n;
+}
+
+/* Radiance dl of 1 nm bin db (times 1 / pdf) into rec: XYZ, then the nspec
+ * spectral bins, the one holding db its share of the bin's mean,
+ * L / (pdf bin width). */
+inline void disp_record(float dl, uint db, __global const float *dcmf, float *rec, uint nspec)
+{
+    for (int ch = 0; ch < 3; ch++)
+        rec[ch] = dl * dcmf[ch * SPM_TRUTH_BINS + db];
+    for (uint b = 0; b < nspec; b++)
+        rec[3 + b] = 0.0f;
+    if (nspec)
+        rec[3 + db / (SPM_TRUTH_BINS / nspec)] = dl / (float)(SPM_TRUTH_BINS / nspec);
+}
+
 /* A path committed to 1 nm bin b (spm_shared.h SPM_VX_LAMBDA): the record
  * walked as one lane, every colour's value in bin b of the 1 nm rows t
  * (ncolours x SPM_TRUTH_BINS), by vertex_apply at width 1 (fluorescence never
@@ -63,6 +118,38 @@ inline float disp_walk(spm_dev_head h, __global const spm_vertex *vp,
         FACTOR_EMIT_EYE(P, L, bg, h.bg_c);
     return L[0];
 }
+
+#ifdef SPM_LIGHT_TRACE
+/* A light subpath committed to 1 nm bin b at vertex jc, its first dispersive
+ * one (1 / pdf dw): the walk from the light again in one lane, bin b, as
+ * kernels/shade_splats.clh's from the light, its splats from jc on, each
+ * times dw (host/cpu/refcpu_shade.c committed_splats); those before jc do not
+ * depend on the wavelength and stay the mode's. */
+inline void disp_splats(spm_dev_head h, __global const spm_vertex *vp,
+                        __global const spm_vertex_ext *xp, __global const uint *pxp, uint npaths,
+                        uint jc, uint b, float dw, __global const float *t,
+                        __global const float *dcmf, uint nspec, __global uint *spx,
+                        __global float *sval, __global int *lstat, uint scap)
+{
+#pragma OPENCL FP_CONTRACT OFF /* rounds as the CPU reference */
+    uint nv = h.nvert_end & 0xFFFFu;
+    float P[1] = {1.0f}, L[1];
+    for (uint j = 0; j < nv; j++) {
+        spm_vertex v = vp[(size_t)j * npaths];
+        spm_vertex_ext x = xp[(size_t)j * npaths];
+        if ((v.ids & 0xFFFFu) == SPM_NONE)
+            return;
+        L[0] = 0.0f;
+        VERTEX_APPLY(1, SPM_VX_KIND(x), v, x, P, L);
+        uint px = pxp[(size_t)(j + 1u) * npaths];
+        if (j >= jc && px != SPM_NONE) {
+            float sv[SPM_PATH_CH];
+            disp_record(L[0] * dw, b, dcmf, sv, nspec);
+            splat_append(sv, px, spx, sval, lstat, scap);
+        }
+    }
+}
+#endif
 #undef SB_W
 #undef SB_NV
 #undef SB_VT
@@ -82,24 +169,16 @@ inline int shade_dispersed(spm_dev_head h, __global const spm_vertex *vp,
 {
     __global const spm_vertex_ext *dx = (__global const spm_vertex_ext *)SPM_VERTEX_EXT(verts, npaths) + pi;
     uint dn = h.nvert_end & 0xFFFFu, db = SPM_NONE;
-    float dw = 0.0f;
-    for (uint j = 0; j < dn && db == SPM_NONE; j++) {
-        spm_vertex_ext x = dx[(size_t)j * npaths];
-        db = SPM_VX_LAMBDA(x);
-        dw = x.light;
-    }
-    if (db == SPM_NONE)
+    float dw = 0.0f, out[SPM_PATH_CH];
+    if (disp_commit(dx, npaths, dn, &db, &dw) == dn)
         return 0;
     float dl = disp_walk(h, vp, dx, npaths, dtab + db) * dw;
-    for (int ch = 0; ch < 3; ch++)
-        rec[ch] = dl * dcmf[ch * SPM_TRUTH_BINS + db];
-    if (nspec) { /* the bin holding b: its share of the bin's mean, L / (pdf bin width) */
-        for (uint b = 0; b < nspec; b++)
-            rec[3 + b] = 0.0f;
-        rec[3 + db / (SPM_TRUTH_BINS / nspec)] = dl / (float)(SPM_TRUTH_BINS / nspec);
-    }
+    disp_record(dl, db, dcmf, out, nspec);
+    for (uint c = 0; c < 3 + nspec; c++)
+        rec[c] = out[c];
     return 1;
 }
+
 #endif
 
 #ifdef SPM_SHADE_L0_NV

@@ -1,8 +1,9 @@
 #!/bin/bash
 # Dispersive glass (docs/METHODS.md "Dispersion"):
-#  1. scenes/prism.scene and sf11_sphere.scene are what tools/gen_meshes.py
-#     --dispersion writes; both render in every mode on both backends, with
-#     their glass in view (the glass made black changes the image);
+#  1. scenes/prism.scene, sf11_sphere.scene and prism_wall.scene are what
+#     tools/gen_meshes.py --dispersion writes; the first two render in every
+#     mode on both backends, with their glass in view (the glass made black
+#     changes the image); prism_wall is tests/cli_light_prism.sh's;
 #  2. deviation, closed form: in the prism's .spectral.exr at 1 nm (truth),
 #     the image column of the slit at 450, 550 and 650 nm (the bins
 #     [450, 451) nm ...) against the column where Snell's law with N-BK7's
@@ -30,7 +31,7 @@ for f in "$T"/gen/*.scene; do
     n=$((n + 1))
     check "$(basename "$f") is committed as generated" cmp -s "$f" "$DATA/scenes/$(basename "$f")"
 done
-check "gen_meshes.py --dispersion wrote 2 scenes ($n)" test "$n" -eq 2
+check "gen_meshes.py --dispersion wrote 3 scenes ($n)" test "$n" -eq 3
 R=(--quiet --width 40 --height 24 --spp 4 --seed 3)
 for b in prism sf11_sphere; do
     f="$DATA/scenes/$b.scene"

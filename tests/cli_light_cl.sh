@@ -52,6 +52,9 @@ sed 's/^camera position \(.*\) fov 40$/camera position \1 fov 40 aperture 0.05 f
 echo "light point 0.3 0.4 0.3 equal 5" >> "$T/lens.scene"
 check "the lens scene has its lens" grep -q "aperture 0.05" "$T/lens.scene"
 same_as_reference lens "$T/lens.scene" 16 --mode ml
+# a spot light whose intensity falls off across its cone
+grep -v '^light point' "$DATA/bench/peers/point_spot.scene" > "$T/spot.scene"
+same_as_reference spot "$T/spot.scene" 16 --mode ml
 "$BIN" render "$SPIKY" --integrator light --width 32 --height 32 --spp 8 --seed 5 --quiet \
     -o "$T/sp.spectral.exr"
 check "spectral EXR, OpenCL: exit 0" test $? -eq 0
@@ -80,9 +83,9 @@ check "two devices: each rendered a pass" \
 check "two devices: the pixels of one, bit for bit" same_pixels "$T/one.exr" "$T/two.exr"
 
 # The reference's refusals hold on the device, with their reasons.
-"$BIN" render "$DATA/scenes/prism.scene" --integrator light --width 8 --height 8 --spp 1 \
+"$BIN" render "$DATA/scenes/fluorescent.scene" --integrator light --width 8 --height 8 --spp 1 \
     -o "$T/no.exr" 2> "$T/no.err"
-check "dispersive glass, OpenCL: exit 2" test $? -eq 2
-check "dispersive glass, OpenCL: says why" grep -q "does not commit to a wavelength" "$T/no.err"
-check "dispersive glass, OpenCL: nothing written" test ! -e "$T/no.exr"
+check "fluorescence, OpenCL: exit 2" test $? -eq 2
+check "fluorescence, OpenCL: says why" grep -q "fluorescence along a light subpath" "$T/no.err"
+check "fluorescence, OpenCL: nothing written" test ! -e "$T/no.exr"
 finish

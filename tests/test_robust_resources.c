@@ -5,6 +5,7 @@
  * the device: a batch's records over a small device's largest buffer, a
  * scene over it, and a sum over the global memory. Also the batch sizing. */
 #include "cl_resources.h"
+#include "film_splat.h"
 #include "render_plan.h"
 #include "testutil.h"
 #include <string.h>
@@ -103,6 +104,27 @@ int main(void)
           fms.batch_paths, fs.batch_paths);
     t.materials = NULL;
     t.nmaterials = 300;
+
+    /* the light integrator's buffers on top (host/opencl/cl_light.c): a
+     * chunk's pixel words and splat list, per pixel and channel the 64-bit
+     * sums and the pass image; a device that holds the path tracer's render
+     * but not them refuses the light tracer's */
+    spm_cl_footprint fl = f, fls = fs;
+    spm_cl_footprint_add_light(&fl, npix, npix, 3);
+    size_t light = SPM_SPLAT_CHUNK * (SPM_MAX_DEPTH + 1) * sizeof(spm_u32) +
+                   2 * SPM_SPLAT_CHUNK * (sizeof(spm_u32) + 3 * sizeof(float)) +
+                   npix * 3 * (sizeof(int64_t) + sizeof(float));
+    CHECK(fl.total == f.total + light, "light: %zu bytes, the path tracer's %zu + %zu", fl.total,
+          f.total, light);
+    spm_cl_device mid = device(2.0, (double)(f.total + light / 2) / 1073741824.0);
+    CHECK(spm_cl_footprint_check(&mid, &f, 1920, 1080, npix, &err) == 0, "path: %s", err.msg);
+    CHECK(spm_cl_footprint_check(&mid, &fl, 1920, 1080, npix, &err) != 0, "light not refused");
+    /* 1 nm spectral (403 channels) at 1920x1080: 6.7 GB of sums, over one buffer's 2 GB */
+    spm_cl_footprint_add_light(&fls, npix, npix, 403);
+    CHECK(spm_cl_footprint_check(&pocl, &fls, 1920, 1080, npix, &err) != 0 &&
+              strstr(err.msg, "splat sums"),
+          "spectral light: %s", err.msg);
+    printf("%s\n", err.msg);
 
     /* a pass smaller than a batch is one batch of its own size */
     spm_cl_footprint_of(&g, &t, 256 * 256, 256 * 256, &f4k);

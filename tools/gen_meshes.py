@@ -102,7 +102,7 @@ usage: gen_meshes.py OUTDIR [BIG_TRIANGLES]
        gen_meshes.py --coated OUTDIR
        gen_meshes.py --glass OUTDIR   (glass.scene, glass_deep.scene)
        gen_meshes.py --materials OUTDIR   (materials.scene, materials_sphere.ply)
-       gen_meshes.py --dispersion OUTDIR   (prism.scene, sf11_sphere.scene)"""
+       gen_meshes.py --dispersion OUTDIR   (prism.scene, sf11_sphere.scene, prism_wall.scene)"""
 import base64, json, math, os, struct, sys
 
 # cube [0,2]^3, faces as quads (a b c d) counter-clockwise seen from outside
@@ -1200,6 +1200,69 @@ def slit_quad():
     return q
 
 
+PRISM_WALL_HEAD = """# Prism on a wall: a narrow spot light (a cone of half-angle %(cone)g degrees)
+# shines on a %(apex)g-degree prism of Schott N-SF11 (n from 1.819 at 450 nm
+# to 1.777 at 650 nm) turned for minimum deviation at 550 nm, which throws
+# the light's spectrum onto a white wall: 450 to 650 nm spread over 45
+# pixels, violet farthest from the light's own direction. The camera looks at the
+# wall only (the prism and the light are outside its view), so all it sees
+# arrives through the glass from a point-like source: next-event estimation
+# never finds it and a path tracer renders the wall black. Render it with
+# --integrator light: each subpath commits to one wavelength at the first
+# glass face (docs/METHODS.md "Dispersion"). tests/cli_light_prism.sh checks
+# where 450, 550 and 650 nm fall on the wall against Snell's law. Written by
+# tools/gen_meshes.py --dispersion (do not edit the objects here: regenerate).
+# Format: docs/SCENE_FORMAT.md.
+
+image 320 64
+spp 64
+camera position 0 0 0  direction 0 0 1  fov 30
+
+spectrum equal  equal
+
+material sf11  dielectric glass N-SF11
+material wall  reflect equal 0.8
+"""
+
+# the prism on a wall: its centre (x, z), side, apex, the spot's distance to
+# it and cone; the wall the plane z = WALL_Z (tests/cli_light_prism.sh reads
+# all of it back from the scene)
+PW_C, PW_SIDE, PW_APEX, PW_H = (-1.6, 2.0), 0.6, 60.0, 0.5
+PW_LIGHT, PW_CONE, PW_OUT, WALL_Z = 1.5, 0.3, 62.0, 5.0
+
+
+def prism_wall():
+    """The prism's triangles and the spot light's line. In the prism's frame
+    (u along the ray inside at minimum deviation, v towards the apex) the
+    faces meet at the apex (0, side / sqrt 3) and the base corners
+    (+-side / 2, -side / (2 sqrt 3)); the world's (x, z) is
+    centre + R(rot) (u, -v), rot putting the 550 nm exit ray at PW_OUT
+    degrees to +x; the light sits on the 550 nm entry ray, aimed at the
+    entry face's midpoint (the ray inside then runs parallel to the base,
+    halfway up)."""
+    n = 1.791  # N-SF11 near 550 nm: only where things stand, not a check
+    half = math.radians(PW_APEX / 2)
+    dev = math.asin(n * math.sin(half)) - half  # each face's deviation
+    rot = math.radians(PW_OUT) - dev
+    r = PW_SIDE / math.sqrt(3)
+    local = [(0.0, r), (-PW_SIDE / 2, -r / 2), (PW_SIDE / 2, -r / 2)]
+    xz = [(PW_C[0] + u * math.cos(rot) + v * math.sin(rot),
+           PW_C[1] + u * math.sin(rot) - v * math.cos(rot)) for u, v in local]
+    lo = [(x, -PW_H, z) for x, z in xz]
+    hi = [(x, PW_H, z) for x, z in xz]
+    tris = [(lo[0], lo[1], lo[2]), (hi[0], hi[1], hi[2])]
+    for k in range(3):
+        j = (k + 1) % 3
+        tris += [(lo[k], lo[j], hi[j]), (lo[k], hi[j], hi[k])]
+    c = (PW_C[0], 0.0, PW_C[1])
+    a = rot - dev  # the entry ray's direction, to the entry face's midpoint m
+    m = ((xz[0][0] + xz[1][0]) / 2, (xz[0][1] + xz[1][1]) / 2)
+    lx, lz = m[0] - PW_LIGHT * math.cos(a), m[1] - PW_LIGHT * math.sin(a)
+    light = 'light spot %.6f 0 %.6f  %.6f 0 %.6f  equal intensity 80 cone %g falloff 0\n' % (
+        lx, lz, m[0], m[1], PW_CONE)
+    return [outward(c, t) for t in tris], light
+
+
 def dispersion_scenes(out):
     paths = [os.path.join(out, 'prism.scene'), os.path.join(out, 'sf11_sphere.scene')]
     q = slit_quad()
@@ -1212,6 +1275,16 @@ def dispersion_scenes(out):
     s += '\n# in front: the N-SF11 sphere\n'
     s += sphere_mesh('sf11', (0.24, 0.111, 0.22), 0.11)
     w(paths[1], s)
+    tris, light = prism_wall()
+    wall = [(-3.0, -1.5, WALL_Z), (3.0, -1.5, WALL_Z), (3.0, 1.5, WALL_Z), (-3.0, 1.5, WALL_Z)]
+    behind = (0.0, 0.0, WALL_Z + 1.0)
+    s = PRISM_WALL_HEAD % {'cone': PW_CONE, 'apex': PW_APEX}
+    s += '\n# the prism\n' + tri_lines('sf11', tris)
+    s += '\n# the wall, facing the camera\n' + tri_lines(
+        'wall', [outward(behind, (wall[0], wall[1], wall[2])), outward(behind, (wall[0], wall[2], wall[3]))])
+    s += '\n# the spot light, aimed at the prism\n' + light
+    paths.append(os.path.join(out, 'prism_wall.scene'))
+    w(paths[2], s)
     return paths
 
 

@@ -35,7 +35,8 @@ The scene (docs/SCENE_FORMAT.md) is converted, not approximated:
     emitters, the intensity or irradiance per unit of the spectrum converted as an area
     light's radiance is, a POWER divided by 4 pi or the spot's falloff's solid angle;
   - the camera: `perspective`, the horizontal field of view (fov_axis x), up +y, box pixel
-    filter, `independent` sampler; the `path` integrator without a depth limit.
+    filter, `independent` sampler; the `path` integrator without a depth limit (with
+    --integrator light: `ptracer`, against specmip's --integrator light).
 Unsupported (an error, exit 2): `twosided` emitters, `background`, MiniLight files, mesh
 formats other than PLY/OBJ, `bind`.
 
@@ -595,6 +596,7 @@ def write_ply(path, tris):
 
 
 MAX_DEPTH = -1  # Mitsuba's path length limit (-1: none); --max-depth sets it
+INTEGRATOR = 'path'  # --integrator: path (Mitsuba's path) or light (its ptracer)
 
 
 def convert(sc, outdir, spp, seed, width=None):
@@ -608,7 +610,8 @@ def convert(sc, outdir, spp, seed, width=None):
     target = [pos[k] + d[k] for k in range(3)]
     scene = {
         'type': 'scene',
-        'integrator': {'type': 'path', 'max_depth': MAX_DEPTH},
+        'integrator': {'type': 'ptracer' if INTEGRATOR == 'light' else 'path',
+                       'max_depth': MAX_DEPTH},
         'sensor': {
             'type': 'perspective', 'fov': fov, 'fov_axis': 'x',
             # specmip's image x runs along dir x up (world +x to the right when looking
@@ -694,7 +697,7 @@ def absolute_copy(scene_path, out):
 
 def render_specmip(binary, scene_path, spp, seed, width, path, mode='truth'):
     cmd = [binary, 'render', scene_path, '--mode', mode, '--spp', str(spp), '--seed', str(seed),
-           '--quiet', '-o', path]
+           '--integrator', INTEGRATOR, '--quiet', '-o', path]
     if width:
         cmd += ['--width', str(width)]
     t0 = time.time()
@@ -808,6 +811,9 @@ def main():
     ap.add_argument('--max-depth', type=int, default=-1,
                     help="Mitsuba's max_depth (default -1: unlimited; specmip's record of 64 "
                          "vertices with a light sample at each is max_depth 65)")
+    ap.add_argument('--integrator', choices=('path', 'light'), default='path',
+                    help="path: Mitsuba's path against specmip's path tracer; light: Mitsuba's "
+                         "ptracer against specmip's --integrator light")
     ap.add_argument('--check-ior', action='store_true')
     ap.add_argument('--convert-only', action='store_true')
     ap.add_argument('--mitsuba-only', action='store_true',
@@ -815,8 +821,9 @@ def main():
     args = ap.parse_args()
     import mitsuba as mi
     mi.set_variant('scalar_spectral')
-    global MAX_DEPTH
+    global MAX_DEPTH, INTEGRATOR
     MAX_DEPTH = args.max_depth
+    INTEGRATOR = args.integrator
     if args.check_ior:
         sys.exit(check_ior())
     if not args.scenes:

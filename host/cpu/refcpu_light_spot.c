@@ -10,7 +10,7 @@
 /* f(theta) of a direction at cosine cos_l to the axis: 1 to b, 0 beyond c,
  * between them (c - theta) / (c - b) (linear), or of t = (cos_l - cos c) /
  * (cos b - cos c) the smoothstep t^2 (3 - 2 t) or the square t^2 */
-static float spot_falloff(const spm_emitter *e, float cos_l)
+float spm_ref_spot_falloff(const spm_emitter *e, float cos_l)
 {
     float cc = e->p[SPM_LIGHT_P_C], c = e->p[SPM_LIGHT_P_A], b = e->p[SPM_LIGHT_P_B];
     if (!(cos_l >= cc))
@@ -34,7 +34,7 @@ int spm_ref_light_sample_SPOT(const spm_geometry *g, const spm_material *mats,
     float d2;
     if (!spm_ref_light_toward(e, x, h, ls, &d2))
         return 0;
-    float f = spot_falloff(e, -v3_dot(ls->wi, &e->p[SPM_LIGHT_P_DIR]));
+    float f = spm_ref_spot_falloff(e, -v3_dot(ls->wi, &e->p[SPM_LIGHT_P_DIR]));
     if (!(f > 0.0f))
         return 0;
     if (!spm_ref_light_unblocked(g, x, ls->wi, hit, sqrtf(d2)))

@@ -107,4 +107,7 @@ int spm_ref_light_delta(spm_ref_lsample *ls, const spm_emitter *e, float g, floa
 void spm_ref_light_to_world(const float n[3], const float l[3], float out[3]);
 /* the ray sink's hook (refcpu.h spm_ref_rays): ray o + t d, what it asks */
 void spm_ref_record_ray(const float o[3], const float d[3], spm_u32 skip, spm_u32 emitter);
+/* A spot light's falloff f(theta) at cosine cos_l to its axis
+ * (refcpu_light_spot.c): the light tracer's intensity in a sampled direction. */
+float spm_ref_spot_falloff(const spm_emitter *e, float cos_l);
 #endif

@@ -60,8 +60,10 @@ static spm_u32 emission(const spm_geometry *g, const spm_material *mats, const s
                         const float d[3], float *scale, float *cos_o)
 {
     *cos_o = 1.0f;
-    if (e->kind != SPM_LIGHT_AREA) {
+    if (e->kind != SPM_LIGHT_AREA) { /* I, times a spot's falloff (it samples its whole cone) */
         *scale = e->p[SPM_LIGHT_P_SCALE];
+        if (e->kind == SPM_LIGHT_SPOT)
+            *scale *= spm_ref_spot_falloff(e, v3_dot(d, &e->p[SPM_LIGHT_P_DIR]));
         return e->colour;
     }
     const spm_tri *tr = &g->tris[e->tri];

@@ -153,35 +153,55 @@ static void lanes_to_bins(const spm_spec_map *map, const path_lanes *pl, int per
     }
 }
 
-/* A path committed to a wavelength (spm_shared.h SPM_VX_LAMBDA, at its
- * first dispersive vertex): shaded as one lane, its 1 nm bin b of every
- * colour (tab->nm1), in every mode; XYZ truth's weights at b times 1 / pdf,
- * and (ch > 3) the spectral bin holding b its share of that bin's mean.
- * Returns 0 for a path that did not commit. */
-static int committed(const spm_path *path, const spm_shade_table *tab, int ch, float *out)
+/* The first vertex of a path that committed it to a wavelength
+ * (spm_shared.h SPM_VX_LAMBDA): its index (nvert: none), *b the 1 nm bin and
+ * *iw 1 / its pdf. */
+static spm_u32 commit_vertex(const spm_path *path, spm_u32 *b, float *iw)
 {
-    spm_u32 b = SPM_NONE;
-    float iw = 0.0f;
-    for (spm_u32 j = 0; j < path->h.nvert && b == SPM_NONE; j++) {
-        b = SPM_VX_LAMBDA(path->x[j]);
-        iw = path->x[j].light;
+    for (spm_u32 j = 0; j < path->h.nvert; j++) {
+        *b = SPM_VX_LAMBDA(path->x[j]);
+        *iw = path->x[j].light;
+        if (*b != SPM_NONE)
+            return j;
     }
-    if (b == SPM_NONE)
-        return 0;
-    int idx = (int)b;
-    float w[3], L;
+    return path->h.nvert;
+}
+
+/* One lane, 1 nm bin b of every colour (tab->nm1), with truth's XYZ weights
+ * at b in w. */
+static lanes bin_lane(const spm_shade_table *tab, const int *idx, float w[3])
+{
     for (int c = 0; c < 3; c++)
-        w[c] = tab->nm1_w[(size_t)c * SPM_TRUTH_BINS + b];
-    lanes v = {tab->nm1, SPM_TRUTH_BINS, 1, &idx, {&w[0], &w[1], &w[2]}, NULL};
-    shade_lanes(path, &v, &L);
-    L *= iw;
-    lanes_to_xyz(&v, &L, out);
+        w[c] = tab->nm1_w[(size_t)c * SPM_TRUTH_BINS + (spm_u32)*idx];
+    return (lanes){tab->nm1, SPM_TRUTH_BINS, 1, idx, {&w[0], &w[1], &w[2]}, NULL};
+}
+
+/* Radiance L of bin b (already times 1 / pdf) into a record: XYZ, and
+ * (ch > 3) the spectral bin holding b its share of that bin's mean. */
+static void bin_record(const lanes *v, spm_u32 b, float L, int ch, float *out)
+{
+    lanes_to_xyz(v, &L, out);
     if (ch > 3) {
         int nb = ch - 3, wb = SPM_TRUTH_BINS / nb;
         for (int k = 0; k < nb; k++)
             out[3 + k] = 0.0f;
         out[3 + (int)b / wb] = L / (float)wb;
     }
+}
+
+/* A path committed to a wavelength (at its first dispersive vertex): shaded
+ * as one lane, its 1 nm bin b of every colour, in every mode, times 1 / pdf.
+ * Returns 0 for a path that did not commit. */
+static int committed(const spm_path *path, const spm_shade_table *tab, int ch, float *out)
+{
+    spm_u32 b = SPM_NONE;
+    float iw = 0.0f, w[3], L;
+    if (commit_vertex(path, &b, &iw) == path->h.nvert)
+        return 0;
+    int idx = (int)b;
+    lanes v = bin_lane(tab, &idx, w);
+    shade_lanes(path, &v, &L);
+    bin_record(&v, b, L * iw, ch, out);
     return 1;
 }
 
@@ -235,9 +255,11 @@ static void splat(const lanes *v, const spm_spec_map *map, const path_lanes *pl,
  * factor as a camera path applies it with the light's emission as the
  * vertex's emitter (vertex_apply, eye 1, into lanes of its own): W picks up
  * the factors of the vertices before and the splat is W f E[light] c_j. A
- * black vertex ends the walk. */
+ * black vertex ends the walk; so does vertex jc, where the subpath committed
+ * to a wavelength (committed_splats takes the splats from there). */
 static void shade_light_path(const spm_light_path *lp, const lanes *v, const spm_spec_map *map,
-                             const path_lanes *pl, int per_path, int ch, spm_splats *out)
+                             const path_lanes *pl, int per_path, int ch, spm_u32 jc,
+                             spm_splats *out)
 {
     float W[MAX_LANES], L[MAX_LANES];
     const spm_path *path = &lp->p;
@@ -249,7 +271,7 @@ static void shade_light_path(const spm_light_path *lp, const lanes *v, const spm
     }
     for (int l = 0; l < v->n; l++)
         W[l] = 1.0f;
-    for (spm_u32 j = 0; j < path->h.nvert; j++) {
+    for (spm_u32 j = 0; j < jc; j++) {
         if ((path->v[j].ids & 0xFFFFu) == SPM_NONE)
             return;
         for (int l = 0; l < v->n; l++)
@@ -257,6 +279,29 @@ static void shade_light_path(const spm_light_path *lp, const lanes *v, const spm
         spm_ref_vertex_apply(1, (int)SPM_VX_KIND(path->x[j]), &path->v[j], &path->x[j], v, W, L);
         if (lp->px[j + 1] != SPM_NONE)
             splat(v, map, pl, per_path, ch, L, lp->px[j + 1], out);
+    }
+}
+
+/* The splats of a subpath that committed to 1 nm bin b at vertex jc (its
+ * first dispersive vertex, 1 / pdf iw): the same walk from the light in one
+ * lane, bin b of every colour, whatever the mode, splatting from jc on, each
+ * times iw. The splats before jc do not depend on the wavelength: the mode's
+ * lanes keep them (docs/METHODS.md "Dispersion"). */
+static void committed_splats(const spm_light_path *lp, const spm_shade_table *tab, int ch,
+                             spm_u32 jc, spm_u32 b, float iw, spm_splats *out)
+{
+    const spm_path *path = &lp->p;
+    float W = 1.0f, L, w[3];
+    int idx = (int)b;
+    lanes v = bin_lane(tab, &idx, w);
+    for (spm_u32 j = 0; j < path->h.nvert; j++) {
+        if ((path->v[j].ids & 0xFFFFu) == SPM_NONE)
+            return;
+        L = 0.0f;
+        spm_ref_vertex_apply(1, (int)SPM_VX_KIND(path->x[j]), &path->v[j], &path->x[j], &v, &W,
+                             &L);
+        if (j >= jc && lp->px[j + 1] != SPM_NONE)
+            bin_record(&v, b, L * iw, ch, spm_splats_push(out, lp->px[j + 1]));
     }
 }
 
@@ -274,7 +319,13 @@ void spm_ref_shade_splats(const spm_mode_desc *m, const spm_shade_table *tabs,
             spm_ref_path_key(p, first + i, &pixel, &sample);
             v = hero_path(&tabs[0], spm_rng(p->seed, pixel, sample, SPM_DIM_HERO), &pl);
         }
-        shade_light_path(&paths[i], &v, maps ? &maps[slot] : NULL, &pl, m->per_path, ch, out);
+        spm_u32 b = SPM_NONE, jc = paths[i].p.h.nvert;
+        float iw = 0.0f;
+        if (tabs[0].nm1)
+            jc = commit_vertex(&paths[i].p, &b, &iw);
+        shade_light_path(&paths[i], &v, maps ? &maps[slot] : NULL, &pl, m->per_path, ch, jc, out);
+        if (jc < paths[i].p.h.nvert)
+            committed_splats(&paths[i], &tabs[0], ch, jc, b, iw, out);
     }
 }
 

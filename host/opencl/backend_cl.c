@@ -319,6 +319,9 @@ static int check_device(int device, const spm_render_plan *plan, int width, int 
     spm_cl_footprint fp;
     spm_cl_footprint_of_ch(plan->geom, plan->tables, (size_t)width * (size_t)height,
                            paths_per_pass, plan->pix_ch, &fp);
+    if (plan->integrator == SPM_INTEGRATOR_LIGHT)
+        spm_cl_footprint_add_light(&fp, (size_t)width * (size_t)height, paths_per_pass,
+                                   plan->pix_ch);
     spm_cl_device d;
     if (spm_cl_device_get(device, &d, err) || /* unknown index: lists the available ones */
         spm_cl_footprint_check(&d, &fp, width, height, paths_per_pass, err))

@@ -140,8 +140,8 @@ int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOT
         int rc = set_shade_args(r->k_shade[s], r->kname[s], &a, &i, err) ||
                  (r->mode->per_path && set_shade_path_args(r->k_shade[s], r->kname[s], &pa, &i, err)) ||
                  (r->pix_ch > 3 && set_shade_spec_args(r->k_shade[s], r->kname[s], &sa, &i, err)) ||
-                 (r->light ? set_splat_shade_args(r->k_shade[s], r->kname[s], &la, &i, err)
-                           : r->ndisp && set_shade_disp_args(r->k_shade[s], r->kname[s], &da, &i, err));
+                 (r->light && set_splat_shade_args(r->k_shade[s], r->kname[s], &la, &i, err)) ||
+                 (r->ndisp && set_shade_disp_args(r->k_shade[s], r->kname[s], &da, &i, err));
         if (rc || enqueue(r, r->k_shade[s], r->kname[s], 0, b->launch, &ev[s], err))
             return 1;
     }

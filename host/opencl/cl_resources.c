@@ -2,6 +2,7 @@
 #include "cl_resources.h"
 #include <stdio.h>
 #include "cl_buffers.h"
+#include "film_splat.h"
 #include "modes.h"
 #include "render_plan.h"
 #include "materials.h"
@@ -51,6 +52,21 @@ void spm_cl_footprint_of_ch(const spm_geometry *g, const spm_tables *t, size_t n
         add(&f, (size_t)SPM_NUM_LEVELS * 4 * (SPM_TRUTH_BINS + SPM_MAX_SPIKES + 1) * sizeof(float),
             "spectral bin maps", 1);
     *out = f;
+}
+
+void spm_cl_footprint_add_light(spm_cl_footprint *f, size_t npix, size_t paths_per_pass,
+                                int pix_ch)
+{
+    /* cl_light.c reserve_light: a chunk's pixel words (a slab per vertex and
+     * the light's own), its splat list at two splats a subpath, the 64-bit
+     * sums and the pass image */
+    size_t room = paths_per_pass < SPM_SPLAT_CHUNK ? paths_per_pass : SPM_SPLAT_CHUNK;
+    size_t cells = npix * (size_t)pix_ch;
+    add(f, room * (SPM_MAX_DEPTH + 1) * sizeof(spm_u32), "splat pixel words", 0);
+    add(f, 2 * room * sizeof(spm_u32), "splat pixels", 0);
+    add(f, 2 * room * (size_t)pix_ch * sizeof(float), "splat values", 0);
+    add(f, cells * sizeof(int64_t), "splat sums", 0);
+    add(f, cells * sizeof(float), "pass image", 0);
 }
 
 /* "1.50 GB" or "128.0 MB": a batch's buffers are well under a gigabyte. */

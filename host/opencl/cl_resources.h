@@ -46,6 +46,12 @@ void spm_cl_footprint_of(const spm_geometry *g, const spm_tables *t, size_t npix
 void spm_cl_footprint_of_ch(const spm_geometry *g, const spm_tables *t, size_t npix,
                             size_t paths_per_pass, int pix_ch, spm_cl_footprint *out);
 
+/* What the light integrator adds (--integrator light, host/opencl/cl_light.c):
+ * a chunk's pixel words and splat list (as first reserved: two splats a
+ * subpath; it grows when a chunk has more) and, per pixel and channel, the
+ * 64-bit fixed-point sums and the pass image. */
+void spm_cl_footprint_add_light(spm_cl_footprint *f, size_t npix, size_t paths_per_pass,
+                                int pix_ch);
 /* 0 if the footprint fits the device (each buffer within CL_DEVICE_MAX_MEM_ALLOC_SIZE,
  * the sum within CL_DEVICE_GLOBAL_MEM_SIZE), else fills err with what does not
  * fit, by how much, and what to do; width x height name the image. */

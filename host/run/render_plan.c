@@ -244,8 +244,6 @@ int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err)
         else if (p->tables->nfluor)
             why = "fluorescence along a light subpath (re-radiation in light-flow order) is "
                   "not implemented";
-        else if (tp->disperse)
-            why = "a light subpath does not commit to a wavelength at dispersive glass yet";
         else if (surface_textures(p->geom, p->tables->nmaterials))
             why = "a light subpath does not look up textures or opacity yet (its vertices "
                   "would carry the material's mean colour; a textured emission it does)";
