@@ -1203,7 +1203,7 @@ def slit_quad():
 PRISM_WALL_HEAD = """# Prism on a wall: a narrow spot light (a cone of half-angle %(cone)g degrees)
 # shines on a %(apex)g-degree prism of Schott N-SF11 (n from 1.819 at 450 nm
 # to 1.777 at 650 nm) turned for minimum deviation at 550 nm, which throws
-# the light's spectrum onto a white wall: 450 to 650 nm spread over 45
+# the light's spectrum onto a white wall: 450 to 650 nm spread over 36
 # pixels, violet farthest from the light's own direction. The camera looks at the
 # wall only (the prism and the light are outside its view), so all it sees
 # arrives through the glass from a point-like source: next-event estimation
@@ -1214,7 +1214,7 @@ PRISM_WALL_HEAD = """# Prism on a wall: a narrow spot light (a cone of half-angl
 # tools/gen_meshes.py --dispersion (do not edit the objects here: regenerate).
 # Format: docs/SCENE_FORMAT.md.
 
-image 320 64
+image 256 64
 spp 64
 camera position 0 0 0  direction 0 0 1  fov 30
 
