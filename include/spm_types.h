@@ -31,6 +31,7 @@ SPM_MATERIAL_TYPE(LAMBERT,
     .nparams = 1,
     .vertex_u32 = 0,
     .rng_dims = 0, /* the vertex's own cosine-lobe dimensions */
+    .connectable = 1,
     .define = "SPM_WITH_LAMBERT",
     .textured = 1)
 
@@ -51,6 +52,7 @@ SPM_MATERIAL_TYPE(CONDUCTOR,
     .nparams = 3,
     .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
     .rng_dims = 2, /* SPM_DIM_COND_M_A, SPM_DIM_COND_M_B */
+    .connectable = 1,
     .define = "SPM_WITH_CONDUCTOR",
     .smooth = 1, /* a faceted metal sphere shows its facets in every reflection */
     .fill = conductor_fill)
@@ -116,6 +118,7 @@ SPM_MATERIAL_TYPE(DIELECTRIC,
     .nparams = 6,
     .vertex_u32 = (int)(sizeof(spm_vertex_ext) / 4),
     .rng_dims = 4, /* SPM_DIM_DIEL_M_A, SPM_DIM_DIEL_M_B, SPM_DIM_DIEL_CHOICE, SPM_DIM_DIEL_LAMBDA */
+    .connectable = 1,
     .define = "SPM_WITH_DIELECTRIC",
     .smooth = 1, /* a faceted glass sphere shows its facets in every refraction */
     .fill = dielectric_fill,

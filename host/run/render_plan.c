@@ -172,15 +172,14 @@ static int rough_dielectric(const spm_tables *t)
     return 0;
 }
 
-/* A type whose vertex picks one of its terms by a random number (the coated
- * lobes, the rough diffuse terms, the fluorescent ones): its pdf is the
- * picked term's, not a function of the two directions that MIS can weigh
- * alike from both ends of a connected path. */
+/* A type whose descriptor is not `connectable` (its vertex picks one of its
+ * terms by a random number: the coated lobes, the rough diffuse terms, the
+ * fluorescent ones): the first in the scene, by keyword. */
 static const char *picking_type(const spm_tables *t)
 {
     for (int m = 0; m < t->nmaterials; m++) {
         spm_u32 tag = SPM_MAT_TAG(t->materials[m]);
-        if (tag != SPM_MAT_LAMBERT && tag != SPM_MAT_CONDUCTOR && tag != SPM_MAT_DIELECTRIC)
+        if (!spm_material_types[tag].connectable)
             return spm_material_types[tag].keyword ? spm_material_types[tag].keyword : "?";
     }
     return NULL;

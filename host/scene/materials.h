@@ -72,6 +72,10 @@ typedef struct {
      * colour refl, the trace stage records the texture's pick instead, from
      * the lifted grid or from a palette its derive makes (scene.h palette) */
     int textured;
+    /* 1: its density is a function of the two directions alone (no term
+     * picked per vertex by a random number), so MIS can weigh it alike from
+     * both ends of a connected path (--integrator bdpt) */
+    int connectable;
     /* The device material's type-specific part (mean, inv_mean, p[], ep[])
      * from the scene material; colour ids and tags are already set. NULL:
      * the generic fill (materials.c generic_fill: the numbers into their
