@@ -1,6 +1,6 @@
 /* The CSV loader: comments, CRLF, column choice, and one error per bad input
  * file naming the file and the line that its first comment line announces. */
-#include "csv.h"
+#include "spectrum.h"
 #include "testutil.h"
 #include <dirent.h>
 #include <stdlib.h>

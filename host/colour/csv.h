@@ -1,11 +1,10 @@
-/* CSV spectra files: first column wavelength in nm, one or more value columns.
+/* CSV tables of spectra: first column wavelength in nm, one or more value columns.
  * Lines starting with '#' are comments (provenance lines); the first
  * non-comment line is the header of column names. */
 #ifndef SPM_CSV_H
 #define SPM_CSV_H
 #include <stddef.h>
 #include "util.h"
-#include "spectrum.h"
 
 typedef struct {
     int ncols;        /* including the wavelength column */
@@ -13,23 +12,13 @@ typedef struct {
     size_t nrows;
     double *data;     /* nrows * ncols, row-major */
     int *line;        /* source line number of each row */
-    int header_line;  /* source line number of the header (added by the foundation) */
+    int header_line;  /* source line number of the header */
 } spm_csv;
 
 /* Errors name file and line: "path:LINE: problem". Returns 0 or fills err. */
 int spm_csv_load(const char *path, spm_csv *out, spm_error *err);
 void spm_csv_free(spm_csv *csv);
 
-/* Load one value column (by name; NULL = the only value column, an error if
- * there are several) as a spectrum of the given kind: checks wavelengths strictly
- * increasing, finite values, no negative values; errors as "path:LINE: ...". */
-int spm_spectrum_load(const char *path, const char *column, spm_kind kind,
-                      spm_spectrum *out, spm_error *err);
-
 /* Index of the value column called `name` (1..ncols-1), or -1. */
 int spm_csv_column(const spm_csv *csv, const char *name);
-/* Column `col` of a loaded table as a spectrum, with the checks of
- * spm_spectrum_load; `path` names the file in error messages. */
-int spm_spectrum_from_csv(const spm_csv *csv, int col, const char *path, spm_kind kind,
-                          spm_spectrum *out, spm_error *err);
 #endif

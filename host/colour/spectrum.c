@@ -168,6 +168,63 @@ double spm_spectrum_max(const spm_spectrum *s)
 
 /* ---- CIE 1931 weights ------------------------------------------------------ */
 
+/* Spectra from CSV tables: one value column, checked row by row so every
+ * error names its file and line. */
+int spm_spectrum_from_csv(const spm_csv *c, int col, const char *path, spm_kind kind,
+                          spm_spectrum *out, spm_error *err)
+{
+    size_t n = c->nrows;
+    double *wl = spm_xmalloc(n * sizeof *wl), *val = spm_xmalloc(n * sizeof *val);
+    int rc = 0;
+    for (size_t r = 0; r < n && !rc; r++) {
+        wl[r] = c->data[r * (size_t)c->ncols];
+        val[r] = c->data[r * (size_t)c->ncols + (size_t)col];
+        if (r > 0 && wl[r] <= wl[r - 1]) {
+            spm_errorf(err, "%s:%d: wavelengths must increase strictly (%g nm after %g nm)",
+                       path, c->line[r], wl[r], wl[r - 1]);
+            rc = 1;
+        } else if (val[r] < 0) {
+            spm_errorf(err, "%s:%d: negative %s %g in column %s", path, c->line[r],
+                       kind == SPM_KIND_EMISSION ? "emission" : "reflectance", val[r],
+                       c->names[col]);
+            rc = 1;
+        }
+    }
+    if (!rc) {
+        /* Coverage problems concern the whole column: report them at its first row. */
+        char what[1100];
+        snprintf(what, sizeof what, "%s:%d", path, c->line[0]);
+        rc = spm_spectrum_from_samples(wl, val, n, kind, what, out, err);
+    }
+    free(wl);
+    free(val);
+    return rc;
+}
+
+int spm_spectrum_load(const char *path, const char *column, spm_kind kind, spm_spectrum *out,
+                      spm_error *err)
+{
+    spm_csv c;
+    if (spm_csv_load(path, &c, err))
+        return 1;
+    int col = 1, rc = 0;
+    if (column) {
+        col = spm_csv_column(&c, column);
+        if (col < 0) {
+            spm_errorf(err, "%s:%d: no column named '%s'", path, c.header_line, column);
+            rc = 1;
+        }
+    } else if (c.ncols > 2) {
+        spm_errorf(err, "%s:%d: %d value columns (%s, %s, ...): choose one by name", path,
+                   c.header_line, c.ncols - 1, c.names[1], c.names[2]);
+        rc = 1;
+    }
+    if (!rc)
+        rc = spm_spectrum_from_csv(&c, col, path, kind, out, err);
+    spm_csv_free(&c);
+    return rc;
+}
+
 #define CMF_FILE "spectra/cie1931_2deg_cmf_1nm.csv"
 
 static int cmf_ready;

@@ -5,6 +5,7 @@
 #include <stddef.h>
 #include "spm_shared.h"
 #include "util.h"
+#include "csv.h"
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -38,6 +39,17 @@ void spm_spectrum_level(const spm_spectrum *s, int level, double *out);
 /* Mean of the spectrum over 380-780 nm (= mean of any level). */
 double spm_spectrum_mean(const spm_spectrum *s);
 double spm_spectrum_max(const spm_spectrum *s);
+
+/* Load one value column (by name; NULL = the only value column, an error if
+ * there are several) as a spectrum of the given kind: checks wavelengths strictly
+ * increasing, finite values, no negative values; errors as "path:LINE: ...". */
+int spm_spectrum_load(const char *path, const char *column, spm_kind kind,
+                      spm_spectrum *out, spm_error *err);
+
+/* Column `col` of a loaded table as a spectrum, with the checks of
+ * spm_spectrum_load; `path` names the file in error messages. */
+int spm_spectrum_from_csv(const spm_csv *csv, int col, const char *path, spm_kind kind,
+                          spm_spectrum *out, spm_error *err);
 
 /* CIE 1931 2-degree weights. cmf_truth[c][i] = integral over truth bin i of the
  * piecewise-linear CMF c (x, y, z), divided by the integral of y-bar over

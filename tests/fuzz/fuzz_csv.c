@@ -1,6 +1,6 @@
 /* libFuzzer harness: the spectrum CSV loader (host/colour/csv.c): the table, then
  * every column as a reflectance and as an emission spectrum. */
-#include "csv.h"
+#include "spectrum.h"
 #include "fuzz_input.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
