@@ -42,6 +42,67 @@ static inline void rt_scene_path(const char *name, char *path, size_t n)
         snprintf(path, n, "%s/scenes/%.200s", SPM_SOURCE_DIR, name);
 }
 
+/* Set by a test that renders one scene many times (strategies, seeds): the
+ * scene, its BVH and its tables (the pretest: most of a small render's time)
+ * are prepared once and kept while the scene file, size, threshold and light
+ * sampler stay the same; each render opens its own backends and plan. The
+ * scene file must not change under the same name while it is kept. */
+static int rt_keep_scene;
+static struct {
+    char path[1024];
+    int size, sampler, open;
+    double threshold;
+    spm_render_setup s;
+} rt_kept;
+
+static inline void rt_kept_free(void)
+{
+    if (rt_kept.open)
+        spm_render_setup_close(&rt_kept.s);
+    rt_kept.open = 0;
+}
+
+/* The set-up of cfg: kept (rt_keep_scene) or opened whole. */
+static inline int rt_setup_open(const spm_render_config *cfg, const rt_render_job *j,
+                                spm_render_setup *s, spm_error *err)
+{
+    if (!rt_keep_scene)
+        return spm_render_setup_open(cfg, s, err);
+    memset(s, 0, sizeof *s);
+    if (!rt_kept.open || strcmp(rt_kept.path, cfg->scene_path) || rt_kept.size != j->size ||
+        rt_kept.sampler != rt_light_sampler || rt_kept.threshold != j->threshold) {
+        rt_kept_free();
+        spm_render_config scene_only = *cfg;
+        scene_only.backend = spm_backend_kind_find("cpu");
+        if (spm_render_setup_open(&scene_only, &rt_kept.s, err)) {
+            spm_render_setup_close(&rt_kept.s);
+            return 1;
+        }
+        /* its backends and plan go; the scene, BVH and tables stay */
+        for (int i = 0; i < rt_kept.s.nb; i++)
+            rt_kept.s.b[i]->destroy(rt_kept.s.b[i]);
+        spm_render_plan_free(&rt_kept.s.plan);
+        rt_kept.s.nb = 0;
+        snprintf(rt_kept.path, sizeof rt_kept.path, "%s", cfg->scene_path);
+        rt_kept.size = j->size, rt_kept.sampler = rt_light_sampler;
+        rt_kept.threshold = j->threshold, rt_kept.open = 1;
+    }
+    s->scene = rt_kept.s.scene, s->geom = rt_kept.s.geom, s->tables = rt_kept.s.tables;
+    return spm_render_setup_backends(cfg, s, err);
+}
+
+static inline void rt_setup_close(spm_render_setup *s)
+{
+    if (!rt_keep_scene) {
+        spm_render_setup_close(s);
+        return;
+    }
+    for (int i = 0; i < s->nb; i++)
+        s->b[i]->destroy(s->b[i]);
+    spm_render_plan_free(&s->plan);
+    memset(s, 0, sizeof *s);
+}
+
 /* 0, or prints why and returns 1. */
 static inline int rt_render(const rt_render_job *j, rt_render_out *o, rt_inspect_fn inspect,
                             void *ctx)
@@ -67,9 +128,9 @@ static inline int rt_render(const rt_render_job *j, rt_render_out *o, rt_inspect
     spm_render_setup s;
     spm_error err;
     err.msg[0] = 0;
-    if (spm_render_setup_open(&cfg, &s, &err)) {
+    if (rt_setup_open(&cfg, j, &s, &err)) {
         printf("%s %s: set-up: %s\n", j->scene, spm_mode_name(j->mode), err.msg);
-        spm_render_setup_close(&s);
+        rt_setup_close(&s);
         return 1;
     }
     size_t npix = (size_t)j->size * (size_t)j->size;
@@ -97,7 +158,7 @@ static inline int rt_render(const rt_render_job *j, rt_render_out *o, rt_inspect
             inspect(&s, ctx);
     }
     spm_film_free(&film);
-    spm_render_setup_close(&s);
+    rt_setup_close(&s);
     return rc ? 1 : 0;
 }
 

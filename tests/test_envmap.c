@@ -415,6 +415,7 @@ static void test_strategies(void)
     snprintf(path, sizeof path, "%s/envmap_strat.scene", cwd);
     static const char *const names[3] = {NULL, "light", "lobe"};
     double mean[3][STRAT_SEEDS];
+    rt_keep_scene = 1; /* the scene's pretest once, not per strategy and seed */
     for (int st = 0; st < 3; st++)
         for (int k = 0; k < STRAT_SEEDS; k++) {
             if (names[st])
@@ -434,6 +435,8 @@ static void test_strategies(void)
             free(o.img.rgb);
         }
     unsetenv("SPECMIP_TEST_STRATEGY");
+    rt_kept_free();
+    rt_keep_scene = 0;
     for (int st = 1; st < 3; st++) {
         double s = 0.0, s2 = 0.0;
         for (int k = 0; k < STRAT_SEEDS; k++) {

@@ -115,12 +115,15 @@ static void compare(const char *scene, int sampler)
 
 int main(int argc, char **argv)
 {
+    rt_keep_scene = 1; /* each scene's pretest once, not per strategy and seed */
     if (argc > 1) { /* one scene of scenes/, by name */
         compare(argv[1], SPM_LIGHT_SAMPLER_POWER);
+        rt_kept_free();
         TEST_END();
     }
     compare("strategies.scene", SPM_LIGHT_SAMPLER_POWER);
     compare("strategies.scene", SPM_LIGHT_SAMPLER_TREE);
     compare("emissive_texture.scene", SPM_LIGHT_SAMPLER_POWER);
+    rt_kept_free();
     TEST_END();
 }
