@@ -32,6 +32,11 @@
 #define SPM_LTN_FLAGS 13 /* (bits) SPM_LTF_* */
 #define SPM_LTF_LEAF 1u
 #define SPM_LTF_TWOSIDED 2u
+/* the share of a node's power over distance it weighs at least, facing
+ * away or not (host/cpu/refcpu_light_tree.c): small, for the cones to steer
+ * the choice; enough that where both children face away from a point the
+ * float differences between devices move the pmf by ~1e-7 / 1e-3 */
+#define SPM_LTREE_FLOOR (1.0f / 1024.0f)
 /* the deepest a trail reaches */
 #define SPM_LTREE_MAX_DEPTH 64
 #endif

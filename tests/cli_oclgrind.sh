@@ -47,6 +47,27 @@ for run in "${RUNS[@]}"; do
     close_images "$name: Oclgrind vs PoCL" "$T/p.exr" "$T/o.exr"
 done
 
+# The light tree's walk (kernels/light_tree.clh) on a street of 128 lamps
+# (tools/lamp_street.sh), mixed power, walls that face both ways: Oclgrind's
+# log clean, and PoCL's two compilers (pthread, basic) and Oclgrind each as
+# the CPU reference (host/cpu/refcpu_light_tree.c) within the tolerance
+# between compilers. Every choice of the walk is a continuous function of
+# the shading point, so the float differences between them flip as few
+# paths as elsewhere (a fallback that switched at a threshold differed by
+# a mean dE00 of 0.17 on such a street).
+"$ROOT/tools/lamp_street.sh" 16 4 > "$T/street.scene"
+S=("$T/street.scene" --mode rgb --light-sampler tree --width 32 --height 18 --spp 2 --seed 9 --quiet)
+grind "light tree" "$T/og.log" "${S[@]}" -o "$T/tree-og.exr"
+check "light tree: Oclgrind's log is empty" test ! -s "$T/og.log"
+"$BIN" render "${S[@]}" --backend cpu -o "$T/tree-cpu.exr"
+check "light tree: CPU reference exit 0" test $? -eq 0
+for dev in pthread basic; do
+    POCL_DEVICES=$dev "$BIN" render "${S[@]}" -o "$T/tree-$dev.exr"
+    check "light tree: PoCL $dev exit 0" test $? -eq 0
+    close_images "light tree: PoCL $dev vs the CPU reference" "$T/tree-$dev.exr" "$T/tree-cpu.exr"
+done
+close_images "light tree: Oclgrind vs the CPU reference" "$T/tree-og.exr" "$T/tree-cpu.exr"
+
 # The light integrator's program (kernels/lighttrace.cl; hero: the shade
 # kernel's work-group set-up and the chunk's key offset), clean and as PoCL's.
 grind "light hero" "$T/og.log" "$DATA/scenes/cornell_spiky.scene" --integrator light --mode hero \

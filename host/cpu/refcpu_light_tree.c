@@ -37,14 +37,29 @@ static float sin_of(float c)
     return s2 > 0.0f ? sqrtf(s2) : 0.0f;
 }
 
-/* A node's importance to the shading point x of geometric normal n (pbrt-v4's
- * LightBounds::Importance): phi cos(theta') / d^2, theta' the least angle
- * between the point's direction from the box and the box's emitting cone
- * (theta_w - theta_o - theta_b, theta_b the box's angular radius from x), 0
- * beyond theta_e; times the bound cos(theta_i - theta_b) of the cosine at
- * the point (either face). d^2 is clamped to the box's squared half
- * diagonal, a length of the scene's own (pbrt-v4 clamps to half the
- * diagonal's length, which depends on the unit). */
+/* A node's weight for the shading point x of geometric normal n: pbrt-v4's
+ * LightBounds::Importance, phi / d^2 cos(theta') cos(theta_i'), made
+ * continuous in x, so that the float differences between devices move the
+ * pmf by as little and never flip a choice:
+ *  - theta' = max(0, theta_w - theta_o - theta_b), theta_w the angle from
+ *    the cone's axis to the direction from the box's centre to x, theta_b
+ *    the box's angular radius from x (sin theta_b = r / d); inside the box's
+ *    sphere theta_b goes on growing (sin theta_b = d / r, cos theta_b < 0)
+ *    to pi at the centre, where every direction counts, instead of jumping
+ *    there to "every direction" as pbrt-v4 does;
+ *  - the cosine falls to 0 at theta_e instead of jumping there: the factor
+ *    is (cos theta' - c) / (1 - c), c = max(0, cos theta_e), which is
+ *    pbrt-v4's clamped cos theta' wherever theta_e >= pi/2 (triangles);
+ *  - theta_i' = max(0, theta_i - theta_b), theta_i the angle to the
+ *    point's normal on either face;
+ *  - d^2 is clamped to the box's squared half diagonal, a length of the
+ *    scene's own (pbrt-v4 clamps to half the diagonal's length, which
+ *    depends on the unit);
+ *  - a floor of SPM_LTREE_FLOOR times the power over distance (the
+ *    unit-free phi / d^2): where both children's cones turn away from x
+ *    they still weigh by it, so every light with power keeps a pmf above 0
+ *    (no bias, the pmfs sum to 1) and no choice switches between
+ *    importance and power at a threshold. */
 static float importance(const float *nd, const float x[3], const float n[3])
 {
     float pc[3], d[3], h[3];
@@ -53,41 +68,31 @@ static float importance(const float *nd, const float x[3], const float n[3])
         d[k] = x[k] - pc[k];
         h[k] = nd[SPM_LTN_HI + k] - pc[k];
     }
-    float d2 = v3_dot(d, d), r2 = v3_dot(h, h), d2c = d2 > r2 ? d2 : r2, phi = nd[SPM_LTN_PHI];
+    float d2 = v3_dot(d, d), r2 = v3_dot(h, h), d2c = fmaxf(d2, r2), phi = nd[SPM_LTN_PHI];
     if (!(d2c > 0.0f))
         return phi;
-    if (d2 <= r2) /* inside the box's sphere: every direction */
-        return phi / d2c;
-    float inv = 1.0f / sqrtf(d2), wi[3] = {d[0] * inv, d[1] * inv, d[2] * inv};
+    float inv = d2 > 0.0f ? 1.0f / sqrtf(d2) : 0.0f, wi[3] = {d[0] * inv, d[1] * inv, d[2] * inv};
     float cos_w = v3_dot(&nd[SPM_LTN_W], wi);
     if (word(&nd[SPM_LTN_FLAGS]) & SPM_LTF_TWOSIDED)
         cos_w = fabsf(cos_w);
-    float cos_b = sqrtf(1.0f - r2 / d2), sin_b = sin_of(cos_b);
+    float sin_b = sqrtf(fminf(d2, r2) / d2c), cos_b = copysignf(sin_of(sin_b), d2 - r2);
     float cos_o = nd[SPM_LTN_COS_O], sin_o = sin_of(cos_o), sin_w = sin_of(cos_w);
     float cos_x = cos_w > cos_o ? 1.0f : cos_w * cos_o + sin_w * sin_o;
     float sin_x = cos_w > cos_o ? 0.0f : sin_w * cos_o - cos_w * sin_o;
-    float cos_p = cos_sub(sin_x, cos_x, sin_b, cos_b);
-    if (cos_p <= nd[SPM_LTN_COS_E])
-        return 0.0f;
-    float cos_i = fabsf(v3_dot(wi, n));
-    float imp = phi * cos_p / d2c * cos_sub(sin_of(cos_i), cos_i, sin_b, cos_b);
-    return imp > 0.0f ? imp : 0.0f;
+    float cos_p = cos_sub(sin_x, cos_x, sin_b, cos_b), cos_i = fabsf(v3_dot(wi, n));
+    float cos_ib = cos_sub(sin_of(cos_i), cos_i, sin_b, cos_b);
+    float ce = fmaxf(nd[SPM_LTN_COS_E], 0.0f);
+    float f = fmaxf(cos_p - ce, 0.0f) / (1.0f - ce) * fmaxf(cos_ib, 0.0f);
+    return phi / d2c * (SPM_LTREE_FLOOR + (1.0f - SPM_LTREE_FLOOR) * f);
 }
 
 /* The weights of inner node i's children (the first at i + 1, the second at
- * next) at x: their importance, or where both bound it 0 (their cones turn
- * away from x though the parent's looser one does not), their power, so the
- * pmfs still sum to 1 (the light then drawn gives nothing). */
+ * next) at x */
 static void child_weights(const float *lt, spm_u32 i, spm_u32 next, const float x[3],
                           const float n[3], float *c0, float *c1)
 {
-    const float *a = node_at(lt, i + 1u), *b = node_at(lt, next);
-    *c0 = importance(a, x, n);
-    *c1 = importance(b, x, n);
-    if (!(*c0 + *c1 > 0.0f)) {
-        *c0 = a[SPM_LTN_PHI];
-        *c1 = b[SPM_LTN_PHI];
-    }
+    *c0 = importance(node_at(lt, i + 1u), x, n);
+    *c1 = importance(node_at(lt, next), x, n);
 }
 
 /* the probability of child `bit` of a node whose children weigh c0, c1 */
@@ -125,7 +130,7 @@ int spm_ref_ltree_pick(const spm_geometry *g, const float x[3], const float n[3]
         const float *nd = node_at(lt, i);
         if (word(&nd[SPM_LTN_FLAGS]) & SPM_LTF_LEAF) {
             *pmf = p;
-            return i > 0u || importance(nd, x, n) > 0.0f ? (int)word(&nd[SPM_LTN_NEXT]) : -1;
+            return (int)word(&nd[SPM_LTN_NEXT]);
         }
         spm_u32 next = word(&nd[SPM_LTN_NEXT]);
         float c0, c1;
@@ -153,7 +158,7 @@ float spm_ref_ltree_pmf(const spm_geometry *g, const float x[3], const float n[3
     for (spm_u32 i = 0;; trail >>= 1) {
         const float *nd = node_at(lt, i);
         if (word(&nd[SPM_LTN_FLAGS]) & SPM_LTF_LEAF)
-            return i > 0u || importance(nd, x, n) > 0.0f ? p : 0.0f;
+            return p;
         spm_u32 next = word(&nd[SPM_LTN_NEXT]), bit = (spm_u32)(trail & 1u);
         float c0, c1;
         child_weights(lt, i, next, x, n, &c0, &c1);

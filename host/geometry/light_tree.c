@@ -39,7 +39,10 @@ int spm_light_placed(spm_u32 kind)
 
 /* a light's bounds: a triangle's box about its face normal (theta_o 0,
  * theta_e pi/2; all around when two-sided), a point's (theta_o pi), a
- * spot's axis with theta_o its beam, theta_e its falloff band */
+ * spot's axis with theta_o its beam, theta_e its falloff band (at least
+ * LT_MIN_BAND: the walk's weight falls to 0 over theta_e, continuously) */
+#define LT_MIN_BAND 0.02 /* radians */
+
 static void light_bounds(const spm_geometry *g, const spm_material *mats, int i, lbounds *b)
 {
     const spm_emitter *e = &g->emitters[i];
@@ -69,7 +72,7 @@ static void light_bounds(const spm_geometry *g, const spm_material *mats, int i,
         b->w[k] = e->p[SPM_LIGHT_P_DIR + k];
     double beam = e->p[SPM_LIGHT_P_B], cone = e->p[SPM_LIGHT_P_A];
     b->cos_o = cos(beam);
-    b->cos_e = cos(fmin(cone - beam, M_PI));
+    b->cos_e = cos(fmin(fmax(cone - beam, LT_MIN_BAND), M_PI));
 }
 
 static double clampd(double x, double lo, double hi)
