@@ -7,7 +7,6 @@
  * checked again in the importer's child (mesh_import.c). */
 #include "mesh.h"
 #include "json.h"
-#include "mesh_gltf.h"
 #include "paths.h"
 #include <ctype.h>
 #include <stdlib.h>
@@ -142,6 +141,14 @@ static double index_of(const spm_json *obj, const char *key, size_t n)
     return v->number;
 }
 
+/* A byte count or offset member of obj: def when absent, -1 when not a
+ * number. */
+static double bytes_of(const spm_json *obj, const char *key, double def)
+{
+    const spm_json *v = spm_json_get(obj, key);
+    return !v ? def : v->type == SPM_JSON_NUMBER ? v->number : -1;
+}
+
 static size_t count(const spm_json *doc, const char *key)
 {
     const spm_json *a = spm_json_get(doc, key);
@@ -180,9 +187,9 @@ static int gltf_image(const spm_json *doc, const spm_json *img, const char *wher
     }
     const spm_json *view = &spm_json_get(doc, "bufferViews")->items[(size_t)v];
     double b = index_of(view, "buffer", count(doc, "buffers"));
-    double off = spm_mesh_gltf_num(view, "byteOffset", 0), len = spm_mesh_gltf_num(view, "byteLength", -1);
-    double size = b >= 0 ? spm_mesh_gltf_num(&spm_json_get(doc, "buffers")->items[(size_t)b],
-                                             "byteLength", -1) : -1;
+    double off = bytes_of(view, "byteOffset", 0), len = bytes_of(view, "byteLength", -1);
+    double size = b >= 0 ? bytes_of(&spm_json_get(doc, "buffers")->items[(size_t)b],
+                                    "byteLength", -1) : -1;
     if (b < 0 || !(off >= 0 && len > 0 && size >= 0 && off + len <= size)) {
         spm_errorf(err, "%s.bufferView %g: bytes %g to %g of buffer %g of %g bytes: not within "
                         "it", where, v, off, off + len, b, size);
