@@ -130,18 +130,20 @@ scene map.obj; refused "child: MTL map outside" "'../outside/tex.png'" "map.obj:
 
 # 4. No reader under host/scene/ opens a file but through the rule: the
 # openers below appear only on the lines listed (each takes a checked spm_file)
-openers='(^|[^_a-z])fopen\(|spm_fopen_input\(|[^_a-z]open\(|ImageInput::open|aiImportFile|spm_csv_load\(|spm_spectrum_load\(|spm_fluor_load_donaldson\(|spm_texture_mean_file\(|spm_texture_read_file\(|spm_texture_read_alpha_file\(|spm_texture_read_channel_file\(|spm_lex_open\('
+openers='(^|[^_a-z])fopen\(|spm_fopen_input\(|[^_a-z]open\(|ImageInput::open|aiImportFile|spm_csv_load\(|spm_spectrum_load\(|spm_fluor_load_donaldson\(|spm_texture_mean_file\(|spm_texture_read_file\(|spm_texture_read_alpha_file\(|spm_texture_read_channel_file\(|spm_texture_read\(|spm_texture_read_one\(|spm_lex_open\('
 allowed=(
     'mesh_import.c:.*aiImportFileEx\(file->path, aiProcess_Triangulate, &io\)'
-    'texture_io.cpp:.*ImageInput::open\(file->path(, unassociated\(\))?\)'
-    'texture_io.cpp:.*ImageInput::open\(hint, nullptr, &mem\)'
+    'texture_io.cpp:.*ImageInput::open\(src->file->path, unassoc' # a file checked by its caller
+    'texture_io.cpp:.*ImageInput::open\(std::string\("embedded."\)' # bytes in memory
+    'texture_io.cpp:.*return spm_texture_read(_one)?\(&src,' # the _file forms: their callers'
     'mesh_texture.c:.*spm_texture_mean_file\(&file,'
-    'mesh_texture.c:.*spm_texture_read_file\(&f, &rgb,' # the parent's, the path checked again
+    'mesh_texture.c:.*spm_texture_read\(&src, SPM_IMAGE_COLOUR,' # spm_mesh_map_image: a path checked again, or bytes
+    'mesh_nmap.c:.*spm_texture_read\(&src, SPM_IMAGE_DATA,' # the same
     'mesh_texture_io.cpp:.*spm_texture_read_file\(file, &rgb,'
     'scene_texture.c:.*spm_texture_read_file\(&f, &rgb,'
     'scene_texture.c:.*spm_texture_read_alpha_file\(&x->file, 0, &a,' # checked at the statement
-    'mesh_alpha.c:.*spm_texture_read_alpha_file\(&f, m->alpha_map' # the parent's, checked again
-    'mesh_metalrough.c:.*spm_texture_read_channel_file\(&f, c,' # the parent's, checked again
+    'mesh_alpha.c:.*spm_texture_read_one\(&src, base,' # spm_mesh_map_image, as above
+    'mesh_metalrough.c:.*spm_texture_read_one\(&src, -1 - c,' # the same
     'envmap.c:.*spm_texture_read_file\(f, &rgb,'
     'scene_parse.c:.*spm_spectrum_load\(d->file.path,'
     'scene_parse.c:.*spm_fluor_load_donaldson\(path.path,'

@@ -143,4 +143,56 @@ for e in 1 1e-37 1e37; do
   [ $rc -eq 0 ] && [ ! -s "$T/err" ] && ok || bad "emission $e: rc $rc, stderr: $(cat "$T/err")"
 done
 
+# 9. Images embedded in a glTF (tools/gltf_embed.py packs the model of
+#    tools/make_textured_gltf.py, then one field is spoilt): an image's
+#    bufferView out of range or past its buffer, one without a mimeType, a
+#    mimeType that is no MIME type, a data: URI of bad base64 or cut short
+#    exit 2 naming the file and the field; bytes that are no image render
+#    with a warning naming the map that falls back to its factor.
+mkdir -p "$T/emb"
+python3 "$ROOT/tools/make_textured_gltf.py" "$T/emb" && python3 "$ROOT/tools/gltf_embed.py" \
+  "$T/emb/board_mr.gltf" "$T/emb/mr.glb" && python3 "$ROOT/tools/gltf_embed.py" \
+  "$T/emb/board_mr.gltf" "$T/emb/mr_data.gltf" || bad "embedded models not written"
+spoil() {  # spoil NAME.EXT PYTHON: the packed model with doc (its JSON) changed
+  python3 - "$T/emb" "$1" "$2" <<'PY'
+import json, struct, sys
+folder, name, change = sys.argv[1:]
+glb = name.endswith(".glb")
+raw = open(folder + ("/mr.glb" if glb else "/mr_data.gltf"), "rb").read()
+doc = json.loads(raw[20:20 + struct.unpack("<I", raw[12:16])[0]] if glb else raw)
+exec(change)
+js = json.dumps(doc).encode()
+if glb:
+    js += b" " * (-len(js) % 4)
+    n = struct.unpack("<I", raw[12:16])[0]
+    rest = raw[20 + n:]
+    js = struct.pack("<III", 0x46546C67, 2, 20 + len(js) + len(rest)) + \
+        struct.pack("<II", len(js), 0x4E4F534A) + js + rest
+open(folder + "/" + name, "wb").write(js)
+PY
+}
+embedded_bad() {  # embedded_bad NAME.EXT PYTHON EXPECTED-TEXT
+  spoil "$1" "$2" || { bad "$1: not written"; return; }
+  printf 'image 4 4\ncamera position 0 0 -2 direction 0 0 1 fov 40\nspectrum flat equal
+background both flat 1\nmesh %s\n' "$1" > "$T/emb/$1.scene"
+  expect_bad "$1" "$1" "$BIN" render "$T/emb/$1.scene" --backend cpu --spp 1 -o "$T/emb/o.exr"
+  grep -qF -- "$3" "$T/err" && ok || bad "$1: does not say '$3': $(head -c 300 "$T/err")"
+}
+embedded_bad view.glb 'doc["images"][0]["bufferView"] = 99' \
+  "images[0].bufferView: not the index of one of the file's"
+embedded_bad past.glb 'doc["bufferViews"][doc["images"][1]["bufferView"]]["byteLength"] += 10**6' \
+  "images[1].bufferView"
+embedded_bad nomime.glb 'del doc["images"][0]["mimeType"]' "images[0]: an image in bufferView"
+embedded_bad mime.glb 'doc["images"][0]["mimeType"] = "png"' "images[0].mimeType: 'png' is not a MIME type"
+embedded_bad b64.gltf 'u = doc["images"][0]["uri"]; doc["images"][0]["uri"] = u[:40] + "!" + u[41:]' \
+  "images[0].uri: a data: URI whose base64 has '!'"
+embedded_bad cut.gltf 'doc["images"][1]["uri"] = doc["images"][1]["uri"][:-3]' \
+  "images[1].uri: a data: URI whose base64 is"
+spoil junk.gltf 'import base64; doc["images"][1]["uri"] = "data:image/png;base64," + base64.b64encode(b"no image at all").decode()'
+printf 'image 4 4\ncamera position 0 0 -2 direction 0 0 1 fov 40\nspectrum flat equal
+background both flat 1\nmesh junk.gltf\n' > "$T/emb/junk.scene"
+"$BIN" render "$T/emb/junk.scene" --backend cpu --spp 1 -o "$T/emb/o.exr" 2> "$T/err"; rc=$?
+[ $rc -eq 0 ] && grep -q "junk.gltf: material 'board_mr': metallic-roughness map '\*1' not applied" "$T/err" &&
+  ! grep -q "not read for this map yet" "$T/err" && ok || bad "an embedded image that is no image: rc $rc, no warning naming the map: $(cat "$T/err")"
+
 finish

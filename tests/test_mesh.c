@@ -577,12 +577,68 @@ static void check_pbr_rows(void)
 
 /* ---- the answer's decoder ---- */
 
+/* Embedded images after the lights: their bytes and hints as encoded, a
+ * map's reference checked against their count, sizes against the total. */
+static void check_decode_images(spm_mesh_data *d)
+{
+    static const unsigned char png[5] = {0x89, 'P', 'N', 'G', 1}, jpg[3] = {0xff, 0xd8, 0xff};
+    spm_mesh_image imgs[3] = {{sizeof png, "png", png}, {0, "", NULL}, {sizeof jpg, "jpg", jpg}};
+    spm_mesh_data out;
+    spm_error err;
+    size_t n;
+    d->images = imgs;
+    d->nimages = 3;
+    d->mats[1].texture_embed = 3;
+    d->mats[0].nmap_embed = 1;
+    unsigned char *buf = spm_mesh_encode(d, &n);
+    unsigned char *copy = spm_xmalloc(n);
+    memcpy(copy, buf, n);
+    CHECK(spm_mesh_decode(copy, n, "x", &out, &err) == 0 && out.nimages == 3 &&
+              out.images[0].size == 5 && !memcmp(out.images[0].data, png, 5) &&
+              out.images[1].size == 0 && !strcmp(out.images[2].hint, "jpg") &&
+              out.images[2].size == 3 && !memcmp(out.images[2].data, jpg, 3) &&
+              out.mats[1].texture_embed == 3 && out.nlights == 2 &&
+              !strcmp(out.lights[1].name, "sun") && ((uintptr_t)out.images & 7) == 0,
+          "embedded images decode as encoded, after the lights");
+    spm_mesh_free(&out);
+    uint32_t fields[] = {offsetof(spm_mesh_material, texture_embed),
+                         offsetof(spm_mesh_material, etexture_embed),
+                         offsetof(spm_mesh_material, mr_embed),
+                         offsetof(spm_mesh_material, nmap_embed)};
+    int32_t beyond = 4, negative = -1;
+    for (size_t i = 0; i < 8; i++) {
+        copy = spm_xmalloc(n);
+        memcpy(copy, buf, n);
+        memcpy(copy + SPM_MESH_WIRE_HEAD + fields[i / 2], i % 2 ? &negative : &beyond, 4);
+        CHECK(spm_mesh_decode(copy, n, "x", &out, &err) != 0,
+              "a map naming embedded image %d of 3 refused (field %zu)", i % 2 ? -1 : 4, i / 2);
+        free(copy);
+    }
+    size_t at_images = n - sizeof png - sizeof jpg - 3 * sizeof(spm_mesh_image);
+    uint64_t big = 7, total = 9;
+    copy = spm_xmalloc(n);
+    memcpy(copy, buf, n);
+    memcpy(copy + at_images, &big, 8);
+    CHECK(spm_mesh_decode(copy, n, "x", &out, &err) != 0, "image sizes over the total refused");
+    free(copy);
+    copy = spm_xmalloc(n);
+    memcpy(copy, buf, n);
+    memcpy(copy + 40, &total, 8);
+    CHECK(spm_mesh_decode(copy, n, "x", &out, &err) != 0, "image bytes announced but not sent "
+                                                          "refused");
+    free(copy);
+    free(buf);
+    d->mats[1].texture_embed = d->mats[0].nmap_embed = 0;
+    d->images = NULL;
+    d->nimages = 0;
+}
+
 static void check_decode(void)
 {
     spm_mesh_material mats[2] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}, .emission = {0, 0, 0}},
                                  {.name = "b", .diffuse = {1, 0, 0}, .emission = {0, 0, 0}}};
     spm_mesh_tri tris[2] = {{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1}, {{{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}, 0}};
-    spm_mesh_data d = {0, 2, 2, mats, tris, NULL, NULL, NULL, "", NULL, 0}, out;
+    spm_mesh_data d = {0, 2, 2, mats, tris, NULL, NULL, NULL, "", NULL, 0, 0, NULL}, out;
     spm_error err;
     size_t n;
     unsigned char *buf = spm_mesh_encode(&d, &n);
@@ -647,7 +703,10 @@ static void check_decode(void)
     uint32_t more = 3;
     copy = spm_xmalloc(n);
     memcpy(copy, buf, n);
-    memcpy(copy + n - sizeof(spm_mesh_light) + offsetof(spm_mesh_light, type), &bad_type, 4);
+    size_t at_lights = SPM_MESH_WIRE_HEAD + 2 * (sizeof(spm_mesh_material) + sizeof(spm_mesh_tri) +
+                                                 sizeof(spm_mesh_normals) + sizeof(spm_mesh_uvs));
+    memcpy(copy + at_lights + sizeof(spm_mesh_light) + offsetof(spm_mesh_light, type), &bad_type,
+           4);
     CHECK(spm_mesh_decode(copy, n, "x", &out, &err) != 0, "a light of an unknown type refused");
     free(copy);
     copy = spm_xmalloc(n);
@@ -656,6 +715,7 @@ static void check_decode(void)
     CHECK(spm_mesh_decode(copy, n, "x", &out, &err) != 0, "lights announced but not sent refused");
     free(copy);
     free(buf);
+    check_decode_images(&d);
 }
 
 /* ---- building ---- */
@@ -704,7 +764,7 @@ static void check_build_normals(void)
     spm_mesh_material mats[1] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}}};
     spm_mesh_tri tris[1] = {{{{1, 0, 0}, {1, 1, 0}, {1, 0, 1}}, 0}}; /* front face +x */
     spm_mesh_normals nrm[1] = {{{{1, 1, 0}, {1, 0, 0}, {1, 0, 1}}}};
-    spm_mesh_data d = {0, 1, 1, mats, tris, nrm, NULL, NULL, "", NULL, 0};
+    spm_mesh_data d = {0, 1, 1, mats, tris, nrm, NULL, NULL, "", NULL, 0, 0, NULL};
     spm_error err;
     spm_quiet_warnings = 1;
     struct {
@@ -741,7 +801,7 @@ static void check_build_normals(void)
     }
     /* normals against the winding: turned to the front face */
     spm_mesh_normals back[1] = {{{{-1, 0, 0}, {-1, 0, 0}, {-1, 0, 0}}}};
-    spm_mesh_data db = {0, 1, 1, mats, tris, back, NULL, NULL, "", NULL, 0};
+    spm_mesh_data db = {0, 1, 1, mats, tris, back, NULL, NULL, "", NULL, 0, 0, NULL};
     bscene x;
     bs_open(&x);
     spm_mesh_opts o;
@@ -755,7 +815,7 @@ static void check_build_normals(void)
     bs_close(&x);
     /* a zero normal: that triangle is flat */
     spm_mesh_normals zero[1] = {{{{1, 0, 0}, {0, 0, 0}, {1, 0, 0}}}};
-    spm_mesh_data dz = {0, 1, 1, mats, tris, zero, NULL, NULL, "", NULL, 0};
+    spm_mesh_data dz = {0, 1, 1, mats, tris, zero, NULL, NULL, "", NULL, 0, 0, NULL};
     bs_open(&x);
     identity(&o);
     o.material = x.grey;
@@ -774,7 +834,7 @@ static void check_build(void)
                             {{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, 1}, /* collinear */
                             {{{0, 0, 0}, {0, 0, 0}, {0, 1, 0}}, 1}, /* coincident */
                             {{{0, 0, 3}, {1, 0, 3}, {0, 1, 3}}, 1}};
-    spm_mesh_data d = {0, 3, 4, mats, tris, NULL, NULL, NULL, "", NULL, 0};
+    spm_mesh_data d = {0, 3, 4, mats, tris, NULL, NULL, NULL, "", NULL, 0, 0, NULL};
     spm_error err;
     spm_quiet_warnings = 1;
 
@@ -823,7 +883,7 @@ static void check_build(void)
     identity(&o);
     spm_mesh_transform(scale, axis, 90, tr, o.m);
     o.material = x.grey;
-    spm_mesh_data one = {0, 3, 1, mats, tris, NULL, NULL, NULL, "", NULL, 0};
+    spm_mesh_data one = {0, 3, 1, mats, tris, NULL, NULL, NULL, "", NULL, 0, 0, NULL};
     rc = spm_mesh_add(&x.b, &x.cache, &one, &o, "m", "t", &err);
     /* 1e-6: cos 90 degrees in double is 6e-17, times coordinates of 2 */
     CHECK(rc == 0 && fabsf(x.s.tris[0].p[0][0]) < 1e-6f && x.s.tris[0].p[0][1] == 2.0f &&
@@ -880,7 +940,7 @@ static void check_build(void)
     bs_close(&x);
 
     /* all degenerate: an error, not an empty mesh */
-    spm_mesh_data degen = {0, 3, 2, mats, tris + 1, NULL, NULL, NULL, "", NULL, 0};
+    spm_mesh_data degen = {0, 3, 2, mats, tris + 1, NULL, NULL, NULL, "", NULL, 0, 0, NULL};
     bs_open(&x);
     identity(&o);
     rc = spm_mesh_add(&x.b, &x.cache, &degen, &o, "m", "t", &err);

@@ -40,14 +40,15 @@ def srgb_decode(c):
     return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
 
 
-def png(path, w, h, pixel):
-    """An 8-bit RGB PNG of w x h, pixel(x, y) its sRGB codes (y from the top)."""
+def png(path, w, h, pixel, channels=3):
+    """An 8-bit RGB (or RGBA: channels 4) PNG of w x h, pixel(x, y) its sRGB
+    codes (y from the top)."""
     raw = b"".join(b"\0" + bytes(v for x in range(w) for v in pixel(x, y)) for y in range(h))
     def chunk(tag, data):
         return (struct.pack(">I", len(data)) + tag + data +
                 struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF))
     with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2 if channels == 3 else 6, 0, 0, 0)) +
                 chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
@@ -125,6 +126,7 @@ def main(folder):
          ["board_base.png"],
          ["KHR_materials_emissive_strength"])
     metal_roughness(folder, board, square)
+    all_maps(folder, board, square)
 
 
 def metal_roughness(folder, board, square):
@@ -143,6 +145,26 @@ def metal_roughness(folder, board, square):
         "baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicRoughnessTexture": {"index": 0}}}
     gltf(folder + "/mr_furnace.gltf", [(board, square, 0)], [grey], ["furnace_mr.png"])
 
+
+def all_maps(folder, board, square):
+    """maps.gltf: the board with every map a glTF material may give beside
+    the emissive one (blocks_lamp.gltf has that) — a base colour with alpha
+    (board_rgba.png: the blocks, the right column's alpha 0, alphaMode MASK),
+    board_mr.png as its metallic-roughness texture and a normal map of tilted
+    stripes (board_nmap.png); tools/gltf_embed.py packs it as a GLB and with
+    data: URIs for tests/cli_gltf_embedded.sh."""
+    n = 4 * BLOCK
+    png(folder + "/board_rgba.png", n, n,
+        lambda x, y: CODES[(y // BLOCK) * 4 + x // BLOCK] + ((0,) if x >= 3 * BLOCK else (255,)),
+        channels=4)
+    png(folder + "/board_nmap.png", n, n,
+        lambda x, y: (200, 128, 230) if (x // 4) % 2 else (56, 128, 230))
+    mats = [{"name": "maps_board", "alphaMode": "MASK", "alphaCutoff": 0.5,
+             "normalTexture": {"index": 2, "scale": 1},
+             "pbrMetallicRoughness": {"baseColorTexture": {"index": 0},
+                                      "metallicRoughnessTexture": {"index": 1}}}]
+    gltf(folder + "/maps.gltf", [(board, square, 0)], mats,
+         ["board_rgba.png", "board_mr.png", "board_nmap.png"])
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:

@@ -6,6 +6,7 @@
 #define SPM_MESH_H
 #include "scene_build.h"
 #include "paths.h"
+#include "texture.h"
 #include <stddef.h>
 #include <stdint.h>
 
@@ -106,6 +107,10 @@ typedef struct {
     float nmap_scale;
     char nmap_name[96];
     char nmap_file[SPM_PATH_MAX];
+    /* An image embedded in the file (a GLB's bufferView, a data: URI) that a
+     * map names instead of a file: 1 + its index in spm_mesh_data.images,
+     * 0 none (the base colour's also feeds SPM_MESH_AMAP_BASE). */
+    int32_t texture_embed, etexture_embed, mr_embed, nmap_embed;
 } spm_mesh_material;
 enum { SPM_MESH_MRMAP_NONE = 0, SPM_MESH_MRMAP_FILE = 1, SPM_MESH_MRMAP_EMBEDDED = 2 };
 /* none; glTF normalTexture or OBJ norm; OBJ bump or map_Bump (a normal map
@@ -130,6 +135,19 @@ enum {
 /* spm_mesh_material.texture: none; diffuse is the factor times the
  * texture's mean; the texture could not be read, diffuse is the factor */
 enum { SPM_MESH_TEX_NONE = 0, SPM_MESH_TEX_MEAN = 1, SPM_MESH_TEX_UNREAD = 2 };
+
+/* An image embedded in a model, as its file's bytes (PNG, JPEG...) that the
+ * maps naming it read as they read a file: its size, the format's extension
+ * ("png", "jpg", terminated), its bytes (filled in by spm_mesh_decode: on
+ * the wire the bytes follow the images' records, in order; size 0 for an
+ * image no map reads). */
+typedef struct {
+    uint64_t size;
+    char hint[8];
+    const unsigned char *data;
+} spm_mesh_image;
+#define SPM_MESH_MAX_IMAGES 4096
+#define SPM_MESH_MAX_IMAGE_BYTES (1ull << 30)
 
 /* A triangle in file coordinates, node transforms applied, in the file's
  * winding (mirroring node transforms already compensated). */
@@ -178,18 +196,23 @@ typedef struct {
     char extensions[512];      /* a glTF's extensionsUsed that are not rendered, ", "-separated */
     spm_mesh_light *lights;    /* a glTF's lights (NULL: none) */
     uint32_t nlights;
+    uint32_t nimages;          /* the file's embedded images (NULL: none) */
+    spm_mesh_image *images;
 } spm_mesh_data;
 
 /* The child's answer on its pipe (mesh_wire.c): a header of this many bytes
- * (magic, status, ignored, nmats, ntris as 64 bits, flags, nlights), the
- * materials, the triangles, with SPM_MESH_WIRE_NORMALS in flags one
- * spm_mesh_normals per triangle, then with SPM_MESH_WIRE_UVS one
- * spm_mesh_uvs per triangle, then nlights spm_mesh_light. */
-#define SPM_MESH_WIRE_HEAD 32
+ * (magic, status, ignored, nmats, ntris as 64 bits, flags, nlights,
+ * nimages, a spare word, the images' bytes as 64 bits), the materials, the
+ * triangles, with SPM_MESH_WIRE_NORMALS in flags one spm_mesh_normals per
+ * triangle, then with SPM_MESH_WIRE_UVS one spm_mesh_uvs per triangle, then
+ * nlights spm_mesh_light, nimages spm_mesh_image and the images' bytes. */
+#define SPM_MESH_WIRE_HEAD 48
 #define SPM_MESH_WIRE_NORMALS 1u
 #define SPM_MESH_WIRE_UVS 2u
-/* The answer's size for these counts and flags (0 for unknown flags). */
-size_t spm_mesh_wire_size(uint32_t nmats, uint64_t ntris, uint32_t flags, uint32_t nlights);
+/* The answer's size for these counts and flags (0 for unknown flags or
+ * counts over their limits). */
+size_t spm_mesh_wire_size(uint32_t nmats, uint64_t ntris, uint32_t flags, uint32_t nlights,
+                          uint32_t nimages, uint64_t image_bytes);
 
 /* Imports `file` in a child process (a PLY file of triangles or strips: by
  * mesh_ply.c, in this process). The files it names are checked first
@@ -256,12 +279,20 @@ struct aiScene;
 struct aiMaterial;
 int spm_mesh_alpha_read(const struct aiMaterial *m, const char *model, spm_mesh_material *out,
                         spm_error *refused);
-int spm_mesh_alpha_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
-                        int has_uvs, const char *mwhere, spm_error *err);
+int spm_mesh_alpha_bind(spm_scene_builder *b, const spm_mesh_data *d, const spm_mesh_material *m,
+                        int material, const char *mwhere, spm_error *err);
 /* An image a material names (Assimp's path, Windows separators taken as
  * '/'), relative to the model's folder, checked by the path rule: 0, or 1
  * with *refused filled (mesh_alpha.c; the opacity, metallic-roughness and normal maps). */
 int spm_mesh_image_check(const char *ref, const char *model, spm_file *file, spm_error *refused);
+
+/* The image a map names, for the parent's binding: the embedded image
+ * embed - 1 of d (embed > 0), else the file `file` (checked again by
+ * the path rule; f holds it). 0 with *src, or 1 with why filled
+ * (mesh_texture.c). */
+int spm_mesh_map_image(const spm_mesh_data *d, int32_t embed, const char *file,
+                       const char *mwhere, spm_file *f, spm_image_src *src, char *why,
+                       size_t whylen);
 
 /* glTF's metallic-roughness map (mesh_metalrough.c). In the importer's
  * child: the metallicRoughnessTexture's name and path (beside the model,
@@ -272,8 +303,8 @@ int spm_mesh_image_check(const char *ref, const char *model, spm_file *file, spm
  * texture coordinates, is warned about and the factors alone are used. */
 int spm_mesh_mix_read(const struct aiMaterial *m, const char *model, spm_mesh_material *out,
                       spm_error *refused);
-int spm_mesh_mix_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
-                      int has_uvs, const char *mwhere, spm_error *err);
+int spm_mesh_mix_bind(spm_scene_builder *b, const spm_mesh_data *d, const spm_mesh_material *m,
+                      int material, const char *mwhere, spm_error *err);
 
 /* A material's normal map (mesh_nmap.c), as spm_mesh_alpha_read and
  * spm_mesh_alpha_bind do opacity: read in the child (2 with *refused when the
@@ -282,8 +313,8 @@ int spm_mesh_mix_bind(spm_scene_builder *b, const spm_mesh_material *m, int mate
  * warned about by name). */
 int spm_mesh_nmap_read(const struct aiMaterial *m, const char *model, spm_mesh_material *out,
                        spm_error *refused);
-int spm_mesh_nmap_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
-                       int has_uvs, const char *mwhere, spm_error *err);
+int spm_mesh_nmap_bind(spm_scene_builder *b, const spm_mesh_data *d, const spm_mesh_material *m,
+                       int material, const char *mwhere, spm_error *err);
 
 /* A file material bound to a scene material. */
 typedef struct {

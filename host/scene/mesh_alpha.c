@@ -82,24 +82,17 @@ int spm_mesh_alpha_read(const struct aiMaterial *m, const char *model, spm_mesh_
 
 /* The map's values into the scene: 1 + its index, 0 when the image has no
  * alpha channel (a base colour image: opaque), -1 with why filled. */
-static int bind_map(spm_scene_builder *b, const spm_mesh_material *m, const char *mwhere,
-                    char *why, size_t whylen)
+static int bind_map(spm_scene_builder *b, const spm_mesh_data *d, const spm_mesh_material *m,
+                    const char *mwhere, char *why, size_t whylen)
 {
-    const char *path = m->alpha_map == SPM_MESH_AMAP_BASE ? m->texture_file : m->alpha_file;
+    int base = m->alpha_map == SPM_MESH_AMAP_BASE;
     spm_file f;
-    spm_error e;
+    spm_image_src src;
     float *a = NULL;
     int w, h;
-    if (!path[0]) {
-        snprintf(why, whylen, "the alpha of embedded images is not read yet");
-        return -1;
-    }
-    if (spm_path_check_joined(path, mwhere, &f, &e)) {
-        snprintf(why, whylen, "%.290s", e.msg);
-        return -1;
-    }
-    if (spm_texture_read_alpha_file(&f, m->alpha_map == SPM_MESH_AMAP_BASE, &a, &w, &h, why,
-                                    whylen))
+    if (spm_mesh_map_image(d, base ? m->texture_embed : 0, base ? m->texture_file : m->alpha_file,
+                           mwhere, &f, &src, why, whylen) ||
+        spm_texture_read_one(&src, base, &a, &w, &h, why, whylen))
         return -1;
     if (!a)
         return 0;
@@ -108,8 +101,8 @@ static int bind_map(spm_scene_builder *b, const spm_mesh_material *m, const char
     return 1 + i;
 }
 
-int spm_mesh_alpha_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
-                        int has_uvs, const char *mwhere, spm_error *err)
+int spm_mesh_alpha_bind(spm_scene_builder *b, const spm_mesh_data *d, const spm_mesh_material *m,
+                        int material, const char *mwhere, spm_error *err)
 {
     if (!m->alpha_mode || !(m->alpha_factor >= 0.0f && m->alpha_factor <= 1.0f) ||
         !(m->alpha_cutoff >= 0.0f && m->alpha_cutoff <= 1.0f))
@@ -121,8 +114,8 @@ int spm_mesh_alpha_bind(spm_scene_builder *b, const spm_mesh_material *m, int ma
     proto.alpha_factor = m->alpha_factor;
     char why[300] = "";
     if (m->alpha_map != SPM_MESH_AMAP_NONE) {
-        int a = has_uvs ? bind_map(b, m, mwhere, why, sizeof why) : -1;
-        if (!has_uvs)
+        int a = d->uvs ? bind_map(b, d, m, mwhere, why, sizeof why) : -1;
+        if (!d->uvs)
             snprintf(why, sizeof why, "the mesh has no texture coordinates");
         if (a < 0)
             spm_warnf("%s: opacity map '%s' not applied (%s): the opacity is %g throughout",

@@ -199,15 +199,15 @@ static int bind_materials(spm_scene_builder *b, spm_mesh_cache *cache, const spm
             return 1;
         map[i] = spm_mesh_map_material(b, m, r, e, scale, mwhere, err);
         if (map[i] >= 0)
-            map[i] = spm_mesh_texture_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
+            map[i] = spm_mesh_texture_bind(b, d, m, map[i], mwhere, err);
         if (map[i] >= 0)
-            map[i] = spm_mesh_etexture_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
+            map[i] = spm_mesh_etexture_bind(b, d, m, map[i], mwhere, err);
         if (map[i] >= 0)
-            map[i] = spm_mesh_alpha_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
+            map[i] = spm_mesh_alpha_bind(b, d, m, map[i], mwhere, err);
         if (map[i] >= 0)
-            map[i] = spm_mesh_mix_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
+            map[i] = spm_mesh_mix_bind(b, d, m, map[i], mwhere, err);
         if (map[i] >= 0)
-            map[i] = spm_mesh_nmap_bind(b, m, map[i], d->uvs != NULL, mwhere, err);
+            map[i] = spm_mesh_nmap_bind(b, d, m, map[i], mwhere, err);
         if (map[i] < 0)
             return 1;
     }

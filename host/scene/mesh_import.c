@@ -310,6 +310,10 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
         return 1;
     if (spm_mesh_mix_read(m, file->path, out, refused))
         return 1;
+    if (out->mr_map == SPM_MESH_MRMAP_EMBEDDED)
+        out->mr_embed = spm_mesh_embedded(sc, out->mr_name);
+    if (out->nmap && !out->nmap_file[0])
+        out->nmap_embed = spm_mesh_embedded(sc, out->nmap_name);
     for (int type = 1; type <= AI_TEXTURE_TYPE_MAX; type++) {
         if (aiGetMaterialTextureCount(m, (enum aiTextureType)type) > 0 &&
             uv_transformed(m, (enum aiTextureType)type))
@@ -476,6 +480,47 @@ static rlim_t child_limits(pid_t parent)
     return as_bytes;
 }
 
+/* The records of the file's embedded images: the bytes of each that a map of
+ * a used material reads (a compressed image: PNG, JPEG...), size 0 for the
+ * others, which are ignored textures unless a material's colour took their
+ * mean (texture_name). */
+static spm_mesh_image *child_images(const struct aiScene *sc, const spm_mesh_material *mats,
+                                    const unsigned char *used, uint32_t *ignored, writer *w)
+{
+    uint64_t total = 0;
+    if (sc->mNumTextures > SPM_MESH_MAX_IMAGES)
+        child_fail(w, "more than 4096 embedded images");
+    spm_mesh_image *imgs = calloc(sc->mNumTextures + 1, sizeof *imgs);
+    if (!imgs)
+        child_fail(w, "out of memory");
+    for (unsigned i = 0; i < sc->mNumTextures; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "embedded image %u", i);
+        int32_t e = (int32_t)i + 1;
+        int read = 0, base = 0;
+        for (unsigned j = 0; j < sc->mNumMaterials; j++) {
+            const spm_mesh_material *m = &mats[j];
+            read |= used[j] && (m->texture_embed == e || m->etexture_embed == e ||
+                                m->mr_embed == e || m->nmap_embed == e);
+            base |= used[j] && ((m->texture && !strcmp(m->texture_name, name)) ||
+                                (m->etexture && !strcmp(m->etexture_name, name)));
+        }
+        const struct aiTexture *t = sc->mTextures[i];
+        if (read && t && t->mHeight == 0) {
+            imgs[i].size = t->mWidth;
+            imgs[i].data = (const unsigned char *)t->pcData;
+            snprintf(imgs[i].hint, sizeof imgs[i].hint, "%.7s",
+                     t->achFormatHint[0] ? t->achFormatHint : "png");
+            total += t->mWidth;
+        }
+        if (!read && !base)
+            *ignored |= SPM_MESH_IGN_TEXTURES;
+    }
+    if (total > SPM_MESH_MAX_IMAGE_BYTES)
+        child_fail(w, "embedded images of more than 1 GiB");
+    return imgs;
+}
+
 static void child_main(const spm_file *file, int fd, pid_t parent)
 {
     const char *path = file->shown;
@@ -545,17 +590,7 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
         if (m->mNumBones || m->mNumAnimMeshes)
             k.ignored |= SPM_MESH_IGN_ANIMATION;
     }
-    /* embedded images other than the base-colour and emissive ones are ignored textures */
-    for (unsigned i = 0; i < sc->mNumTextures; i++) {
-        char name[32];
-        snprintf(name, sizeof name, "embedded image %u", i);
-        int base = 0;
-        for (unsigned j = 0; j < sc->mNumMaterials; j++)
-            base |= k.used[j] && ((mats[j].texture && !strcmp(mats[j].texture_name, name)) ||
-                                  (mats[j].etexture && !strcmp(mats[j].etexture_name, name)));
-        if (!base)
-            k.ignored |= SPM_MESH_IGN_TEXTURES;
-    }
+    spm_mesh_image *imgs = child_images(sc, mats, k.used, &k.ignored, &w);
     if (sc->mNumCameras)
         k.ignored |= SPM_MESH_IGN_CAMERAS;
     if (sc->mNumLights && !spm_mesh_gltf_is(path))
@@ -564,12 +599,15 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
         k.ignored |= SPM_MESH_IGN_LIGHT_RANGE;
     if (sc->mNumAnimations)
         k.ignored |= SPM_MESH_IGN_ANIMATION;
+    uint32_t flags = (normals ? SPM_MESH_WIRE_NORMALS : 0u) | (uvs ? SPM_MESH_WIRE_UVS : 0u);
     uint32_t h[SPM_MESH_WIRE_HEAD / 4] = {
-        0x4d4d5053u, 0, k.ignored, sc->mNumMaterials, 0, 0,
-        (normals ? SPM_MESH_WIRE_NORMALS : 0u) | (uvs ? SPM_MESH_WIRE_UVS : 0u),
-        (uint32_t)nlights};
-    uint64_t n = k.count;
+        0x4d4d5053u, 0, k.ignored, sc->mNumMaterials, 0, 0, flags, (uint32_t)nlights,
+        sc->mNumTextures};
+    uint64_t n = k.count, nb = 0;
+    for (unsigned i = 0; i < sc->mNumTextures; i++)
+        nb += imgs[i].size;
     memcpy(&h[4], &n, sizeof n);
+    memcpy(&h[10], &nb, sizeof nb);
     w_put(&w, h, sizeof h);
     w_put(&w, mats, sc->mNumMaterials * sizeof *mats);
     k.emit = 1;
@@ -586,6 +624,16 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
         walk_node(&k, sc->mRootNode, id, 0);
     }
     w_put(&w, lights, (size_t)nlights * sizeof *lights);
+    /* the images' records at a multiple of 8, then their bytes */
+    size_t end = sizeof h + sc->mNumMaterials * sizeof *mats +
+                 n * (sizeof(spm_mesh_tri) + (normals ? sizeof(spm_mesh_normals) : 0) +
+                      (uvs ? sizeof(spm_mesh_uvs) : 0)) +
+                 (size_t)nlights * sizeof *lights;
+    static const unsigned char zeros[8];
+    w_put(&w, zeros, spm_mesh_wire_size(sc->mNumMaterials, n, flags, (uint32_t)nlights, 0, 0) - end);
+    w_put(&w, imgs, sc->mNumTextures * sizeof *imgs);
+    for (unsigned i = 0; i < sc->mNumTextures; i++)
+        w_put(&w, imgs[i].data, imgs[i].size);
     w_flush(&w);
     _exit(w.failed ? 3 : 0);
 }
@@ -705,14 +753,16 @@ int spm_mesh_import(const spm_file *file, spm_mesh_data *out, spm_error *err)
         }
         have += (size_t)k;
         if (!buf && have == sizeof head) {
-            uint32_t status, nmats, flags, nlights;
-            uint64_t ntris;
+            uint32_t status, nmats, flags, nlights, nimages;
+            uint64_t ntris, image_bytes;
             memcpy(&status, head + 4, 4);
             memcpy(&nmats, head + 12, 4);
             memcpy(&ntris, head + 16, 8);
             memcpy(&flags, head + 24, 4);
             memcpy(&nlights, head + 28, 4);
-            size_t size = spm_mesh_wire_size(nmats, ntris, flags, nlights);
+            memcpy(&nimages, head + 32, 4);
+            memcpy(&image_bytes, head + 40, 8);
+            size_t size = spm_mesh_wire_size(nmats, ntris, flags, nlights, nimages, image_bytes);
             if (status != 0)
                 want = max_err;
             else if (nmats <= SPM_MESH_MAX_MATERIALS && ntris <= SPM_SCENE_MAX_TRIS)

@@ -39,38 +39,33 @@ int spm_mesh_mix_read(const struct aiMaterial *m, const char *model, spm_mesh_ma
 }
 
 /* channel c of the map as a one-byte map: 1 + its index, or -1 with why */
-static int bind_channel(spm_scene_builder *b, const char *path, int c, const char *mwhere,
-                        char *why, size_t whylen)
+static int bind_channel(spm_scene_builder *b, const spm_mesh_data *d, const spm_mesh_material *m,
+                        int c, const char *mwhere, char *why, size_t whylen)
 {
     spm_file f;
-    spm_error e;
+    spm_image_src src;
     float *a = NULL;
     int w, h;
-    if (spm_path_check_joined(path, mwhere, &f, &e)) {
-        snprintf(why, whylen, "%.290s", e.msg);
-        return -1;
-    }
-    if (spm_texture_read_channel_file(&f, c, &a, &w, &h, why, whylen))
+    if (spm_mesh_map_image(d, m->mr_embed, m->mr_file, mwhere, &f, &src, why, whylen) ||
+        spm_texture_read_one(&src, -1 - c, &a, &w, &h, why, whylen))
         return -1;
     int i = spm_sb_alpha_pixels(b, a, w, h, SPM_WRAP_REPEAT, SPM_WRAP_REPEAT);
     free(a);
     return 1 + i;
 }
 
-int spm_mesh_mix_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
-                      int has_uvs, const char *mwhere, spm_error *err)
+int spm_mesh_mix_bind(spm_scene_builder *b, const spm_mesh_data *d, const spm_mesh_material *m,
+                      int material, const char *mwhere, spm_error *err)
 {
     spm_scene_material proto = b->s->materials[material];
     if (!proto.mix_metal || m->mr_map == SPM_MESH_MRMAP_NONE)
         return material;
     char why[300] = "";
     int mm = -1, rm = -1;
-    if (!has_uvs)
+    if (!d->uvs)
         snprintf(why, sizeof why, "the mesh has no texture coordinates");
-    else if (m->mr_map == SPM_MESH_MRMAP_EMBEDDED)
-        snprintf(why, sizeof why, "an embedded image: not read for this map yet");
-    else if ((mm = bind_channel(b, m->mr_file, 2, mwhere, why, sizeof why)) > 0)
-        rm = bind_channel(b, m->mr_file, 1, mwhere, why, sizeof why);
+    else if ((mm = bind_channel(b, d, m, 2, mwhere, why, sizeof why)) > 0)
+        rm = bind_channel(b, d, m, 1, mwhere, why, sizeof why);
     if (rm < 0) {
         spm_warnf("%s: metallic-roughness map '%s' not applied (%s): metallic %g and "
                   "roughness %g throughout",

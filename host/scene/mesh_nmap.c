@@ -46,22 +46,15 @@ int spm_mesh_nmap_read(const struct aiMaterial *m, const char *model, spm_mesh_m
 
 /* the image's texels into the scene: 1 + its index, 0 when a bump map's
  * image is grey (a height map), -1 with why filled */
-static int bind_map(spm_scene_builder *b, const spm_mesh_material *m, const char *mwhere,
-                    char *why, size_t whylen)
+static int bind_map(spm_scene_builder *b, const spm_mesh_data *d, const spm_mesh_material *m,
+                    const char *mwhere, char *why, size_t whylen)
 {
     spm_file f;
-    spm_error e;
+    spm_image_src src;
     float *rgb;
     int w, h;
-    if (!m->nmap_file[0]) {
-        snprintf(why, whylen, "embedded images are not read as normal maps yet");
-        return -1;
-    }
-    if (spm_path_check_joined(m->nmap_file, mwhere, &f, &e)) {
-        snprintf(why, whylen, "%.290s", e.msg);
-        return -1;
-    }
-    if (spm_texture_read_data_file(&f, &rgb, &w, &h, why, whylen))
+    if (spm_mesh_map_image(d, m->nmap_embed, m->nmap_file, mwhere, &f, &src, why, whylen) ||
+        spm_texture_read(&src, SPM_IMAGE_DATA, &rgb, &w, &h, why, whylen))
         return -1;
     int grey = m->nmap == SPM_MESH_NMAP_BUMP;
     for (size_t i = 0; grey && i < (size_t)w * h; i++)
@@ -71,13 +64,13 @@ static int bind_map(spm_scene_builder *b, const spm_mesh_material *m, const char
     return k;
 }
 
-int spm_mesh_nmap_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
-                       int has_uvs, const char *mwhere, spm_error *err)
+int spm_mesh_nmap_bind(spm_scene_builder *b, const spm_mesh_data *d, const spm_mesh_material *m,
+                       int material, const char *mwhere, spm_error *err)
 {
     if (m->nmap == SPM_MESH_NMAP_NONE)
         return material;
     char why[300] = "the mesh has no texture coordinates";
-    int k = has_uvs ? bind_map(b, m, mwhere, why, sizeof why) : -1;
+    int k = d->uvs ? bind_map(b, d, m, mwhere, why, sizeof why) : -1;
     if (k == 0)
         spm_warnf("%s: bump map '%s' is a grey height map: not rendered (only normal maps are)",
                   mwhere, m->nmap_name);

@@ -21,12 +21,54 @@ static int ends_with(const char *s, const char *suffix)
     return n >= m && strcasecmp(s + n - m, suffix) == 0;
 }
 
-/* One URI of a glTF, at `where`: data: URIs pass, others are decoded and
+/* A MIME type: "type/subtype", each of one or more characters. */
+static int mime_type(const char *s, size_t n)
+{
+    const char *slash = memchr(s, '/', n);
+    return slash && slash > s && slash < s + n - 1;
+}
+
+/* A data: URI, "data:TYPE/SUBTYPE;base64,PAYLOAD": its media type a MIME
+ * type and its payload base64 (RFC 4648: the 64 characters, at most two '='
+ * to close a length that is a multiple of 4). Assimp reads either wrongly
+ * (a media type without '/' takes it down). */
+static int data_uri(const char *uri, const char *where, spm_error *err)
+{
+    const char *comma = strchr(uri, ','), *type = uri + 5;
+    const char *b64 = comma && comma - type >= 7 ? comma - 7 : NULL;
+    if (!b64 || strncasecmp(b64, ";base64", 7) || !mime_type(type, (size_t)(b64 - type))) {
+        spm_errorf(err, "%s: a data: URI that is not 'data:TYPE/SUBTYPE;base64,...' (%.40s)",
+                   where, uri);
+        return 1;
+    }
+    const char *p = comma + 1;
+    size_t n = strlen(p), pad = 0;
+    for (size_t i = 0; i < n; i++) {
+        int c = (unsigned char)p[i];
+        if (c == '=' && i + 2 >= n && (i + 1 == n || p[i + 1] == '=')) {
+            pad = n - i;
+            break;
+        }
+        if (!isalnum(c) && c != '+' && c != '/') {
+            spm_errorf(err, "%s: a data: URI whose base64 has '%c' (byte %d) at its character "
+                            "%zu", where, isprint(c) ? c : '?', c, i + 1);
+            return 1;
+        }
+    }
+    if (n % 4 || (n == 0 && !pad)) {
+        spm_errorf(err, "%s: a data: URI whose base64 is %zu characters long (not a multiple "
+                        "of 4: cut short?)", where, n);
+        return 1;
+    }
+    return 0;
+}
+
+/* One URI of a glTF, at `where`: data: URIs checked, others are decoded and
  * checked against the model's folder. */
 static int gltf_uri(const char *dir, const char *uri, const char *where, spm_error *err)
 {
     if (strncasecmp(uri, "data:", 5) == 0)
-        return 0;
+        return data_uri(uri, where, err);
     char path[SPM_PATH_MAX];
     if (spm_uri_decode(uri, path, sizeof path)) {
         spm_errorf(err, "%s: '%s' is not a valid URI (a '%%' not followed by two hexadecimal "
@@ -83,6 +125,87 @@ static int gltf_uris(const spm_file *model, const spm_json *doc, spm_error *err)
             if (uri && gltf_uri(dir, uri, where, err))
                 return 1;
         }
+    }
+    return 0;
+}
+
+/* An index member of obj: -1 absent, -2 not an index below n. */
+static double index_of(const spm_json *obj, const char *key, size_t n)
+{
+    const spm_json *v = spm_json_get(obj, key);
+    if (!v)
+        return -1;
+    if (v->type != SPM_JSON_NUMBER || !(v->number >= 0 && v->number < (double)n) ||
+        v->number != (double)(size_t)v->number)
+        return -2;
+    return v->number;
+}
+
+/* A byte count or offset member of obj: def when absent, -1 when not a
+ * number. */
+static double bytes_of(const spm_json *obj, const char *key, double def)
+{
+    const spm_json *v = spm_json_get(obj, key);
+    return !v ? def : v->type == SPM_JSON_NUMBER ? v->number : -1;
+}
+
+static size_t count(const spm_json *doc, const char *key)
+{
+    const spm_json *a = spm_json_get(doc, key);
+    return a && a->type == SPM_JSON_ARRAY ? a->n : 0;
+}
+
+/* images[i] at `where`: a uri (checked with the others) or a bufferView
+ * with a mimeType, the view within its buffer; a mimeType a MIME type.
+ * What the image holds is read with the maps: one that cannot be decoded
+ * is warned about where a map names it. */
+static int gltf_image(const spm_json *doc, const spm_json *img, const char *where,
+                      spm_error *err)
+{
+    const char *mime = spm_json_string(img, "mimeType");
+    if (spm_json_get(img, "mimeType") && !(mime && mime_type(mime, strlen(mime)))) {
+        spm_errorf(err, "%s.mimeType: '%.40s' is not a MIME type (image/png, image/jpeg)", where,
+                   mime ? mime : "(not a string)");
+        return 1;
+    }
+    double v = index_of(img, "bufferView", count(doc, "bufferViews"));
+    if (v == -1) {
+        if (!spm_json_string(img, "uri")) {
+            spm_errorf(err, "%s: neither a uri nor a bufferView", where);
+            return 1;
+        }
+        return 0;
+    }
+    if (v == -2) {
+        spm_errorf(err, "%s.bufferView: not the index of one of the file's %zu bufferViews",
+                   where, count(doc, "bufferViews"));
+        return 1;
+    }
+    if (!mime) {
+        spm_errorf(err, "%s: an image in bufferView %g without a mimeType", where, v);
+        return 1;
+    }
+    const spm_json *view = &spm_json_get(doc, "bufferViews")->items[(size_t)v];
+    double b = index_of(view, "buffer", count(doc, "buffers"));
+    double off = bytes_of(view, "byteOffset", 0), len = bytes_of(view, "byteLength", -1);
+    double size = b >= 0 ? bytes_of(&spm_json_get(doc, "buffers")->items[(size_t)b],
+                                    "byteLength", -1) : -1;
+    if (b < 0 || !(off >= 0 && len > 0 && size >= 0 && off + len <= size)) {
+        spm_errorf(err, "%s.bufferView %g: bytes %g to %g of buffer %g of %g bytes: not within "
+                        "it", where, v, off, off + len, b, size);
+        return 1;
+    }
+    return 0;
+}
+
+static int gltf_images(const spm_file *model, const spm_json *doc, spm_error *err)
+{
+    const spm_json *list = spm_json_get(doc, "images");
+    for (size_t i = 0; list && list->type == SPM_JSON_ARRAY && i < list->n; i++) {
+        char where[SPM_PATH_MAX + 64];
+        snprintf(where, sizeof where, "%s: images[%zu]", model->shown, i);
+        if (gltf_image(doc, &list->items[i], where, err))
+            return 1;
     }
     return 0;
 }
@@ -184,7 +307,7 @@ static int gltf_check(const spm_file *model, char *unrendered, size_t size, spm_
     spm_json *doc = spm_mesh_gltf_doc(model, err);
     if (!doc)
         return err->msg[0] != '\0';
-    int rc = gltf_uris(model, doc, err);
+    int rc = gltf_uris(model, doc, err) || gltf_images(model, doc, err);
     gltf_extensions(doc, unrendered, size);
     spm_json_free(doc);
     return rc;

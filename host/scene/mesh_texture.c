@@ -51,12 +51,21 @@ static const struct aiTexture *embedded(const struct aiScene *sc, const char *pa
     return NULL;
 }
 
+int spm_mesh_embedded(const struct aiScene *sc, const char *path)
+{
+    int index = -1;
+    const struct aiTexture *t = embedded(sc, path, &index);
+    return t && t->mHeight == 0 && t->pcData && t->mWidth > 0 ? index + 1 : 0;
+}
+
 /* Where one texture of a material is described: its name as the file gives
- * it, why it was not read, its file's path (checked), its mean. */
+ * it, why it was not read, its file's path (checked) or embedded image, its
+ * mean. */
 typedef struct {
     char (*name)[96];
     char (*why)[128];
     char (*file)[SPM_PATH_MAX];
+    int32_t *embed;
     float *mean;
 } image_slot;
 
@@ -82,11 +91,13 @@ static int texture_mean(const struct aiScene *sc, const char *model, const char 
             texel_mean(t, out->mean);
             return 0;
         }
-        /* compressed (PNG, JPEG...): mWidth bytes; the hint is the format's extension */
-        char name[32];
-        snprintf(name, sizeof name, "embedded.%.8s", t->achFormatHint[0] ? t->achFormatHint : "png");
-        return spm_texture_mean_data(name, t->pcData, t->mWidth, out->mean,
-                                     *out->why, sizeof *out->why);
+        /* compressed (PNG, JPEG...): mWidth bytes; the hint is the format's
+         * extension. The parent reads the bytes of one that can be read. */
+        int rc = spm_texture_mean_data(t->achFormatHint[0] ? t->achFormatHint : "png",
+                                       t->pcData, t->mWidth, out->mean, *out->why,
+                                       sizeof *out->why);
+        *out->embed = rc ? 0 : spm_mesh_embedded(sc, path);
+        return rc;
     }
     /* a file: relative to the model's folder; Windows separators as '/' */
     snprintf(*out->name, sizeof *out->name, "%.95s", path);
@@ -123,7 +134,8 @@ int spm_mesh_texture_apply(const struct aiScene *sc, const struct aiMaterial *m,
     if (aiGetMaterialTexture(m, type, 0, &path, NULL, NULL, NULL, NULL, NULL, NULL) !=
         aiReturn_SUCCESS)
         return 0;
-    image_slot slot = {&out->texture_name, &out->texture_why, &out->texture_file, out->texture_mean};
+    image_slot slot = {&out->texture_name, &out->texture_why, &out->texture_file,
+                       &out->texture_embed, out->texture_mean};
     int rc = texture_mean(sc, model, path.data, &slot, refused);
     if (rc) {
         out->texture = SPM_MESH_TEX_UNREAD;
@@ -146,26 +158,46 @@ int spm_mesh_etexture_apply(const struct aiScene *sc, const struct aiMaterial *m
                              NULL) != aiReturn_SUCCESS)
         return 0;
     image_slot slot = {&out->etexture_name, &out->etexture_why, &out->etexture_file,
-                       out->etexture_mean};
+                       &out->etexture_embed, out->etexture_mean};
     int rc = texture_mean(sc, model, path.data, &slot, refused);
     out->etexture = rc ? SPM_MESH_TEX_UNREAD : SPM_MESH_TEX_MEAN;
     return rc == 2 ? 2 : 1;
 }
 
-/* The image of texture file `path`, times factor per channel, into the
- * scene: its index, or -1 with why filled. */
-static int bind_image(spm_scene_builder *b, const char *path, const float factor[3],
-                      const char *mwhere, char *why, size_t whylen)
+int spm_mesh_map_image(const spm_mesh_data *d, int32_t embed, const char *file,
+                       const char *mwhere, spm_file *f, spm_image_src *src, char *why,
+                       size_t whylen)
+{
+    if (embed > 0 && (uint32_t)embed <= d->nimages && d->images[embed - 1].size) {
+        const spm_mesh_image *m = &d->images[embed - 1];
+        *src = (spm_image_src){NULL, m->data, (size_t)m->size, m->hint};
+        return 0;
+    }
+    if (!file[0]) {
+        snprintf(why, whylen, "an embedded image that is not the bytes of an image file");
+        return 1;
+    }
+    spm_error e;
+    if (spm_path_check_joined(file, mwhere, f, &e)) {
+        snprintf(why, whylen, "%.290s", e.msg);
+        return 1;
+    }
+    *src = (spm_image_src){f, NULL, 0, NULL};
+    return 0;
+}
+
+/* The image a map names (mesh.h spm_mesh_map_image), times factor per
+ * channel, into the scene: its index, or -1 with why filled. */
+static int bind_image(spm_scene_builder *b, const spm_mesh_data *d, int32_t embed,
+                      const char *path, const float factor[3], const char *mwhere, char *why,
+                      size_t whylen)
 {
     spm_file f;
-    spm_error e;
+    spm_image_src src;
     float *rgb;
     int w, h;
-    if (spm_path_check_joined(path, mwhere, &f, &e)) {
-        snprintf(why, whylen, "%.290s", e.msg);
-        return -1;
-    }
-    if (spm_texture_read_file(&f, &rgb, &w, &h, why, whylen))
+    if (spm_mesh_map_image(d, embed, path, mwhere, &f, &src, why, whylen) ||
+        spm_texture_read(&src, SPM_IMAGE_COLOUR, &rgb, &w, &h, why, whylen))
         return -1;
     for (size_t i = 0; i < (size_t)3 * w * h; i++)
         rgb[i] *= factor[i % 3];
@@ -175,8 +207,9 @@ static int bind_image(spm_scene_builder *b, const char *path, const float factor
     return spm_sb_texture(b, &t);
 }
 
-int spm_mesh_texture_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
-                          int has_uvs, const char *mwhere, spm_error *err)
+int spm_mesh_texture_bind(spm_scene_builder *b, const spm_mesh_data *d,
+                          const spm_mesh_material *m, int material, const char *mwhere,
+                          spm_error *err)
 {
     char why[300] = "";
     spm_scene_material proto = b->s->materials[material];
@@ -184,13 +217,13 @@ int spm_mesh_texture_bind(spm_scene_builder *b, const spm_mesh_material *m, int 
         spm_mesh_texture_warn(m, mwhere, NULL);
         return material;
     }
-    if (!m->texture_file[0])
-        snprintf(why, sizeof why, "embedded images are not textured per point yet");
-    else if (!has_uvs)
+    if (!d->uvs)
         snprintf(why, sizeof why, "the mesh has no texture coordinates");
     else if (!spm_material_textured(proto.type))
         snprintf(why, sizeof why, "%s", SPM_TEXTURED_TYPES_WHY);
-    int t = why[0] ? -1 : bind_image(b, m->texture_file, m->factor, mwhere, why, sizeof why);
+    int t = why[0] ? -1
+                   : bind_image(b, d, m->texture_embed, m->texture_file, m->factor, mwhere, why,
+                                sizeof why);
     if (t < 0) {
         spm_mesh_texture_warn(m, mwhere, why);
         return material;
@@ -210,18 +243,9 @@ void spm_mesh_texture_warn(const spm_mesh_material *m, const char *mwhere, const
                   "alone is used", mwhere, m->texture_name, m->texture_why);
 }
 
-/* Why m's emissive texture is not bound per point ("" when it is). */
-static void etexture_why(const spm_mesh_material *m, int has_uvs, char *why, size_t n)
-{
-    why[0] = 0;
-    if (!m->etexture_file[0])
-        snprintf(why, n, "embedded images are not textured per point yet");
-    else if (!has_uvs)
-        snprintf(why, n, "the mesh has no texture coordinates");
-}
-
-int spm_mesh_etexture_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
-                           int has_uvs, const char *mwhere, spm_error *err)
+int spm_mesh_etexture_bind(spm_scene_builder *b, const spm_mesh_data *d,
+                           const spm_mesh_material *m, int material, const char *mwhere,
+                           spm_error *err)
 {
     spm_scene_material proto = b->s->materials[material];
     if (m->etexture == SPM_MESH_TEX_NONE || proto.emit < 0)
@@ -237,9 +261,10 @@ int spm_mesh_etexture_bind(spm_scene_builder *b, const spm_mesh_material *m, int
     double mean[3];
     for (int c = 0; c < 3; c++)
         f[c] = m->emission[c] / fm, mean[c] = (double)m->emission[c] * m->etexture_mean[c];
-    char why[300];
-    etexture_why(m, has_uvs, why, sizeof why);
-    int t = why[0] ? -1 : bind_image(b, m->etexture_file, f, mwhere, why, sizeof why);
+    char why[300] = "the mesh has no texture coordinates";
+    int t = !d->uvs ? -1
+                    : bind_image(b, d, m->etexture_embed, m->etexture_file, f, mwhere, why,
+                                 sizeof why);
     if (t < 0)
         spm_warnf("%s: emissive texture '%s' replaced by its mean colour (%.3g %.3g %.3g, "
                   "linear) times the emissive factor: %s", mwhere, m->etexture_name,

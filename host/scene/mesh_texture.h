@@ -44,24 +44,30 @@ int spm_mesh_texture_apply(const struct aiScene *sc, const struct aiMaterial *m,
  * Returns 1 if it has one, 2 with *refused filled as above. */
 int spm_mesh_etexture_apply(const struct aiScene *sc, const struct aiMaterial *m,
                             const char *model, spm_mesh_material *out, spm_error *refused);
+/* In the importer's child: 1 + the index of the embedded image (an image
+ * file's bytes: PNG, JPEG...) that a texture path names ("*N", or an image's
+ * file name), else 0. */
+int spm_mesh_embedded(const struct aiScene *sc, const char *path);
 /* In the parent, when a file material's colour is used: the warning that its
  * texture was replaced by its mean for the reason `why` (or could not be
  * read). `mwhere` names the statement, file and material. */
 void spm_mesh_texture_warn(const spm_mesh_material *m, const char *mwhere, const char *why);
-/* In the parent: m's base-colour texture (an image file; texels times the
- * colour factor) on the scene material `material` it maps to, when its type
- * takes a textured reflectance and the mesh has texture coordinates (has_uvs): the textured
+/* In the parent: m's base-colour texture (an image file or an image
+ * embedded in d; texels times the colour factor) on the scene material `material` it maps to, when its type
+ * takes a textured reflectance and the mesh d has texture coordinates: the textured
  * material's index. Else the warning above and `material`. -1 with err. */
-int spm_mesh_texture_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
-                          int has_uvs, const char *mwhere, spm_error *err);
+int spm_mesh_texture_bind(spm_scene_builder *b, const spm_mesh_data *d,
+                          const spm_mesh_material *m, int material, const char *mwhere,
+                          spm_error *err);
 /* In the parent: m's emissive texture on the scene material `material`: an
- * image file on a mesh with texture coordinates textures its emission per
+ * image (a file or embedded) on a mesh with texture coordinates textures its emission per
  * point (texels times the emissive factor; the material's emission the
  * mean's, for the light pick), else the emission is the factor times the
  * texture's mean, with a warning; unreadable: the factor alone, warned.
  * The material's index, -1 with err. */
-int spm_mesh_etexture_bind(spm_scene_builder *b, const spm_mesh_material *m, int material,
-                           int has_uvs, const char *mwhere, spm_error *err);
+int spm_mesh_etexture_bind(spm_scene_builder *b, const spm_mesh_data *d,
+                           const spm_mesh_material *m, int material, const char *mwhere,
+                           spm_error *err);
 #endif
 #ifdef __cplusplus
 }

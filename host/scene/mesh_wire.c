@@ -11,42 +11,105 @@ typedef struct {
     uint32_t magic, status, ignored, nmats;
     uint64_t ntris;
     uint32_t flags, nlights; /* SPM_MESH_WIRE_* */
+    uint32_t nimages, spare;
+    uint64_t image_bytes;
 } wire_header;
 _Static_assert(sizeof(wire_header) == SPM_MESH_WIRE_HEAD, "mesh.h's header size");
 
-size_t spm_mesh_wire_size(uint32_t nmats, uint64_t ntris, uint32_t flags, uint32_t nlights)
+/* Where the images' records start: after the lights, at a multiple of 8
+ * (they hold 64-bit sizes and pointers). */
+static size_t images_at(uint32_t nmats, uint64_t ntris, uint32_t flags, uint32_t nlights)
 {
-    if (flags & ~(SPM_MESH_WIRE_NORMALS | SPM_MESH_WIRE_UVS) || nlights > SPM_MESH_MAX_LIGHTS)
+    size_t n = sizeof(wire_header) + nmats * sizeof(spm_mesh_material) +
+               ntris * sizeof(spm_mesh_tri) +
+               (flags & SPM_MESH_WIRE_NORMALS ? ntris * sizeof(spm_mesh_normals) : 0) +
+               (flags & SPM_MESH_WIRE_UVS ? ntris * sizeof(spm_mesh_uvs) : 0) +
+               nlights * sizeof(spm_mesh_light);
+    return (n + 7) & ~(size_t)7;
+}
+
+size_t spm_mesh_wire_size(uint32_t nmats, uint64_t ntris, uint32_t flags, uint32_t nlights,
+                          uint32_t nimages, uint64_t image_bytes)
+{
+    if (flags & ~(SPM_MESH_WIRE_NORMALS | SPM_MESH_WIRE_UVS) || nlights > SPM_MESH_MAX_LIGHTS ||
+        nimages > SPM_MESH_MAX_IMAGES || image_bytes > SPM_MESH_MAX_IMAGE_BYTES)
         return 0;
-    return sizeof(wire_header) + nmats * sizeof(spm_mesh_material) +
-           ntris * sizeof(spm_mesh_tri) +
-           (flags & SPM_MESH_WIRE_NORMALS ? ntris * sizeof(spm_mesh_normals) : 0) +
-           (flags & SPM_MESH_WIRE_UVS ? ntris * sizeof(spm_mesh_uvs) : 0) +
-           nlights * sizeof(spm_mesh_light);
+    return images_at(nmats, ntris, flags, nlights) + nimages * sizeof(spm_mesh_image) +
+           image_bytes;
 }
 
 void *spm_mesh_encode(const spm_mesh_data *d, size_t *size)
 {
     uint32_t flags = (d->normals ? SPM_MESH_WIRE_NORMALS : 0u) | (d->uvs ? SPM_MESH_WIRE_UVS : 0u);
-    wire_header h = {WIRE_MAGIC, 0, d->ignored, d->nmats, d->ntris, flags, d->nlights};
+    uint64_t nb = 0;
+    for (uint32_t i = 0; i < d->nimages; i++)
+        nb += d->images[i].size;
+    wire_header h = {WIRE_MAGIC, 0, d->ignored, d->nmats, d->ntris, flags, d->nlights,
+                     d->nimages, 0, nb};
     size_t nn = d->normals ? d->ntris * sizeof *d->normals : 0;
     size_t nu = d->uvs ? d->ntris * sizeof *d->uvs : 0;
+    size_t ni = images_at(d->nmats, d->ntris, flags, d->nlights);
     size_t nl = d->nlights * sizeof *d->lights;
-    size_t n = spm_mesh_wire_size(d->nmats, d->ntris, flags, d->nlights);
+    size_t n = spm_mesh_wire_size(d->nmats, d->ntris, flags, d->nlights, d->nimages, nb);
     unsigned char *buf = spm_xmalloc(n);
+    memset(buf, 0, n);
     memcpy(buf, &h, sizeof h);
     if (d->nmats)
         memcpy(buf + sizeof h, d->mats, d->nmats * sizeof *d->mats);
     if (d->ntris)
         memcpy(buf + sizeof h + d->nmats * sizeof *d->mats, d->tris, d->ntris * sizeof *d->tris);
+    size_t end = sizeof h + d->nmats * sizeof *d->mats + d->ntris * sizeof *d->tris + nn + nu;
     if (nn)
-        memcpy(buf + n - nl - nu - nn, d->normals, nn);
+        memcpy(buf + end - nu - nn, d->normals, nn);
     if (nu)
-        memcpy(buf + n - nl - nu, d->uvs, nu);
+        memcpy(buf + end - nu, d->uvs, nu);
     if (nl)
-        memcpy(buf + n - nl, d->lights, nl);
+        memcpy(buf + end, d->lights, nl);
+    unsigned char *at = buf + ni;
+    if (d->nimages)
+        memcpy(at, d->images, d->nimages * sizeof *d->images);
+    at += d->nimages * sizeof *d->images;
+    for (uint32_t i = 0; i < d->nimages; i++) {
+        if (d->images[i].size)
+            memcpy(at, d->images[i].data, d->images[i].size);
+        at += d->images[i].size;
+    }
     *size = n;
     return buf;
+}
+
+static int embed_ok(int32_t embed, uint32_t nimages)
+{
+    return embed >= 0 && (uint32_t)embed <= nimages;
+}
+
+/* The images' records at `at`: their sizes summed against the header's,
+ * their hints terminated, their bytes located. */
+static int images(unsigned char *at, const wire_header *h, spm_mesh_data *out, const char *path,
+                  spm_error *err)
+{
+    out->nimages = h->nimages;
+    out->images = h->nimages ? (spm_mesh_image *)at : NULL;
+    at += h->nimages * sizeof(spm_mesh_image);
+    uint64_t left = h->image_bytes;
+    for (uint32_t i = 0; i < h->nimages; i++) {
+        spm_mesh_image *m = &out->images[i];
+        if (m->size > left) {
+            spm_errorf(err, "%s: the importer returned a bad image", path);
+            memset(out, 0, sizeof *out);
+            return 1;
+        }
+        m->hint[sizeof m->hint - 1] = 0;
+        m->data = at;
+        at += m->size;
+        left -= m->size;
+    }
+    if (left) {
+        spm_errorf(err, "%s: the importer returned a bad image", path);
+        memset(out, 0, sizeof *out);
+        return 1;
+    }
+    return 0;
 }
 
 int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out,
@@ -89,7 +152,8 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
         return 1;
     }
     int has_n = (h.flags & SPM_MESH_WIRE_NORMALS) != 0, has_uv = (h.flags & SPM_MESH_WIRE_UVS) != 0;
-    size_t want = spm_mesh_wire_size(h.nmats, h.ntris, h.flags, h.nlights);
+    size_t want = spm_mesh_wire_size(h.nmats, h.ntris, h.flags, h.nlights, h.nimages,
+                                     h.image_bytes);
     if (size != want || (h.ntris > 0 && h.nmats == 0) || want == 0) {
         spm_errorf(err, "%s: the importer returned %zu bytes where %zu were due", path, size,
                    want);
@@ -117,7 +181,10 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
             mats[i].etexture < SPM_MESH_TEX_NONE || mats[i].etexture > SPM_MESH_TEX_UNREAD ||
             mats[i].alpha_mode < SPM_MESH_ALPHA_OPAQUE || mats[i].alpha_mode > SPM_MESH_ALPHA_BLEND ||
             mats[i].alpha_map < SPM_MESH_AMAP_NONE || mats[i].alpha_map > SPM_MESH_AMAP_FILE ||
-            mats[i].mr_map < SPM_MESH_MRMAP_NONE || mats[i].mr_map > SPM_MESH_MRMAP_EMBEDDED) {
+            mats[i].mr_map < SPM_MESH_MRMAP_NONE || mats[i].mr_map > SPM_MESH_MRMAP_EMBEDDED ||
+            !embed_ok(mats[i].texture_embed, h.nimages) ||
+            !embed_ok(mats[i].etexture_embed, h.nimages) ||
+            !embed_ok(mats[i].mr_embed, h.nimages) || !embed_ok(mats[i].nmap_embed, h.nimages)) {
             spm_errorf(err, "%s: the importer returned a bad material", path);
             return 1;
         }
@@ -136,10 +203,14 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
     out->uvs = has_uv ? (spm_mesh_uvs *)((char *)(tris + h.ntris) +
                                          (has_n ? h.ntris * sizeof(spm_mesh_normals) : 0))
                       : NULL;
+    size_t ni = images_at(h.nmats, h.ntris, h.flags, h.nlights);
     out->nlights = h.nlights;
-    out->lights = h.nlights ? (spm_mesh_light *)((char *)buf + want -
-                                                 h.nlights * sizeof(spm_mesh_light))
+    out->lights = h.nlights ? (spm_mesh_light *)((char *)(tris + h.ntris) +
+                                                 (has_n ? h.ntris * sizeof(spm_mesh_normals) : 0) +
+                                                 (has_uv ? h.ntris * sizeof(spm_mesh_uvs) : 0))
                             : NULL;
+    if (images((unsigned char *)buf + ni, &h, out, path, err))
+        return 1;
     for (uint32_t i = 0; i < h.nlights; i++) {
         out->lights[i].name[sizeof out->lights[i].name - 1] = 0;
         if (out->lights[i].type < SPM_MESH_LIGHT_POINT ||

@@ -86,28 +86,42 @@ long spm_texture_lift(const spm_rgb2spec_table *t, spm_texel_kind kind, const sp
 void spm_tex_grid_nodes(float nodes[SPM_TEX_GRID]);
 int spm_tex_grid_cell(const float nodes[SPM_TEX_GRID], float x);
 
+/* Where an image is: a file checked by the path rule, or (file NULL) size
+ * bytes at data, an image embedded in a model whose format `hint` names by
+ * its extension ("png", "jpg"). Both are read alike. */
+typedef struct {
+    const spm_file *file;
+    const void *data;
+    size_t size;
+    const char *hint;
+} spm_image_src;
+/* What spm_texture_read gives: linear colour (integer codes sRGB-decoded
+ * unless the file says linear) or data (integer codes over their maximum:
+ * a normal map). */
+enum { SPM_IMAGE_COLOUR = 0, SPM_IMAGE_DATA = 1 };
 /* Reading images through OpenImageIO (texture_io.cpp): the first three
  * channels (one or two: grey) as linear RGB, rows top to bottom; integer
- * codes (8- and 16-bit PNG, JPEG) sRGB-decoded unless the file says linear,
- * float and half (EXR, HDR) as they are. A file checked by the path rule, or
- * size bytes at data (an embedded image; `hint`'s extension names the
- * format). 0 with *rgb (malloc'd), *w, *h; 1 with why filled. */
+ * codes (8- and 16-bit PNG, JPEG) decoded as `as` says, float and half (EXR,
+ * HDR) as they are. 0 with *rgb (malloc'd), *w, *h; 1 with why filled. The
+ * _file and _data forms are the same for a file and for bytes. */
+int spm_texture_read(const spm_image_src *src, int as, float **rgb, int *w, int *h, char *why,
+                     size_t whylen);
 int spm_texture_read_file(const spm_file *file, float **rgb, int *w, int *h, char *why,
                           size_t whylen);
 int spm_texture_read_data(const char *hint, const void *data, size_t size, float **rgb, int *w,
                           int *h, char *why, size_t whylen);
-/* The same as stored, integer codes over their maximum without sRGB
- * decoding: an image of data, not colour (a normal map). */
+/* SPM_IMAGE_DATA from a file: an image of data, not colour (a normal map). */
 int spm_texture_read_data_file(const spm_file *file, float **rgb, int *w, int *h, char *why,
                                size_t whylen);
-/* An opacity image (texture_io.cpp): its alpha channel, or its first
- * channel when it has none (alpha_only: *a NULL then), as stored (integer
- * codes over their maximum, no sRGB decoding: opacity is data), one float a
- * pixel, rows top to bottom. */
+/* One channel as stored (integer codes over their maximum, no sRGB
+ * decoding: opacity, metallic and roughness are data), one float a pixel,
+ * rows top to bottom. which >= 0: an opacity image's alpha channel, or its
+ * first channel when it has none (which 1, alpha only: *a NULL then);
+ * which = -1 - c: channel c, the first when the image has fewer. */
+int spm_texture_read_one(const spm_image_src *src, int which, float **a, int *w, int *h,
+                         char *why, size_t whylen);
 int spm_texture_read_alpha_file(const spm_file *file, int alpha_only, float **a, int *w, int *h,
                                 char *why, size_t whylen);
-/* Channel `channel` of an image as stored (data, as opacity: a metallic or
- * roughness map), its first when it has fewer channels; as above. */
 int spm_texture_read_channel_file(const spm_file *file, int channel, float **a, int *w, int *h,
                                   char *why, size_t whylen);
 #ifdef __cplusplus

@@ -103,64 +103,78 @@ static int read_alpha(std::unique_ptr<ImageInput> in, int alpha_only, float **a,
     return 0;
 }
 
+// An image's reader: a file by its path, bytes through an in-memory proxy
+// (OpenImageIO's IOMemReader, named in the configuration, where a proxy
+// passed beside a configuration is lost). unassoc: colours as the file
+// stores them (a PNG's (or TIFF's) colour beside an alpha channel is not
+// premultiplied by it: OpenImageIO's default would darken a cut-out's texels
+// towards its transparent ones; glTF's base colour is not premultiplied).
+static std::unique_ptr<ImageInput> open_src(const spm_image_src *src, bool unassoc,
+                                            OIIO::Filesystem::IOMemReader *mem)
+{
+    OIIO::attribute("threads", 1); // a forked child: no pool threads of the parent's
+    ImageSpec config;
+    if (unassoc)
+        config.attribute("oiio:UnassociatedAlpha", 1);
+    if (src->file)
+        return ImageInput::open(src->file->path, unassoc ? &config : nullptr);
+    void *proxy = mem;
+    config.attribute("oiio:ioproxy", TypeDesc::PTR, &proxy);
+    return ImageInput::open(std::string("embedded.") + (src->hint ? src->hint : "png"), &config,
+                            mem);
+}
+
+extern "C" int spm_texture_read(const spm_image_src *src, int as, float **rgb, int *w, int *h,
+                                char *why, size_t whylen)
+{
+    OIIO::Filesystem::IOMemReader mem(src->data, src->file ? 0 : src->size);
+    auto in = open_src(src, true, &mem);
+    if (!in)
+        return fail(why, whylen, OIIO::geterror());
+    return read_linear(std::move(in), rgb, w, h, why, whylen, as == SPM_IMAGE_DATA);
+}
+
+extern "C" int spm_texture_read_one(const spm_image_src *src, int which, float **a, int *w,
+                                    int *h, char *why, size_t whylen)
+{
+    OIIO::Filesystem::IOMemReader mem(src->data, src->file ? 0 : src->size);
+    auto in = open_src(src, false, &mem);
+    if (!in)
+        return fail(why, whylen, OIIO::geterror());
+    return read_alpha(std::move(in), which, a, w, h, why, whylen);
+}
+
 extern "C" int spm_texture_read_alpha_file(const spm_file *file, int alpha_only, float **a,
                                            int *w, int *h, char *why, size_t whylen)
 {
-    OIIO::attribute("threads", 1);
-    auto in = ImageInput::open(file->path);
-    if (!in)
-        return fail(why, whylen, OIIO::geterror());
-    return read_alpha(std::move(in), alpha_only, a, w, h, why, whylen);
+    spm_image_src src = {file, nullptr, 0, nullptr};
+    return spm_texture_read_one(&src, alpha_only, a, w, h, why, whylen);
 }
 
 extern "C" int spm_texture_read_channel_file(const spm_file *file, int channel, float **a,
                                              int *w, int *h, char *why, size_t whylen)
 {
-    OIIO::attribute("threads", 1);
-    auto in = ImageInput::open(file->path);
-    if (!in)
-        return fail(why, whylen, OIIO::geterror());
-    return read_alpha(std::move(in), -1 - channel, a, w, h, why, whylen);
-}
-
-// Colours as the file stores them: a PNG's (or TIFF's) colour beside an alpha
-// channel is not premultiplied by it (OpenImageIO's default would darken a
-// cut-out's texels towards its transparent ones: glTF's base colour is not
-// premultiplied).
-static const ImageSpec *unassociated()
-{
-    static ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    return &config;
+    spm_image_src src = {file, nullptr, 0, nullptr};
+    return spm_texture_read_one(&src, -1 - channel, a, w, h, why, whylen);
 }
 
 extern "C" int spm_texture_read_file(const spm_file *file, float **rgb, int *w, int *h,
                                      char *why, size_t whylen)
 {
-    OIIO::attribute("threads", 1); // a forked child: no pool threads of the parent's
-    auto in = ImageInput::open(file->path, unassociated());
-    if (!in)
-        return fail(why, whylen, OIIO::geterror());
-    return read_linear(std::move(in), rgb, w, h, why, whylen);
+    spm_image_src src = {file, nullptr, 0, nullptr};
+    return spm_texture_read(&src, SPM_IMAGE_COLOUR, rgb, w, h, why, whylen);
 }
 
 extern "C" int spm_texture_read_data_file(const spm_file *file, float **rgb, int *w, int *h,
                                           char *why, size_t whylen)
 {
-    OIIO::attribute("threads", 1);
-    auto in = ImageInput::open(file->path, unassociated());
-    if (!in)
-        return fail(why, whylen, OIIO::geterror());
-    return read_linear(std::move(in), rgb, w, h, why, whylen, true);
+    spm_image_src src = {file, nullptr, 0, nullptr};
+    return spm_texture_read(&src, SPM_IMAGE_DATA, rgb, w, h, why, whylen);
 }
 
 extern "C" int spm_texture_read_data(const char *hint, const void *data, size_t size,
                                      float **rgb, int *w, int *h, char *why, size_t whylen)
 {
-    OIIO::attribute("threads", 1);
-    OIIO::Filesystem::IOMemReader mem(data, size);
-    auto in = ImageInput::open(hint, nullptr, &mem); // (a config here loses the proxy)
-    if (!in)
-        return fail(why, whylen, OIIO::geterror());
-    return read_linear(std::move(in), rgb, w, h, why, whylen);
+    spm_image_src src = {nullptr, data, size, hint};
+    return spm_texture_read(&src, SPM_IMAGE_COLOUR, rgb, w, h, why, whylen);
 }

@@ -33,6 +33,13 @@ case $NAME in
           case $f in *.gltf) b='\x00' ;; *.glb) b='\x01' ;; *.obj) b='\x02' ;; *) b='\x03' ;; esac
           { printf "$b"; cat "$f"; } > "seed_$NAME/m$((i++))"
         done
+        # and models whose images are embedded (bufferViews, data: URIs)
+        mkdir -p "dir_$NAME/emb" && python3 "$ROOT/tools/make_textured_gltf.py" "dir_$NAME/emb" &&
+          python3 "$ROOT/tools/gltf_embed.py" "dir_$NAME/emb/maps.gltf" "dir_$NAME/emb/maps.glb" &&
+          python3 "$ROOT/tools/gltf_embed.py" "dir_$NAME/emb/maps.gltf" "dir_$NAME/emb/data.gltf" &&
+          { printf '\x01'; cat "dir_$NAME/emb/maps.glb"; } > "seed_$NAME/embedded_glb" &&
+          { printf '\x00'; cat "dir_$NAME/emb/data.gltf"; } > "seed_$NAME/embedded_gltf"
+        rm -rf "dir_$NAME/emb"
         maxlen=8192 ;;
   mitsuba) cp "$ROOT"/tests/bad-inputs/mitsuba_*.xml "$ROOT"/tests/data/mitsuba/box/*.xml "seed_$NAME/" ;;
   *) echo "unknown harness $NAME" >&2; exit 2 ;;
