@@ -34,20 +34,7 @@ light point 0 0 -0.5 line 1
 quad dye  -10 -10 0  10 -10 0  10 10 0  -10 10 0
 SCENE
 # ratio FILE: the flat emission's mean per nm over the reflected line's integral
-ratio() {
-    "$PY" - "$1" << 'PYEOF'
-import sys, re, numpy as np, OpenImageIO as oiio
-inp = oiio.ImageInput.open(sys.argv[1])
-names = list(inp.spec().channelnames)
-px = np.asarray(inp.read_image("float"), dtype=np.float64)
-inp.close()
-ch = [(float(m.group(1).replace(',', '.')), i) for i, n in enumerate(names)
-      for m in [re.match(r'S0\.([0-9,]+)nm$', n)] if m]
-wl = np.array([c[0] for c in ch]); s = px[..., [c[1] for c in ch]].reshape(-1, len(wl)).sum(axis=0)
-line = s[(wl > 440) & (wl < 460)].sum() * (400.0 / len(wl))
-print("%.9g" % (s[(wl > 600) & (wl < 640)].mean() / line if line > 0 else -1))
-PYEOF
-}
+ratio() { "$PY" "$HERE/spectral_stats.py" "$1" | awk '{print $3}'; }
 for run in "cpu truth" "cpu ref" "cpu ml" "cpu mlc" "opencl ml" "opencl mlc"; do
     read -r be m <<< "$run"
     "$BIN" render "$T/wall.scene" --integrator light --mode "$m" --backend "$be" --spp 4 --quiet \
