@@ -168,13 +168,17 @@ SPM_INLINE float spm_rng(spm_u32 seed, spm_u32 pixel, spm_u32 sample, spm_u32 di
  * drawn at vertex 0's dimension whatever vertex commits: the pixel's
  * samples share one sequence. */
 #define SPM_RNG_PIXEL_KEY 0xffffffffu
+/* The bits of x reversed, a byte at a time by multiplies (each product mod
+ * 2^32 keeps the bits 16-23 read): the shift-and-mask form is recognised by
+ * LLVM and becomes its bitreverse intrinsic, which Oclgrind cannot run. */
+SPM_INLINE spm_u32 spm_bit_reverse8(spm_u32 b)
+{
+    return ((((b * 0x0802u) & 0x22110u) | ((b * 0x8020u) & 0x88440u)) * 0x10101u >> 16) & 0xffu;
+}
 SPM_INLINE spm_u32 spm_bit_reverse32(spm_u32 x)
 {
-    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
-    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
-    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
-    x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
-    return (x >> 16) | (x << 16);
+    return spm_bit_reverse8(x & 0xffu) << 24 | spm_bit_reverse8((x >> 8) & 0xffu) << 16 |
+           spm_bit_reverse8((x >> 16) & 0xffu) << 8 | spm_bit_reverse8(x >> 24);
 }
 
 SPM_INLINE spm_u32 spm_rng_stratified_u32(spm_u32 seed, spm_u32 pixel, spm_u32 sample, spm_u32 dim)

@@ -51,25 +51,7 @@ scene "$T/energy.scene" "material dye reflect white fluoresce abs_low flat 1" ra
 scene "$T/plain.scene" "material dye reflect white" ramp
 
 # stats FILE: "integral mean_wavelength flat_over_line" of the image's spectra
-stats() {
-    "$PY" - "$1" << 'PYEOF'
-import sys, re, numpy as np, OpenImageIO as oiio
-inp = oiio.ImageInput.open(sys.argv[1])
-names = list(inp.spec().channelnames)
-px = np.asarray(inp.read_image("float"), dtype=np.float64)
-inp.close()
-chans = [(float(m.group(1).replace(',', '.')), i) for i, n in enumerate(names)
-         for m in [re.match(r'S0\.([0-9,]+)nm$', n)] if m]
-wl = np.array([c[0] for c in chans]); idx = [c[1] for c in chans]
-width = (780.0 - 380.0) / len(wl)
-s = px[..., idx].reshape(-1, len(wl)).sum(axis=0)   # the image's summed spectrum
-total = s.sum() * width
-mean_wl = (s * wl).sum() / s.sum()
-flat = s[(wl > 600) & (wl < 640)].mean()
-line = s[(wl > 440) & (wl < 460)].sum() * width
-print("%.9g %.6f %.9g" % (total, mean_wl, flat / line if line > 0 else -1))
-PYEOF
-}
+stats() { "$PY" "$HERE/spectral_stats.py" "$1"; }
 
 for be in opencl cpu; do
     for m in truth ref ml mlc; do

@@ -68,8 +68,6 @@ refused "background" "background is no light a subpath starts from" \
     render "$T/sky.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 refused "environment map" "background is no light a subpath starts from" \
     render "$DATA/scenes/envmap.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
-refused "fluorescence" "fluorescence along a light subpath" \
-    render "$DATA/scenes/fluorescent.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 sed 's/^material tall_box  reflect blue_sky/material tall_box  dielectric ior 1.5 alpha 0.3/' \
     "$CORNELL" > "$T/rough.scene"
 refused "rough dielectric" "rough dielectric's eval has no transmission" \

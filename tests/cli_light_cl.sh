@@ -83,9 +83,9 @@ check "two devices: each rendered a pass" \
 check "two devices: the pixels of one, bit for bit" same_pixels "$T/one.exr" "$T/two.exr"
 
 # The reference's refusals hold on the device, with their reasons.
-"$BIN" render "$DATA/scenes/fluorescent.scene" --integrator light --width 8 --height 8 --spp 1 \
+"$BIN" render "$DATA/scenes/textured.scene" --integrator light --width 8 --height 8 --spp 1 \
     -o "$T/no.exr" 2> "$T/no.err"
-check "fluorescence, OpenCL: exit 2" test $? -eq 2
-check "fluorescence, OpenCL: says why" grep -q "fluorescence along a light subpath" "$T/no.err"
-check "fluorescence, OpenCL: nothing written" test ! -e "$T/no.exr"
+check "textures, OpenCL: exit 2" test $? -eq 2
+check "textures, OpenCL: says why" grep -q "does not look up textures" "$T/no.err"
+check "textures, OpenCL: nothing written" test ! -e "$T/no.exr"
 finish

@@ -75,6 +75,20 @@ grind "light hero" "$T/og.log" "$DATA/scenes/cornell_spiky.scene" --integrator l
 check "light hero: Oclgrind's log is empty" test ! -s "$T/og.log"
 "$BIN" render "$DATA/scenes/cornell_spiky.scene" --integrator light --mode hero "${R[@]}" -o "$T/p.exr"
 close_images "light hero: Oclgrind vs PoCL" "$T/p.exr" "$T/o.exr"
+# Its dispersive splats (a subpath committed to a wavelength at the prism,
+# kernels/shade.cl disp_splats) on the prism wall, and its light-flow walk of
+# fluorescent subpaths (kernels/shade_splats.clh) on the two-dye relay.
+for run in "prism $DATA/scenes/prism_wall.scene --width 32 --height 8 --spp 4" \
+    "relay $DATA/tests/data/scenes/fluor_relay.scene --width 16 --height 16 --spp 2"; do
+    set -- $run
+    name="light $1"
+    shift
+    grind "$name" "$T/og.log" "$@" --integrator light --mode ml --seed 9 --quiet -o "$T/o.exr"
+    check "$name: Oclgrind's log is empty" test ! -s "$T/og.log"
+    "$BIN" render "$@" --integrator light --mode ml --seed 9 --quiet -o "$T/p.exr"
+    check "$name: not black" awk -v a="$(iinfo --stats "$T/p.exr" | sed -n 's/^ *Stats Max: *//p' | awk '{print $1 + $2 + $3}')" 'BEGIN { exit !(a > 0) }'
+    close_images "$name: Oclgrind vs PoCL" "$T/p.exr" "$T/o.exr"
+done
 
 # Registered as an ICD beside PoCL (Debian does not register it), the
 # simulator claims every device type, so the loader lists it first; specmip

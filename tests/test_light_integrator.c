@@ -2,7 +2,10 @@
  *  - light tracing and path tracing converge to the same image of the
  *    Cornell box, and of a glossy one (its boxes a rough gold conductor and
  *    a rough coated blue: importance-mode eval and sample of both types),
- *    and of the box lit by a point light (a delta no camera ray meets):
+ *    and of the box lit by a point light (a delta no camera ray meets), and
+ *    of two fluorescent scenes (re-radiation along the light subpaths in
+ *    light-flow order: scenes/fluorescent.scene, and fluor_relay.scene, whose
+ *    red needs two dyes' matrices applied in the light's order):
  *    per pixel, the means of K independent renders (seeds) of each, within
  *    their joint standard error measured from the K renders;
  *  - its film does not depend on the split: one backend and two from the
@@ -230,6 +233,19 @@ int main(void)
     split_invariant(&s);
     converge(&s, "cornell");
     it_free(&s);
+    /* fluorescent surfaces under a blue LED and D65: re-radiation in
+     * light-flow order on the light subpaths */
+    static const char *const fluor_scenes[][2] = {
+        {"scenes/fluorescent.scene", "fluorescent"},
+        {"tests/data/scenes/fluor_relay.scene", "fluor_relay"}};
+    for (int f = 0; f < 2; f++) {
+        char fluor[1024];
+        spm_data_path(fluor_scenes[f][0], fluor, sizeof fluor);
+        if (!load(&s, fluor)) {
+            converge(&s, fluor_scenes[f][1]);
+            it_free(&s);
+        }
+    }
     CHECK(mkdtemp(dir) != NULL, "mkdtemp");
     variant(cornell, dir, "glossy", glossy, 3);
     variant(cornell, dir, "point", point, 1);

@@ -28,7 +28,7 @@ for scene in "${scenes[@]}"; do
               else printf "%d %d\n", (w * s / h < 1 ? 1 : w * s / h + 0.5), s }' "$scene")
     extra=()
     case $name in # a scene only light subpaths reach (a path tracer renders it black)
-        prism_wall) extra=(--integrator light) ;;
+        prism_wall | ball_lens) extra=(--integrator light) ;;
     esac
     "$bin" render "$scene" --mode ml --width "$w" --height "$h" --spp "$spp" --seed 1 --quiet \
         ${extra[@]+"${extra[@]}"} -o "$out/$name.png"

@@ -15,21 +15,29 @@ typedef spm_ref_lanes lanes;
  * "Fluorescence": A = E_bg c_bg (when the path escaped), then for
  * j = n-1 .. 0 vertex j's factor on A (vertex_apply, eye 0); L += A.
  * Returns 0, L untouched, for a path without one. */
-static int from_light(const spm_path *path, const lanes *v, float *L)
+/* The vertices of path before its first black one into *n; 1 when one of
+ * them mixes lanes (a fluorescent colour of a table with blocks). */
+static int mixes(const spm_path *path, const lanes *v, spm_u32 *n)
 {
-    const spm_path_head *h = &path->h;
-    float A[MAX_LANES];
-    spm_u32 n = h->nvert;
     int mix = 0;
-    for (spm_u32 j = 0; j < h->nvert; j++) {
+    *n = path->h.nvert;
+    for (spm_u32 j = 0; j < path->h.nvert; j++) {
         spm_u32 r = path->v[j].ids & 0xFFFFu;
         if (r == SPM_NONE) {
-            n = j;
+            *n = j;
             break;
         }
         mix |= spm_ref_kind_of(SPM_FK_PLAIN, r, v) != SPM_FK_PLAIN;
     }
-    if (!mix)
+    return mix;
+}
+
+static int from_light(const spm_path *path, const lanes *v, float *L)
+{
+    const spm_path_head *h = &path->h;
+    float A[MAX_LANES];
+    spm_u32 n;
+    if (!mixes(path, v, &n))
         return 0;
     int lit = n == h->nvert && h->bg != SPM_NONE;
     if (lit)
@@ -250,6 +258,44 @@ static void splat(const lanes *v, const spm_spec_map *map, const path_lanes *pl,
         lanes_to_bins(map, pl, per_path, ch - 3, L, o + 3);
 }
 
+/* A light subpath with a vertex that mixes lanes (a fluorescent colour),
+ * walked in light-flow order (docs/METHODS.md "Fluorescence"): T = E[light],
+ * the light's spectrum; at vertex j the kind's rule as the walk from the
+ * light end applies it to the light arriving (vertex_apply, eye 0, the
+ * vertex's light sample and hit left out): the splat is that rule on c_j T
+ * with the record's camera argument (light) read as the one of the ray it
+ * sends on (lobe), and T becomes the rule on T, what the vertex sends along
+ * its sampled ray. At a fluorescent vertex both are M T, M = diag(D) + F:
+ * the light's wavelength absorbed, the re-emitted one splatted and carried
+ * on. Returns 0, nothing splatted, for a subpath without one. */
+static int light_flow(const spm_light_path *lp, const lanes *v, const spm_spec_map *map,
+                      const path_lanes *pl, int ch, spm_splats *out)
+{
+    const spm_path *path = &lp->p;
+    float T[MAX_LANES], S[MAX_LANES];
+    spm_u32 n;
+    if (!mixes(path, v, &n))
+        return 0;
+    spm_ref_fetch(v, path->h.first_emit, T);
+    for (spm_u32 j = 0; j < n; j++) {
+        spm_vertex vx = path->v[j];
+        spm_vertex_ext x = path->x[j];
+        int kind = spm_ref_kind_of((int)SPM_VX_KIND(x), vx.ids & 0xFFFFu, v);
+        vx.ids |= SPM_NONE << 16; /* no light sample: the light arrives in T */
+        x.ids &= 0xFFFFu;         /* no hit */
+        if (lp->px[j + 1] != SPM_NONE) {
+            spm_vertex_ext xc = x;
+            xc.lobe = x.light;
+            for (int l = 0; l < v->n; l++)
+                S[l] = T[l] * vx.c;
+            spm_ref_vertex_apply(0, kind, &vx, &xc, v, NULL, S);
+            splat(v, map, pl, 0, ch, S, lp->px[j + 1], out);
+        }
+        spm_ref_vertex_apply(0, kind, &vx, &x, v, NULL, T);
+    }
+    return 1;
+}
+
 /* A light subpath's splats (refcpu.h spm_light_path), read from the light:
  * the light's own, E[first] first_emit_c; then W = 1 and per vertex j its
  * factor as a camera path applies it with the light's emission as the
@@ -269,6 +315,8 @@ static void shade_light_path(const spm_light_path *lp, const lanes *v, const spm
             L[l] *= path->h.first_emit_c;
         splat(v, map, pl, per_path, ch, L, lp->px[0], out);
     }
+    if (v->fluor && light_flow(lp, v, map, pl, ch, out))
+        return;
     for (int l = 0; l < v->n; l++)
         W[l] = 1.0f;
     for (spm_u32 j = 0; j < jc; j++) {

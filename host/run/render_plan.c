@@ -199,6 +199,9 @@ static const char *bdpt_why(const spm_render_plan *p)
         if (p->tables->materials[m].type & SPM_EMIT_TWOSIDED)
             return "a two-sided emitter's back face is never left by a light subpath (its "
                    "emission sampling covers the front), which MIS would weigh as if it were";
+    if (p->tables->nfluor)
+        return "a connection between a fluorescent camera vertex and a light vertex would "
+               "need the re-radiation matrix on both sides of it, which is not carried yet";
     if (p->params.disperse)
         return "both subpaths sharing one committed wavelength at dispersive glass is not "
                "implemented yet";
@@ -240,9 +243,6 @@ int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err)
         else if (tp->bg_up != SPM_NONE || tp->bg_down != SPM_NONE || p->geom->env)
             why = "the background is no light a subpath starts from (it has no emission "
                   "sampling), and the camera seeing it is a camera path's";
-        else if (p->tables->nfluor)
-            why = "fluorescence along a light subpath (re-radiation in light-flow order) is "
-                  "not implemented";
         else if (surface_textures(p->geom, p->tables->nmaterials))
             why = "a light subpath does not look up textures or opacity yet (its vertices "
                   "would carry the material's mean colour; a textured emission it does)";
