@@ -17,7 +17,7 @@ const char *const spm_cl_light_program_files[SPM_CL_LIGHT_PROGRAM_NFILES] = {
 
 /* What the fixed-point film needs of a device: 64-bit integer atomics for
  * the sums, doubles for their conversion. */
-static int light_device_check(spm_cl_renderer *r, spm_error *err)
+int spm_clr_splat_device_check(spm_cl_renderer *r, const char *integrator, spm_error *err)
 {
     char ext[8192] = "";
     clGetDeviceInfo(r->cl.dev.device, CL_DEVICE_EXTENSIONS, sizeof ext - 1, ext, NULL);
@@ -25,9 +25,9 @@ static int light_device_check(spm_cl_renderer *r, spm_error *err)
     for (int i = 0; i < 2; i++)
         if (!strstr(ext, need[i])) {
             spm_errorf(err,
-                       "--integrator light needs %s on the device ('%s' has not): the splats' "
+                       "--integrator %s needs %s on the device ('%s' has not): the splats' "
                        "fixed-point sums need it (--backend cpu renders it)",
-                       need[i], r->cl.dev.name);
+                       integrator, need[i], r->cl.dev.name);
             return 1;
         }
     return 0;
@@ -37,7 +37,7 @@ int spm_clr_light_build(spm_cl_renderer *r, const spm_render_plan *plan, const c
                         spm_error *err)
 {
     r->light = 1;
-    if (light_device_check(r, err) ||
+    if (spm_clr_splat_device_check(r, "light", err) ||
         spm_cl_build(&r->cl, spm_cl_light_program_files, SPM_CL_LIGHT_PROGRAM_NFILES, defs,
                      &r->prog, err))
         return 1;
@@ -83,7 +83,7 @@ void spm_clr_light_release(spm_cl_renderer *r)
 }
 
 /* Room for a splat list of n splats; only grows. */
-static int reserve_splats(spm_cl_renderer *r, size_t n, spm_error *err)
+int spm_clr_reserve_splats(spm_cl_renderer *r, size_t n, spm_error *err)
 {
     if (n <= r->scap)
         return 0;
@@ -114,8 +114,11 @@ static int reserve_light(spm_cl_renderer *r, size_t n, spm_error *err)
             return 1;
         r->lcap = n;
     }
-    if (reserve_splats(r, 2 * n, err))
-        return 1;
+    return spm_clr_reserve_splats(r, 2 * n, err) || spm_clr_reserve_film(r, err);
+}
+
+int spm_clr_reserve_film(spm_cl_renderer *r, spm_error *err)
+{
     if (r->acc)
         return 0;
     size_t cells = r->npix * (size_t)r->pix_ch;
@@ -164,7 +167,7 @@ static int light_chunk(spm_cl_renderer *r, const batch *b, size_t first, spm_pas
             break;
         /* more splats than room: room for them all, and the chunk shaded again */
         spm_clr_release_events(ev_s, NSLOTS, &st->untimed);
-        rc = reserve_splats(r, (size_t)(spm_u32)stat[0], err) ||
+        rc = spm_clr_reserve_splats(r, (size_t)(spm_u32)stat[0], err) ||
              shade_splats(r, b, off, ids, ev_s, err);
     }
     size_t n = (size_t)(spm_u32)stat[0];
