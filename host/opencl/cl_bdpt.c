@@ -24,29 +24,13 @@ const char *const spm_cl_bdpt_program_files[SPM_CL_BDPT_PROGRAM_NFILES] = {
 int spm_clr_bdpt_build(spm_cl_renderer *r, const spm_render_plan *plan, const char *defs,
                        spm_error *err)
 {
-    r->light = r->bdpt = 1;
-    if (spm_clr_splat_device_check(r, "bdpt", err) ||
-        spm_cl_build(&r->cl, spm_cl_bdpt_program_files, SPM_CL_BDPT_PROGRAM_NFILES, defs,
-                     &r->prog, err))
-        return 1;
-    cl_int rc;
-    struct {
-        cl_kernel *k;
-        const char *name;
-    } ks[] = {{&r->k_btrace, "spm_bdpt_trace"},
-              {&r->k_bexp, "spm_bdpt_exponent"},
-              {&r->k_sadd, "spm_splat_add"},
-              {&r->k_sconv, "spm_splat_convert"}};
-    for (size_t i = 0; i < sizeof ks / sizeof *ks; i++) {
-        *ks[i].k = clCreateKernel(r->prog, ks[i].name, &rc);
-        CK(rc, ks[i].name);
-    }
-    for (int s = 0; s < plan->nslots; s++)
-        if (plan->used[s]) {
-            r->k_shade[s] = clCreateKernel(r->prog, r->kname[s], &rc);
-            CK(rc, r->kname[s]);
-        }
-    return 0;
+    const spm_clr_named_kernel ks[] = {{&r->k_btrace, "spm_bdpt_trace"},
+                                       {&r->k_bexp, "spm_bdpt_exponent"},
+                                       {&r->k_sadd, "spm_splat_add"},
+                                       {&r->k_sconv, "spm_splat_convert"}};
+    r->bdpt = 1;
+    return spm_clr_splat_build(r, plan, "bdpt", spm_cl_bdpt_program_files,
+                               SPM_CL_BDPT_PROGRAM_NFILES, defs, ks, 4, "", err);
 }
 
 void spm_clr_bdpt_release(spm_cl_renderer *r)
@@ -142,24 +126,10 @@ static int bdpt_chunk(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, siz
 int spm_clr_bdpt_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                       spm_pass_stats *st, spm_error *err)
 {
-    size_t n = r->npix * spp;
-    static const float zero = 0.0f;
-    size_t bytes = r->npix * (size_t)r->pix_ch * sizeof(float);
     if (reserve_records(r, SPM_BDPT_CHUNK * BDPT_ROOM_PER_SAMPLE, err) ||
-        spm_clr_reserve_film(r, err) || spm_clr_zero_counters(r, err))
+        spm_clr_reserve_film(r, err))
         return 1;
-    CK(clEnqueueFillBuffer(r->cl.queue, r->lpass, &zero, sizeof zero, 0, bytes, 0, NULL, NULL),
-       "clEnqueueFillBuffer(pass image)");
-    for (size_t c0 = 0; c0 < n; c0 += SPM_BDPT_CHUNK) {
-        size_t nb = n - c0 < SPM_BDPT_CHUNK ? n - c0 : SPM_BDPT_CHUNK;
-        if (bdpt_chunk(r, first_sample, spp, c0, nb, st, err))
-            return 1;
-        if (c0 + nb < n && spm_pass_batch_end(r->ctl, c0 + nb))
-            return SPM_PASS_STOPPED;
-    }
-    CK(clEnqueueReadBuffer(r->cl.queue, r->lpass, CL_TRUE, 0, bytes, pass_xyz, 0, NULL, NULL),
-       "clEnqueueReadBuffer(pass image)");
-    return 0;
+    return spm_clr_splat_pass(r, first_sample, spp, SPM_BDPT_CHUNK, bdpt_chunk, pass_xyz, st, err);
 }
 
 /* Each kernel launched once per launch class with nothing to do

@@ -150,8 +150,28 @@ void spm_clr_light_release(spm_cl_renderer *r);
  * name in the error); room for n splats, and the film (sums, pass image,
  * lstat) once. */
 int spm_clr_splat_device_check(spm_cl_renderer *r, const char *integrator, spm_error *err);
+/* A program of the splat film (cl_light.c; r->light set): that check, the
+ * build of files with defs, the named kernels, and each used slot's shade
+ * kernel, its name with suffix appended. */
+typedef struct {
+    cl_kernel *k;
+    const char *name;
+} spm_clr_named_kernel;
+int spm_clr_splat_build(spm_cl_renderer *r, const spm_render_plan *plan, const char *integrator,
+                        const char *const *files, int nfiles, const char *defs,
+                        const spm_clr_named_kernel *ks, int nks, const char *suffix,
+                        spm_error *err);
 int spm_clr_reserve_splats(spm_cl_renderer *r, size_t n, spm_error *err);
 int spm_clr_reserve_film(spm_cl_renderer *r, spm_error *err);
+
+/* cl_light.c: a pass of the splat film: its pass image zeroed, its
+ * npix spp items in chunks [first, first + n) of `chunk`, each given to fn
+ * (which adds its splats into the image), the image read into pass_xyz;
+ * SPM_PASS_STOPPED between chunks when the pass control says so. */
+typedef int (*spm_clr_chunk_fn)(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp,
+                                size_t first, size_t n, spm_pass_stats *st, spm_error *err);
+int spm_clr_splat_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t chunk,
+                       spm_clr_chunk_fn fn, float *pass_xyz, spm_pass_stats *st, spm_error *err);
 
 /* cl_bdpt.c: the bidirectional integrator's program, warm-up and pass (samples
  * in chunks of SPM_BDPT_CHUNK, their connected paths' records shaded by the
