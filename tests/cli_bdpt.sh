@@ -2,8 +2,9 @@
 # specmip render --integrator bdpt (the CPU reference): a render of the Cornell
 # box that records its integrator and gives the same pixels again, and not the
 # light tracer's; what it refuses, each with its reason, exit 2 and nothing
-# written: another backend, hero wavelengths, a type whose vertex picks its
-# term (coated), dispersive glass. How it converges to the path and light
+# written: hero wavelengths, a type whose vertex picks its term (coated),
+# dispersive glass. The OpenCL kernel against this reference is
+# tests/cli_bdpt_cl.sh. How it converges to the path and light
 # tracers is tests/test_bdpt_converge.c, its MIS weights tests/test_bdpt_mis.c.
 source "$(dirname "$0")/lib_cli.sh"
 CORNELL=$DATA/scenes/cornell.scene
@@ -28,7 +29,6 @@ no_bdpt() { # no_bdpt NAME PATTERN ARGS...: exit 2, PATTERN on stderr, no output
     check "$what: says why ($why)" grep -q "$why" "$T/no.err"
     check "$what: nothing written" test ! -e "$T/no.exr"
 }
-no_bdpt "OpenCL backend" "runs on the CPU reference only" "$CORNELL" --backend opencl
 no_bdpt "hero mode" "hero wavelengths" "$CORNELL" --backend cpu --mode hero
 no_bdpt "coated" "'coated' picks one of its terms" "$DATA/scenes/coated.scene" --backend cpu
 no_bdpt "dispersive glass" "wavelength" "$DATA/scenes/prism.scene" --backend cpu

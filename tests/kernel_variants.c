@@ -3,7 +3,8 @@
  * beyond the ones every build adds (cl_core.c). The render's programs come from
  * the backend's own spm_cl_program_files / spm_cl_program_defines for every
  * mode with every slot used, without and with each spectral output bin width
- * the mode writes, and the light integrator's where it renders the scene, on
+ * the mode writes, and the light and bidirectional integrators' where they
+ * render the scene, on
  * the default scene and each scene given (the shade kernels' vector counts
  * follow a scene's tables); then the ray replay's and
  * the operator benchmark's. Duplicates are left to the caller (sort -u).
@@ -39,6 +40,11 @@ static int print_plan(const cl_test_scene *s, int m, int nm)
     if (!spm_render_plan_integrator(&plan, SPM_INTEGRATOR_LIGHT, &why)) { /* its own program */
         spm_cl_program_defines(&plan, 0, defs, sizeof defs, NULL);
         print_files(spm_cl_light_program_files, SPM_CL_LIGHT_PROGRAM_NFILES);
+        printf("\t%s\n", defs);
+    }
+    if (!spm_render_plan_integrator(&plan, SPM_INTEGRATOR_BDPT, &why)) {
+        spm_cl_program_defines(&plan, 0, defs, sizeof defs, NULL);
+        print_files(spm_cl_bdpt_program_files, SPM_CL_BDPT_PROGRAM_NFILES);
         printf("\t%s\n", defs);
     }
     spm_render_plan_free(&plan);

@@ -80,7 +80,7 @@ const spm_option spm_options[] = {
         "path (default: camera paths with next-event estimation) |\n"
         "light (subpaths from the lights, each vertex splatted into\n"
         "the pixel that sees it) |\n"
-        "bdpt (both joined in every way, weighed by MIS; --backend cpu)"),
+        "bdpt (both joined in every way, weighed by MIS)"),
     ROW(LIGHT_SAMPLER, "--light-sampler", "S", TEXT, 0, 0, R,
         "how next-event estimation picks a light: tree (a light tree,\n"
         "by power, distance and orientation to the shading point) |\n"

@@ -25,9 +25,6 @@
 #include "refcpu_shading.h"
 #include "refcpu_feeler.h"
 
-/* the light subpath's seed: the camera subpath's key with this mixed in */
-#define BD_LIGHT_SEED 0x9E3779B9u
-
 /* A subpath vertex: v[0] the endpoint (the lens or the light), v[1..] the
  * surface vertices. n: its triangle's normal (0 off a surface: a lens, a
  * point light); beta: the subpath's colour-independent throughput arriving
@@ -495,7 +492,7 @@ void spm_ref_bdpt_range(const spm_geometry *g, const spm_material *mats, const u
     for (size_t i = begin; i < end; i++) {
         spm_ref_key k = {p->seed, 0, 0};
         spm_ref_path_key(p, i, &k.pixel, &k.sample);
-        spm_ref_key ky = {p->seed ^ BD_LIGHT_SEED, k.pixel, k.sample};
+        spm_ref_key ky = {p->seed ^ SPM_BDPT_LIGHT_SEED, k.pixel, k.sample};
         camera_subpath(g, mats, &k, &z);
         y.n = 0;
         y.e = NULL;

@@ -7,10 +7,7 @@
 #ifndef SPM_REFCPU_BDPT_H
 #define SPM_REFCPU_BDPT_H
 #include "refcpu.h"
-
-/* Surface vertices a subpath holds at most (its endpoint apart): two
- * subpaths connected fill a path record (SPM_MAX_DEPTH) at most. */
-#define SPM_BDPT_SUBPATH (SPM_MAX_DEPTH / 2)
+#include "spm_bdpt.h"
 
 /* A vertex's densities for MIS, per unit area at the vertex: fwd of being
  * sampled by its own subpath, rev by the other direction; delta: a delta

@@ -16,6 +16,8 @@ int spm_cl_create_plan(int device, const spm_render_plan *plan, spm_cl_renderer 
     r->pix_ch = plan->pix_ch;
     r->ndisp = plan->geom->ndisp;
     r->vertex_bytes = plan->vertex_bytes;
+    if (plan->integrator == SPM_INTEGRATOR_BDPT) /* every vertex has its words (-DSPM_BDPT) */
+        r->vertex_bytes = sizeof(spm_vertex) + sizeof(spm_vertex_ext);
     r->batch_paths = spm_plan_batch_paths(SPM_CL_BATCH_PATHS, r->pix_ch, r->vertex_bytes);
     r->run_pass = spm_clr_render_pass;
     spm_clr_fail_init(r, device);
@@ -57,6 +59,7 @@ void spm_cl_destroy(spm_cl_renderer *r)
     if (r->k_accum)
         clReleaseKernel(r->k_accum);
     spm_clr_light_release(r);
+    spm_clr_bdpt_release(r);
     if (r->prog)
         clReleaseProgram(r->prog);
     spm_clr_release_buffers(r);
@@ -241,8 +244,9 @@ int spm_clr_render_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, f
     if (spp == 0)
         return 0;
     pass_ctx c = {pass_xyz, st};
-    int rc = r->light ? spm_clr_light_pass(r, first_sample, spp, pass_xyz, st, err)
-                      : spm_clr_each_batch(r, first_sample, spp, 1, pass_one, &c, err);
+    int rc = r->bdpt    ? spm_clr_bdpt_pass(r, first_sample, spp, pass_xyz, st, err)
+             : r->light ? spm_clr_light_pass(r, first_sample, spp, pass_xyz, st, err)
+                        : spm_clr_each_batch(r, first_sample, spp, 1, pass_one, &c, err);
     if (rc == SPM_PASS_STOPPED)
         return rc;
     spm_u32 counters[SPM_NCOUNTERS];
@@ -333,6 +337,7 @@ static int check_device(int device, const spm_render_plan *plan, int width, int 
 const spm_backend_kind spm_backend_kind_opencl = {.name = "opencl",
                                                   .per_device = 1,
                                                   .light = 1,
+                                                  .bdpt = 1,
                                                   .compiles = 1,
                                                   .all_devices = all_devices,
                                                   .check = check_device,

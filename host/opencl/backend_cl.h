@@ -72,6 +72,9 @@ void spm_cl_program_defines(const spm_render_plan *plan, int device_index, char 
  * defines add -DSPM_LIGHT_TRACE): these files, the same defines. */
 #define SPM_CL_LIGHT_PROGRAM_NFILES 3
 extern const char *const spm_cl_light_program_files[SPM_CL_LIGHT_PROGRAM_NFILES];
+/* The bidirectional integrator's (SPM_INTEGRATOR_BDPT, -DSPM_BDPT): these. */
+#define SPM_CL_BDPT_PROGRAM_NFILES 4
+extern const char *const spm_cl_bdpt_program_files[SPM_CL_BDPT_PROGRAM_NFILES];
 
 /* Failure injection for multi-device tests: SPECMIP_CL_FAIL="DEV:PASS" makes
  * device DEV's pass number PASS (0-based, counted per handle) fail with an

@@ -2,6 +2,7 @@
  * arguments from a struct laid out by its parameter list in
  * spm_kernel_args.h, then the launch for one batch. */
 #include "cl_renderer.h"
+#include "spm_bdpt.h"
 
 /* Host mirrors of the kernels' parameter lists. */
 #define ARG_FIELD(dev, host, name) host name;
@@ -15,6 +16,8 @@ typedef struct { SPM_LIGHT_TRACE_ARGS(ARG_FIELD, ) } light_trace_args;
 typedef struct { SPM_SPLAT_SHADE_ARGS(ARG_FIELD, ) } splat_shade_args;
 typedef struct { SPM_SPLAT_ADD_ARGS(ARG_FIELD, ) } splat_add_args;
 typedef struct { SPM_SPLAT_CONVERT_ARGS(ARG_FIELD, ) } splat_convert_args;
+typedef struct { SPM_BDPT_TRACE_ARGS(ARG_FIELD, ) } bdpt_trace_args;
+typedef struct { SPM_BDPT_EXP_ARGS(ARG_FIELD, ) } bdpt_exp_args;
 
 static size_t round_up(size_t n)
 {
@@ -52,6 +55,8 @@ DEFINE_SETTER(set_light_trace_args, light_trace_args, SPM_LIGHT_TRACE_ARGS)
 DEFINE_SETTER(set_splat_shade_args, splat_shade_args, SPM_SPLAT_SHADE_ARGS)
 DEFINE_SETTER(set_splat_add_args, splat_add_args, SPM_SPLAT_ADD_ARGS)
 DEFINE_SETTER(set_splat_convert_args, splat_convert_args, SPM_SPLAT_CONVERT_ARGS)
+DEFINE_SETTER(set_bdpt_trace_args, bdpt_trace_args, SPM_BDPT_TRACE_ARGS)
+DEFINE_SETTER(set_bdpt_exp_args, bdpt_exp_args, SPM_BDPT_EXP_ARGS)
 
 static int enqueue(spm_cl_renderer *r, cl_kernel k, const char *name, size_t offset, size_t n,
                    cl_event *ev, spm_error *err)
@@ -92,10 +97,35 @@ int spm_clr_run_light_trace(spm_cl_renderer *r, const batch *b, size_t first, cl
            enqueue(r, r->k_ltrace, "spm_light_trace", 0, b->launch, ev, err);
 }
 
+int spm_clr_run_bdpt_trace(spm_cl_renderer *r, const batch *b, size_t first, size_t nsamples,
+                           cl_event *ev, spm_error *err)
+{
+    bdpt_trace_args ba = {(spm_u32)first, (spm_u32)nsamples, r->spx, r->lstat};
+    cl_uint i = 0;
+    return set_trace(r, r->k_btrace, "spm_bdpt_trace", b, &i, err) ||
+           set_bdpt_trace_args(r->k_btrace, "spm_bdpt_trace", &ba, &i, err) ||
+           enqueue(r, r->k_btrace, "spm_bdpt_trace", 0, b->launch, ev, err);
+}
+
+int spm_clr_run_bdpt_exponent(spm_cl_renderer *r, size_t n, size_t launch, cl_event *ev,
+                              spm_error *err)
+{
+    bdpt_exp_args a = {r->xyz, (spm_u32)n, r->lstat};
+    cl_uint i = 0;
+    return set_bdpt_exp_args(r->k_bexp, "spm_bdpt_exponent", &a, &i, err) ||
+           enqueue(r, r->k_bexp, "spm_bdpt_exponent", 0, launch, ev, err);
+}
+
 int spm_clr_run_splat_add(spm_cl_renderer *r, size_t n, int shift, size_t launch, cl_event *ev,
                           spm_error *err)
 {
-    splat_add_args a = {r->spx, r->sval, (spm_u32)n, shift, r->acc, r->counters};
+    return spm_clr_run_splat_add_of(r, r->sval, n, shift, launch, ev, err);
+}
+
+int spm_clr_run_splat_add_of(spm_cl_renderer *r, cl_mem sval, size_t n, int shift, size_t launch,
+                             cl_event *ev, spm_error *err)
+{
+    splat_add_args a = {r->spx, sval, (spm_u32)n, shift, r->acc, r->counters};
     cl_uint i = 0;
     return set_splat_add_args(r->k_sadd, "spm_splat_add", &a, &i, err) ||
            enqueue(r, r->k_sadd, "spm_splat_add", 0, launch, ev, err);
@@ -130,7 +160,8 @@ int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOT
          * either way). The last batch of a pass is launched at full size too,
          * for the same reason. */
         shade_args a = {r->heads, r->verts,  (spm_u32)b->n, ids,     (spm_u32)off[s],
-                        (spm_u32)off[s + 1], r->tab[s], r->cmf[s], r->light ? r->sval : r->xyz};
+                        (spm_u32)off[s + 1], r->tab[s], r->cmf[s],
+                        r->light && !r->bdpt ? r->sval : r->xyz};
         splat_shade_args la = {r->lpx, r->spx, r->lstat, (spm_u32)r->scap, r->pofs};
         shade_path_args pa = {r->extra, r->params.seed, spm_divisor_make(b->spp), b->first_sample,
                               b->first_pixel};
@@ -140,7 +171,7 @@ int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOT
         int rc = set_shade_args(r->k_shade[s], r->kname[s], &a, &i, err) ||
                  (r->mode->per_path && set_shade_path_args(r->k_shade[s], r->kname[s], &pa, &i, err)) ||
                  (r->pix_ch > 3 && set_shade_spec_args(r->k_shade[s], r->kname[s], &sa, &i, err)) ||
-                 (r->light && set_splat_shade_args(r->k_shade[s], r->kname[s], &la, &i, err)) ||
+                 (r->light && !r->bdpt && set_splat_shade_args(r->k_shade[s], r->kname[s], &la, &i, err)) ||
                  (r->ndisp && set_shade_disp_args(r->k_shade[s], r->kname[s], &da, &i, err));
         if (rc || enqueue(r, r->k_shade[s], r->kname[s], 0, b->launch, &ev[s], err))
             return 1;

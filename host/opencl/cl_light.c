@@ -17,7 +17,7 @@ const char *const spm_cl_light_program_files[SPM_CL_LIGHT_PROGRAM_NFILES] = {
 
 /* What the fixed-point film needs of a device: 64-bit integer atomics for
  * the sums, doubles for their conversion. */
-static int light_device_check(spm_cl_renderer *r, spm_error *err)
+int spm_clr_splat_device_check(spm_cl_renderer *r, const char *integrator, spm_error *err)
 {
     char ext[8192] = "";
     clGetDeviceInfo(r->cl.dev.device, CL_DEVICE_EXTENSIONS, sizeof ext - 1, ext, NULL);
@@ -25,10 +25,34 @@ static int light_device_check(spm_cl_renderer *r, spm_error *err)
     for (int i = 0; i < 2; i++)
         if (!strstr(ext, need[i])) {
             spm_errorf(err,
-                       "--integrator light needs %s on the device ('%s' has not): the splats' "
+                       "--integrator %s needs %s on the device ('%s' has not): the splats' "
                        "fixed-point sums need it (--backend cpu renders it)",
-                       need[i], r->cl.dev.name);
+                       integrator, need[i], r->cl.dev.name);
             return 1;
+        }
+    return 0;
+}
+
+int spm_clr_splat_build(spm_cl_renderer *r, const spm_render_plan *plan, const char *integrator,
+                        const char *const *files, int nfiles, const char *defs,
+                        const spm_clr_named_kernel *ks, int nks, const char *suffix,
+                        spm_error *err)
+{
+    r->light = 1;
+    if (spm_clr_splat_device_check(r, integrator, err) ||
+        spm_cl_build(&r->cl, files, nfiles, defs, &r->prog, err))
+        return 1;
+    cl_int rc;
+    for (int i = 0; i < nks; i++) {
+        *ks[i].k = clCreateKernel(r->prog, ks[i].name, &rc);
+        CK(rc, ks[i].name);
+    }
+    for (int s = 0; s < plan->nslots; s++)
+        if (plan->used[s]) {
+            size_t n = strlen(r->kname[s]);
+            snprintf(r->kname[s] + n, sizeof r->kname[s] - n, "%s", suffix);
+            r->k_shade[s] = clCreateKernel(r->prog, r->kname[s], &rc);
+            CK(rc, r->kname[s]);
         }
     return 0;
 }
@@ -36,30 +60,11 @@ static int light_device_check(spm_cl_renderer *r, spm_error *err)
 int spm_clr_light_build(spm_cl_renderer *r, const spm_render_plan *plan, const char *defs,
                         spm_error *err)
 {
-    r->light = 1;
-    if (light_device_check(r, err) ||
-        spm_cl_build(&r->cl, spm_cl_light_program_files, SPM_CL_LIGHT_PROGRAM_NFILES, defs,
-                     &r->prog, err))
-        return 1;
-    cl_int rc;
-    struct {
-        cl_kernel *k;
-        const char *name;
-    } ks[] = {{&r->k_ltrace, "spm_light_trace"},
-              {&r->k_sadd, "spm_splat_add"},
-              {&r->k_sconv, "spm_splat_convert"}};
-    for (size_t i = 0; i < sizeof ks / sizeof *ks; i++) {
-        *ks[i].k = clCreateKernel(r->prog, ks[i].name, &rc);
-        CK(rc, ks[i].name);
-    }
-    for (int s = 0; s < plan->nslots; s++)
-        if (plan->used[s]) {
-            size_t n = strlen(r->kname[s]);
-            snprintf(r->kname[s] + n, sizeof r->kname[s] - n, "_lt");
-            r->k_shade[s] = clCreateKernel(r->prog, r->kname[s], &rc);
-            CK(rc, r->kname[s]);
-        }
-    return 0;
+    const spm_clr_named_kernel ks[] = {{&r->k_ltrace, "spm_light_trace"},
+                                       {&r->k_sadd, "spm_splat_add"},
+                                       {&r->k_sconv, "spm_splat_convert"}};
+    return spm_clr_splat_build(r, plan, "light", spm_cl_light_program_files,
+                               SPM_CL_LIGHT_PROGRAM_NFILES, defs, ks, 3, "_lt", err);
 }
 
 static void release_mem(cl_mem *m)
@@ -83,7 +88,7 @@ void spm_clr_light_release(spm_cl_renderer *r)
 }
 
 /* Room for a splat list of n splats; only grows. */
-static int reserve_splats(spm_cl_renderer *r, size_t n, spm_error *err)
+int spm_clr_reserve_splats(spm_cl_renderer *r, size_t n, spm_error *err)
 {
     if (n <= r->scap)
         return 0;
@@ -114,8 +119,11 @@ static int reserve_light(spm_cl_renderer *r, size_t n, spm_error *err)
             return 1;
         r->lcap = n;
     }
-    if (reserve_splats(r, 2 * n, err))
-        return 1;
+    return spm_clr_reserve_splats(r, 2 * n, err) || spm_clr_reserve_film(r, err);
+}
+
+int spm_clr_reserve_film(spm_cl_renderer *r, spm_error *err)
+{
     if (r->acc)
         return 0;
     size_t cells = r->npix * (size_t)r->pix_ch;
@@ -164,7 +172,7 @@ static int light_chunk(spm_cl_renderer *r, const batch *b, size_t first, spm_pas
             break;
         /* more splats than room: room for them all, and the chunk shaded again */
         spm_clr_release_events(ev_s, NSLOTS, &st->untimed);
-        rc = reserve_splats(r, (size_t)(spm_u32)stat[0], err) ||
+        rc = spm_clr_reserve_splats(r, (size_t)(spm_u32)stat[0], err) ||
              shade_splats(r, b, off, ids, ev_s, err);
     }
     size_t n = (size_t)(spm_u32)stat[0];
@@ -184,21 +192,19 @@ static int light_chunk(spm_cl_renderer *r, const batch *b, size_t first, spm_pas
     return rc;
 }
 
-int spm_clr_light_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
-                       spm_pass_stats *st, spm_error *err)
+int spm_clr_splat_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t chunk,
+                       spm_clr_chunk_fn fn, float *pass_xyz, spm_pass_stats *st, spm_error *err)
 {
-    size_t n = r->npix * spp, room = n < SPM_SPLAT_CHUNK ? n : SPM_SPLAT_CHUNK;
+    size_t n = r->npix * spp;
     static const float zero = 0.0f;
     size_t bytes = r->npix * (size_t)r->pix_ch * sizeof(float);
-    if (reserve_light(r, room, err) || spm_clr_zero_counters(r, err))
+    if (spm_clr_zero_counters(r, err))
         return 1;
     CK(clEnqueueFillBuffer(r->cl.queue, r->lpass, &zero, sizeof zero, 0, bytes, 0, NULL, NULL),
        "clEnqueueFillBuffer(pass image)");
-    for (size_t c0 = 0; c0 < n; c0 += SPM_SPLAT_CHUNK) {
-        size_t nb = n - c0 < SPM_SPLAT_CHUNK ? n - c0 : SPM_SPLAT_CHUNK;
-        /* every chunk launched at the full size (cl_kernels.c run_shade says why) */
-        batch b = {first_sample, spp, (spm_u32)(c0 / spp), 0, nb, room};
-        if (light_chunk(r, &b, c0, st, err))
+    for (size_t c0 = 0; c0 < n; c0 += chunk) {
+        size_t nb = n - c0 < chunk ? n - c0 : chunk;
+        if (fn(r, first_sample, spp, c0, nb, st, err))
             return 1;
         if (c0 + nb < n && spm_pass_batch_end(r->ctl, c0 + nb))
             return SPM_PASS_STOPPED;
@@ -206,6 +212,26 @@ int spm_clr_light_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, fl
     CK(clEnqueueReadBuffer(r->cl.queue, r->lpass, CL_TRUE, 0, bytes, pass_xyz, 0, NULL, NULL),
        "clEnqueueReadBuffer(pass image)");
     return 0;
+}
+
+/* subpaths [first, first + nb) of the pass, launched at the full chunk's
+ * size (cl_kernels.c run_shade says why) */
+static int light_chunk_of(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t first,
+                          size_t nb, spm_pass_stats *st, spm_error *err)
+{
+    size_t n = r->npix * spp, room = n < SPM_SPLAT_CHUNK ? n : SPM_SPLAT_CHUNK;
+    batch b = {first_sample, spp, (spm_u32)(first / spp), 0, nb, room};
+    return light_chunk(r, &b, first, st, err);
+}
+
+int spm_clr_light_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
+                       spm_pass_stats *st, spm_error *err)
+{
+    size_t n = r->npix * spp, room = n < SPM_SPLAT_CHUNK ? n : SPM_SPLAT_CHUNK;
+    if (reserve_light(r, room, err))
+        return 1;
+    return spm_clr_splat_pass(r, first_sample, spp, SPM_SPLAT_CHUNK, light_chunk_of, pass_xyz, st,
+                              err);
 }
 
 /* Each kernel launched once per launch class with nothing to do

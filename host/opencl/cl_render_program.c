@@ -25,6 +25,8 @@ void spm_cl_program_defines(const spm_render_plan *plan, int device_index, char 
     n += (size_t)snprintf(defs + n, size - n, "%s", plan->type_defines);
     if (plan->integrator == SPM_INTEGRATOR_LIGHT) /* kernels/lighttrace.cl's program */
         n += (size_t)snprintf(defs + n, size - n, "-DSPM_LIGHT_TRACE ");
+    if (plan->integrator == SPM_INTEGRATOR_BDPT) /* kernels/bdpt.cl's program */
+        n += (size_t)snprintf(defs + n, size - n, "-DSPM_BDPT ");
     if (plan->nspec)
         n += (size_t)snprintf(defs + n, size - n, "-DSPM_SPEC_BINS=%d -DSPM_PATH_CH=%d ",
                               plan->nspec, plan->pix_ch);
@@ -41,6 +43,8 @@ int spm_clr_build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *er
     spm_cl_program_defines(plan, r->cl.dev.index, defs, sizeof defs, r->kname);
     if (plan->integrator == SPM_INTEGRATOR_LIGHT)
         return spm_clr_light_build(r, plan, defs, err);
+    if (plan->integrator == SPM_INTEGRATOR_BDPT)
+        return spm_clr_bdpt_build(r, plan, defs, err);
     if (spm_cl_build(&r->cl, spm_cl_program_files, SPM_CL_PROGRAM_NFILES, defs, &r->prog, err))
         return 1;
     cl_int rc;
@@ -74,6 +78,8 @@ int spm_clr_build(spm_cl_renderer *r, const spm_render_plan *plan, spm_error *er
 #define POCL_GRID_LIMIT 65535u
 int spm_clr_warm_up(spm_cl_renderer *r, spm_error *err)
 {
+    if (r->bdpt)
+        return spm_clr_bdpt_warm_up(r, err);
     if (r->light)
         return spm_clr_light_warm_up(r, err);
     /* the smallest launch, and the smallest at or over the limit */

@@ -66,6 +66,10 @@ struct spm_cl_renderer {
     cl_mem lpx, spx, sval, lstat, acc, lpass;
     size_t lcap, scap;
     spm_u32 pofs;
+    /* the bidirectional integrator's (cl_bdpt.c; bdpt set, light too for the
+     * splat film: spx the records' pixels, lstat (records, largest exponent)) */
+    int bdpt;
+    cl_kernel k_btrace, k_bexp;
     /* spm_clr_render_pass, or with SPECMIP_CL_FAIL the test hook around it */
     int (*run_pass)(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                     spm_pass_stats *st, spm_error *err);
@@ -120,6 +124,16 @@ int spm_clr_run_light_trace(spm_cl_renderer *r, const batch *b, size_t first, cl
                             spm_error *err);
 int spm_clr_run_splat_add(spm_cl_renderer *r, size_t n, int shift, size_t launch, cl_event *ev,
                           spm_error *err);
+/* cl_kernels.c, the bidirectional integrator's: spm_bdpt_trace for samples
+ * first .. first + nsamples - 1 of the pass into records of stride b->n;
+ * spm_bdpt_exponent over the n records' values (xyz) */
+int spm_clr_run_bdpt_trace(spm_cl_renderer *r, const batch *b, size_t first, size_t nsamples,
+                           cl_event *ev, spm_error *err);
+int spm_clr_run_bdpt_exponent(spm_cl_renderer *r, size_t n, size_t launch, cl_event *ev,
+                              spm_error *err);
+/* the same over the n values of sval (pixels in spx), the bidirectional's records */
+int spm_clr_run_splat_add_of(spm_cl_renderer *r, cl_mem sval, size_t n, int shift, size_t launch,
+                             cl_event *ev, spm_error *err);
 int spm_clr_run_splat_convert(spm_cl_renderer *r, int shift, cl_event *ev, spm_error *err);
 
 /* cl_light.c: the light integrator's program (after spm_cl_program_defines'
@@ -132,6 +146,42 @@ int spm_clr_light_warm_up(spm_cl_renderer *r, spm_error *err);
 int spm_clr_light_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                        spm_pass_stats *st, spm_error *err);
 void spm_clr_light_release(spm_cl_renderer *r);
+/* cl_light.c: what the fixed-point film needs of the device (integrator: the
+ * name in the error); room for n splats, and the film (sums, pass image,
+ * lstat) once. */
+int spm_clr_splat_device_check(spm_cl_renderer *r, const char *integrator, spm_error *err);
+/* A program of the splat film (cl_light.c; r->light set): that check, the
+ * build of files with defs, the named kernels, and each used slot's shade
+ * kernel, its name with suffix appended. */
+typedef struct {
+    cl_kernel *k;
+    const char *name;
+} spm_clr_named_kernel;
+int spm_clr_splat_build(spm_cl_renderer *r, const spm_render_plan *plan, const char *integrator,
+                        const char *const *files, int nfiles, const char *defs,
+                        const spm_clr_named_kernel *ks, int nks, const char *suffix,
+                        spm_error *err);
+int spm_clr_reserve_splats(spm_cl_renderer *r, size_t n, spm_error *err);
+int spm_clr_reserve_film(spm_cl_renderer *r, spm_error *err);
+
+/* cl_light.c: a pass of the splat film: its pass image zeroed, its
+ * npix spp items in chunks [first, first + n) of `chunk`, each given to fn
+ * (which adds its splats into the image), the image read into pass_xyz;
+ * SPM_PASS_STOPPED between chunks when the pass control says so. */
+typedef int (*spm_clr_chunk_fn)(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp,
+                                size_t first, size_t n, spm_pass_stats *st, spm_error *err);
+int spm_clr_splat_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t chunk,
+                       spm_clr_chunk_fn fn, float *pass_xyz, spm_pass_stats *st, spm_error *err);
+
+/* cl_bdpt.c: the bidirectional integrator's program, warm-up and pass (samples
+ * in chunks of SPM_BDPT_CHUNK, their connected paths' records shaded by the
+ * mode's kernels and splatted into the fixed-point film). */
+int spm_clr_bdpt_build(spm_cl_renderer *r, const spm_render_plan *plan, const char *defs,
+                       spm_error *err);
+int spm_clr_bdpt_warm_up(spm_cl_renderer *r, spm_error *err);
+int spm_clr_bdpt_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
+                      spm_pass_stats *st, spm_error *err);
+void spm_clr_bdpt_release(spm_cl_renderer *r);
 
 /* backend_cl.c: the pipeline's steps the test hooks reuse. */
 /* Samples [first_sample, first_sample + spp) of every pixel, batch by batch
