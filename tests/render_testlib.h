@@ -87,6 +87,8 @@ static inline int rt_setup_open(const spm_render_config *cfg, const rt_render_jo
         rt_kept.size = j->size, rt_kept.sampler = rt_light_sampler;
         rt_kept.threshold = j->threshold, rt_kept.open = 1;
     }
+    if (spm_render_setup_levels(cfg, &rt_kept.s, err))
+        return 1;
     s->scene = rt_kept.s.scene, s->geom = rt_kept.s.geom, s->tables = rt_kept.s.tables;
     return spm_render_setup_backends(cfg, s, err);
 }

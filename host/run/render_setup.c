@@ -160,6 +160,12 @@ static int use_tree(int sampler, const spm_geometry *g)
            (sampler == SPM_LIGHT_SAMPLER_AUTO && placed >= SPM_LIGHT_TREE_AUTO_MIN);
 }
 
+int spm_render_setup_levels(const spm_render_config *c, spm_render_setup *s, spm_error *err)
+{
+    const spm_mode_desc *m = &spm_modes[c->mode];
+    return m->levelled && spm_tables_levels(&s->scene, &c->pretest, &s->tables, m->composite, err);
+}
+
 int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_error *err)
 {
     memset(s, 0, sizeof *s);
@@ -180,7 +186,9 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
     if (rc)
         return failed();
     spm_render_hint_emitters(&s->scene, &s->geom);
-    rc = spm_tables_build(&s->scene, &c->pretest, &s->tables, err);
+    rc = spm_tables_prepare(&s->scene, &c->pretest, &s->tables, err);
+    if (!rc)
+        rc = spm_render_setup_levels(c, s, err);
     if (!rc && use_tree(c->light_sampler, &s->geom))
         spm_light_tree_attach(&s->geom, s->tables.materials);
     s->times.tables_s = spm_now() - t2;
@@ -188,7 +196,7 @@ int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_e
         return failed();
     if (interrupted_after("preparing the scene", err))
         return SPM_EXIT_INTERRUPTED;
-    if (c->verbose) {
+    if (c->verbose && spm_modes[c->mode].levelled) {
         const char **names = spm_xcalloc((size_t)s->scene.ncolours + 1, sizeof *names);
         for (int i = 0; i < s->scene.ncolours; i++)
             names[i] = s->scene.colours[i].name;

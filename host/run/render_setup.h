@@ -76,6 +76,10 @@ int spm_render_spp(const spm_render_config *c, const spm_scene *sc);
  * opened is reported by name on stderr and left out, and only when none is
  * left is that an error. A device index listed twice is an input error. */
 int spm_render_setup_open(const spm_render_config *c, spm_render_setup *s, spm_error *err);
+/* The pretest c's mode reads, into s->tables (spm_tables_levels; nothing for
+ * a mode without levels): spm_render_setup_open runs it, and a caller that
+ * keeps s's tables for renders in another mode runs it again. 0 or 1. */
+int spm_render_setup_levels(const spm_render_config *c, spm_render_setup *s, spm_error *err);
 /* *w x *h (the scene's size) after --width want_w / --height want_h (0: not
  * given): one alone keeps the scene's aspect ratio. */
 void spm_render_size(int want_w, int want_h, int *w, int *h);

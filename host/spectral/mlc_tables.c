@@ -74,7 +74,7 @@ static void fill_row(const spm_spectrum *smooth, const double lanes[SPM_MAX_SPIK
 }
 
 int spm_mlc_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables *t,
-                         spm_error *err)
+                         int levels, spm_error *err)
 {
     (void)err;
     int n = sc->ncolours;
@@ -144,14 +144,17 @@ int spm_mlc_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_ta
         if (mt->type == SPM_MAT_DIELECTRIC && mt->col2 >= 0) /* col2: sigma */
             diel_len[ndiel] = mt->p[SPM_DIEL_P_LEN], diel[ndiel++] = mt->col2;
     }
-    spm_mlc_pretest_run(cols, n, t->nspikes, lane_cmf, (const int(*)[2])cond, ncond, diel,
-                        diel_len, ndiel, po, t->mlc_pretest);
+    if (levels) {
+        spm_mlc_pretest_run(cols, n, t->nspikes, lane_cmf, (const int(*)[2])cond, ncond, diel,
+                            diel_len, ndiel, po, t->mlc_pretest);
+        for (int c = 0; c < n; c++)
+            for (int k = 0; k < SPM_PRETEST_KMAX; k++)
+                t->mlc_lvlk[(size_t)c * SPM_PRETEST_KMAX + k] =
+                    (uint8_t)t->mlc_pretest[c].level_k[k];
+    }
     free(cond);
     free(diel);
     free(diel_len);
-    for (int c = 0; c < n; c++)
-        for (int k = 0; k < SPM_PRETEST_KMAX; k++)
-            t->mlc_lvlk[(size_t)c * SPM_PRETEST_KMAX + k] = (uint8_t)t->mlc_pretest[c].level_k[k];
     free(cols);
     free(ingr);
     free(lanes);

@@ -3,7 +3,8 @@
 #ifndef SPM_MLC_TABLES_H
 #define SPM_MLC_TABLES_H
 #include "tables.h"
-/* Fills the mlc_* arrays, which spm_tables_alloc made. */
+/* Fills the mlc_* arrays, which spm_tables_alloc made; mlc_pretest and
+ * mlc_lvlk only with `levels` (spm_tables_levels). */
 int spm_mlc_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables *t,
-                         spm_error *err);
+                         int levels, spm_error *err);
 #endif

@@ -195,8 +195,8 @@ static int pretest_colours(const spm_scene *sc, const spm_pretest_opts *po, spm_
     return stopped;
 }
 
-int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables *t,
-                     spm_error *err)
+int spm_tables_prepare(const spm_scene *sc, const spm_pretest_opts *po, spm_tables *t,
+                       spm_error *err)
 {
     memset(t, 0, sizeof *t);
     if (sc->ncolours >= (int)SPM_NONE) {
@@ -232,28 +232,45 @@ int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables
     spm_tables_fill_hero(t);
     fill_materials(sc, t);
 
-    /* ml levels: the pretest over the scene's whole set of colours */
     t->coarsest_level = po->coarsest_level;
-    int done = 0;
-    if (pretest_colours(sc, po, t, &done)) {
-        spm_errorf(err, "interrupted during the pretests (%d of %d colours done)", done, n);
-        return 1;
-    }
-    for (int c = 0; c < n; c++)
-        for (int k = 0; k < SPM_PRETEST_KMAX; k++)
-            t->lvlk[(size_t)c * SPM_PRETEST_KMAX + k] = (uint8_t)t->pretest[c].level_k[k];
-
     spm_fluor_tables_fill(sc, d65, t);
-    spm_fluor_pretest(sc, po, t, t->lvlk);
+    return spm_mlc_tables_build(sc, po, t, 0, err);
+}
 
-    if (spm_mlc_tables_build(sc, po, t, err))
-        return 1;
-    spm_fluor_pretest(sc, po, t, t->mlc_lvlk);
-    if (spm_stop_requested()) {
-        spm_errorf(err, "interrupted during the Composite Model pretests");
-        return 1;
+int spm_tables_levels(const spm_scene *sc, const spm_pretest_opts *po, spm_tables *t,
+                      int composite, spm_error *err)
+{
+    if (t->levels_done[composite != 0])
+        return 0;
+    if (composite) {
+        if (spm_mlc_tables_build(sc, po, t, 1, err))
+            return 1;
+        spm_fluor_pretest(sc, po, t, t->mlc_lvlk);
+        if (spm_stop_requested()) {
+            spm_errorf(err, "interrupted during the Composite Model pretests");
+            return 1;
+        }
+    } else {
+        /* ml levels: the pretest over the scene's whole set of colours */
+        int done = 0, n = sc->ncolours;
+        if (pretest_colours(sc, po, t, &done)) {
+            spm_errorf(err, "interrupted during the pretests (%d of %d colours done)", done, n);
+            return 1;
+        }
+        for (int c = 0; c < n; c++)
+            for (int k = 0; k < SPM_PRETEST_KMAX; k++)
+                t->lvlk[(size_t)c * SPM_PRETEST_KMAX + k] = (uint8_t)t->pretest[c].level_k[k];
+        spm_fluor_pretest(sc, po, t, t->lvlk);
     }
+    t->levels_done[composite != 0] = 1;
     return 0;
+}
+
+int spm_tables_build(const spm_scene *sc, const spm_pretest_opts *po, spm_tables *t,
+                     spm_error *err)
+{
+    return spm_tables_prepare(sc, po, t, err) || spm_tables_levels(sc, po, t, 0, err) ||
+           spm_tables_levels(sc, po, t, 1, err);
 }
 
 /* The list (tables.h SPM_TABLES_ARRAYS) expanded: make, free, count. */

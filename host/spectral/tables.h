@@ -68,6 +68,7 @@ typedef struct {
     float cmf_lvl[SPM_NUM_LEVELS][3][SPM_TRUTH_BINS];  /* XYZ weights per level (bins(l) used) */
     float cmf_truth[3][SPM_TRUTH_BINS];
     int coarsest_level;            /* the coarsest level the pretest could pick */
+    int levels_done[2];            /* lvlk, mlc_lvlk hold their pretest's levels (else 0: finest) */
 
     /* mlc (Composite Model): nspikes lanes shared by the scene. */
     int nspikes;
@@ -111,8 +112,19 @@ void spm_dielectric_pretest(const spm_spectrum *const *set, int n, const spm_spe
  * fractions of the longest segment inside. */
 #define SPM_DIELECTRIC_NLEN 6
 extern const double spm_dielectric_fractions[SPM_DIELECTRIC_NLEN];
+/* Every table with both pretests' levels (spm_tables_prepare, then
+ * spm_tables_levels for ml and for mlc). */
 int spm_tables_build(const spm_scene *scene, const spm_pretest_opts *po, spm_tables *t,
                      spm_error *err);
+/* Every table but the pretests' levels: lvlk and mlc_lvlk stay 0 (the finest
+ * level), which only a levelled mode reads. */
+int spm_tables_prepare(const spm_scene *scene, const spm_pretest_opts *po, spm_tables *t,
+                       spm_error *err);
+/* The pretest a levelled mode reads (composite: mlc's, else ml's), run once:
+ * the pretests are most of a small render's set-up, and truth, ref, hero and
+ * rgb need neither. */
+int spm_tables_levels(const spm_scene *scene, const spm_pretest_opts *po, spm_tables *t,
+                      int composite, spm_error *err);
 void spm_tables_free(spm_tables *t);
 /* Makes every listed array for t's ncolours and nmaterials, zeroed (with one
  * spare element, so a count of 0 is a valid pointer); spm_tables_build calls
