@@ -19,11 +19,18 @@ metal and dielectric in a checkerboard (metallic 1 where row + column is
 even), roughness 0.1 to 0.85 by block, and mr_furnace.gltf, a board of base
 colour factor 0.8 grey with the same checkerboard, roughness 0 (smooth),
 for the white furnace of tests/cli_gltf_metalrough.sh; both images are
-board_mr.png and furnace_mr.png.
+board_mr.png and furnace_mr.png. board_uvx.gltf: the board_mr.gltf board whose
+base colour and metallic-roughness maps are read through KHR_texture_transform
+UVX (offset and scale), and board_uvx_peer.gltf, the same board without the
+extension whose images (uvx_base.png, uvx_mr.png, 64 x 32) are board_base.png
+and board_mr.png transformed on disk: each of their texel centres t the
+source's texel centre at T R S t (glTF's order and its top-left origin), an
+exact texel; board_uvr.gltf and board_uvr_peer.gltf (uvr_*.png) the same with
+UVR (a quarter turn too) (tests/cli_gltf_uvx.sh).
 The board's material: baseColorTexture x baseColorFactor (1 1 1), metallic 0,
 roughness 0.5 (a coated material of alpha 0.25 in specmip); the lamp's:
 emissiveTexture x emissiveFactor (1 1 1), base colour black."""
-import base64, json, struct, sys, zlib
+import base64, json, math, struct, sys, zlib
 
 # the blocks' sRGB codes, row by row from the image's top left
 CODES = [(200, 60, 50), (60, 160, 70), (50, 80, 190), (230, 210, 60),
@@ -31,6 +38,8 @@ CODES = [(200, 60, 50), (60, 160, 70), (50, 80, 190), (230, 210, 60),
          (90, 200, 200), (250, 140, 30), (100, 60, 30), (160, 200, 120),
          (30, 40, 90), (220, 170, 160), (70, 70, 160), (200, 30, 120)]
 BLOCK = 8  # pixels a block
+UVX = {"offset": [0.5, 0.25], "scale": [2, 1]}
+UVR = {"offset": [0.5, 0.25], "rotation": math.pi / 2, "scale": [2, 1]}
 EMISSIVE_FACTOR = [1.0, 0.8, 0.6]
 EMISSIVE_STRENGTH = 2.5
 
@@ -125,6 +134,8 @@ def main(folder):
          ["board_base.png"],
          ["KHR_materials_emissive_strength"])
     metal_roughness(folder, board, square)
+    transformed(folder, board, "uvx", UVX)
+    transformed(folder, board, "uvr", UVR)
 
 
 def metal_roughness(folder, board, square):
@@ -143,6 +154,39 @@ def metal_roughness(folder, board, square):
         "baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicRoughnessTexture": {"index": 0}}}
     gltf(folder + "/mr_furnace.gltf", [(board, square, 0)], [grey], ["furnace_mr.png"])
 
+
+def on_disk(src, w, h, uvx, out_w, out_h):
+    """pixel(x, y) of src (w x h) read at T R S of each texel centre of an
+    out_w x out_h image (glTF's texture transform, uv from the top left)"""
+    c, s = math.cos(uvx.get("rotation", 0)), math.sin(uvx.get("rotation", 0))
+    (ox, oy), (sx, sy) = uvx["offset"], uvx["scale"]
+    def pixel(x, y):
+        u, v = (x + 0.5) / out_w, (y + 0.5) / out_h
+        u2, v2 = c * sx * u + s * sy * v + ox, -s * sx * u + c * sy * v + oy
+        i, j = u2 * w - 0.5, v2 * h - 0.5
+        assert abs(i - round(i)) < 1e-6 and abs(j - round(j)) < 1e-6, "not a texel centre"
+        return src(round(i) % w, round(j) % h)
+    return pixel
+
+
+def transformed(folder, board, name, uvx):
+    """A transformed board and its peer (the module's docstring)."""
+    n, square = 4 * BLOCK, [(0, 0), (1, 0), (1, 1), (0, 1)]
+    base = lambda x, y: CODES[(y // BLOCK) * 4 + x // BLOCK]
+    mr = lambda x, y: (0, 25 + 15 * (4 * (y // BLOCK) + x // BLOCK),
+                       255 if (y // BLOCK + x // BLOCK) % 2 == 0 else 0)
+    png(folder + "/%s_base.png" % name, 2 * n, n, on_disk(base, n, n, uvx, 2 * n, n))
+    png(folder + "/%s_mr.png" % name, 2 * n, n, on_disk(mr, n, n, uvx, 2 * n, n))
+    ext = {"extensions": {"KHR_texture_transform": uvx}}
+    mat = {"name": "board_" + name, "pbrMetallicRoughness": {
+        "baseColorTexture": dict({"index": 0}, **ext),
+        "metallicRoughnessTexture": dict({"index": 1}, **ext)}}
+    gltf(folder + "/board_%s.gltf" % name, [(board, square, 0)], [mat],
+         ["board_base.png", "board_mr.png"], ["KHR_texture_transform"])
+    peer = {"name": "board_" + name, "pbrMetallicRoughness": {
+        "baseColorTexture": {"index": 0}, "metallicRoughnessTexture": {"index": 1}}}
+    gltf(folder + "/board_%s_peer.gltf" % name, [(board, square, 0)], [peer],
+         ["%s_base.png" % name, "%s_mr.png" % name])
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:

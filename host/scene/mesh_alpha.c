@@ -122,6 +122,8 @@ int spm_mesh_alpha_bind(spm_scene_builder *b, const spm_mesh_material *m, int ma
     char why[300] = "";
     if (m->alpha_map != SPM_MESH_AMAP_NONE) {
         int a = has_uvs ? bind_map(b, m, mwhere, why, sizeof why) : -1;
+        if (a > 0 && m->alpha_map == SPM_MESH_AMAP_BASE) /* the base colour image's binding */
+            b->s->alphas[a - 1].uvx = m->uvx[SPM_MESH_MAP_BASE];
         if (!has_uvs)
             snprintf(why, sizeof why, "the mesh has no texture coordinates");
         if (a < 0)

@@ -152,10 +152,10 @@ int spm_mesh_etexture_apply(const struct aiScene *sc, const struct aiMaterial *m
     return rc == 2 ? 2 : 1;
 }
 
-/* The image of texture file `path`, times factor per channel, into the
- * scene: its index, or -1 with why filled. */
+/* The image of texture file `path`, times factor per channel, read through
+ * the transform uvx, into the scene: its index, or -1 with why filled. */
 static int bind_image(spm_scene_builder *b, const char *path, const float factor[3],
-                      const char *mwhere, char *why, size_t whylen)
+                      const spm_uvx *uvx, const char *mwhere, char *why, size_t whylen)
 {
     spm_file f;
     spm_error e;
@@ -171,6 +171,7 @@ static int bind_image(spm_scene_builder *b, const char *path, const float factor
         rgb[i] *= factor[i % 3];
     spm_texture t;
     spm_texture_from_pixels(w, h, rgb, SPM_WRAP_REPEAT, SPM_WRAP_REPEAT, &t);
+    t.uvx = *uvx;
     free(rgb);
     return spm_sb_texture(b, &t);
 }
@@ -190,7 +191,9 @@ int spm_mesh_texture_bind(spm_scene_builder *b, const spm_mesh_material *m, int 
         snprintf(why, sizeof why, "the mesh has no texture coordinates");
     else if (!spm_material_textured(proto.type))
         snprintf(why, sizeof why, "%s", SPM_TEXTURED_TYPES_WHY);
-    int t = why[0] ? -1 : bind_image(b, m->texture_file, m->factor, mwhere, why, sizeof why);
+    int t = why[0] ? -1
+                    : bind_image(b, m->texture_file, m->factor, &m->uvx[SPM_MESH_MAP_BASE],
+                                 mwhere, why, sizeof why);
     if (t < 0) {
         spm_mesh_texture_warn(m, mwhere, why);
         return material;
@@ -239,7 +242,9 @@ int spm_mesh_etexture_bind(spm_scene_builder *b, const spm_mesh_material *m, int
         f[c] = m->emission[c] / fm, mean[c] = (double)m->emission[c] * m->etexture_mean[c];
     char why[300];
     etexture_why(m, has_uvs, why, sizeof why);
-    int t = why[0] ? -1 : bind_image(b, m->etexture_file, f, mwhere, why, sizeof why);
+    int t = why[0] ? -1
+                    : bind_image(b, m->etexture_file, f, &m->uvx[SPM_MESH_MAP_EMIT], mwhere,
+                                 why, sizeof why);
     if (t < 0)
         spm_warnf("%s: emissive texture '%s' replaced by its mean colour (%.3g %.3g %.3g, "
                   "linear) times the emissive factor: %s", mwhere, m->etexture_name,
