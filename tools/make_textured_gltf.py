@@ -26,7 +26,12 @@ extension whose images (uvx_base.png, uvx_mr.png, 64 x 32) are board_base.png
 and board_mr.png transformed on disk: each of their texel centres t the
 source's texel centre at T R S t (glTF's order and its top-left origin), an
 exact texel; board_uvr.gltf and board_uvr_peer.gltf (uvr_*.png) the same with
-UVR (a quarter turn too) (tests/cli_gltf_uvx.sh).
+UVR (a quarter turn too) (tests/cli_gltf_uvx.sh). allmaps.gltf: the board with
+every map glTF gives: base colour with an alpha channel (alphaMode MASK, one
+block 0: a hole), board_mr.png's metallic-roughness, a normal map of four
+tilted quadrants read through KHR_texture_transform (scale 2), an emissive
+texture (one block glows) and an occlusion map (not rendered: warned)
+(tests/cli_gltf_metalrough.sh renders it in every mode).
 The board's material: baseColorTexture x baseColorFactor (1 1 1), metallic 0,
 roughness 0.5 (a coated material of alpha 0.25 in specmip); the lamp's:
 emissiveTexture x emissiveFactor (1 1 1), base colour black."""
@@ -50,13 +55,15 @@ def srgb_decode(c):
 
 
 def png(path, w, h, pixel):
-    """An 8-bit RGB PNG of w x h, pixel(x, y) its sRGB codes (y from the top)."""
+    """An 8-bit RGB PNG of w x h, pixel(x, y) its sRGB codes (y from the top);
+    RGBA when pixel gives four."""
+    rgba = len(pixel(0, 0)) == 4
     raw = b"".join(b"\0" + bytes(v for x in range(w) for v in pixel(x, y)) for y in range(h))
     def chunk(tag, data):
         return (struct.pack(">I", len(data)) + tag + data +
                 struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF))
     with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 6 if rgba else 2, 0, 0, 0)) +
                 chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
@@ -136,6 +143,7 @@ def main(folder):
     metal_roughness(folder, board, square)
     transformed(folder, board, "uvx", UVX)
     transformed(folder, board, "uvr", UVR)
+    all_maps(folder)
 
 
 def metal_roughness(folder, board, square):
@@ -187,6 +195,33 @@ def transformed(folder, board, name, uvx):
         "baseColorTexture": {"index": 0}, "metallicRoughnessTexture": {"index": 1}}}
     gltf(folder + "/board_%s_peer.gltf" % name, [(board, square, 0)], [peer],
          ["%s_base.png" % name, "%s_mr.png" % name])
+
+def all_maps(folder):
+    """The board with every map (the module's docstring), wound to face -z
+    (the camera) as blocks_lamp.gltf, so that its emission is seen."""
+    n, square = 4 * BLOCK, [(1, 0), (0, 0), (0, 1), (1, 1)]
+    front = [(1, -1, 0), (-1, -1, 0), (-1, 1, 0), (1, 1, 0)]
+    block = lambda x, y: (y // BLOCK) * 4 + x // BLOCK
+    png(folder + "/all_base.png", n, n,
+        lambda x, y: CODES[block(x, y)] + ((0 if block(x, y) == 5 else 255),))
+    # tangent-space normals tilted 30 degrees to +-x and +-y by quadrant
+    t = [(0.5, 0, 0.866), (-0.5, 0, 0.866), (0, 0.5, 0.866), (0, -0.5, 0.866)]
+    png(folder + "/all_normal.png", 16, 16, lambda x, y: tuple(
+        round(255 * (c + 1) / 2) for c in t[(y // 8) * 2 + x // 8]))
+    png(folder + "/all_emissive.png", n, n,
+        lambda x, y: (255, 200, 120) if block(x, y) == 10 else (0, 0, 0))
+    png(folder + "/all_occlusion.png", n, n, lambda x, y: (128 + 4 * (x % 32),) * 3)
+    mat = {"name": "allmaps", "alphaMode": "MASK", "alphaCutoff": 0.5,
+           "pbrMetallicRoughness": {"baseColorTexture": {"index": 0},
+                                    "metallicRoughnessTexture": {"index": 1}},
+           "normalTexture": {"index": 2, "scale": 1.0, "extensions": {
+               "KHR_texture_transform": {"scale": [2, 2]}}},
+           "emissiveTexture": {"index": 3}, "emissiveFactor": [1, 1, 1],
+           "occlusionTexture": {"index": 4}}
+    gltf(folder + "/allmaps.gltf", [(front, square, 0)], [mat],
+         ["all_base.png", "board_mr.png", "all_normal.png", "all_emissive.png",
+          "all_occlusion.png"], ["KHR_texture_transform"])
+
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:

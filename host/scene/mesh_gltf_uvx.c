@@ -7,6 +7,13 @@
 #include "json.h"
 #include <math.h>
 
+/* a member's number, or def when absent or not a number */
+static double num(const spm_json *v, const char *key, double def)
+{
+    const spm_json *m = spm_json_get(v, key);
+    return m && m->type == SPM_JSON_NUMBER ? m->number : def;
+}
+
 /* a member that must be an array of n finite numbers: 1 read (or absent:
  * out untouched), 0 when it is something else */
 static int finite_nums(const spm_json *v, const char *key, double *out, size_t n)
@@ -29,9 +36,9 @@ static int finite_nums(const spm_json *v, const char *key, double *out, size_t n
 static int info_uvx(const spm_json *info, spm_uvx *out)
 {
     const spm_json *x = spm_json_get(spm_json_get(info, "extensions"), "KHR_texture_transform");
-    double set = spm_mesh_gltf_num(info, "texCoord", 0);
-    double offset[2] = {0, 0}, scale[2] = {1, 1}, rotation = spm_mesh_gltf_num(x, "rotation", 0);
-    set = spm_mesh_gltf_num(x, "texCoord", set); /* the extension's overrides the map's */
+    double set = num(info, "texCoord", 0);
+    double offset[2] = {0, 0}, scale[2] = {1, 1}, rotation = num(x, "rotation", 0);
+    set = num(x, "texCoord", set); /* the extension's overrides the map's */
     if (set != 0)
         return 0;
     if (!x)
