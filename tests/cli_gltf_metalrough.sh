@@ -14,9 +14,9 @@
 #    0.85 by block, a normal map read through KHR_texture_transform, an
 #    emissive block and an occlusion map: the kernel against the CPU
 #    reference, the same paths, within dE00 0.01 at every pixel (measured
-#    max below; two seeds differ by 1.2 on average; compare's 5-pixel blur),
+#    max 4.5e-5; two seeds differ by 1.2 on average; compare's 5-pixel blur),
 #    and every mode on both backends renders it, within dE00 1 (mean) of the
-#    CPU's truth (measured on the CPU: hero 0.54, ml 0.14); the base colour texture the metal
+#    CPU's truth (measured: hero 0.54, ml 0.14); the base colour texture the metal
 #    cannot take and the occlusion map are warned about by name, no other map
 #    is (none replaced by its mean, none not applied).
 source "$(dirname "$0")/lib_cli.sh"
