@@ -608,11 +608,19 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
  *                      offset, 0 none (SPM_NMAP_* below); 0: no material has one
  *   [SPM_TEXD_TANGENT] offset of 12 floats per triangle (in the triangles'
  *                      order): a tangent and its handedness at each vertex
- * a header: nlevels, wrap along u, wrap along v (spm_wrap), 0, then per level
- * its texels' offset, width, height, 0; texels 3 floats (linear RGB), rows top
- * to bottom. Texture coordinates: 6 floats per triangle (u, v at each vertex),
+ * a header: nlevels, wrap along u, wrap along v (spm_wrap), its transform's
+ * offset (SPM_TEX_UVX), then per level its texels' offset, width, height, 0;
+ * texels 3 floats (linear RGB), rows top to bottom. Texture coordinates: 6 floats per triangle (u, v at each vertex),
  * in the triangles' order, only in scenes with textures. */
 #define SPM_TEX_GRID 16
+/* A map's texture coordinate transform (glTF KHR_texture_transform; each
+ * binding of an image its own): the word SPM_TEX_UVX of a texture's header
+ * (and SPM_ALPHA_UVX, SPM_NMAP_UVX of the one-byte and normal maps' heads)
+ * is the offset of six floats m, 0 for none; the lookup reads the map at
+ *   u' = m0 u + m1 v + m2,  v' = m3 u + m4 v + m5
+ * and a colour texture's footprint grows by sqrt |m0 m4 - m1 m3| (the
+ * area the transform scales uv by; the ray cone's width is isotropic). */
+#define SPM_TEX_UVX 3
 /* The least survival ratio: a path on the darkest texel survives at least a
  * quarter as often as on the brightest. Where the continuation carries the
  * light (a sky that next-event estimation does not sample), the texel's own
@@ -648,14 +656,16 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
  *          order the traversal meets triangles in.
  * The record, from its offset in the texture words: mode, cutoff (float
  * bits), factor (float bits), the map's offset (0: none). A map: width,
- * height, wrap along u, wrap along v (spm_wrap), then one byte a texel
+ * height, wrap along u, wrap along v (spm_wrap), its transform's offset
+ * (SPM_TEX_UVX), then one byte a texel
  * (alpha x 255 rounded), rows top to bottom, four to a word, the first
  * texel in the low byte. Kernels of scenes with one are built with
  * SPM_WITH_ALPHA; the others' traversal is unchanged. */
 #define SPM_ALPHA_MASK 1u
 #define SPM_ALPHA_BLEND 2u
 #define SPM_ALPHA_RECORD 4
-#define SPM_ALPHA_MAP_HEAD 4
+#define SPM_ALPHA_MAP_HEAD 5
+#define SPM_ALPHA_UVX 4
 
 /* glTF's metallic-roughness model (kernels/metalrough.clh,
  * host/cpu/refcpu_metalrough.c, host/geometry/geometry_alpha.c; docs/METHODS.md
@@ -676,13 +686,14 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
  * unit(m.x T + m.y B + m.z N), T the interpolated vertex tangent and
  * B = s (N x T) (MikkTSpace's, glTF's: s the handedness); then the smooth
  * shading's rule against leaks applies. The record: scale (float bits), the
- * map's offset. A map: width, height, wrap along u, wrap along v, then one
- * word a texel, (m + 1) / 2 in 10 bits a component (x lowest) on the codes
+ * map's offset. A map: width, height, wrap along u, wrap along v, its
+ * transform's offset (SPM_TEX_UVX), then one word a texel, (m + 1) / 2 in 10 bits a component (x lowest) on the codes
  * k = 511 (1 + m) so that m = 0 and m = 1 are exact: a flat map (0.5, 0.5, 1)
  * leaves the normal as it is. Kernels of scenes with one are built with
  * SPM_WITH_NMAP (and SPM_WITH_SMOOTH). */
 #define SPM_NMAP_RECORD 2
-#define SPM_NMAP_MAP_HEAD 4
+#define SPM_NMAP_MAP_HEAD 5
+#define SPM_NMAP_UVX 4
 #define SPM_NMAP_CODE 511.0f
 
 /* The ray cone's widening past a lobe that is not a delta, as a fraction of

@@ -1,9 +1,11 @@
 /* Image textures (texture.h) against values computed by hand: wrap modes,
  * texel and bilinear lookups, the pyramid's levels (power-of-two and odd
  * sizes), the level of detail of a footprint and the trilinear blend, a
- * procedural checkerboard, and images read from files and from memory
- * (8-bit PNG sRGB-decoded, float EXR as it is). */
+ * procedural checkerboard, images read from files and from memory
+ * (8-bit PNG sRGB-decoded, float EXR as it is), and glTF's texture
+ * transform: its matrix, a one-byte map read through it, its footprint. */
 #include "colour.h"
+#include "geometry.h"
 #include "image_io.h"
 #include "paths.h"
 #include "texture.h"
@@ -222,8 +224,47 @@ static void lift(void)
     }
 }
 
+/* KHR_texture_transform: offset (0.5, 0.25), a quarter turn, scale (2, 1).
+ * glTF's uv' = T R S uv at glTF's (0.3, 0.4) (ours (0.3, 0.6)): u' = 0.4 +
+ * 0.5 = 0.9, v' = -2 0.3 + 0.25 = -0.35, ours 1.35; the matrix by hand
+ * (texture.h): c = 0, s = 1: (0, -1, 1.5; 2, 0, 0.75). */
+static void transforms(void)
+{
+    double off[2] = {0.5, 0.25}, sc[2] = {2, 1}, one[2] = {1, 1}, zero[2] = {0, 0};
+    spm_uvx x;
+    spm_uvx_gltf(off, M_PI / 2, sc, &x);
+    static const float want[6] = {0, -1, 1.5f, 2, 0, 0.75f};
+    for (int i = 0; i < 6; i++)
+        CHECK(fabsf(x.m[i] - want[i]) <= 1e-7f, "the quarter turn's matrix, entry %d: %g", i,
+              x.m[i]);
+    CHECK(x.on, "a transform is on");
+    spm_uvx_gltf(zero, 0.0, one, &x);
+    CHECK(!x.on, "the identity is off");
+    /* a 2 x 2 one-byte map, rows top to bottom (0 255 / 51 102): at texel
+     * (0, 0)'s centre (0.25, 0.75) through offset (0.5, 0), u' = 0.75: texel
+     * (1, 0), 255; at (0.25, 0.375) through offset (0, 0.5) and scale (1, 2):
+     * glTF's v = 0.625, v' = 1.75, ours -0.75, repeated 0.25: the bottom
+     * row's centre, texel (0, 1), 51 */
+    spm_u32 w[SPM_ALPHA_MAP_HEAD + 1 + 6] = {2, 2, SPM_WRAP_REPEAT, SPM_WRAP_REPEAT};
+    w[SPM_ALPHA_MAP_HEAD] = 0u | 255u << 8 | 51u << 16 | 102u << 24;
+    double o1[2] = {0.5, 0}, o2[2] = {0, 0.5}, s2[2] = {1, 2};
+    spm_uvx_gltf(o1, 0.0, one, &x);
+    spm_geometry_uvx_put(&x, w, 0, SPM_ALPHA_UVX, SPM_ALPHA_MAP_HEAD + 1);
+    CHECK(w[SPM_ALPHA_UVX] == SPM_ALPHA_MAP_HEAD + 1, "the transform's offset from the head");
+    CHECK_NEAR(spm_byte_map_bilinear(w, 0.25f, 0.75f), 1.0, 1e-6, "offset: texel (1, 0)");
+    CHECK_NEAR(spm_tex_uvx_scale(w, w[SPM_ALPHA_UVX]), 1.0, 1e-7, "an offset keeps the footprint");
+    spm_uvx_gltf(o2, 0.0, s2, &x);
+    spm_geometry_uvx_put(&x, w, 0, SPM_ALPHA_UVX, SPM_ALPHA_MAP_HEAD + 1);
+    CHECK_NEAR(spm_byte_map_bilinear(w, 0.25f, 0.375f), 51.0 / 255, 1e-6, "scale: texel (0, 1)");
+    CHECK_NEAR(spm_tex_uvx_scale(w, w[SPM_ALPHA_UVX]), sqrt(2.0), 1e-6,
+               "scale (1, 2): the footprint sqrt 2 wider");
+    w[SPM_ALPHA_UVX] = 0;
+    CHECK_NEAR(spm_byte_map_bilinear(w, 0.25f, 0.75f), 0.0, 1e-6, "no transform: texel (0, 0)");
+}
+
 int main(void)
 {
+    transforms();
     lift();
     wraps();
     bilinear();

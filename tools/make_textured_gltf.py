@@ -19,11 +19,23 @@ metal and dielectric in a checkerboard (metallic 1 where row + column is
 even), roughness 0.1 to 0.85 by block, and mr_furnace.gltf, a board of base
 colour factor 0.8 grey with the same checkerboard, roughness 0 (smooth),
 for the white furnace of tests/cli_gltf_metalrough.sh; both images are
-board_mr.png and furnace_mr.png.
+board_mr.png and furnace_mr.png. board_uvx.gltf: the board_mr.gltf board whose
+base colour and metallic-roughness maps are read through KHR_texture_transform
+UVX (offset and scale), and board_uvx_peer.gltf, the same board without the
+extension whose images (uvx_base.png, uvx_mr.png, 64 x 32) are board_base.png
+and board_mr.png transformed on disk: each of their texel centres t the
+source's texel centre at T R S t (glTF's order and its top-left origin), an
+exact texel; board_uvr.gltf and board_uvr_peer.gltf (uvr_*.png) the same with
+UVR (a quarter turn too) (tests/cli_gltf_uvx.sh). allmaps.gltf: the board with
+every map glTF gives: base colour with an alpha channel (alphaMode MASK, one
+block 0: a hole), board_mr.png's metallic-roughness, a normal map of four
+tilted quadrants read through KHR_texture_transform (scale 2), an emissive
+texture (one block glows) and an occlusion map (not rendered: warned)
+(tests/cli_gltf_metalrough.sh renders it in every mode).
 The board's material: baseColorTexture x baseColorFactor (1 1 1), metallic 0,
 roughness 0.5 (a coated material of alpha 0.25 in specmip); the lamp's:
 emissiveTexture x emissiveFactor (1 1 1), base colour black."""
-import base64, json, struct, sys, zlib
+import base64, json, math, struct, sys, zlib
 
 # the blocks' sRGB codes, row by row from the image's top left
 CODES = [(200, 60, 50), (60, 160, 70), (50, 80, 190), (230, 210, 60),
@@ -31,6 +43,8 @@ CODES = [(200, 60, 50), (60, 160, 70), (50, 80, 190), (230, 210, 60),
          (90, 200, 200), (250, 140, 30), (100, 60, 30), (160, 200, 120),
          (30, 40, 90), (220, 170, 160), (70, 70, 160), (200, 30, 120)]
 BLOCK = 8  # pixels a block
+UVX = {"offset": [0.5, 0.25], "scale": [2, 1]}
+UVR = {"offset": [0.5, 0.25], "rotation": math.pi / 2, "scale": [2, 1]}
 EMISSIVE_FACTOR = [1.0, 0.8, 0.6]
 EMISSIVE_STRENGTH = 2.5
 
@@ -40,15 +54,16 @@ def srgb_decode(c):
     return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
 
 
-def png(path, w, h, pixel, channels=3):
-    """An 8-bit RGB (or RGBA: channels 4) PNG of w x h, pixel(x, y) its sRGB
-    codes (y from the top)."""
+def png(path, w, h, pixel):
+    """An 8-bit RGB PNG of w x h, pixel(x, y) its sRGB codes (y from the top);
+    RGBA when pixel gives four."""
+    rgba = len(pixel(0, 0)) == 4
     raw = b"".join(b"\0" + bytes(v for x in range(w) for v in pixel(x, y)) for y in range(h))
     def chunk(tag, data):
         return (struct.pack(">I", len(data)) + tag + data +
                 struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF))
     with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2 if channels == 3 else 6, 0, 0, 0)) +
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 6 if rgba else 2, 0, 0, 0)) +
                 chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
@@ -127,6 +142,9 @@ def main(folder):
          ["KHR_materials_emissive_strength"])
     metal_roughness(folder, board, square)
     all_maps(folder, board, square)
+    transformed(folder, board, "uvx", UVX)
+    transformed(folder, board, "uvr", UVR)
+    every_map(folder)
 
 
 def metal_roughness(folder, board, square):
@@ -155,8 +173,7 @@ def all_maps(folder, board, square):
     data: URIs for tests/cli_gltf_embedded.sh."""
     n = 4 * BLOCK
     png(folder + "/board_rgba.png", n, n,
-        lambda x, y: CODES[(y // BLOCK) * 4 + x // BLOCK] + ((0,) if x >= 3 * BLOCK else (255,)),
-        channels=4)
+        lambda x, y: CODES[(y // BLOCK) * 4 + x // BLOCK] + ((0,) if x >= 3 * BLOCK else (255,)))
     png(folder + "/board_nmap.png", n, n,
         lambda x, y: (200, 128, 230) if (x // 4) % 2 else (56, 128, 230))
     mats = [{"name": "maps_board", "alphaMode": "MASK", "alphaCutoff": 0.5,
@@ -165,6 +182,67 @@ def all_maps(folder, board, square):
                                       "metallicRoughnessTexture": {"index": 1}}}]
     gltf(folder + "/maps.gltf", [(board, square, 0)], mats,
          ["board_rgba.png", "board_mr.png", "board_nmap.png"])
+
+
+def on_disk(src, w, h, uvx, out_w, out_h):
+    """pixel(x, y) of src (w x h) read at T R S of each texel centre of an
+    out_w x out_h image (glTF's texture transform, uv from the top left)"""
+    c, s = math.cos(uvx.get("rotation", 0)), math.sin(uvx.get("rotation", 0))
+    (ox, oy), (sx, sy) = uvx["offset"], uvx["scale"]
+    def pixel(x, y):
+        u, v = (x + 0.5) / out_w, (y + 0.5) / out_h
+        u2, v2 = c * sx * u + s * sy * v + ox, -s * sx * u + c * sy * v + oy
+        i, j = u2 * w - 0.5, v2 * h - 0.5
+        assert abs(i - round(i)) < 1e-6 and abs(j - round(j)) < 1e-6, "not a texel centre"
+        return src(round(i) % w, round(j) % h)
+    return pixel
+
+
+def transformed(folder, board, name, uvx):
+    """A transformed board and its peer (the module's docstring)."""
+    n, square = 4 * BLOCK, [(0, 0), (1, 0), (1, 1), (0, 1)]
+    base = lambda x, y: CODES[(y // BLOCK) * 4 + x // BLOCK]
+    mr = lambda x, y: (0, 25 + 15 * (4 * (y // BLOCK) + x // BLOCK),
+                       255 if (y // BLOCK + x // BLOCK) % 2 == 0 else 0)
+    png(folder + "/%s_base.png" % name, 2 * n, n, on_disk(base, n, n, uvx, 2 * n, n))
+    png(folder + "/%s_mr.png" % name, 2 * n, n, on_disk(mr, n, n, uvx, 2 * n, n))
+    ext = {"extensions": {"KHR_texture_transform": uvx}}
+    mat = {"name": "board_" + name, "pbrMetallicRoughness": {
+        "baseColorTexture": dict({"index": 0}, **ext),
+        "metallicRoughnessTexture": dict({"index": 1}, **ext)}}
+    gltf(folder + "/board_%s.gltf" % name, [(board, square, 0)], [mat],
+         ["board_base.png", "board_mr.png"], ["KHR_texture_transform"])
+    peer = {"name": "board_" + name, "pbrMetallicRoughness": {
+        "baseColorTexture": {"index": 0}, "metallicRoughnessTexture": {"index": 1}}}
+    gltf(folder + "/board_%s_peer.gltf" % name, [(board, square, 0)], [peer],
+         ["%s_base.png" % name, "%s_mr.png" % name])
+
+def every_map(folder):
+    """The board with every map (the module's docstring), wound to face -z
+    (the camera) as blocks_lamp.gltf, so that its emission is seen."""
+    n, square = 4 * BLOCK, [(1, 0), (0, 0), (0, 1), (1, 1)]
+    front = [(1, -1, 0), (-1, -1, 0), (-1, 1, 0), (1, 1, 0)]
+    block = lambda x, y: (y // BLOCK) * 4 + x // BLOCK
+    png(folder + "/all_base.png", n, n,
+        lambda x, y: CODES[block(x, y)] + ((0 if block(x, y) == 5 else 255),))
+    # tangent-space normals tilted 30 degrees to +-x and +-y by quadrant
+    t = [(0.5, 0, 0.866), (-0.5, 0, 0.866), (0, 0.5, 0.866), (0, -0.5, 0.866)]
+    png(folder + "/all_normal.png", 16, 16, lambda x, y: tuple(
+        round(255 * (c + 1) / 2) for c in t[(y // 8) * 2 + x // 8]))
+    png(folder + "/all_emissive.png", n, n,
+        lambda x, y: (255, 200, 120) if block(x, y) == 10 else (0, 0, 0))
+    png(folder + "/all_occlusion.png", n, n, lambda x, y: (128 + 4 * (x % 32),) * 3)
+    mat = {"name": "allmaps", "alphaMode": "MASK", "alphaCutoff": 0.5,
+           "pbrMetallicRoughness": {"baseColorTexture": {"index": 0},
+                                    "metallicRoughnessTexture": {"index": 1}},
+           "normalTexture": {"index": 2, "scale": 1.0, "extensions": {
+               "KHR_texture_transform": {"scale": [2, 2]}}},
+           "emissiveTexture": {"index": 3}, "emissiveFactor": [1, 1, 1],
+           "occlusionTexture": {"index": 4}}
+    gltf(folder + "/allmaps.gltf", [(front, square, 0)], [mat],
+         ["all_base.png", "board_mr.png", "all_normal.png", "all_emissive.png",
+          "all_occlusion.png"], ["KHR_texture_transform"])
+
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:

@@ -99,6 +99,7 @@ static float nmap_comp(spm_u32 q, int c)
 static void nmap_bilinear(const spm_u32 *m, float u, float v, float r[3])
 {
     int w = (int)m[0], h = (int)m[1];
+    spm_tex_uvx(m, m[SPM_NMAP_UVX], &u, &v);
     float x = spm_tex_wrap_coord(u, m[2]) * (float)w - 0.5f;
     float y = (1.0f - spm_tex_wrap_coord(v, m[3])) * (float)h - 0.5f;
     float x0 = floorf(x), y0 = floorf(y), fx = x - x0, fy = y - y0;

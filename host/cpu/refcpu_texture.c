@@ -48,6 +48,7 @@ spm_u32 spm_ref_texture_node(const spm_geometry *g, const spm_u32 *h, spm_u32 l,
 {
     const spm_u32 *tex = g->tex, *lv = h + 4u + 4u * l;
     int w = (int)lv[1], ht = (int)lv[2];
+    spm_tex_uvx(h, h[SPM_TEX_UVX], &u, &v);
     u = spm_tex_wrap_coord(u, h[1]);
     v = spm_tex_wrap_coord(v, h[2]);
     int ix = spm_wrap_index(tap(u * (float)w, r1), w, (spm_wrap)h[1]);
@@ -74,7 +75,8 @@ spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, 
     float u, v;
     spm_tri_uv(tr, uv, x, &u, &v);
     float ta = fabsf((uv[2] - uv[0]) * (uv[5] - uv[1]) - (uv[4] - uv[0]) * (uv[3] - uv[1]));
-    float width = cone / fabsf(v3_dot(d, tr->n)) * sqrtf(ta / (2.0f * tr->area));
+    float width = cone / fabsf(v3_dot(d, tr->n)) * sqrtf(ta / (2.0f * tr->area)) *
+                  spm_tex_uvx_scale(h, h[SPM_TEX_UVX]);
     spm_u32 nl = h[0];
     float lod = log2f(width * sqrtf((float)h[5] * (float)h[6]));
     lod = lod > 0.0f ? fminf(lod, (float)(nl - 1u)) : 0.0f;

@@ -76,6 +76,17 @@ size_t spm_geometry_alpha_put(const spm_scene *s, spm_u32 *x, size_t w);
  * test's, as kernels/texture.clh and alpha.clh compute them. */
 void spm_tri_uv(const spm_tri *tr, const float uv[6], const float p[3], float *u, float *v);
 float spm_tex_wrap_coord(float u, spm_u32 mode);
+/* A map's texture coordinate transform in the texture words (spm_shared.h
+ * SPM_TEX_UVX; geometry_texture.c): the words it takes (0 for none), put
+ * from word w on with its offset from the head's word `head` in
+ * x[head + slot] (the word after), and (u, v) through the transform of the
+ * head h at h + off (0: unchanged), as kernels/texture.clh
+ * tex_uvx computes it; the footprint's factor sqrt |m0 m4 - m1 m3| (1 for
+ * none). */
+size_t spm_geometry_uvx_words(const spm_uvx *t);
+size_t spm_geometry_uvx_put(const spm_uvx *t, spm_u32 *x, size_t head, size_t slot, size_t w);
+void spm_tex_uvx(const spm_u32 *h, spm_u32 off, float *u, float *v);
+float spm_tex_uvx_scale(const spm_u32 *h, spm_u32 off);
 /* Normal maps in the texture words (geometry_nmap.c, spm_shared.h
  * SPM_NMAP_*): whether a material of s has one (its kernels: SPM_WITH_NMAP),
  * the words they take with every triangle's tangents, putting them from word

@@ -28,7 +28,7 @@ static float bitsf(spm_u32 u)
 
 static size_t map_words(const spm_alpha_map *m)
 {
-    return SPM_ALPHA_MAP_HEAD + ((size_t)m->w * m->h + 3) / 4;
+    return SPM_ALPHA_MAP_HEAD + ((size_t)m->w * m->h + 3) / 4 + spm_geometry_uvx_words(&m->uvx);
 }
 
 size_t spm_geometry_alpha_words(const spm_scene *s)
@@ -85,6 +85,8 @@ size_t spm_geometry_alpha_put(const spm_scene *s, spm_u32 *x, size_t w)
         x[w + 2] = (spm_u32)m->wrap[0], x[w + 3] = (spm_u32)m->wrap[1];
         for (size_t k = 0; k < (size_t)m->w * m->h; k++)
             x[w + SPM_ALPHA_MAP_HEAD + k / 4] |= (spm_u32)m->a[k] << (8 * (k % 4));
+        spm_geometry_uvx_put(&m->uvx, x, w, SPM_ALPHA_UVX,
+                             w + SPM_ALPHA_MAP_HEAD + ((size_t)m->w * m->h + 3) / 4);
         w += map_words(m);
     }
     size_t rec = w;
@@ -151,6 +153,7 @@ static float texel(const spm_u32 *m, int i, int j)
 float spm_byte_map_bilinear(const spm_u32 *m, float u, float v)
 {
     int w = (int)m[0], h = (int)m[1];
+    spm_tex_uvx(m, m[SPM_ALPHA_UVX], &u, &v);
     float x = spm_tex_wrap_coord(u, m[2]) * (float)w - 0.5f;
     float y = (1.0f - spm_tex_wrap_coord(v, m[3])) * (float)h - 0.5f;
     float x0 = floorf(x), y0 = floorf(y), fx = x - x0, fy = y - y0;

@@ -158,7 +158,7 @@ int spm_geometry_has_nmap(const spm_scene *s)
 
 static size_t map_words(const spm_normal_map *m)
 {
-    return SPM_NMAP_MAP_HEAD + (size_t)m->w * m->h;
+    return SPM_NMAP_MAP_HEAD + (size_t)m->w * m->h + spm_geometry_uvx_words(&m->uvx);
 }
 
 size_t spm_geometry_nmap_words(const spm_scene *s)
@@ -212,6 +212,8 @@ size_t spm_geometry_nmap_put(const spm_scene *s, spm_u32 *x, size_t w)
         x[w] = (spm_u32)m->w, x[w + 1] = (spm_u32)m->h;
         x[w + 2] = (spm_u32)m->wrap[0], x[w + 3] = (spm_u32)m->wrap[1];
         memcpy(x + w + SPM_NMAP_MAP_HEAD, m->q, (size_t)m->w * m->h * sizeof *x);
+        spm_geometry_uvx_put(&m->uvx, x, w, SPM_NMAP_UVX,
+                             w + SPM_NMAP_MAP_HEAD + (size_t)m->w * m->h);
         w += map_words(m);
     }
     x[SPM_TEXD_NMAP] = (spm_u32)w;

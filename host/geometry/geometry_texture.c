@@ -13,6 +13,38 @@ static spm_u32 fbits(float f)
     return u;
 }
 
+size_t spm_geometry_uvx_words(const spm_uvx *t)
+{
+    return t->on ? 6 : 0;
+}
+
+size_t spm_geometry_uvx_put(const spm_uvx *t, spm_u32 *x, size_t head, size_t slot, size_t w)
+{
+    x[head + slot] = t->on ? (spm_u32)(w - head) : 0u;
+    for (size_t i = 0; i < spm_geometry_uvx_words(t); i++)
+        x[w + i] = fbits(t->m[i]);
+    return w + spm_geometry_uvx_words(t);
+}
+
+void spm_tex_uvx(const spm_u32 *h, spm_u32 off, float *u, float *v)
+{
+    if (off == 0u)
+        return;
+    float m[6], a = *u, b = *v;
+    memcpy(m, h + off, sizeof m);
+    *u = m[0] * a + m[1] * b + m[2];
+    *v = m[3] * a + m[4] * b + m[5];
+}
+
+float spm_tex_uvx_scale(const spm_u32 *h, spm_u32 off)
+{
+    if (off == 0u)
+        return 1.0f;
+    float m[6];
+    memcpy(m, h + off, sizeof m);
+    return sqrtf(fabsf(m[0] * m[4] - m[1] * m[3]));
+}
+
 /* words of the whole layout, for the scene's materials and textures */
 static size_t count_words(const spm_scene *s)
 {
@@ -24,7 +56,7 @@ static size_t count_words(const spm_scene *s)
             break;
         }
     for (int t = 0; t < s->ntextures; t++) {
-        n += SPM_TEX_HEADER(s->textures[t].nlevels);
+        n += SPM_TEX_HEADER(s->textures[t].nlevels) + spm_geometry_uvx_words(&s->textures[t].uvx);
         for (int l = 0; l < s->textures[t].nlevels; l++)
             n += 3 * (size_t)s->textures[t].lv[l].w * s->textures[t].lv[l].h;
     }
@@ -46,7 +78,7 @@ static size_t put_texture(const spm_texture *t, spm_u32 *x, size_t w)
             x[texels + i] = fbits(m->rgb[i]);
         texels += n;
     }
-    return texels;
+    return spm_geometry_uvx_put(&t->uvx, x, h, SPM_TEX_UVX, texels);
 }
 
 /* palette p's survival ratios from word w on (spm_shared.h SPM_TEXD_SURVIVE):

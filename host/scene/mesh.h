@@ -111,7 +111,12 @@ typedef struct {
      * map names instead of a file: 1 + its index in spm_mesh_data.images,
      * 0 none (the base colour's also feeds SPM_MESH_AMAP_BASE). */
     int32_t texture_embed, etexture_embed, mr_embed, nmap_embed;
+    /* its maps' texture coordinate transforms (glTF KHR_texture_transform,
+     * read from the JSON by the parent: mesh_gltf_uvx.c), SPM_MESH_MAP_*;
+     * the opacity map from the base colour image takes the base colour's */
+    spm_uvx uvx[4];
 } spm_mesh_material;
+enum { SPM_MESH_MAP_BASE = 0, SPM_MESH_MAP_EMIT = 1, SPM_MESH_MAP_MR = 2, SPM_MESH_MAP_NORMAL = 3 };
 enum { SPM_MESH_MRMAP_NONE = 0, SPM_MESH_MRMAP_FILE = 1, SPM_MESH_MRMAP_EMBEDDED = 2 };
 /* none; glTF normalTexture or OBJ norm; OBJ bump or map_Bump (a normal map
  * when its image has colour, as Blender writes them; a grey one is a height

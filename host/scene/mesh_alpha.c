@@ -115,6 +115,8 @@ int spm_mesh_alpha_bind(spm_scene_builder *b, const spm_mesh_data *d, const spm_
     char why[300] = "";
     if (m->alpha_map != SPM_MESH_AMAP_NONE) {
         int a = d->uvs ? bind_map(b, d, m, mwhere, why, sizeof why) : -1;
+        if (a > 0 && m->alpha_map == SPM_MESH_AMAP_BASE) /* the base colour image's binding */
+            b->s->alphas[a - 1].uvx = m->uvx[SPM_MESH_MAP_BASE];
         if (!d->uvs)
             snprintf(why, sizeof why, "the mesh has no texture coordinates");
         if (a < 0)

@@ -24,6 +24,8 @@ void spm_mesh_gltf_materials(const spm_file *model, spm_mesh_data *d)
     spm_error err;
     spm_json *doc = spm_mesh_gltf_doc(model, &err);
     const spm_json *mats = doc ? spm_json_get(doc, "materials") : NULL;
+    if (doc) /* Assimp's flag, replaced by what the JSON says (mesh_gltf_uvx.c) */
+        d->ignored &= ~(uint32_t)SPM_MESH_IGN_TEX_TRANSFORM;
     for (size_t i = 0; mats && mats->type == SPM_JSON_ARRAY && i < mats->n && i < d->nmats; i++) {
         const spm_json *ext = spm_json_get(&mats->items[i], "extensions");
         const spm_json *disp = spm_json_get(spm_json_get(ext, "KHR_materials_dispersion"),
@@ -32,6 +34,7 @@ void spm_mesh_gltf_materials(const spm_file *model, spm_mesh_data *d)
             d->mats[i].dispersion = (float)disp->number;
             d->mats[i].has |= SPM_MESH_HAS_DISPERSION;
         }
+        spm_mesh_gltf_uvx(&mats->items[i], &d->mats[i], &d->ignored);
         /* emission = emissiveTexture x emissiveFactor x emissiveStrength */
         const spm_json *es = spm_json_get(spm_json_get(ext, "KHR_materials_emissive_strength"),
                                           "emissiveStrength");

@@ -49,6 +49,13 @@ typedef int (*spm_gltf_visit)(void *ctx, const struct spm_json *node, size_t k,
  * SPM_MESH_MAX_DEPTH levels and 2^20 visits. Returns what ended it, else 0. */
 int spm_mesh_gltf_walk(const struct spm_json *doc, spm_gltf_visit visit, void *ctx);
 
+/* A material's KHR_texture_transform on each map it renders (base colour,
+ * emissive, metallic-roughness, normal) into out->uvx (mesh_gltf_uvx.c); a
+ * map read from another texture coordinate set than TEXCOORD_0, or whose
+ * transform holds something other than numbers, sets
+ * SPM_MESH_IGN_TEX_TRANSFORM in *ignored (that map untransformed). */
+void spm_mesh_gltf_uvx(const struct spm_json *mat, spm_mesh_material *out, uint32_t *ignored);
+
 /* The KHR_lights_punctual lights its default scene's nodes place (a light
  * that two nodes name is two lights), into *out (malloc'd, NULL for none);
  * *range_set when one gives a `range` (not rendered). Their number, 0 for a

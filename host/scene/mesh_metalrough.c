@@ -74,5 +74,6 @@ int spm_mesh_mix_bind(spm_scene_builder *b, const spm_mesh_data *d, const spm_me
     }
     proto.mix_mmap = mm;
     proto.mix_rmap = rm;
+    b->s->alphas[mm - 1].uvx = b->s->alphas[rm - 1].uvx = m->uvx[SPM_MESH_MAP_MR];
     return spm_sb_material_typed(b, &proto, mwhere, err);
 }

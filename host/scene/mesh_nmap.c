@@ -78,6 +78,7 @@ int spm_mesh_nmap_bind(spm_scene_builder *b, const spm_mesh_data *d, const spm_m
         spm_warnf("%s: normal map '%s' not applied (%s)", mwhere, m->nmap_name, why);
     if (k <= 0)
         return material;
+    b->s->nmaps[k - 1].uvx = m->uvx[SPM_MESH_MAP_NORMAL];
     spm_scene_material proto = b->s->materials[material];
     proto.nmap = k;
     proto.nmap_scale = isfinite(m->nmap_scale) ? m->nmap_scale : 1.0f;

@@ -85,10 +85,12 @@ static int gltf_uri(const char *dir, const char *uri, const char *where, spm_err
 }
 
 /* The glTF extensions that reach the image: the materials mesh_pbr.c maps;
- * lights and emissive strengths have warnings of their own (SPM_MESH_IGN_*). */
+ * lights, emissive strengths and texture transforms have warnings of their
+ * own (SPM_MESH_IGN_*). */
 static const char *const gltf_rendered[] = {
     "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior",
-    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_dispersion"};
+    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_dispersion",
+    "KHR_texture_transform"};
 
 static void gltf_extensions(const spm_json *doc, char *out, size_t size)
 {

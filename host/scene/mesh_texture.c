@@ -187,10 +187,11 @@ int spm_mesh_map_image(const spm_mesh_data *d, int32_t embed, const char *file,
 }
 
 /* The image a map names (mesh.h spm_mesh_map_image), times factor per
- * channel, into the scene: its index, or -1 with why filled. */
+ * channel, read through the transform uvx, into the scene: its index, or -1
+ * with why filled. */
 static int bind_image(spm_scene_builder *b, const spm_mesh_data *d, int32_t embed,
-                      const char *path, const float factor[3], const char *mwhere, char *why,
-                      size_t whylen)
+                      const char *path, const float factor[3], const spm_uvx *uvx,
+                      const char *mwhere, char *why, size_t whylen)
 {
     spm_file f;
     spm_image_src src;
@@ -203,6 +204,7 @@ static int bind_image(spm_scene_builder *b, const spm_mesh_data *d, int32_t embe
         rgb[i] *= factor[i % 3];
     spm_texture t;
     spm_texture_from_pixels(w, h, rgb, SPM_WRAP_REPEAT, SPM_WRAP_REPEAT, &t);
+    t.uvx = *uvx;
     free(rgb);
     return spm_sb_texture(b, &t);
 }
@@ -222,8 +224,8 @@ int spm_mesh_texture_bind(spm_scene_builder *b, const spm_mesh_data *d,
     else if (!spm_material_textured(proto.type))
         snprintf(why, sizeof why, "%s", SPM_TEXTURED_TYPES_WHY);
     int t = why[0] ? -1
-                   : bind_image(b, d, m->texture_embed, m->texture_file, m->factor, mwhere, why,
-                                sizeof why);
+                   : bind_image(b, d, m->texture_embed, m->texture_file, m->factor,
+                                &m->uvx[SPM_MESH_MAP_BASE], mwhere, why, sizeof why);
     if (t < 0) {
         spm_mesh_texture_warn(m, mwhere, why);
         return material;
@@ -263,8 +265,8 @@ int spm_mesh_etexture_bind(spm_scene_builder *b, const spm_mesh_data *d,
         f[c] = m->emission[c] / fm, mean[c] = (double)m->emission[c] * m->etexture_mean[c];
     char why[300] = "the mesh has no texture coordinates";
     int t = !d->uvs ? -1
-                    : bind_image(b, d, m->etexture_embed, m->etexture_file, f, mwhere, why,
-                                 sizeof why);
+                    : bind_image(b, d, m->etexture_embed, m->etexture_file, f,
+                                 &m->uvx[SPM_MESH_MAP_EMIT], mwhere, why, sizeof why);
     if (t < 0)
         spm_warnf("%s: emissive texture '%s' replaced by its mean colour (%.3g %.3g %.3g, "
                   "linear) times the emissive factor: %s", mwhere, m->etexture_name,

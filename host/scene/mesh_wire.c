@@ -244,7 +244,8 @@ const char *spm_mesh_ignored_name(int bit)
         "untextured)",
         "occlusion maps (a path tracer computes the occlusion they stand for)",
         "MTL specular maps (map_Ks, map_Ns: the Ks and Ns values are used throughout)",
-        "texture transforms and other texture coordinate sets (glTF KHR_texture_transform, "
-        "texCoord other than 0: textures are read untransformed at TEXCOORD_0)"};
+        "texture transforms outside glTF's KHR_texture_transform and texture coordinate "
+        "sets other than the first (texCoord other than 0: such textures are read "
+        "untransformed at TEXCOORD_0)"};
     return bit >= 0 && bit < SPM_MESH_IGN_COUNT ? names[bit] : "?";
 }

@@ -3,6 +3,7 @@
 #ifndef SPM_SCENE_H
 #define SPM_SCENE_H
 #include "spectrum.h"
+#include "texture.h"
 
 #define SPM_NAME_MAX 64
 
@@ -59,6 +60,7 @@ typedef struct {
     int w, h;
     int wrap[2];
     unsigned char *a;
+    spm_uvx uvx; /* its texture coordinates' transform */
 } spm_alpha_map;
 
 /* A normal map: one word a texel (spm_shared.h SPM_NMAP_*: the tangent-space
@@ -67,6 +69,7 @@ typedef struct {
     int w, h;
     int wrap[2];
     unsigned *q;
+    spm_uvx uvx; /* its texture coordinates' transform */
 } spm_normal_map;
 
 typedef struct {

@@ -276,7 +276,7 @@ int spm_sb_alpha_pixels(spm_scene_builder *b, const float *a, int w, int h, int 
                         int wrap_v)
 {
     spm_scene *s = b->s;
-    spm_alpha_map m = {w, h, {wrap_u, wrap_v}, spm_xmalloc((size_t)w * h)};
+    spm_alpha_map m = {w, h, {wrap_u, wrap_v}, spm_xmalloc((size_t)w * h), {{0}, 0}};
     for (size_t i = 0; i < (size_t)w * h; i++) /* round(clamp(a, 0, 1) 255) */
         m.a[i] = (unsigned char)lrintf(255.0f * (a[i] > 0.0f ? (a[i] < 1.0f ? a[i] : 1.0f) : 0.0f));
     s->alphas = reserve(s->alphas, s->nalphas, &b->cap_alphas, sizeof *s->alphas);
@@ -306,7 +306,8 @@ int spm_sb_nmap_pixels(spm_scene_builder *b, const float *rgb, int w, int h, int
                        int wrap_v)
 {
     spm_scene *s = b->s;
-    spm_normal_map m = {w, h, {wrap_u, wrap_v}, spm_xmalloc((size_t)w * h * sizeof *m.q)};
+    spm_normal_map m = {w, h, {wrap_u, wrap_v}, spm_xmalloc((size_t)w * h * sizeof *m.q),
+                        {{0}, 0}};
     for (size_t i = 0; i < (size_t)w * h; i++) /* m = 2 c - 1 */
         m.q[i] = nmap_code(2.0f * rgb[3 * i] - 1.0f) | nmap_code(2.0f * rgb[3 * i + 1] - 1.0f) << 10 |
                  nmap_code(2.0f * rgb[3 * i + 2] - 1.0f) << 20;

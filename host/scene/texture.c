@@ -66,6 +66,19 @@ void spm_texture_from_pixels(int w, int h, const float *rgb, spm_wrap wrap_u, sp
     }
 }
 
+void spm_uvx_gltf(const double offset[2], double rotation, const double scale[2], spm_uvx *out)
+{
+    double c = cos(rotation), s = sin(rotation);
+    const double m[6] = {c * scale[0], -s * scale[1], s * scale[1] + offset[0],
+                         s * scale[0], c * scale[1], 1.0 - c * scale[1] - offset[1]};
+    static const double id[6] = {1, 0, 0, 0, 1, 0};
+    out->on = 0;
+    for (int i = 0; i < 6; i++) {
+        out->m[i] = (float)m[i];
+        out->on |= out->m[i] != (float)id[i];
+    }
+}
+
 void spm_texture_checker(int checks, int res, const float a[3], const float b[3], spm_wrap wrap,
                          spm_texture *t)
 {

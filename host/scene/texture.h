@@ -31,10 +31,28 @@ typedef struct {
     float *rgb; /* 3 floats a texel, rows top to bottom */
 } spm_texmap;
 
+/* A map's texture coordinate transform (glTF KHR_texture_transform), in
+ * the convention above (v up):
+ *   u' = m0 u + m1 v + m2,  v' = m3 u + m4 v + m5;
+ * on = 0: the identity (a map without one is looked up as before). Each
+ * binding of an image carries its own (spm_shared.h SPM_TEX_UVX). */
+typedef struct {
+    float m[6];
+    int on;
+} spm_uvx;
+
+/* glTF's transform uv' = T(offset) R(rotation) S(scale) uv, written in
+ * glTF's convention (v down: v_gltf = 1 - v), in ours:
+ *   u' = c sx u - s sy v + (s sy + ox),
+ *   v' = s sx u + c sy v + (1 - c sy - oy),  c = cos r, s = sin r;
+ * on unless it is the identity. */
+void spm_uvx_gltf(const double offset[2], double rotation, const double scale[2], spm_uvx *out);
+
 typedef struct spm_texture_s {
     int nlevels;
     spm_texmap lv[SPM_TEXTURE_MAX_LEVELS];
     spm_wrap wrap[2]; /* along u, along v */
+    spm_uvx uvx;      /* its texture coordinates' transform */
 } spm_texture;
 
 /* A texture of w x h linear RGB texels (copied) and its pyramid. */
