@@ -23,6 +23,7 @@ typedef struct {
  * render's time includes a kernel build. */
 typedef struct {
     spm_render_setup s;
+    spm_render_config cfg; /* the setup's, for the pretest another mode reads */
     char name[256];
     size_t npix;
     spm_backend *b[MAX_BACKENDS_PER_SCENE][SPM_MAX_BACKENDS];
@@ -96,6 +97,9 @@ static spm_backend **backend_for(const spm_bench_plan *p, scene_run *r, int mode
         return NULL;
     }
     spm_render_plan *plan = &r->plan[r->nb];
+    r->cfg.mode = mode;
+    if (spm_render_setup_levels(&r->cfg, &r->s, err))
+        return NULL;
     if (spm_render_plan_init(plan, &r->s.geom, &r->s.tables, mode, seed, err))
         return NULL;
     spm_backend *b[SPM_MAX_BACKENDS];
@@ -211,6 +215,7 @@ static int open_scene(const spm_bench_plan *p, const char *path, int mode, doubl
     int rc = spm_render_setup_open(&cfg, &r->s, err);
     if (rc)
         return rc;
+    r->cfg = cfg;
     scene_name(path, r->name, sizeof r->name);
     r->npix = (size_t)r->s.scene.width * (size_t)r->s.scene.height;
     for (int i = 0; i < r->s.nb; i++)

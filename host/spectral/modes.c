@@ -288,6 +288,11 @@ int spm_mode_check(const spm_mode_desc *m, const spm_tables *t, spm_error *err)
                    m->name);
         return 1;
     }
+    if (m->levelled && !t->levels_done[m->composite != 0]) {
+        spm_errorf(err, "%s mode reads levels its pretest has not given (spm_tables_levels)",
+                   m->name);
+        return 1;
+    }
     if (m->composite && !t->mlc_lvlk) {
         spm_errorf(err, "%s mode needs the Composite Model tables", m->name);
         return 1;
