@@ -10,14 +10,6 @@
 # (on the reference); here the device's image mean is checked against the
 # device's own path tracer too.
 source "$(dirname "$0")/lib_cli.sh"
-# relavg A B [OPS...]: the largest channel's mean of |A - B| / (A + B + 1e-3)
-# after OPS; with the threshold OPS, the share of pixel channels beyond 1e-3
-relavg() {
-    oiiotool "$1" "$2" --absdiff "$1" "$2" --add --addc 1e-3 --div "${@:3}" --printstats 2>&1 |
-        sed -n 's/.*Stats Avg: *//p' | head -1 | awk '{m=$1; for (i=2;i<=NF;i++) if ($i>m) m=$i; print m}'
-}
-beyond() { relavg "$1" "$2" --subc 1e-3 --clamp:min=0 --mulc 1e30 --clamp:max=1; }
-below() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a != "" && a + 0 <= b + 0) }'; }
 avg() { iinfo --stats "$1" | sed -n 's/^ *Stats Avg: *//p' | awk '{print $1 + $2 + $3}'; }
 
 # Kernel against reference. Measured (AMD EPYC, PoCL 5): the largest

@@ -53,6 +53,16 @@ other_pixels() {
     idiff -fail 0 -warn 0 "$1" "$2" > /dev/null 2>&1
     [ $? -eq 2 ]
 }
+# relavg A B [OPS...]: the largest channel's mean of |A - B| / (A + B + 1e-3)
+# after OPS (kernel against reference); beyond A B: with a threshold as OPS,
+# the share of pixel channels whose relative difference exceeds 1e-3.
+relavg() {
+    oiiotool "$1" "$2" --absdiff "$1" "$2" --add --addc 1e-3 --div "${@:3}" --printstats 2>&1 |
+        sed -n 's/.*Stats Avg: *//p' | head -1 | awk '{m=$1; for (i=2;i<=NF;i++) if ($i>m) m=$i; print m}'
+}
+beyond() { relavg "$1" "$2" --subc 1e-3 --clamp:min=0 --mulc 1e30 --clamp:max=1; }
+# below A B: A is a number and A <= B
+below() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a != "" && a + 0 <= b + 0) }'; }
 # skip REASON: the whole test cannot run here; ctest shows it as skipped
 # (SKIP_RETURN_CODE 77 in tests/CMakeLists.txt).
 skip() {
