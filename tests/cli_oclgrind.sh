@@ -31,6 +31,10 @@ RUNS+=("rgb $DATA/scenes/envmap.scene")
 # and the kinds of light that are not triangles: point, spot, distant, the
 # sky (an environment map) and its sun
 RUNS+=("ml $DATA/tests/data/scenes/delta_lights.scene")
+# and textured paths: an image on a reflectance (the trilinear pick, the
+# lift of its texel, the roulette's survival from it) and one on an area
+# light's emission (the tap at the hit and at the light sample)
+RUNS+=("ml $DATA/scenes/textured.scene" "truth $DATA/scenes/emissive_texture.scene")
 for run in "${RUNS[@]}"; do
     set -- $run
     mode=$1; shift
