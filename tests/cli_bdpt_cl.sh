@@ -64,14 +64,7 @@ check "bdpt and path tracing, OpenCL: the same mean within 3 %" \
 # Split invariance: one device against two, 64 x 64 at 32 spp (two passes of
 # 16, which the devices share; SPECMIP_TEST_MEET: they meet at their first).
 S=(render "$DATA/scenes/cornell_spiky.scene" --integrator bdpt --mode ml --width 64 --height 64 --spp 32 --seed 3 --quiet)
-POCL_DEVICES="pthread basic" "$BIN" "${S[@]}" --device 0 -o "$T/one.exr"
-check "one device: exit 0" test $? -eq 0
-SPECMIP_TEST_MEET=2 POCL_DEVICES="pthread basic" "$BIN" "${S[@]}" --device all --json \
-    -o "$T/two.exr" > "$T/two.json"
-check "two devices: exit 0" test $? -eq 0
-check "two devices: each rendered a pass" \
-    test "$(jq '[.devices[] | select(.passes >= 1)] | length' "$T/two.json")" = 2
-check "two devices: the pixels of one, bit for bit" same_pixels "$T/one.exr" "$T/two.exr"
+split_invariant "${S[@]}"
 
 # The reference's refusals hold on the device, with their reasons.
 no_bdpt() { # no_bdpt NAME PATTERN ARGS...: exit 2, PATTERN on stderr, no output

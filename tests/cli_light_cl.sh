@@ -65,14 +65,7 @@ check "light and path tracing, OpenCL: the same mean within 4 %" \
 # Split invariance: one device against two, 48 x 48 at 87 spp (three passes
 # of 29, which the devices share; they meet at their first pass).
 S=(render "$SPIKY" --integrator light --mode ml --width 48 --height 48 --spp 87 --seed 3 --quiet)
-POCL_DEVICES="pthread basic" "$BIN" "${S[@]}" --device 0 -o "$T/one.exr"
-check "one device: exit 0" test $? -eq 0
-SPECMIP_TEST_MEET=2 POCL_DEVICES="pthread basic" "$BIN" "${S[@]}" --device all --json \
-    -o "$T/two.exr" > "$T/two.json"
-check "two devices: exit 0" test $? -eq 0
-check "two devices: each rendered a pass" \
-    test "$(jq '[.devices[] | select(.passes >= 1)] | length' "$T/two.json")" = 2
-check "two devices: the pixels of one, bit for bit" same_pixels "$T/one.exr" "$T/two.exr"
+split_invariant "${S[@]}"
 
 # The reference's refusals hold on the device, with their reasons.
 "$BIN" render "$DATA/scenes/textured.scene" --integrator light --width 8 --height 8 --spp 1 \

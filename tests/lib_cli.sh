@@ -63,6 +63,19 @@ relavg() {
 beyond() { relavg "$1" "$2" --subc 1e-3 --clamp:min=0 --mulc 1e30 --clamp:max=1; }
 # below A B: A is a number and A <= B
 below() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a != "" && a + 0 <= b + 0) }'; }
+# split_invariant ARGS...: specmip ARGS on PoCL's first device and on both
+# (pthread, basic; SPECMIP_TEST_MEET: they meet at their first pass): each
+# device renders a pass, and the two give the pixels of one, bit for bit.
+split_invariant() {
+    POCL_DEVICES="pthread basic" "$BIN" "$@" --device 0 -o "$T/one.exr"
+    check "one device: exit 0" test $? -eq 0
+    SPECMIP_TEST_MEET=2 POCL_DEVICES="pthread basic" "$BIN" "$@" --device all --json \
+        -o "$T/two.exr" > "$T/two.json"
+    check "two devices: exit 0" test $? -eq 0
+    check "two devices: each rendered a pass" \
+        test "$(jq '[.devices[] | select(.passes >= 1)] | length' "$T/two.json")" = 2
+    check "two devices: the pixels of one, bit for bit" same_pixels "$T/one.exr" "$T/two.exr"
+}
 # skip REASON: the whole test cannot run here; ctest shows it as skipped
 # (SKIP_RETURN_CODE 77 in tests/CMakeLists.txt).
 skip() {
