@@ -13,38 +13,6 @@ static spm_u32 fbits(float f)
     return u;
 }
 
-size_t spm_geometry_uvx_words(const spm_uvx *t)
-{
-    return t->on ? 6 : 0;
-}
-
-size_t spm_geometry_uvx_put(const spm_uvx *t, spm_u32 *x, size_t head, size_t slot, size_t w)
-{
-    x[head + slot] = t->on ? (spm_u32)(w - head) : 0u;
-    for (size_t i = 0; i < spm_geometry_uvx_words(t); i++)
-        x[w + i] = fbits(t->m[i]);
-    return w + spm_geometry_uvx_words(t);
-}
-
-void spm_tex_uvx(const spm_u32 *h, spm_u32 off, float *u, float *v)
-{
-    if (off == 0u)
-        return;
-    float m[6], a = *u, b = *v;
-    memcpy(m, h + off, sizeof m);
-    *u = m[0] * a + m[1] * b + m[2];
-    *v = m[3] * a + m[4] * b + m[5];
-}
-
-float spm_tex_uvx_scale(const spm_u32 *h, spm_u32 off)
-{
-    if (off == 0u)
-        return 1.0f;
-    float m[6];
-    memcpy(m, h + off, sizeof m);
-    return sqrtf(fabsf(m[0] * m[4] - m[1] * m[3]));
-}
-
 /* words of the whole layout, for the scene's materials and textures */
 static size_t count_words(const spm_scene *s)
 {

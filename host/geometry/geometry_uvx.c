@@ -1,0 +1,46 @@
+/* A map's texture coordinate transform (texture.h spm_uvx; glTF
+ * KHR_texture_transform): its six words beside the map, written for the trace
+ * stage, and read back by the CPU reference as kernels/uvx.clh reads them. */
+#include "geometry.h"
+#include "texture.h"
+#include <math.h>
+#include <string.h>
+
+static spm_u32 fbits(float f)
+{
+    spm_u32 u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+size_t spm_geometry_uvx_words(const spm_uvx *t)
+{
+    return t->on ? 6 : 0;
+}
+
+size_t spm_geometry_uvx_put(const spm_uvx *t, spm_u32 *x, size_t head, size_t slot, size_t w)
+{
+    x[head + slot] = t->on ? (spm_u32)(w - head) : 0u;
+    for (size_t i = 0; i < spm_geometry_uvx_words(t); i++)
+        x[w + i] = fbits(t->m[i]);
+    return w + spm_geometry_uvx_words(t);
+}
+
+void spm_tex_uvx(const spm_u32 *h, spm_u32 off, float *u, float *v)
+{
+    if (off == 0u)
+        return;
+    float m[6], a = *u, b = *v;
+    memcpy(m, h + off, sizeof m);
+    *u = m[0] * a + m[1] * b + m[2];
+    *v = m[3] * a + m[4] * b + m[5];
+}
+
+float spm_tex_uvx_scale(const spm_u32 *h, spm_u32 off)
+{
+    if (off == 0u)
+        return 1.0f;
+    float m[6];
+    memcpy(m, h + off, sizeof m);
+    return sqrtf(fabsf(m[0] * m[4] - m[1] * m[3]));
+}
