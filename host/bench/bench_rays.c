@@ -12,6 +12,7 @@
 #include "refcpu.h"
 #include "backend_cpu.h"
 #include "backends.h"
+#include "bench_wavefront.h"
 #include "spm_kernel_args.h"
 
 /* Work-group size: the renderer's unless --rays-group sets one; the variant
@@ -600,6 +601,11 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
     if (o->group)
         group = (size_t)o->group;
     variant = o->packet;
+    if (o->wavefront && (o->packet || o->sort || o->save || o->load || o->stats)) {
+        spm_errorf(err, "--rays-wavefront traces its own rays in both orders: --rays-packet, "
+                   "--rays-sort, --rays-save, --rays-load and --rays-stats do not apply");
+        return SPM_EXIT_INPUT;
+    }
     if (variant && group > 64) {
         spm_errorf(err, "--rays-packet: work-groups of at most 64 rays (--rays-group %zu)", group);
         return SPM_EXIT_INPUT;
@@ -614,6 +620,11 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
     spm_render_setup s;
     int rc = spm_render_setup_open(&cfg, &s, err);
     if (rc) {
+        spm_render_setup_close(&s);
+        return rc;
+    }
+    if (o->wavefront) { /* its own rays, bounce by bounce */
+        rc = spm_bench_wavefront(o, &s, err);
         spm_render_setup_close(&s);
         return rc;
     }

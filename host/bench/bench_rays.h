@@ -86,6 +86,8 @@ spm_rays_embree *spm_rays_embree_open(const spm_geometry *g, const spm_rayset *r
                                       spm_error *err);
 int spm_rays_embree_run(spm_rays_embree *e, double *closest_s, double *shadow_s, spm_error *err);
 int spm_rays_embree_close(spm_rays_embree *e, spm_error *err);
+/* Later runs (and close) trace rs, answers into hits; NULL: no rays. */
+void spm_rays_embree_bind(spm_rays_embree *e, const spm_rayset *rs, int *hits);
 
 typedef struct {
     const char *scene;     /* NULL: the built-in scene */
@@ -95,6 +97,7 @@ typedef struct {
     int group;             /* the replay's work-group size; 0: the renderer's (SPM_LOCAL_SIZE) */
     int packet;            /* 1: the packet variant (kernels/traverse_packet.clh) */
     int sort;              /* 1: each kind sorted by direction octant and origin first */
+    int wavefront;         /* > 0: bounces of the wavefront study instead (bench_wavefront.h) */
     int stats, embree, embree_quality, json;
     const char *save, *load;
 } spm_rays_opts;

@@ -23,6 +23,11 @@ int spm_rays_embree_run(spm_rays_embree *e, double *closest_s, double *shadow_s,
     return 1;
 }
 
+void spm_rays_embree_bind(spm_rays_embree *e, const spm_rayset *rs, int *hits)
+{
+    (void)e, (void)rs, (void)hits;
+}
+
 int spm_rays_embree_close(spm_rays_embree *e, spm_error *err)
 {
     (void)e, (void)err;
@@ -245,6 +250,13 @@ int spm_rays_embree_run(spm_rays_embree *e, double *closest_s, double *shadow_s,
         return 1;
     }
     return 0;
+}
+
+void spm_rays_embree_bind(spm_rays_embree *e, const spm_rayset *rs, int *hits)
+{
+    static const spm_rayset none = {NULL, 0, 0};
+    e->j.rs = rs ? rs : &none;
+    e->j.hits = hits;
 }
 
 int spm_rays_embree_close(spm_rays_embree *e, spm_error *err)

@@ -258,6 +258,11 @@ const spm_option spm_options[] = {
     ROW(RAYS_SORT, "--rays-sort", NULL, FLAG, 0, 0, B,
         "replay each kind of ray sorted by direction octant, then\n"
         "origin (Morton order), as a wavefront could between bounces"),
+    ROW(RAYS_WAVEFRONT, "--rays-wavefront", "N", INT, 1, 16, B,
+        "trace N bounces of a wavefront instead (camera rays, then at\n"
+        "each hit a cosine bounce and a shadow ray to an emitter), each\n"
+        "bounce in path order and sorted by octant and origin, both timed\n"
+        "with the sort's cost and compared ray by ray, %R"),
     ROW(EMBREE, "--embree", NULL, FLAG, 0, 0, B,
         "also replay through Embree 3 (when built with it), its runs\n"
         "alternating with the kernel's, and give specmip/Embree ratios"),
