@@ -20,8 +20,8 @@ int spm_bench_wavefront(const spm_rays_opts *o, const spm_render_setup *s, spm_e
 /* The coherent order of rays[0, n): perm[i] is the ray that goes i-th, by
  * key = octant of d (3 bits) << 27 | Morton code of the origin's cell in a
  * 512^3 grid over the origins' bounds, ties in the given order (a stable
- * least-significant-digit radix sort, three passes of 10 bits); the seconds
- * the keys and the sort took in *key_s and *sort_s. */
+ * least-significant-digit radix sort, three passes of 10 bits); the CPU
+ * seconds the keys and the sort took in *key_s and *sort_s. */
 void spm_wavefront_order(const spm_ray *rays, size_t n, spm_u32 *perm, double *key_s,
                          double *sort_s);
 #endif
