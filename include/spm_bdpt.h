@@ -17,12 +17,21 @@
  * records' stride; heads, verts, levels: the connected paths' records;
  * first_pixel unused), then: samples first_path .. first_path + nsamples - 1
  * of the pass (keyed as camera paths); rpx each record's pixel; rstat[0]
- * counts the records (those from npaths on are counted, not written). */
+ * counts the records (those from npaths on are counted, not written); rsam
+ * each record's sample (its index in the pass: its per-path lanes' key). */
 #define SPM_BDPT_TRACE_ARGS(X, S)                                       \
     X(uint, spm_u32, first_path) S                                      \
     X(uint, spm_u32, nsamples) S                                        \
     X(__global uint *, cl_mem, rpx) S                                   \
-    X(__global int *, cl_mem, rstat)
+    X(__global int *, cl_mem, rstat) S                                  \
+    X(__global uint *, cl_mem, rsam)
+
+/* In a mode whose lanes are drawn per path (hero), the shade kernels of the
+ * bidirectional program take after SPM_SHADE_PATH_ARGS the records' samples
+ * (kernels/shade.cl HERO_LT_PARAM): a connected path's hero set is its
+ * sample's, the same for every strategy of both subpaths. */
+#define SPM_BDPT_SHADE_ARGS(X, S)                                       \
+    X(__global const uint *, cl_mem, rsam)
 
 /* spm_bdpt_exponent: the largest binary exponent of the n records' values
  * (SPM_PATH_CH floats each) into rstat[1], the fixed-point unit's. */

@@ -22,12 +22,13 @@
  * surface vertices. d the ray that reached it; n its triangle's normal (0
  * off a surface); beta the subpath's throughput arriving there; fwd, rev
  * its densities per unit area; emit, escale: a camera vertex on an emitter,
- * its emission toward the vertex before. */
+ * its emission toward the vertex before; disp: its index is the sample's
+ * committed bin's (dispersive glass). */
 typedef struct {
     float3 p, d, n;
     uint tri, refl, col2, emit;
     float beta, escale, fwd, rev;
-    int delta;
+    int delta, disp;
     spm_vertex_ext x;
 } bd_vertex;
 
@@ -47,7 +48,7 @@ typedef struct {
     __global const uint *tex;
     __global uint *counters;
     spm_camera cam;
-    uint disperse;
+    uint disperse, lam; /* lam: the sample's committed bin, once both subpaths are walked */
 } bd_scene;
 
 /* What strategy (s, t) found (refcpu_bdpt.c bd_join): its weight without
@@ -103,7 +104,7 @@ SPM_ALWAYS_INLINE void vertex_state(const bd_scene *sc, const bd_subpath *sp, in
     __global const spm_tri *tr = &sc->tris[v->tri];
     *m = sc->mats[tr->material];
     hit_frame(tr, sc->vnormals, sc->tex, sc->uvs, v->tri, sp->v[i - 1].p, v->d, fr);
-    spm_walk w = {sc->disp, sc->disperse, SPM_NONE};
+    spm_walk w = {sc->disp, sc->disperse, sc->lam};
     bsdf_begin(*m, fr, k, (uint)(i - 1), &w, b);
 }
 
@@ -119,11 +120,11 @@ SPM_ALWAYS_INLINE float lobe_pdf(int delta, spm_material m, const spm_frame *fr,
 
 /* The walk from the subpath's last vertex along o + t d (pdf_dir the
  * density of d there, in solid angle) in mode, until roulette, a miss or
- * the cap ends it. */
-SPM_ALWAYS_INLINE void bd_walk(const bd_scene *sc, spm_key k, int mode, float3 o, float3 d,
-                               uint skip, float beta, float pdf_dir, bd_subpath *sp)
+ * the cap ends it. rw is the sample's, shared by both subpaths: the first
+ * dispersive vertex either meets commits the bin, every later one takes it. */
+SPM_ALWAYS_INLINE void bd_walk(const bd_scene *sc, spm_key k, int mode, spm_walk *rw, float3 o,
+                               float3 d, uint skip, float beta, float pdf_dir, bd_subpath *sp)
 {
-    spm_walk rw = {sc->disp, sc->disperse, SPM_NONE};
     int seg = 0;
     while (sp->n <= SPM_BDPT_SUBPATH) {
         uint j = (uint)(sp->n - 1);
@@ -150,11 +151,13 @@ SPM_ALWAYS_INLINE void bd_walk(const bd_scene *sc, spm_key k, int mode, float3 o
         if (mode == SPM_RADIANCE && ecos > 0.0f)
             v->emit = light_eval(m, ecos, &v->escale);
         spm_bsdf b;
-        bsdf_begin(m, &fr, k, j, &rw, &b);
+        b.commit = 0; /* only the types whose index a bin sets write it */
+        bsdf_begin(m, &fr, k, j, rw, &b);
+        v->disp = b.commit != 0;
         float mmean, minv;
         v->refl = bsdf_lobe(m, &b, &mmean, &minv);
         v->x = (spm_vertex_ext){0u, 0.0f, 0.0f, 0.0f};
-        v->col2 = bsdf_record(m, &b, &rw, &v->x);
+        v->col2 = bsdf_record(m, &b, rw, &v->x);
         v->delta = !b.nee;
         sp->n++;
         spm_bsample s;
@@ -176,7 +179,7 @@ SPM_ALWAYS_INLINE void bd_walk(const bd_scene *sc, spm_key k, int mode, float3 o
 }
 
 /* The camera subpath of key k: the lens vertex, then the walk. */
-SPM_ALWAYS_INLINE void camera_subpath(const bd_scene *sc, spm_key k, bd_subpath *z)
+SPM_ALWAYS_INLINE void camera_subpath(const bd_scene *sc, spm_key k, spm_walk *rw, bd_subpath *z)
 {
     float3 o, d;
     float pp, pd;
@@ -189,13 +192,13 @@ SPM_ALWAYS_INLINE void camera_subpath(const bd_scene *sc, spm_key k, bd_subpath 
     v->fwd = pp;
     z->n = 1;
     if (pd > 0.0f)
-        bd_walk(sc, k, SPM_RADIANCE, o, d, 0xFFFFFFFFu, 1.0f, pd, z);
+        bd_walk(sc, k, SPM_RADIANCE, rw, o, d, 0xFFFFFFFFu, 1.0f, pd, z);
 }
 
 /* The light subpath of key k (the light tracer's start): the light by the
  * selection, its ray, beta = Le |cos_o| / (pmf pdf_pos pdf_dir); the walk. */
 SPM_ALWAYS_INLINE void light_subpath(const bd_scene *sc, const spm_trace_params *p, spm_key k,
-                                     bd_subpath *y)
+                                     spm_walk *rw, bd_subpath *y)
 {
     uint ei = light_pick(p, sc->emitters, k, SPM_DIM_VERTEX(0));
     __global const spm_emitter *e = &sc->emitters[ei];
@@ -219,7 +222,7 @@ SPM_ALWAYS_INLINE void light_subpath(const bd_scene *sc, const spm_trace_params 
     if (y->colour == SPM_NONE)
         return;
     uint skip = e->kind == SPM_LIGHT_AREA ? e->tri : 0xFFFFFFFFu;
-    bd_walk(sc, k, SPM_IMPORTANCE, o, d, skip, scale * cos_o / (e->pdf * pp * pd), pd, y);
+    bd_walk(sc, k, SPM_IMPORTANCE, rw, o, d, skip, scale * cos_o / (e->pdf * pp * pd), pd, y);
 }
 
 /* ---- the joins ----------------------------------------------------------- */
@@ -375,6 +378,19 @@ SPM_ALWAYS_INLINE float light_arg(const bd_subpath *y, int i)
     return i > 1 && SPM_VX_KIND(from->x) == SPM_FK_ABSORB ? from->x.lobe : 0.0f;
 }
 
+/* A dispersive vertex's words: the connected path's first one (in record
+ * order) commits it to the sample's bin lam with 1 / its pdf (spm_shared.h
+ * SPM_VX_LAMBDA), so the wavelength's pdf is counted once whichever subpath
+ * drew it; the others carry no bin. */
+SPM_ALWAYS_INLINE void disp_words(spm_vertex_ext *x, int *first, uint lam)
+{
+    uint col = *first ? lam : SPM_NONE;
+    x->ids = (x->ids & ~SPM_VX_COLMASK) | ((col + 1u) & SPM_VX_COLMASK);
+    if (*first)
+        x->light = (float)SPM_TRUTH_BINS;
+    *first = 0;
+}
+
 /* Record vertex n of the connected path: the subpath vertex it is (camera
  * vertex i for n < t - 1, else light vertex s - 1 - (n - (t - 1))) and its
  * words; a joined vertex's argument its eval's, the last one carries the
@@ -401,12 +417,12 @@ SPM_ALWAYS_INLINE const bd_vertex *path_vertex(const bd_subpath *z, int t, const
  * colours, refcpu_bdpt.c path_level's order). 0: a black vertex on it, no
  * slot taken. */
 SPM_ALWAYS_INLINE int write_path(const bd_subpath *z, int t, const bd_subpath *y, int s,
-                                 const bd_join *J, float c, __global const uchar *lvlk,
+                                 const bd_join *J, float c, uint lam, __global const uchar *lvlk,
                                  uint init_level, uint npaths, __global spm_dev_head *heads,
                                  __global spm_vertex *verts, __global uchar *levels,
                                  __global int *rstat, uint *slot)
 {
-    int nv = (t - 1) + (s > 0 ? s - 1 : 0) - (s == 0);
+    int nv = (t - 1) + (s > 0 ? s - 1 : 0) - (s == 0), first = 1;
     uint emit = s == 0 ? z->v[t - 1].emit : y->colour;
     spm_vertex_ext x;
     for (int n = 0; n < nv; n++)
@@ -426,6 +442,8 @@ SPM_ALWAYS_INLINE int write_path(const bd_subpath *z, int t, const bd_subpath *y
     for (int n = 0; n < nv; n++) {
         const bd_vertex *v = path_vertex(z, t, y, s, J, n, nv, &x);
         spm_vertex rv = {v->refl | (SPM_NONE << 16), 0.0f};
+        if (v->disp)
+            disp_words(&x, &first, lam);
         if (n == nv - 1 && s == 0) { /* the emitter the last camera vertex's ray hit */
             x.ids = (x.ids & 0xFFFFu) | SPM_VX_HIT_BITS(emit);
             x.hit_c = c;
@@ -463,13 +481,15 @@ __kernel void spm_bdpt_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
     spm_key k = {p.seed, i / p.spp_per_pass, p.first_sample + i % p.spp_per_pass};
     spm_key ky = {p.seed ^ SPM_BDPT_LIGHT_SEED, k.pixel, k.sample};
     bd_scene sc = {tris, nodes,     emitters, mats,  light_pdf, vnormals, disp,
-                   uvs,  tex,       counters, p.cam, p.disperse};
+                   uvs,  tex,       counters, p.cam, p.disperse, SPM_NONE};
     bd_subpath z, y;
-    camera_subpath(&sc, k, &z);
+    spm_walk rw = {disp, p.disperse, SPM_NONE};
+    camera_subpath(&sc, k, &rw, &z);
     y.n = 0;
     y.e = 0u;
     if (p.nemitters > 0u)
-        light_subpath(&sc, &p, ky, &y);
+        light_subpath(&sc, &p, ky, &rw, &y);
+    sc.lam = rw.lam;
     int light_delta = y.n > 0 && emitters[y.e].kind != SPM_LIGHT_AREA;
     for (int t = 1; t <= z.n; t++)
         for (int s = t == 1 ? 2 : 0; s <= y.n; s++) {
@@ -481,10 +501,12 @@ __kernel void spm_bdpt_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
                 continue;
             float c = J.c * join_mis(&z, t, &y, s, &J, light_delta);
             uint slot;
-            if (c > 0.0f && write_path(&z, t, &y, s, &J, c, lvlk, init_level, npaths, heads,
+            if (c > 0.0f && write_path(&z, t, &y, s, &J, c, sc.lam, lvlk, init_level, npaths, heads,
                                        verts, levels, rstat, &slot) &&
-                slot < npaths)
+                slot < npaths) {
                 rpx[slot] = J.px;
+                rsam[slot] = i;
+            }
         }
 }
 

@@ -237,6 +237,16 @@ inline int shade_dispersed(spm_dev_head h, __global const spm_vertex *vp,
 #define HERO_LT_PARAM , uint pofs
 #define HERO_LT_ARG , pofs
 #define HERO_LT_OFFSET pi += (uint16)pofs;
+#elif defined(SPM_BDPT)
+#include "spm_bdpt.h"
+/* A connected path's key is its sample's: record pi is sample rsam[pi] of
+ * the pass (kernels/bdpt.cl), its hero set the same for every strategy. */
+#define HERO_LT_PARAM , __global const uint *rsam
+#define HERO_LT_ARG , rsam
+#define HERO_LT_OFFSET                                                                  \
+    pi = (uint16)(rsam[pi.s0], rsam[pi.s1], rsam[pi.s2], rsam[pi.s3], rsam[pi.s4],     \
+                  rsam[pi.s5], rsam[pi.s6], rsam[pi.s7], rsam[pi.s8], rsam[pi.s9],     \
+                  rsam[pi.sa], rsam[pi.sb], rsam[pi.sc], rsam[pi.sd], rsam[pi.se], rsam[pi.sf]);
 #else
 #define HERO_LT_PARAM
 #define HERO_LT_ARG
@@ -318,7 +328,12 @@ inline void hero_xyz(__global const float *hero, uint4 b, float4 r, float4 L, fl
 #define SB_NAME spm_shade_hero
 #define SB_W 4
 #define SB_NV 1
+#ifdef SPM_BDPT
+#define SB_EXTRA_ARGS , SPM_SHADE_PATH_ARGS(SPM_KERNEL_PARAM, SPM_COMMA), \
+    SPM_BDPT_SHADE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA)
+#else
 #define SB_EXTRA_ARGS , SPM_SHADE_PATH_ARGS(SPM_KERNEL_PARAM, SPM_COMMA)
+#endif
 #define SB_ATTR __attribute__((reqd_work_group_size(SPM_LOCAL_SIZE, 1, 1)))
 #define SB_GROUP                                                                       \
     __local uint hbin[SPM_HERO_LANES * SPM_LOCAL_SIZE];                                \

@@ -5,7 +5,10 @@
  * standard error measured from the K renders, and the image's totals too. On
  * the Cornell box (diffuse, an area light) and a glossy box lit by a point
  * light (its boxes rough conductors: importance-mode eval and pdf of a
- * lobe that is no Lambertian, a delta light that no camera vertex meets).
+ * lobe that is no Lambertian, a delta light that no camera vertex meets),
+ * and a dispersive prism throwing an area light's spectrum onto a wall (both
+ * subpaths sharing the sample's committed wavelength, its pdf counted once;
+ * against the light tracer only, see prism below).
  * Scenes with mirrors or smooth glass are not compared: a path tracer misses
  * what a point light throws through them and a light tracer what the camera
  * sees in them, which is what bdpt adds (their weights: test_bdpt_mis). */
@@ -83,17 +86,19 @@ static void compare(const char *scene_name, const char *other, const double *mb,
                     "(worst %.2f)", scene_name, bad, other, Z_MAX, worst);
 }
 
-static void converge(const char *path, const char *name)
+/* bdpt against the light tracer, and (vs_path) against the path tracer */
+static void converge(const char *path, const char *name, int vs_path)
 {
     static double m[3][NP], v[3][NP];
     scene s;
     if (it_load(&s, path, SIDE))
         return;
-    for (int i = 0; i < 3; i++)
+    for (int i = vs_path ? 0 : 1; i < 3; i++)
         if (moments(&s, i, m[i], v[i]))
             return;
-    compare(name, "path", m[SPM_INTEGRATOR_BDPT], v[SPM_INTEGRATOR_BDPT],
-            m[SPM_INTEGRATOR_PATH], v[SPM_INTEGRATOR_PATH]);
+    if (vs_path)
+        compare(name, "path", m[SPM_INTEGRATOR_BDPT], v[SPM_INTEGRATOR_BDPT],
+                m[SPM_INTEGRATOR_PATH], v[SPM_INTEGRATOR_PATH]);
     compare(name, "light", m[SPM_INTEGRATOR_BDPT], v[SPM_INTEGRATOR_BDPT],
             m[SPM_INTEGRATOR_LIGHT], v[SPM_INTEGRATOR_LIGHT]);
     it_free(&s);
@@ -110,15 +115,35 @@ static const char *const glossy[][2] = {
     {"quad light ", "light point 0.278 0.35 0.2795 equal 43\n"}};
 #define NSUB 4
 
+/* the prism on a wall with its spot light made an area light of 0.6 x 0.6
+ * where the spot stands, facing the prism (its direction the spot's): large
+ * enough that a path tracer's rays through the prism meet it often enough
+ * for K renders to measure its spread. Compared with the light tracer only:
+ * the path tracer finds the caustic by its BSDF rays meeting the lamp
+ * through the prism, rare and large (its relative standard error 16.8 %
+ * against bdpt's 8.3 %), and its K renders underestimate its spread (9 pixel
+ * channels beyond Z_MAX, worst 8.0, at 0.2 x 0.2 85). The camera side of a
+ * committed path against the path tracer is tests/cli_bdpt.sh's prism, bit
+ * for bit. */
+static const char *const prism[][2] = {
+    {"light spot ", "material lamp emit equal 600\n"
+                    "quad lamp -3.211547 -0.3 1.688169  -3.211547 0.3 1.688169  "
+                    "-3.157737 0.3 2.285751  -3.157737 -0.3 2.285751\n"}};
+
 int main(void)
 {
     char cornell[1024], dir[] = "/tmp/specmip_bdpt_XXXXXX", path[1200];
     spm_data_path("scenes/cornell.scene", cornell, sizeof cornell);
-    converge(cornell, "cornell");
+    converge(cornell, "cornell", 1);
     CHECK(mkdtemp(dir) != NULL, "mkdtemp");
     snprintf(path, sizeof path, "%s/glossy_point.scene", dir);
     if (!it_write_variant(cornell, path, glossy, NSUB))
-        converge(path, "glossy_point");
+        converge(path, "glossy_point", 1);
+    remove(path);
+    char wall[1024];
+    spm_data_path("scenes/prism_wall.scene", wall, sizeof wall);
+    if (!it_write_variant(wall, path, prism, 1))
+        converge(path, "prism_area", 0);
     remove(path);
     rmdir(dir);
     TEST_END();

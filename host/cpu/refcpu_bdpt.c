@@ -29,7 +29,8 @@
  * surface vertices. n: its triangle's normal (0 off a surface: a lens, a
  * point light); beta: the subpath's colour-independent throughput arriving
  * there (the colours apart, which the shade stage applies); emit, escale: a
- * camera vertex on an emitter, its emission toward the vertex before. */
+ * camera vertex on an emitter, its emission toward the vertex before; disp:
+ * its index is the sample's committed bin's (dispersive glass). */
 typedef struct {
     float p[3], n[3];
     spm_ref_hit h;
@@ -37,6 +38,7 @@ typedef struct {
     const spm_material *m;
     spm_u32 tri, refl, col2, emit;
     float escale, beta;
+    int disp;
     spm_bdpt_pdf pdf;
     spm_vertex_ext x;
 } bd_vertex;
@@ -137,11 +139,14 @@ static void vertex_emission(const spm_geometry *g, bd_vertex *v, const float d[3
 
 /* The walk from the subpath's last vertex along o + t d (pdf_dir the
  * density of d there, in solid angle), in mode (SPM_REF_RADIANCE: the
- * camera's), until roulette, a miss or the cap ends it. */
+ * camera's), until roulette, a miss or the cap ends it. rw is the sample's,
+ * shared by both subpaths: the first dispersive vertex either meets commits
+ * the bin (its own key's draw, the dimension of a camera path's and a light
+ * subpath's), every later one on either subpath takes it. */
 static void walk(const spm_geometry *g, const spm_material *mats, const spm_ref_key *k, int mode,
-                 float o[3], float d[3], spm_u32 skip, float beta, float pdf_dir, bd_subpath *sp)
+                 spm_ref_walk *rw, float o[3], float d[3], spm_u32 skip, float beta, float pdf_dir,
+                 bd_subpath *sp)
 {
-    spm_ref_walk rw = {g->disp, 0, SPM_NONE};
     int seg = 0;
     while (sp->n <= SPM_BDPT_SUBPATH) {
         int j = sp->n - 1;
@@ -160,11 +165,13 @@ static void walk(const spm_geometry *g, const spm_material *mats, const spm_ref_
         v->emit = SPM_NONE;
         if (mode == SPM_REF_RADIANCE)
             vertex_emission(g, v, d);
-        spm_ref_begin(v->m, &v->h, k, j, &rw, &v->b);
+        v->b.commit = 0; /* only the types whose index a bin sets write it */
+        spm_ref_begin(v->m, &v->h, k, j, rw, &v->b);
+        v->disp = v->b.commit != 0;
         float mmean, minv;
         v->refl = spm_ref_lobe(v->m, &v->b, &mmean, &minv);
         v->x = (spm_vertex_ext){0u, 0.0f, 0.0f, 0.0f};
-        v->col2 = spm_ref_record(v->m, &v->b, &rw, &v->x);
+        v->col2 = spm_ref_record(v->m, &v->b, rw, &v->x);
         v->pdf.delta = !v->b.nee;
         sp->n++;
         spm_ref_bsample s;
@@ -187,7 +194,7 @@ static void walk(const spm_geometry *g, const spm_material *mats, const spm_ref_
 
 /* The camera subpath of sample k: the lens vertex, then the walk. */
 static void camera_subpath(const spm_geometry *g, const spm_material *mats, const spm_ref_key *k,
-                           bd_subpath *z)
+                           spm_ref_walk *rw, bd_subpath *z)
 {
     float o[3], d[3], pp, pd;
     spm_ref_pixel_ray(&g->cam, k->seed, k->pixel, k->sample, o, d);
@@ -199,13 +206,13 @@ static void camera_subpath(const spm_geometry *g, const spm_material *mats, cons
     v->pdf.fwd = pp;
     z->n = 1;
     if (pd > 0.0f)
-        walk(g, mats, k, SPM_REF_RADIANCE, o, d, 0xFFFFFFFFu, 1.0f, pd, z);
+        walk(g, mats, k, SPM_REF_RADIANCE, rw, o, d, 0xFFFFFFFFu, 1.0f, pd, z);
 }
 
 /* The light subpath (the light tracer's start): the light by the selection,
  * its ray, beta = Le |cos_o| / (pmf pdf_pos pdf_dir); then the walk. */
 static void light_subpath(const spm_geometry *g, const spm_material *mats, const spm_ref_key *k,
-                          bd_subpath *y)
+                          spm_ref_walk *rw, bd_subpath *y)
 {
     const spm_emitter *e = spm_ref_light_pick(g, k, SPM_DIM_VERTEX(0));
     float u[4] = {spm_ref_rnd(k, SPM_DIM_LT_EMIT), spm_ref_rnd(k, SPM_DIM_LT_EMIT + 1u),
@@ -227,7 +234,8 @@ static void light_subpath(const spm_geometry *g, const spm_material *mats, const
     if (y->colour == SPM_NONE)
         return;
     spm_u32 skip = e->kind == SPM_LIGHT_AREA ? e->tri : 0xFFFFFFFFu;
-    walk(g, mats, k, SPM_REF_IMPORTANCE, o, d, skip, scale * cos_o / (e->pdf * pp * pd), pd, y);
+    walk(g, mats, k, SPM_REF_IMPORTANCE, rw, o, d, skip, scale * cos_o / (e->pdf * pp * pd), pd,
+         y);
 }
 
 /* ---- one connected path ------------------------------------------------- */
@@ -377,6 +385,19 @@ static spm_vertex_ext words(const bd_vertex *v, float arg, int last)
     return x;
 }
 
+/* A dispersive vertex's words: the connected path's first one (in record
+ * order) commits it to the sample's bin lam with 1 / its pdf (spm_shared.h
+ * SPM_VX_LAMBDA), so the wavelength's pdf is counted once whichever subpath
+ * drew it; the others carry no bin. */
+static void disp_words(spm_vertex_ext *x, int *first, spm_u32 lam)
+{
+    spm_u32 col = *first ? lam : SPM_NONE;
+    x->ids = (x->ids & ~SPM_VX_COLMASK) | ((col + 1u) & SPM_VX_COLMASK);
+    if (*first)
+        x->light = (float)SPM_TRUTH_BINS;
+    *first = 0;
+}
+
 static float light_arg(const bd_subpath *y, int i)
 {
     const bd_vertex *v = &y->v[i], *from = &y->v[i - 1];
@@ -389,9 +410,9 @@ static float light_arg(const bd_subpath *y, int i)
  * emission; col2[] the vertices' second colours for the feeler. 0: a black
  * vertex on it. */
 static int write_path(const bd_subpath *z, int t, const bd_subpath *y, int s, const bd_join *J,
-                      float c, spm_path *r, spm_u32 *col2)
+                      float c, spm_u32 lam, spm_path *r, spm_u32 *col2)
 {
-    int n = 0, nv = (t - 1) + (s > 0 ? s - 1 : 0) - (s == 0);
+    int first = 1, n = 0, nv = (t - 1) + (s > 0 ? s - 1 : 0) - (s == 0);
     r->h = (spm_path_head){(spm_u32)nv, SPM_END_ABSORBED, SPM_NONE, 0.0f, SPM_NONE, 0.0f, 0, 0};
     spm_u32 emit = s == 0 ? z->v[t - 1].emit : y->colour;
     if (nv == 0) {
@@ -403,12 +424,16 @@ static int write_path(const bd_subpath *z, int t, const bd_subpath *y, int s, co
         const bd_vertex *v = &z->v[i];
         float arg = i == t - 1 ? J->arg_pt : v->x.lobe;
         r->x[n] = i < t - 1 ? v->x : words(v, arg, n == nv - 1);
+        if (v->disp)
+            disp_words(&r->x[n], &first, lam);
         r->v[n] = (spm_vertex){v->refl | (SPM_NONE << 16), 0.0f};
         col2[n] = v->col2;
     }
     for (int i = s - 1; i >= 1; i--, n++) {
         const bd_vertex *v = &y->v[i];
         r->x[n] = words(v, i == s - 1 ? J->arg_qs : light_arg(y, i), n == nv - 1);
+        if (v->disp)
+            disp_words(&r->x[n], &first, lam);
         r->v[n] = (spm_vertex){v->refl | (SPM_NONE << 16), 0.0f};
         col2[n] = v->col2;
     }
@@ -458,6 +483,7 @@ typedef struct {
     spm_splats *out;
     size_t *hist;
     spm_path rec;
+    spm_u32 lam; /* the sample's committed bin (SPM_NONE: none) */
 } bd_ctx;
 
 /* strategy (s, t) of sample i: joined, weighed, shaded, splatted */
@@ -472,7 +498,7 @@ static void strategy(bd_ctx *cx, const spm_ref_key *ky, size_t i, const bd_subpa
         return;
     float c = J.c * join_mis(z, t, y, s, &J);
     spm_u32 col2[SPM_MAX_DEPTH];
-    if (!(c > 0.0f) || !write_path(z, t, y, s, &J, c, &cx->rec, col2))
+    if (!(c > 0.0f) || !write_path(z, t, y, s, &J, c, cx->lam, &cx->rec, col2))
         return;
     uint8_t lv = path_level(&cx->rec, col2, cx->lvlk, cx->start_level);
     cx->hist[lv]++;
@@ -493,11 +519,13 @@ void spm_ref_bdpt_range(const spm_geometry *g, const spm_material *mats, const u
         spm_ref_key k = {p->seed, 0, 0};
         spm_ref_path_key(p, i, &k.pixel, &k.sample);
         spm_ref_key ky = {p->seed ^ SPM_BDPT_LIGHT_SEED, k.pixel, k.sample};
-        camera_subpath(g, mats, &k, &z);
+        spm_ref_walk rw = {g->disp, p->disperse, SPM_NONE};
+        camera_subpath(g, mats, &k, &rw, &z);
         y.n = 0;
         y.e = NULL;
         if (g->nemitters > 0)
-            light_subpath(g, mats, &ky, &y);
+            light_subpath(g, mats, &ky, &rw, &y);
+        cx.lam = rw.lam;
         for (int t = 1; t <= z.n; t++)
             for (int s = t == 1 ? 1 : 0; s <= y.n; s++)
                 if (!(s == 1 && t == 1) && (s > 0 || t > 1))

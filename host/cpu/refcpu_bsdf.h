@@ -41,8 +41,9 @@ typedef struct {
 } spm_ref_walk;
 
 /* A vertex's BSDF instance: c the frame in the conductor's form (its alpha
- * the type's width), nee whether it takes a light sample; the rest the
- * type's own. */
+ * the type's width), nee whether it takes a light sample; commit: 1 the
+ * vertex committed its path to a bin, 2 it took the bin committed before, 0
+ * its index is no bin's; the rest the type's own. */
 typedef struct {
     spm_ref_cond c;
     float eta, ps, w, pdf;

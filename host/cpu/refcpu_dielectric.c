@@ -103,6 +103,7 @@ void spm_ref_begin_DIELECTRIC(const spm_material *m, const spm_ref_hit *h, const
     float ior = m->p[SPM_DIEL_P_IOR];
     spm_u32 row = w->disperse ? (spm_u32)m->p[SPM_DIEL_P_DISP] : 0u;
     if (row) {
+        b->commit = 2; /* its index is the committed bin's */
         if (w->lam == SPM_NONE) {
             w->lam = spm_ref_disp_bin(spm_rng_stratified_u32(k->seed, k->pixel, k->sample,
                                                              SPM_DIM_TYPE(0u, SPM_DIM_DIEL_LAMBDA)));
@@ -185,8 +186,8 @@ spm_u32 spm_ref_record_DIELECTRIC(const spm_material *m, const spm_ref_bsdf *b,
     (void)m;
     /* the length inside comes with the next hit; the committed bin and 1 /
      * its pdf (spm_shared.h SPM_VX_LAMBDA) */
-    x->ids = SPM_VX_IDS(SPM_FK_ABSORB, b->commit ? w->lam : SPM_NONE);
-    if (b->commit)
+    x->ids = SPM_VX_IDS(SPM_FK_ABSORB, b->commit == 1 ? w->lam : SPM_NONE);
+    if (b->commit == 1)
         x->light = (float)SPM_TRUTH_BINS;
     return SPM_NONE;
 }

@@ -41,12 +41,26 @@ void spm_clr_bdpt_release(spm_cl_renderer *r)
             clReleaseKernel(*ks[i]);
             *ks[i] = NULL;
         }
+    spm_cl_release_mem(r->bsam);
+    r->bsam = NULL;
+    r->bcap = 0;
 }
 
-/* Room for n records: the batch buffers and their pixels. */
+/* Room for n records: the batch buffers, their pixels and their samples. */
 static int reserve_records(spm_cl_renderer *r, size_t n, spm_error *err)
 {
-    return spm_clr_reserve(r, n, err) || spm_clr_reserve_splats(r, n, err);
+    if (spm_clr_reserve(r, n, err) || spm_clr_reserve_splats(r, n, err))
+        return 1;
+    if (n <= r->bcap)
+        return 0;
+    spm_cl_release_mem(r->bsam);
+    r->bsam = NULL;
+    r->bcap = 0;
+    if (spm_clr_new_buffer(r, &r->bsam, CL_MEM_READ_WRITE, n * sizeof(spm_u32), NULL,
+                           "record samples", err))
+        return 1;
+    r->bcap = n;
+    return 0;
 }
 
 /* lstat to (count, exponent) = (0, none) */

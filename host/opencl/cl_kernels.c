@@ -18,6 +18,7 @@ typedef struct { SPM_SPLAT_ADD_ARGS(ARG_FIELD, ) } splat_add_args;
 typedef struct { SPM_SPLAT_CONVERT_ARGS(ARG_FIELD, ) } splat_convert_args;
 typedef struct { SPM_BDPT_TRACE_ARGS(ARG_FIELD, ) } bdpt_trace_args;
 typedef struct { SPM_BDPT_EXP_ARGS(ARG_FIELD, ) } bdpt_exp_args;
+typedef struct { SPM_BDPT_SHADE_ARGS(ARG_FIELD, ) } bdpt_shade_args;
 
 static size_t round_up(size_t n)
 {
@@ -57,6 +58,7 @@ DEFINE_SETTER(set_splat_add_args, splat_add_args, SPM_SPLAT_ADD_ARGS)
 DEFINE_SETTER(set_splat_convert_args, splat_convert_args, SPM_SPLAT_CONVERT_ARGS)
 DEFINE_SETTER(set_bdpt_trace_args, bdpt_trace_args, SPM_BDPT_TRACE_ARGS)
 DEFINE_SETTER(set_bdpt_exp_args, bdpt_exp_args, SPM_BDPT_EXP_ARGS)
+DEFINE_SETTER(set_bdpt_shade_args, bdpt_shade_args, SPM_BDPT_SHADE_ARGS)
 
 static int enqueue(spm_cl_renderer *r, cl_kernel k, const char *name, size_t offset, size_t n,
                    cl_event *ev, spm_error *err)
@@ -100,7 +102,7 @@ int spm_clr_run_light_trace(spm_cl_renderer *r, const batch *b, size_t first, cl
 int spm_clr_run_bdpt_trace(spm_cl_renderer *r, const batch *b, size_t first, size_t nsamples,
                            cl_event *ev, spm_error *err)
 {
-    bdpt_trace_args ba = {(spm_u32)first, (spm_u32)nsamples, r->spx, r->lstat};
+    bdpt_trace_args ba = {(spm_u32)first, (spm_u32)nsamples, r->spx, r->lstat, r->bsam};
     cl_uint i = 0;
     return set_trace(r, r->k_btrace, "spm_bdpt_trace", b, &i, err) ||
            set_bdpt_trace_args(r->k_btrace, "spm_bdpt_trace", &ba, &i, err) ||
@@ -167,9 +169,11 @@ int spm_clr_run_shade(spm_cl_renderer *r, const batch *b, const size_t off[NSLOT
                               b->first_pixel};
         shade_spec_args sa = {r->smap[s], r->sfac[s]};
         shade_disp_args da = {r->dtab, r->dcmf};
+        bdpt_shade_args ba = {r->bsam};
         cl_uint i = 0;
         int rc = set_shade_args(r->k_shade[s], r->kname[s], &a, &i, err) ||
                  (r->mode->per_path && set_shade_path_args(r->k_shade[s], r->kname[s], &pa, &i, err)) ||
+                 (r->mode->per_path && r->bdpt && set_bdpt_shade_args(r->k_shade[s], r->kname[s], &ba, &i, err)) ||
                  (r->pix_ch > 3 && set_shade_spec_args(r->k_shade[s], r->kname[s], &sa, &i, err)) ||
                  (r->light && !r->bdpt && set_splat_shade_args(r->k_shade[s], r->kname[s], &la, &i, err)) ||
                  (r->ndisp && set_shade_disp_args(r->k_shade[s], r->kname[s], &da, &i, err));

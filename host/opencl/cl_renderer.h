@@ -70,6 +70,8 @@ struct spm_cl_renderer {
      * splat film: spx the records' pixels, lstat (records, largest exponent)) */
     int bdpt;
     cl_kernel k_btrace, k_bexp;
+    cl_mem bsam; /* each record's sample in the pass (SPM_BDPT_TRACE_ARGS rsam), bcap of them */
+    size_t bcap;
     /* spm_clr_render_pass, or with SPECMIP_CL_FAIL the test hook around it */
     int (*run_pass)(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                     spm_pass_stats *st, spm_error *err);

@@ -202,12 +202,6 @@ static const char *bdpt_why(const spm_render_plan *p)
     if (p->tables->nfluor)
         return "a connection between a fluorescent camera vertex and a light vertex would "
                "need the re-radiation matrix on both sides of it, which is not carried yet";
-    if (p->params.disperse)
-        return "both subpaths sharing one committed wavelength at dispersive glass is not "
-               "implemented yet";
-    if (p->mode->per_path)
-        return "a connected path's hero wavelengths (terminated at dispersive vertices, as "
-               "pbrt-v4 does) are not carried yet";
     if (type) {
         snprintf(why, sizeof why, "material type '%s' picks one of its terms per vertex, and "
                                   "MIS needs its density as a function of the two directions",
