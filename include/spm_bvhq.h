@@ -28,9 +28,5 @@ typedef struct {
     unsigned char qlo_x[SPM_WIDE], qhi_x[SPM_WIDE];
     unsigned char qlo_y[SPM_WIDE], qhi_y[SPM_WIDE];
     unsigned char qlo_z[SPM_WIDE], qhi_z[SPM_WIDE];
-} spm_bvhq_node;
-
-#ifndef __OPENCL_VERSION__
-_Static_assert(sizeof(spm_bvhq_node) == 64, "a quantised node is one 64-byte cache line");
-#endif
+} spm_bvhq_node; /* 64 bytes (bvh_quant.c asserts it) */
 #endif

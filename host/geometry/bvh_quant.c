@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+_Static_assert(sizeof(spm_bvhq_node) == 64, "a quantised node is one 64-byte cache line");
+
 int spm_bvhq_axis(float lo, float hi, float *origin, float *scale)
 {
     /* 2^e >= (hi - lo) / 255 in exact arithmetic; the check below on the
