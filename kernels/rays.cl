@@ -2,7 +2,8 @@
  * (spm_shared.h spm_ray) through the renderer's own traversal (traverse.clh,
  * as trace.cl calls it), nothing else: no random numbers, no path records.
  * Parameters: spm_kernel_args.h SPM_RAYS_ARGS. Built with -DSPM_RAYS_PACKET,
- * the work-group traces its rays as one packet (traverse_packet.clh). */
+ * the work-group traces its rays as one packet (traverse_packet.clh); with
+ * -DSPM_RAYS_QUANT, nodes holds the quantised tree (traverse_quant.clh). */
 #pragma OPENCL FP_CONTRACT OFF
 #include "spm_shared.h"
 #include "spm_kernel_args.h"
@@ -32,6 +33,16 @@ __kernel void spm_rays(SPM_RAYS_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
         hits[first + gid] = h;
 }
 #else
+#ifdef SPM_RAYS_QUANT
+#include "traverse_quant.clh"
+#define SPM_RAYS_TREE ((__global const spm_bvhq_node *)nodes)
+#define SPM_RAYS_CLOSEST qtraverse
+#define SPM_RAYS_SHADOW qshadow_hit
+#else
+#define SPM_RAYS_TREE nodes
+#define SPM_RAYS_CLOSEST intersect
+#define SPM_RAYS_SHADOW shadow_hit
+#endif
 __kernel void spm_rays(SPM_RAYS_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 {
     uint gid = get_global_id(0);
@@ -42,7 +53,8 @@ __kernel void spm_rays(SPM_RAYS_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
     float3 d = (float3)(r->d[0], r->d[1], r->d[2]);
     float t;
     hits[first + gid] = r->emitter == SPM_RAY_CLOSEST
-                            ? intersect(nodes, tris, o, d, r->skip, &t, counters)
-                            : shadow_hit(nodes, tris, o, d, r->skip, r->emitter, counters);
+                            ? SPM_RAYS_CLOSEST(SPM_RAYS_TREE, tris, o, d, r->skip, &t, counters)
+                            : SPM_RAYS_SHADOW(SPM_RAYS_TREE, tris, o, d, r->skip, r->emitter,
+                                              counters);
 }
 #endif

@@ -46,7 +46,7 @@ check "the list has conductor builds" grep -q "	.*-DSPM_WITH_CONDUCTOR" "$T/prog
 check "the list has dielectric builds" grep -q "	.*-DSPM_WITH_DIELECTRIC" "$T/programs"
 check "the list has smooth-shading builds" grep -q "	.*-DSPM_WITH_SMOOTH" "$T/programs"
 check "the list has point-light builds" grep -q "	.*-DSPM_WITH_LIGHT_POINT" "$T/programs"
-check "the list has the ray replay's builds (one ray and packets, timed and counting)" test "$(grep -c "^kernels/rays.cl	" "$T/programs")" -eq 4
+check "the list has the ray replay's builds (one ray, packets, quantised; timed and counting)" test "$(grep -c "^kernels/rays.cl	" "$T/programs")" -eq 6
 check "the list has a program for every mode's kernel" test "$(grep -c "^kernels/trace.cl" "$T/programs")" -ge \
     "$("$BIN" modes | wc -l)"
 if [ -n "${KERNEL_WARNINGS_LIST_ONLY:-}" ]; then

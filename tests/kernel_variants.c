@@ -72,7 +72,7 @@ int main(int argc, char **argv)
         if (rc)
             return 1;
     }
-    for (int k = 0; k < 4; k++)
+    for (size_t k = 0; k < sizeof spm_rays_program_defines / sizeof *spm_rays_program_defines; k++)
         printf("%s\t%s\n", spm_rays_program_file, spm_rays_program_defines[k]);
     printf("%s\t\n", spm_ops_program_file);
     return 0;

@@ -13,11 +13,13 @@
 #include "backend_cpu.h"
 #include "backends.h"
 #include "bench_wavefront.h"
+#include "bvh_quant.h"
 #include "spm_kernel_args.h"
 
 /* Work-group size: the renderer's unless --rays-group sets one; the variant
- * (0 one ray per work-item, 1 packets: --rays-packet) picks the program's
- * defines, spm_rays_program_defines[2 * variant + stats build]. */
+ * (0 one ray per work-item, 1 packets: --rays-packet, 2 the quantised tree:
+ * --rays-quant) picks the program's defines, spm_rays_program_defines[2 *
+ * variant + stats build]. */
 static size_t group = SPM_LOCAL_SIZE;
 static int variant;
 
@@ -326,8 +328,10 @@ static int count_costs(spm_cl_ctx *c, cl_program prog, rays_args *a, const spm_r
 }
 
 const char spm_rays_program_file[] = "kernels/rays.cl";
-const char *const spm_rays_program_defines[4] = {"", "-DSPM_RAYS_STATS", "-DSPM_RAYS_PACKET",
-                                                 "-DSPM_RAYS_PACKET -DSPM_RAYS_STATS"};
+const char *const spm_rays_program_defines[6] = {"", "-DSPM_RAYS_STATS", "-DSPM_RAYS_PACKET",
+                                                 "-DSPM_RAYS_PACKET -DSPM_RAYS_STATS",
+                                                 "-DSPM_RAYS_QUANT",
+                                                 "-DSPM_RAYS_QUANT -DSPM_RAYS_STATS"};
 
 int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, int repeat,
                    int stats, int *hits, spm_rays_timing *tm, char *devname, size_t devlen,
@@ -348,8 +352,15 @@ int spm_rays_replay_cl(int device, const spm_geometry *g, const spm_rayset *rs, 
     int bad = spm_cl_build(&c, files, 1, defs[0], &prog, err) ||
           (stats && spm_cl_build(&c, files, 1, defs[1], &sprog, err));
     a.tris = buffer(&c, CL_MEM_READ_ONLY, (size_t)g->ntris * sizeof *g->tris, g->tris, err, &bad);
-    a.nodes = buffer(&c, CL_MEM_READ_ONLY, (size_t)g->nwide * sizeof *g->wide, g->wide, err,
-                 &bad);
+    /* the tree the variant traverses: the wide nodes, or their quantised twin */
+    spm_bvhq_node *qn = NULL;
+    size_t nq = 0;
+    if (!bad && variant == 2)
+        bad = spm_bvhq_build(g, &qn, &nq, err);
+    tm->tree_bytes = variant == 2 ? nq * sizeof *qn : (size_t)g->nwide * sizeof *g->wide;
+    a.nodes = buffer(&c, CL_MEM_READ_ONLY, tm->tree_bytes, variant == 2 ? (void *)qn : g->wide,
+                     err, &bad);
+    free(qn);
     a.rays = buffer(&c, CL_MEM_READ_ONLY, rs->n * sizeof *rs->rays, rs->rays, err, &bad);
     a.hits = buffer(&c, CL_MEM_READ_WRITE, rs->n * sizeof *hits, NULL, err, &bad);
     a.counters = buffer(&c, CL_MEM_READ_WRITE, SPM_RAYS_NCOUNTERS * sizeof(cl_uint), NULL, err,
@@ -578,9 +589,10 @@ static void print_text(const spm_rays_opts *o, const spm_render_setup *s, const 
     text_row(stdout, "reference", rs, &r->tref);
     if (r->have_embree)
         text_row(stdout, "Embree", rs, &r->tem);
-    printf("  specmip: %s, fastest of %d%s\n"
+    printf("  specmip: %s, fastest of %d%s; its tree %.1f MB\n"
            "  reference: the CPU reference's traversal, 1 thread (nodes: box tests)\n",
-           r->what, o->repeat, r->have_embree ? ", each run beside one of Embree's" : "");
+           r->what, o->repeat, r->have_embree ? ", each run beside one of Embree's" : "",
+           r->tcl.tree_bytes / 1e6);
     if (r->have_embree) {
         printf("  Embree: %s, fastest of %d\n", r->einfo, o->repeat);
         printf("  specmip / Embree rays/s: closest %.3f, shadow %.3f\n",
@@ -600,13 +612,17 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
 {
     if (o->group)
         group = (size_t)o->group;
-    variant = o->packet;
-    if (o->wavefront && (o->packet || o->sort || o->save || o->load || o->stats)) {
-        spm_errorf(err, "--rays-wavefront traces its own rays in both orders: --rays-packet, "
-                   "--rays-sort, --rays-save, --rays-load and --rays-stats do not apply");
+    if (o->packet && o->quant) {
+        spm_errorf(err, "--rays-packet and --rays-quant: one variant at a time");
         return SPM_EXIT_INPUT;
     }
-    if (variant && group > 64) {
+    if (o->wavefront && (o->packet || o->quant || o->sort || o->save || o->load || o->stats)) {
+        spm_errorf(err, "--rays-wavefront traces its own rays in both orders: --rays-packet, "
+                   "--rays-quant, --rays-sort, --rays-save, --rays-load and --rays-stats do not apply");
+        return SPM_EXIT_INPUT;
+    }
+    variant = o->quant ? 2 : o->packet;
+    if (variant == 1 && group > 64) {
         spm_errorf(err, "--rays-packet: work-groups of at most 64 rays (--rays-group %zu)", group);
         return SPM_EXIT_INPUT;
     }
@@ -685,17 +701,18 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
     if (!rc) {
         size_t ns = rs.n - rs.nclosest;
         snprintf(r.what, sizeof r.what, "specmip kernels/rays.cl%s on %s, work-groups of %zu",
-                 variant ? " (packets)" : "", r.dev, group);
+                 variant == 1 ? " (packets)" : variant == 2 ? " (quantised nodes)" : "", r.dev,
+                 group);
         if (o->json) {
             printf("{\n  \"scene\": ");
             json_str(stdout, o->scene ? o->scene : "default");
             printf(", \"triangles\": %d, \"nodes\": %d, \"width\": %d, "
                    "\"height\": %d, \"spp\": %d, \"rays_closest\": %zu, \"rays_shadow\": %zu,\n"
                    "  \"load_s\": %.6g, \"bvh_s\": %.6g, \"record_s\": %.6g, "
-                   "\"stack_overflows\": %u,\n",
+                   "\"stack_overflows\": %u, \"tree_bytes\": %zu,\n",
                    g->ntris, g->nnodes, s.scene.width,
                    s.scene.height, o->spp, rs.nclosest, ns, s.times.load_s, s.times.bvh_s,
-                   record_s, r.tcl.stack_overflows);
+                   record_s, r.tcl.stack_overflows, r.tcl.tree_bytes);
             json_impl(stdout, "specmip", r.what, &rs, &r.tcl, 0, 0, ",");
             json_impl(stdout, "reference", "CPU reference traversal, 1 thread", &rs, &r.tref, r.rcb,
                       r.rsb, ",");

@@ -26,6 +26,7 @@ typedef struct {
     double nodes_closest, nodes_shadow; /* per ray (-1: not counted) */
     double tris_closest, tris_shadow;   /* triangle tests per ray (-1: not counted) */
     unsigned stack_overflows;
+    size_t tree_bytes;                  /* the tree's device buffer (nodes and leaf planes) */
 } spm_rays_timing;
 
 /* Records the rays of spp samples per pixel of the plan's scene (pass 0,
@@ -41,9 +42,9 @@ int spm_rays_load(const char *path, const spm_geometry *g, spm_rayset *rs, spm_e
 
 /* The replay's program: this file, built with each of these options (the
  * timed build, the counting one of --rays-stats, and the two of the packet
- * variant). */
+ * variant and of the quantised tree). */
 extern const char spm_rays_program_file[];
-extern const char *const spm_rays_program_defines[4];
+extern const char *const spm_rays_program_defines[6];
 /* Replays through kernels/rays.cl on OpenCL device `device`: the fastest of
  * `repeat` timed launches per ray kind, after a warm-up; with stats, one more
  * run of the counting build for nodes and triangle tests. hits[n] receives
@@ -96,6 +97,7 @@ typedef struct {
     int device, repeat, threads;
     int group;             /* the replay's work-group size; 0: the renderer's (SPM_LOCAL_SIZE) */
     int packet;            /* 1: the packet variant (kernels/traverse_packet.clh) */
+    int quant;             /* 1: the quantised tree (kernels/traverse_quant.clh) */
     int sort;              /* 1: each kind sorted by direction octant and origin first */
     int wavefront;         /* > 0: bounces of the wavefront study instead (bench_wavefront.h) */
     int stats, embree, embree_quality, json;

@@ -255,6 +255,10 @@ const spm_option spm_options[] = {
         "replay through the packet variant instead: the rays of a\n"
         "work-group share one node stream (kernels/traverse_packet.clh;\n"
         "--rays-group at most 64)"),
+    ROW(RAYS_QUANT, "--rays-quant", NULL, FLAG, 0, 0, B,
+        "replay through the quantised tree instead: each node's child\n"
+        "boxes as 8-bit codes rounded outward, 64 bytes a node\n"
+        "(kernels/traverse_quant.clh)"),
     ROW(RAYS_SORT, "--rays-sort", NULL, FLAG, 0, 0, B,
         "replay each kind of ray sorted by direction octant, then\n"
         "origin (Morton order), as a wavefront could between bounces"),

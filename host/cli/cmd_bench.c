@@ -129,6 +129,7 @@ static int rays_option(const spm_option *opt, const char *v, double d, options *
     case SPM_O_RAYS_SPP: o->rays.spp = (int)d; return 0;
     case SPM_O_RAYS_GROUP: o->rays.group = (int)d; return 0;
     case SPM_O_RAYS_PACKET: o->rays.packet = 1; return 0;
+    case SPM_O_RAYS_QUANT: o->rays.quant = 1; return 0;
     case SPM_O_RAYS_SORT: o->rays.sort = 1; return 0;
     case SPM_O_RAYS_WAVEFRONT: o->rays.wavefront = (int)d; return 0;
     case SPM_O_RAYS_SAVE: o->rays.save = v; return 0;
