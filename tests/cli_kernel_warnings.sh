@@ -12,13 +12,13 @@ source "$(dirname "$0")/lib_cli.sh"
 CLANG=$(command -v clang-15 || command -v clang) || { echo "FAIL: no clang-15" >&2; exit 1; }
 VARIANTS=${KERNEL_VARIANTS:-$PWD/kernel_variants}
 [ -x "$VARIANTS" ] || { echo "FAIL: no kernel_variants at $VARIANTS (built with the tests)" >&2; exit 1; }
-compile() {  # compile "FILES" OPTIONS...: 0 when clang accepts the program with no diagnostic at all
-    local files=$1 f; shift
+compile() {  # compile OPT "FILES" OPTIONS...: 0 when clang accepts the program with no diagnostic at all
+    local opt=$1 files=$2 f; shift 2
     : > "$T/prog.cl"
     for f in $files; do cat "$ROOT/$f" >> "$T/prog.cl" || return 1; done
     # shellcheck disable=SC2068
     "$CLANG" -x cl -cl-std=CL1.2 -Xclang -finclude-default-header -target x86_64-unknown-linux-gnu \
-        -march=x86-64-v3 -O2 -S -emit-llvm -o /dev/null -I "$ROOT/include" -I "$ROOT/kernels" \
+        -march=x86-64-v3 "$opt" -S -emit-llvm -o /dev/null -I "$ROOT/include" -I "$ROOT/kernels" \
         -DSPM_BVH_STACK=64 $@ "$T/prog.cl" 2>"$T/log"
     local rc=$?
     if [ $rc -ne 0 ] || [ -s "$T/log" ]; then
@@ -57,11 +57,30 @@ if [ -n "${KERNEL_WARNINGS_LIST_ONLY:-}" ]; then
     finish
     exit
 fi
+# Every program through clang's front end and IR generation (-O0), where its
+# diagnostics come from. The optimizer's own warnings (-O2) are only for loop
+# hints it could not honour (-Wpass-failed), and the kernels hold none: so
+# -O2, four times the cost, compiles the largest program of each file set (the
+# one with the most options), unless a loop hint appears, then every program.
+if grep -rqE '#[[:space:]]*pragma[[:space:]]+(unroll|nounroll|clang[[:space:]]+loop)|opencl_unroll_hint' \
+        "$ROOT/kernels" "$ROOT/include"; then
+    every_o2=1 level=-O2
+else
+    every_o2= level=-O0
+fi
 n=0
 while IFS=$'\t' read -r files opts; do
     n=$((n + 1))
     # shellcheck disable=SC2086
-    check "$files $opts" compile "$files" $opts
+    check "$files $opts" compile $level "$files" $opts
 done < "$T/programs"
-echo "compiled $n programs" >&2
+# the largest program of each file set: most options, then the longest line
+awk -F'\t' '{ o = $2; print gsub(/-D/, "", o) "\t" length($0) "\t" $0 }' "$T/programs" |
+    sort -t$'\t' -k3,3 -k1,1nr -k2,2nr | awk -F'\t' '!seen[$3]++ { print $3 "\t" $4 }' > "$T/largest"
+check "one largest program for each file set" test "$(wc -l < "$T/largest")" -eq "$(cut -f1 "$T/programs" | sort -u | wc -l)"
+[ -n "$every_o2" ] || while IFS=$'\t' read -r files opts; do
+    # shellcheck disable=SC2086
+    check "-O2: $files $opts" compile -O2 "$files" $opts
+done < "$T/largest"
+echo "compiled $n programs, $(wc -l < "$T/largest") of them also at -O2${every_o2:+ (all: loop hints)}" >&2
 finish
