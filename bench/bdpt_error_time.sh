@@ -82,10 +82,12 @@ set xlabel "render seconds"
 set ylabel "mean |error| / mean (relative)"
 set grid
 set key top right
-do for [s in "cornell water_caustic lamp_room"] {
-    set title s noenhanced
-    plot for [i in "path light bdpt"] "< grep ^".s.",".i.", ".data using 4:5 with linespoints title i
-}
+set title "cornell" noenhanced
+plot for [i in "path light bdpt"] "< grep ^cornell,".i.", ".data using 4:5 with linespoints title i
+set title "water_caustic" noenhanced
+plot for [i in "path light bdpt"] "< grep ^water_caustic,".i.", ".data using 4:5 with linespoints title i
+set title "lamp_room" noenhanced
+plot for [i in "path light bdpt"] "< grep ^lamp_room,".i.", ".data using 4:5 with linespoints title i
 unset multiplot
 GP
 echo "bdpt_error_time.sh: $csv, $mcsv, $out/bdpt_error_time.png"
