@@ -94,6 +94,14 @@ for run in "prism $DATA/scenes/prism_wall.scene --width 32 --height 8 --spp 4" \
     close_images "$name: Oclgrind vs PoCL" "$T/p.exr" "$T/o.exr"
 done
 
+# The bidirectional integrator's program (kernels/bdpt.cl: both subpaths,
+# every strategy's record in the next slot, the records' exponent and sums).
+BD=("$DATA/scenes/cornell.scene" --integrator bdpt --mode ml --width 8 --height 8 --spp 1 --seed 9 --quiet)
+grind "bdpt" "$T/og.log" "${BD[@]}" -o "$T/o.exr"
+check "bdpt: Oclgrind's log is empty" test ! -s "$T/og.log"
+"$BIN" render "${BD[@]}" -o "$T/p.exr"
+close_images "bdpt: Oclgrind vs PoCL" "$T/p.exr" "$T/o.exr"
+
 # Registered as an ICD beside PoCL (Debian does not register it), the
 # simulator claims every device type, so the loader lists it first; specmip
 # numbers it after PoCL's CPU device and --device all leaves it out.

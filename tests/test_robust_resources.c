@@ -126,6 +126,33 @@ int main(void)
           "spectral light: %s", err.msg);
     printf("%s\n", err.msg);
 
+    /* the bidirectional integrator's (host/opencl/cl_bdpt.c), in place of the
+     * path tracer's batches: its starting record room, every vertex with its
+     * words, each record a splat pixel and value, then the sums and the pass
+     * image; a device that holds the path tracer's render but not the record
+     * room refuses bdpt, naming it */
+    spm_cl_footprint fb;
+    spm_cl_footprint_of_bdpt(&g, &t, npix, 3, &fb);
+    size_t room = SPM_BDPT_CHUNK * SPM_BDPT_ROOM_PER_SAMPLE;
+    size_t records = room * SPM_MAX_DEPTH * (sizeof(spm_vertex) + sizeof(spm_vertex_ext));
+    size_t per_path = SPM_MAX_DEPTH * sizeof(spm_vertex) + per_path_rest;
+    size_t slot = records / room + per_path_rest + sizeof(spm_u32) + 3 * sizeof(float);
+    CHECK(fb.batch_paths == 16384 && fb.largest >= records, "bdpt: %zu records, largest %zu",
+          fb.batch_paths, fb.largest);
+    CHECK(fb.total == f.total - f.batch_paths * per_path + room * slot +
+                          npix * 3 * (sizeof(int64_t) + sizeof(float)),
+          "bdpt: %zu bytes", fb.total);
+    spm_cl_device narrow = device((double)records / 1073741824.0 * 0.99, 4.0);
+    spm_cl_footprint f256;
+    spm_cl_footprint_of(&g, &t, 128 * 128, 128 * 128, &f256);
+    CHECK(spm_cl_footprint_check(&narrow, &f256, 128, 128, 128 * 128, &err) == 0, "path: %s",
+          err.msg);
+    spm_cl_footprint_of_bdpt(&g, &t, 128 * 128, 3, &fb);
+    CHECK(spm_cl_footprint_check(&narrow, &fb, 128, 128, 128 * 128, &err) != 0 &&
+              strstr(err.msg, "path records") && strstr(err.msg, "more memory"),
+          "bdpt on a narrow device: %s", err.msg);
+    printf("%s\n", err.msg);
+
     /* a pass smaller than a batch is one batch of its own size */
     spm_cl_footprint_of(&g, &t, 256 * 256, 256 * 256, &f4k);
     CHECK(f4k.batch_paths == 256 * 256, "256^2 batch %zu", f4k.batch_paths);

@@ -197,7 +197,8 @@ spm_ref_eval spm_ref_eval_CONDUCTOR(const spm_material *m, const spm_ref_bsdf *b
     (void)m, (void)mode;
     float pb, ch;
     spm_ref_eval e = spm_ref_eval_value(spm_ref_cond_f(&b->c, wi, &pb, &ch), 1.0f);
-    if (h->smooth && !(v3_dot(wi, b->c.n) > 0.0f)) /* below the shading horizon */
+    (void)h;
+    if (!(v3_dot(wi, b->c.n) > 0.0f)) /* below the (shading) horizon, a join through the surface */
         e.f = 0.0f;
     e.pdf = pb;
     e.cos_light = ch;

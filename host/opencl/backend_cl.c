@@ -321,8 +321,12 @@ static int check_device(int device, const spm_render_plan *plan, int width, int 
                         size_t paths_per_pass, char *name, spm_error *err)
 {
     spm_cl_footprint fp;
-    spm_cl_footprint_of_ch(plan->geom, plan->tables, (size_t)width * (size_t)height,
-                           paths_per_pass, plan->pix_ch, &fp);
+    if (plan->integrator == SPM_INTEGRATOR_BDPT)
+        spm_cl_footprint_of_bdpt(plan->geom, plan->tables, (size_t)width * (size_t)height,
+                                 plan->pix_ch, &fp);
+    else
+        spm_cl_footprint_of_ch(plan->geom, plan->tables, (size_t)width * (size_t)height,
+                               paths_per_pass, plan->pix_ch, &fp);
     if (plan->integrator == SPM_INTEGRATOR_LIGHT)
         spm_cl_footprint_add_light(&fp, (size_t)width * (size_t)height, paths_per_pass,
                                    plan->pix_ch);

@@ -14,10 +14,6 @@
 #include "cl_renderer.h"
 #include "film_splat.h"
 
-/* Samples a chunk, and its record room to start with (it grows). */
-#define SPM_BDPT_CHUNK ((size_t)2048)
-#define BDPT_ROOM_PER_SAMPLE 8
-
 const char *const spm_cl_bdpt_program_files[SPM_CL_BDPT_PROGRAM_NFILES] = {
     "kernels/trace.cl", "kernels/shade.cl", "kernels/lighttrace.cl", "kernels/bdpt.cl"};
 
@@ -140,7 +136,7 @@ static int bdpt_chunk(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, siz
 int spm_clr_bdpt_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, float *pass_xyz,
                       spm_pass_stats *st, spm_error *err)
 {
-    if (reserve_records(r, SPM_BDPT_CHUNK * BDPT_ROOM_PER_SAMPLE, err) ||
+    if (reserve_records(r, SPM_BDPT_CHUNK * SPM_BDPT_ROOM_PER_SAMPLE, err) ||
         spm_clr_reserve_film(r, err))
         return 1;
     return spm_clr_splat_pass(r, first_sample, spp, SPM_BDPT_CHUNK, bdpt_chunk, pass_xyz, st, err);
@@ -152,7 +148,7 @@ int spm_clr_bdpt_warm_up(spm_cl_renderer *r, spm_error *err)
 {
     const size_t sizes[2] = {LOCAL_SIZE, 65536};
     int nsizes = strstr(r->cl.dev.platform_name, "Portable Computing Language") ? 2 : 1;
-    int rc = reserve_records(r, SPM_BDPT_CHUNK * BDPT_ROOM_PER_SAMPLE, err) ||
+    int rc = reserve_records(r, SPM_BDPT_CHUNK * SPM_BDPT_ROOM_PER_SAMPLE, err) ||
              spm_clr_reserve_film(r, err);
     for (int k = 0; k < nsizes && !rc; k++) {
         batch b = {0, 1, 0, 0, r->cap, sizes[k]};

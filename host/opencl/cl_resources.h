@@ -52,6 +52,20 @@ void spm_cl_footprint_of_ch(const spm_geometry *g, const spm_tables *t, size_t n
  * 64-bit fixed-point sums and the pass image. */
 void spm_cl_footprint_add_light(spm_cl_footprint *f, size_t npix, size_t paths_per_pass,
                                 int pix_ch);
+/* The bidirectional integrator (--integrator bdpt, host/opencl/cl_bdpt.c)
+ * cuts a pass into chunks of SPM_BDPT_CHUNK samples and starts with room for
+ * SPM_BDPT_ROOM_PER_SAMPLE connected paths' records a sample (a chunk that
+ * finds more grows it). */
+#define SPM_BDPT_CHUNK ((size_t)2048)
+#define SPM_BDPT_ROOM_PER_SAMPLE 8
+
+/* Its footprint, in place of spm_cl_footprint_of_ch's: the batch buffers
+ * for the record room it starts with (each vertex with its words), a
+ * record's splat pixel and value, the scene's buffers and tables, and per
+ * pixel and channel the 64-bit sums and the pass image. */
+void spm_cl_footprint_of_bdpt(const spm_geometry *g, const spm_tables *t, size_t npix,
+                              int pix_ch, spm_cl_footprint *out);
+
 /* 0 if the footprint fits the device (each buffer within CL_DEVICE_MAX_MEM_ALLOC_SIZE,
  * the sum within CL_DEVICE_GLOBAL_MEM_SIZE), else fills err with what does not
  * fit, by how much, and what to do; width x height name the image. */
