@@ -654,21 +654,13 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
     k.emit = 1;
     k.count = 0;
     walk_node(&k, sc->mRootNode, id, 0);
-    if (normals) { /* the same walk again, the same triangles in the same order */
-        k.emit = 2;
-        k.count = 0;
-        walk_node(&k, sc->mRootNode, id, 0);
-    }
-    if (uvs) { /* and again for the texture coordinates */
-        k.emit = 3;
-        k.count = 0;
-        walk_node(&k, sc->mRootNode, id, 0);
-    }
-    if (tangents) { /* and for the file's tangents */
-        k.emit = 4;
-        k.count = 0;
-        walk_node(&k, sc->mRootNode, id, 0);
-    }
+    int arrays[3] = {normals, uvs, tangents}; /* emit 2, 3, 4 */
+    for (int a = 0; a < 3; a++) /* the same walk again, the same triangles in the same order */
+        if (arrays[a]) {
+            k.emit = 2 + a;
+            k.count = 0;
+            walk_node(&k, sc->mRootNode, id, 0);
+        }
     w_put(&w, lights, (size_t)nlights * sizeof *lights);
     /* the images' records at a multiple of 8, then their bytes */
     size_t end = sizeof h + sc->mNumMaterials * sizeof *mats +
