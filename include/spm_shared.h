@@ -684,7 +684,8 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
  * normal m = (2 c - 1) (scale, scale, 1) of texel c, bilinear at the hit's
  * (u, v), bends the interpolated normal N (the face's on a flat triangle) to
  * unit(m.x T + m.y B + m.z N), T the interpolated vertex tangent and
- * B = s (N x T) (MikkTSpace's, glTF's: s the handedness); then the smooth
+ * B = s (N x T) (MikkTSpace's, glTF's: s the handedness), both turned to
+ * run along +u' and +v' of the map's transform (SPM_TEX_UVX); then the smooth
  * shading's rule against leaks applies. The record: scale (float bits), the
  * map's offset. A map: width, height, wrap along u, wrap along v, its
  * transform's offset (SPM_TEX_UVX), then one word a texel, (m + 1) / 2 in 10 bits a component (x lowest) on the codes

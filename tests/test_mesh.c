@@ -638,7 +638,7 @@ static void check_decode(void)
     spm_mesh_material mats[2] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}, .emission = {0, 0, 0}},
                                  {.name = "b", .diffuse = {1, 0, 0}, .emission = {0, 0, 0}}};
     spm_mesh_tri tris[2] = {{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 1}, {{{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}, 0}};
-    spm_mesh_data d = {0, 2, 2, mats, tris, NULL, NULL, NULL, "", NULL, 0, 0, NULL}, out;
+    spm_mesh_data d = {0, 2, 2, mats, tris, NULL, NULL, NULL, "", NULL, 0, 0, NULL, NULL}, out;
     spm_error err;
     size_t n;
     unsigned char *buf = spm_mesh_encode(&d, &n);
@@ -686,6 +686,24 @@ static void check_decode(void)
               out.normals[1].n[0][1] == 1.0f,
           "texture coordinates and normals decode as encoded");
     spm_mesh_free(&out);
+    /* the file's tangents after the texture coordinates, the lights after them */
+    spm_mesh_tangents tgs[2] = {{{{1, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}}},
+                                {{{0, 0, 1, -1}, {0, 0, 1, -1}, {0, 0.5f, 1, -1}}}};
+    d.tangents = tgs;
+    spm_mesh_light lamp = {.name = "lamp", .type = SPM_MESH_LIGHT_POINT};
+    d.lights = &lamp;
+    d.nlights = 1;
+    buf = spm_mesh_encode(&d, &n);
+    CHECK(n == spm_mesh_wire_size(2, 2, 7, 1, 0, 0) &&
+              spm_mesh_decode(buf, n, "x", &out, &err) == 0 && out.tangents && out.uvs &&
+              out.tangents[1].t[2][1] == 0.5f && out.tangents[1].t[0][3] == -1.0f &&
+              out.uvs[1].uv[2][1] == 0.125f && out.nlights == 1 &&
+              !strcmp(out.lights[0].name, "lamp"),
+          "tangents decode as encoded, between the texture coordinates and the lights");
+    spm_mesh_free(&out);
+    d.tangents = NULL;
+    d.lights = NULL;
+    d.nlights = 0;
     /* lights after the texture coordinates; a bad type or a count not sent refused */
     spm_mesh_light lights[2] = {{.name = "lamp", .type = SPM_MESH_LIGHT_SPOT, .inner = 0.25f},
                                 {.name = "sun", .type = SPM_MESH_LIGHT_DIRECTIONAL}};
@@ -764,7 +782,7 @@ static void check_build_normals(void)
     spm_mesh_material mats[1] = {{.name = "a", .diffuse = {0.5f, 0.5f, 0.5f}}};
     spm_mesh_tri tris[1] = {{{{1, 0, 0}, {1, 1, 0}, {1, 0, 1}}, 0}}; /* front face +x */
     spm_mesh_normals nrm[1] = {{{{1, 1, 0}, {1, 0, 0}, {1, 0, 1}}}};
-    spm_mesh_data d = {0, 1, 1, mats, tris, nrm, NULL, NULL, "", NULL, 0, 0, NULL};
+    spm_mesh_data d = {0, 1, 1, mats, tris, nrm, NULL, NULL, "", NULL, 0, 0, NULL, NULL};
     spm_error err;
     spm_quiet_warnings = 1;
     struct {
@@ -801,7 +819,7 @@ static void check_build_normals(void)
     }
     /* normals against the winding: turned to the front face */
     spm_mesh_normals back[1] = {{{{-1, 0, 0}, {-1, 0, 0}, {-1, 0, 0}}}};
-    spm_mesh_data db = {0, 1, 1, mats, tris, back, NULL, NULL, "", NULL, 0, 0, NULL};
+    spm_mesh_data db = {0, 1, 1, mats, tris, back, NULL, NULL, "", NULL, 0, 0, NULL, NULL};
     bscene x;
     bs_open(&x);
     spm_mesh_opts o;
@@ -815,7 +833,7 @@ static void check_build_normals(void)
     bs_close(&x);
     /* a zero normal: that triangle is flat */
     spm_mesh_normals zero[1] = {{{{1, 0, 0}, {0, 0, 0}, {1, 0, 0}}}};
-    spm_mesh_data dz = {0, 1, 1, mats, tris, zero, NULL, NULL, "", NULL, 0, 0, NULL};
+    spm_mesh_data dz = {0, 1, 1, mats, tris, zero, NULL, NULL, "", NULL, 0, 0, NULL, NULL};
     bs_open(&x);
     identity(&o);
     o.material = x.grey;
@@ -834,7 +852,7 @@ static void check_build(void)
                             {{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, 1}, /* collinear */
                             {{{0, 0, 0}, {0, 0, 0}, {0, 1, 0}}, 1}, /* coincident */
                             {{{0, 0, 3}, {1, 0, 3}, {0, 1, 3}}, 1}};
-    spm_mesh_data d = {0, 3, 4, mats, tris, NULL, NULL, NULL, "", NULL, 0, 0, NULL};
+    spm_mesh_data d = {0, 3, 4, mats, tris, NULL, NULL, NULL, "", NULL, 0, 0, NULL, NULL};
     spm_error err;
     spm_quiet_warnings = 1;
 
@@ -883,7 +901,7 @@ static void check_build(void)
     identity(&o);
     spm_mesh_transform(scale, axis, 90, tr, o.m);
     o.material = x.grey;
-    spm_mesh_data one = {0, 3, 1, mats, tris, NULL, NULL, NULL, "", NULL, 0, 0, NULL};
+    spm_mesh_data one = {0, 3, 1, mats, tris, NULL, NULL, NULL, "", NULL, 0, 0, NULL, NULL};
     rc = spm_mesh_add(&x.b, &x.cache, &one, &o, "m", "t", &err);
     /* 1e-6: cos 90 degrees in double is 6e-17, times coordinates of 2 */
     CHECK(rc == 0 && fabsf(x.s.tris[0].p[0][0]) < 1e-6f && x.s.tris[0].p[0][1] == 2.0f &&
@@ -940,7 +958,7 @@ static void check_build(void)
     bs_close(&x);
 
     /* all degenerate: an error, not an empty mesh */
-    spm_mesh_data degen = {0, 3, 2, mats, tris + 1, NULL, NULL, NULL, "", NULL, 0, 0, NULL};
+    spm_mesh_data degen = {0, 3, 2, mats, tris + 1, NULL, NULL, NULL, "", NULL, 0, 0, NULL, NULL};
     bs_open(&x);
     identity(&o);
     rc = spm_mesh_add(&x.b, &x.cache, &degen, &o, "m", "t", &err);

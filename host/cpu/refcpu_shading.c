@@ -143,7 +143,11 @@ int spm_ref_nmap_frame(const spm_geometry *g, spm_u32 hit, const float o[3], con
         t[i] = tg[i] * b[0] + tg[4 + i] * b[1] + tg[8 + i] * b[2];
     v3_cross(bt, n, t);
     for (int i = 0; i < 3; i++)
-        sum[i] = t[i] * m[0] + bt[i] * tg[3] * m[1] + n[i] * m[2];
+        bt[i] *= tg[3];
+    const spm_u32 *map = x + x[r + 1];
+    spm_tex_uvx_frame(map, map[SPM_NMAP_UVX], t, bt);
+    for (int i = 0; i < 3; i++)
+        sum[i] = t[i] * m[0] + bt[i] * m[1] + n[i] * m[2];
     v3_normalise(n, sum);
     if (!(v3_dot(n, n) > 0.0f))
         return 0;

@@ -87,6 +87,10 @@ size_t spm_geometry_uvx_words(const spm_uvx *t);
 size_t spm_geometry_uvx_put(const spm_uvx *t, spm_u32 *x, size_t head, size_t slot, size_t w);
 void spm_tex_uvx(const spm_u32 *h, spm_u32 off, float *u, float *v);
 float spm_tex_uvx_scale(const spm_u32 *h, spm_u32 off);
+/* A normal map's tangent t and bitangent b turned to the transformed
+ * coordinates (along +u' and +v', each t's length), as kernels/uvx.clh
+ * tex_uvx_frame computes them; unchanged for no transform. */
+void spm_tex_uvx_frame(const spm_u32 *h, spm_u32 off, float t[3], float b[3]);
 /* Normal maps in the texture words (geometry_nmap.c, spm_shared.h
  * SPM_NMAP_*): whether a material of s has one (its kernels: SPM_WITH_NMAP),
  * the words they take with every triangle's tangents, putting them from word

@@ -44,3 +44,24 @@ float spm_tex_uvx_scale(const spm_u32 *h, spm_u32 off)
     memcpy(m, h + off, sizeof m);
     return sqrtf(fabsf(m[0] * m[4] - m[1] * m[3]));
 }
+
+void spm_tex_uvx_frame(const spm_u32 *h, spm_u32 off, float t[3], float b[3])
+{
+    if (off == 0u)
+        return;
+    float m[6], tu[3], tv[3], len = 0, lu = 0, lv = 0;
+    memcpy(m, h + off, sizeof m);
+    float det = m[0] * m[4] - m[1] * m[3];
+    for (int i = 0; i < 3; i++) {
+        tu[i] = (m[4] * t[i] - m[3] * b[i]) * det;
+        tv[i] = (m[0] * b[i] - m[1] * t[i]) * det;
+        len += t[i] * t[i], lu += tu[i] * tu[i], lv += tv[i] * tv[i];
+    }
+    len = sqrtf(len), lu = sqrtf(lu), lv = sqrtf(lv);
+    if (!(lu > 0.0f && lv > 0.0f))
+        return;
+    for (int i = 0; i < 3; i++) {
+        t[i] = tu[i] * (len / lu);
+        b[i] = tv[i] * (len / lv);
+    }
+}

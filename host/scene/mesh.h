@@ -175,6 +175,15 @@ typedef struct {
     float uv[3][2];
 } spm_mesh_uvs;
 
+/* A triangle's tangents from the file (glTF TANGENT), in the order of its
+ * spm_mesh_tri's vertices: per vertex a tangent (x, y, z; node transforms
+ * applied as to a direction on the surface) and its handedness w = +-1, the
+ * bitangent being w (N x T) (glTF's and MikkTSpace's); all zero: the
+ * triangle has none (its tangents are made, geometry_nmap.c). */
+typedef struct {
+    float t[3][4];
+} spm_mesh_tangents;
+
 /* A glTF light (KHR_lights_punctual) a node of the default scene places,
  * in file coordinates (its node's transform applied; mesh_gltf_lights.c). */
 enum { SPM_MESH_LIGHT_POINT = 0, SPM_MESH_LIGHT_SPOT = 1, SPM_MESH_LIGHT_DIRECTIONAL = 2 };
@@ -197,23 +206,26 @@ typedef struct {
     spm_mesh_tri *tris;
     spm_mesh_normals *normals; /* per triangle, or NULL: the file has no vertex normals */
     spm_mesh_uvs *uvs;         /* per triangle, or NULL: the file has no texture coordinates */
-    void *buf;                 /* owns mats, tris, normals, uvs and lights */
+    void *buf;                 /* owns mats, tris, normals, uvs, tangents and lights */
     char extensions[512];      /* a glTF's extensionsUsed that are not rendered, ", "-separated */
     spm_mesh_light *lights;    /* a glTF's lights (NULL: none) */
     uint32_t nlights;
     uint32_t nimages;          /* the file's embedded images (NULL: none) */
     spm_mesh_image *images;
+    spm_mesh_tangents *tangents; /* per triangle, or NULL: the file has no tangents (glTF TANGENT) */
 } spm_mesh_data;
 
 /* The child's answer on its pipe (mesh_wire.c): a header of this many bytes
  * (magic, status, ignored, nmats, ntris as 64 bits, flags, nlights,
  * nimages, a spare word, the images' bytes as 64 bits), the materials, the
  * triangles, with SPM_MESH_WIRE_NORMALS in flags one spm_mesh_normals per
- * triangle, then with SPM_MESH_WIRE_UVS one spm_mesh_uvs per triangle, then
- * nlights spm_mesh_light, nimages spm_mesh_image and the images' bytes. */
+ * triangle, then with SPM_MESH_WIRE_UVS one spm_mesh_uvs per triangle, with
+ * SPM_MESH_WIRE_TANGENTS one spm_mesh_tangents per triangle, then nlights
+ * spm_mesh_light, nimages spm_mesh_image and the images' bytes. */
 #define SPM_MESH_WIRE_HEAD 48
 #define SPM_MESH_WIRE_NORMALS 1u
 #define SPM_MESH_WIRE_UVS 2u
+#define SPM_MESH_WIRE_TANGENTS 4u
 /* The answer's size for these counts and flags (0 for unknown flags or
  * counts over their limits). */
 size_t spm_mesh_wire_size(uint32_t nmats, uint64_t ntris, uint32_t flags, uint32_t nlights,

@@ -288,6 +288,30 @@ static int add_normals(spm_scene_builder *b, const spm_mesh_opts *o, const spm_m
     return 1;
 }
 
+/* A triangle's tangents from the file, for its normal map (scene.h
+ * tangents): each vertex's T through the statement's M, as a direction on
+ * the surface, its handedness reversed by a mirror (mesh_import.c
+ * face_tangents says why), the vertices in the order the triangle took.
+ * None (made instead, geometry_nmap.c) where the file gives none for it, or
+ * one that is not finite or zero, or a handedness that is not +-1. */
+static void add_tangents(spm_scene_builder *b, const spm_mesh_tangents *ft, const double (*m)[4],
+                         int flip)
+{
+    float t[12];
+    for (int v = 0; v < 3; v++) {
+        const float *q = ft->t[flip && v ? 3 - v : v];
+        double len = 0;
+        for (int i = 0; i < 3; i++) {
+            t[4 * v + i] = (float)(m[i][0] * q[0] + m[i][1] * q[1] + m[i][2] * q[2]);
+            len += (double)t[4 * v + i] * t[4 * v + i];
+        }
+        if (!(len > 0 && isfinite(len)) || (q[3] != 1.0f && q[3] != -1.0f))
+            return;
+        t[4 * v + 3] = flip ? -q[3] : q[3];
+    }
+    spm_sb_tri_tangents(b, t);
+}
+
 /* The statement's triangles, for the set-up's hints (scene_hints.h). */
 static void record_mesh(spm_scene *s, const char *file, const char *where, int first,
                         const double lo[3], const double hi[3])
@@ -410,6 +434,8 @@ int spm_mesh_add(spm_scene_builder *b, spm_mesh_cache *cache, const spm_mesh_dat
                 memcpy(uv + 2 * v, d->uvs[t].uv[flip && v ? 3 - v : v], sizeof(float[2]));
             spm_sb_tri_uv(b, uv);
         }
+        if (sm->nmap && d->tangents)
+            add_tangents(b, &d->tangents[t], m, flip);
         int r = add_normals(b, o, normals ? &normals[t] : NULL, map[src->mat], nm, flip, p);
         smooth += r > 0;
         unusable += r < 0;

@@ -124,11 +124,41 @@ typedef struct {
     writer *w;
     uint64_t count;    /* triangles so far */
     int emit;          /* 0: count only, 1: write the triangles, 2: their vertex normals,
-                          3: their texture coordinates */
+                          3: their texture coordinates, 4: their tangents */
     uint32_t ignored;
     int stl;
     unsigned char *used; /* per material: a triangle uses it */
 } walk;
+
+/* Whether Assimp kept a mesh's tangents: glTF's TANGENT gives mTangents and
+ * mBitangents = w (N x T), which only exist with normals. */
+static int has_tangents(const struct aiMesh *m)
+{
+    return m->mTangents && m->mBitangents && m->mNormals;
+}
+
+/* A face's file tangents (zero where its mesh has none): each vertex's T
+ * through x's linear part, as a direction on the surface is, and its
+ * handedness w, the side of N x T its bitangent is on, reversed by a mirror
+ * (det < 0 turns (M N') x (M T) against M B). */
+static void face_tangents(const struct aiMesh *m, const unsigned idx[3], const affine x,
+                          spm_mesh_tangents *out)
+{
+    memset(out, 0, sizeof *out);
+    if (!has_tangents(m))
+        return;
+    double mirror = affine_det(x) < 0 ? -1.0 : 1.0;
+    for (int v = 0; v < 3; v++) {
+        const struct aiVector3D *t = &m->mTangents[idx[v]], *b = &m->mBitangents[idx[v]],
+                                *n = &m->mNormals[idx[v]];
+        double c[3] = {n->y * t->z - n->z * t->y, n->z * t->x - n->x * t->z,
+                       n->x * t->y - n->y * t->x};
+        double side = c[0] * b->x + c[1] * b->y + c[2] * b->z;
+        for (int i = 0; i < 3; i++)
+            out->t[v][i] = (float)(x[i][0] * t->x + x[i][1] * t->y + x[i][2] * t->z);
+        out->t[v][3] = (float)(side < 0 ? -mirror : mirror);
+    }
+}
 
 static int mesh_tris(walk *k, const struct aiMesh *m, const affine x)
 {
@@ -150,6 +180,15 @@ static int mesh_tris(walk *k, const struct aiMesh *m, const affine x)
                 child_fail(k->w, "a face refers to a vertex the file does not have");
         if (!k->emit)
             continue;
+        if (k->emit == 4) {
+            unsigned idx[3];
+            for (int v = 0; v < 3; v++)
+                idx[v] = face->mIndices[flip && v ? 3 - v : v];
+            spm_mesh_tangents tg;
+            face_tangents(m, idx, x, &tg);
+            w_put(k->w, &tg, sizeof tg);
+            continue;
+        }
         if (k->emit == 3) { /* zero where the mesh has none */
             spm_mesh_uvs tu;
             memset(&tu, 0, sizeof tu);
@@ -580,11 +619,12 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
         if (k.used[i])
             k.ignored |= ign;
     }
-    int normals = 0, uvs = 0; /* STL's facet normals are no vertex normals: left out */
+    int normals = 0, uvs = 0, tangents = 0; /* STL's facet normals are no vertex normals */
     for (unsigned i = 0; i < sc->mNumMeshes; i++) {
         const struct aiMesh *m = sc->mMeshes[i];
         normals |= m->mNormals && !k.stl;
         uvs |= m->mTextureCoords[0] != NULL;
+        tangents |= has_tangents(m) && !k.stl;
         if (m->mColors[0])
             k.ignored |= SPM_MESH_IGN_COLOURS;
         if (m->mNumBones || m->mNumAnimMeshes)
@@ -599,7 +639,8 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
         k.ignored |= SPM_MESH_IGN_LIGHT_RANGE;
     if (sc->mNumAnimations)
         k.ignored |= SPM_MESH_IGN_ANIMATION;
-    uint32_t flags = (normals ? SPM_MESH_WIRE_NORMALS : 0u) | (uvs ? SPM_MESH_WIRE_UVS : 0u);
+    uint32_t flags = (normals ? SPM_MESH_WIRE_NORMALS : 0u) | (uvs ? SPM_MESH_WIRE_UVS : 0u) |
+                     (tangents ? SPM_MESH_WIRE_TANGENTS : 0u);
     uint32_t h[SPM_MESH_WIRE_HEAD / 4] = {
         0x4d4d5053u, 0, k.ignored, sc->mNumMaterials, 0, 0, flags, (uint32_t)nlights,
         sc->mNumTextures};
@@ -613,21 +654,19 @@ static void child_main(const spm_file *file, int fd, pid_t parent)
     k.emit = 1;
     k.count = 0;
     walk_node(&k, sc->mRootNode, id, 0);
-    if (normals) { /* the same walk again, the same triangles in the same order */
-        k.emit = 2;
-        k.count = 0;
-        walk_node(&k, sc->mRootNode, id, 0);
-    }
-    if (uvs) { /* and again for the texture coordinates */
-        k.emit = 3;
-        k.count = 0;
-        walk_node(&k, sc->mRootNode, id, 0);
-    }
+    int arrays[3] = {normals, uvs, tangents}; /* emit 2, 3, 4 */
+    for (int a = 0; a < 3; a++) /* the same walk again, the same triangles in the same order */
+        if (arrays[a]) {
+            k.emit = 2 + a;
+            k.count = 0;
+            walk_node(&k, sc->mRootNode, id, 0);
+        }
     w_put(&w, lights, (size_t)nlights * sizeof *lights);
     /* the images' records at a multiple of 8, then their bytes */
     size_t end = sizeof h + sc->mNumMaterials * sizeof *mats +
                  n * (sizeof(spm_mesh_tri) + (normals ? sizeof(spm_mesh_normals) : 0) +
-                      (uvs ? sizeof(spm_mesh_uvs) : 0)) +
+                      (uvs ? sizeof(spm_mesh_uvs) : 0) +
+                      (tangents ? sizeof(spm_mesh_tangents) : 0)) +
                  (size_t)nlights * sizeof *lights;
     static const unsigned char zeros[8];
     w_put(&w, zeros, spm_mesh_wire_size(sc->mNumMaterials, n, flags, (uint32_t)nlights, 0, 0) - end);

@@ -666,7 +666,7 @@ int spm_ply_read(const spm_file *file, spm_mesh_data *out, spm_error *err)
         spm_mesh_material mat;
         memset(&mat, 0, sizeof mat);
         spm_mesh_data d = {m.ignored, 1, m.nt, &mat, m.t, m.nofs >= 0 ? m.tn : NULL,
-                           m.uofs >= 0 ? m.tuv : NULL, NULL, "", NULL, 0, 0, NULL};
+                           m.uofs >= 0 ? m.tuv : NULL, NULL, "", NULL, 0, 0, NULL, NULL};
         size_t size;
         void *buf = spm_mesh_encode(&d, &size);
         rc = spm_mesh_decode(buf, size, path, out, err); /* no triangles: its error */

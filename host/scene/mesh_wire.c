@@ -24,6 +24,7 @@ static size_t images_at(uint32_t nmats, uint64_t ntris, uint32_t flags, uint32_t
                ntris * sizeof(spm_mesh_tri) +
                (flags & SPM_MESH_WIRE_NORMALS ? ntris * sizeof(spm_mesh_normals) : 0) +
                (flags & SPM_MESH_WIRE_UVS ? ntris * sizeof(spm_mesh_uvs) : 0) +
+               (flags & SPM_MESH_WIRE_TANGENTS ? ntris * sizeof(spm_mesh_tangents) : 0) +
                nlights * sizeof(spm_mesh_light);
     return (n + 7) & ~(size_t)7;
 }
@@ -31,7 +32,7 @@ static size_t images_at(uint32_t nmats, uint64_t ntris, uint32_t flags, uint32_t
 size_t spm_mesh_wire_size(uint32_t nmats, uint64_t ntris, uint32_t flags, uint32_t nlights,
                           uint32_t nimages, uint64_t image_bytes)
 {
-    if (flags & ~(SPM_MESH_WIRE_NORMALS | SPM_MESH_WIRE_UVS) || nlights > SPM_MESH_MAX_LIGHTS ||
+    if (flags & ~(SPM_MESH_WIRE_NORMALS | SPM_MESH_WIRE_UVS | SPM_MESH_WIRE_TANGENTS) || nlights > SPM_MESH_MAX_LIGHTS ||
         nimages > SPM_MESH_MAX_IMAGES || image_bytes > SPM_MESH_MAX_IMAGE_BYTES)
         return 0;
     return images_at(nmats, ntris, flags, nlights) + nimages * sizeof(spm_mesh_image) +
@@ -40,7 +41,8 @@ size_t spm_mesh_wire_size(uint32_t nmats, uint64_t ntris, uint32_t flags, uint32
 
 void *spm_mesh_encode(const spm_mesh_data *d, size_t *size)
 {
-    uint32_t flags = (d->normals ? SPM_MESH_WIRE_NORMALS : 0u) | (d->uvs ? SPM_MESH_WIRE_UVS : 0u);
+    uint32_t flags = (d->normals ? SPM_MESH_WIRE_NORMALS : 0u) | (d->uvs ? SPM_MESH_WIRE_UVS : 0u) |
+                     (d->tangents ? SPM_MESH_WIRE_TANGENTS : 0u);
     uint64_t nb = 0;
     for (uint32_t i = 0; i < d->nimages; i++)
         nb += d->images[i].size;
@@ -48,6 +50,7 @@ void *spm_mesh_encode(const spm_mesh_data *d, size_t *size)
                      d->nimages, 0, nb};
     size_t nn = d->normals ? d->ntris * sizeof *d->normals : 0;
     size_t nu = d->uvs ? d->ntris * sizeof *d->uvs : 0;
+    size_t nt = d->tangents ? d->ntris * sizeof *d->tangents : 0;
     size_t ni = images_at(d->nmats, d->ntris, flags, d->nlights);
     size_t nl = d->nlights * sizeof *d->lights;
     size_t n = spm_mesh_wire_size(d->nmats, d->ntris, flags, d->nlights, d->nimages, nb);
@@ -58,11 +61,13 @@ void *spm_mesh_encode(const spm_mesh_data *d, size_t *size)
         memcpy(buf + sizeof h, d->mats, d->nmats * sizeof *d->mats);
     if (d->ntris)
         memcpy(buf + sizeof h + d->nmats * sizeof *d->mats, d->tris, d->ntris * sizeof *d->tris);
-    size_t end = sizeof h + d->nmats * sizeof *d->mats + d->ntris * sizeof *d->tris + nn + nu;
+    size_t end = sizeof h + d->nmats * sizeof *d->mats + d->ntris * sizeof *d->tris + nn + nu + nt;
     if (nn)
-        memcpy(buf + end - nu - nn, d->normals, nn);
+        memcpy(buf + end - nt - nu - nn, d->normals, nn);
     if (nu)
-        memcpy(buf + end - nu, d->uvs, nu);
+        memcpy(buf + end - nt - nu, d->uvs, nu);
+    if (nt)
+        memcpy(buf + end - nt, d->tangents, nt);
     if (nl)
         memcpy(buf + end, d->lights, nl);
     unsigned char *at = buf + ni;
@@ -152,6 +157,7 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
         return 1;
     }
     int has_n = (h.flags & SPM_MESH_WIRE_NORMALS) != 0, has_uv = (h.flags & SPM_MESH_WIRE_UVS) != 0;
+    int has_t = (h.flags & SPM_MESH_WIRE_TANGENTS) != 0;
     size_t want = spm_mesh_wire_size(h.nmats, h.ntris, h.flags, h.nlights, h.nimages,
                                      h.image_bytes);
     if (size != want || (h.ntris > 0 && h.nmats == 0) || want == 0) {
@@ -199,16 +205,16 @@ int spm_mesh_decode(void *buf, size_t size, const char *path, spm_mesh_data *out
     out->ntris = h.ntris;
     out->mats = mats;
     out->tris = tris;
-    out->normals = has_n ? (spm_mesh_normals *)(tris + h.ntris) : NULL;
-    out->uvs = has_uv ? (spm_mesh_uvs *)((char *)(tris + h.ntris) +
-                                         (has_n ? h.ntris * sizeof(spm_mesh_normals) : 0))
-                      : NULL;
+    char *after = (char *)(tris + h.ntris); /* the per-triangle arrays, in order */
+    out->normals = has_n ? (spm_mesh_normals *)after : NULL;
+    after += has_n ? h.ntris * sizeof(spm_mesh_normals) : 0;
+    out->uvs = has_uv ? (spm_mesh_uvs *)after : NULL;
+    after += has_uv ? h.ntris * sizeof(spm_mesh_uvs) : 0;
+    out->tangents = has_t ? (spm_mesh_tangents *)after : NULL;
+    after += has_t ? h.ntris * sizeof(spm_mesh_tangents) : 0;
     size_t ni = images_at(h.nmats, h.ntris, h.flags, h.nlights);
     out->nlights = h.nlights;
-    out->lights = h.nlights ? (spm_mesh_light *)((char *)(tris + h.ntris) +
-                                                 (has_n ? h.ntris * sizeof(spm_mesh_normals) : 0) +
-                                                 (has_uv ? h.ntris * sizeof(spm_mesh_uvs) : 0))
-                            : NULL;
+    out->lights = h.nlights ? (spm_mesh_light *)after : NULL;
     if (images((unsigned char *)buf + ni, &h, out, path, err))
         return 1;
     for (uint32_t i = 0; i < h.nlights; i++) {
