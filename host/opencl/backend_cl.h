@@ -15,6 +15,7 @@
 #include <stdint.h>
 #include "backend.h"
 #include "cl_core.h"
+#include "film_splat.h"
 
 typedef struct spm_cl_renderer spm_cl_renderer;
 
@@ -52,6 +53,22 @@ int spm_cl_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, spm_path
  * back (the plan's pix_ch floats a path: XYZ, then any spectral bins). */
 int spm_cl_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, const spm_path *paths,
                  const uint8_t *levels, float *xyz, spm_error *err);
+/* The light integrator's test hooks (a handle of a plan of
+ * SPM_INTEGRATOR_LIGHT): subpaths [first, first + n) of a pass (n at most
+ * SPM_SPLAT_CHUNK, film_splat.h; subpath i keyed as camera path i). Trace
+ * only: their records, level bytes and pixel words read back (px: n
+ * (SPM_MAX_DEPTH + 1) words, slab s of subpath i at px[i (SPM_MAX_DEPTH + 1)
+ * + s]: s = 0 the light's own splat, s = j + 1 vertex j's, SPM_NONE none),
+ * as refcpu.h spm_light_path. Shade only: given records, level bytes and
+ * pixel words (uploaded) shaded into their splats, appended to out (a list
+ * of the plan's pix_ch; film_splat.h) in the device's order, each with the
+ * pixel word it was given: a caller that gives each slab a word of its own
+ * knows which subpath and vertex each splat came from. */
+int spm_cl_light_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t first,
+                       size_t n, spm_path *paths, spm_u32 *px, uint8_t *levels, spm_error *err);
+int spm_cl_light_shade(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t first,
+                       size_t n, const spm_path *paths, const spm_u32 *px, const uint8_t *levels,
+                       spm_splats *out, spm_error *err);
 /* Batches of at most `paths` paths from the next pass on (0: the default,
  * SPM_CL_BATCH_PATHS); a batch is still at least one pixel. */
 void spm_cl_set_batch_paths(spm_cl_renderer *r, size_t paths);

@@ -104,9 +104,7 @@ int spm_clr_reserve_splats(spm_cl_renderer *r, size_t n, spm_error *err)
     return 0;
 }
 
-/* The batch buffers and the pixel words for n subpaths, the splat list, and
- * (once) the sums, zeroed, the pass image and lstat. */
-static int reserve_light(spm_cl_renderer *r, size_t n, spm_error *err)
+int spm_clr_reserve_light(spm_cl_renderer *r, size_t n, spm_error *err)
 {
     if (spm_clr_reserve(r, n, err))
         return 1;
@@ -148,6 +146,25 @@ static int shade_splats(spm_cl_renderer *r, const batch *b, const size_t off[NSL
     return spm_clr_run_shade(r, b, off, ids, 0, ev, err);
 }
 
+int spm_clr_light_splats(spm_cl_renderer *r, const batch *b, const size_t off[NSLOTS + 1],
+                         cl_mem ids, cl_event ev_s[NSLOTS], cl_int stat[2], uint64_t *untimed,
+                         spm_error *err)
+{
+    int rc = shade_splats(r, b, off, ids, ev_s, err);
+    for (int again = 0; !rc && again < 2; again++) {
+        rc = spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->lstat, CL_TRUE, 0,
+                                              2 * sizeof *stat, stat, 0, NULL, NULL),
+                          "clEnqueueReadBuffer(splat count)", err);
+        if (rc || (size_t)(spm_u32)stat[0] <= r->scap)
+            break;
+        /* more splats than room: room for them all, and the chunk shaded again */
+        spm_clr_release_events(ev_s, NSLOTS, untimed);
+        rc = spm_clr_reserve_splats(r, (size_t)(spm_u32)stat[0], err) ||
+             shade_splats(r, b, off, ids, ev_s, err);
+    }
+    return rc;
+}
+
 /* One chunk: subpaths [first, first + b->n) of the pass. */
 static int light_chunk(spm_cl_renderer *r, const batch *b, size_t first, spm_pass_stats *st,
                        spm_error *err)
@@ -156,25 +173,13 @@ static int light_chunk(spm_cl_renderer *r, const batch *b, size_t first, spm_pas
     size_t off[NSLOTS + 1];
     cl_mem ids = NULL;
     cl_int stat[2] = {0, 0};
-    r->pofs = (spm_u32)(first % b->spp);
     int rc = spm_clr_run_light_trace(r, b, first, &ev_t, err);
     if (!rc && r->mode->levelled)
         rc = spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->levels, CL_TRUE, 0, b->n,
                                               r->h_levels, 1, &ev_t, NULL),
                           "clEnqueueReadBuffer(level bytes)", err);
     rc = rc || spm_clr_bucket(r, b->n, r->h_levels, off, &ids, err) ||
-         shade_splats(r, b, off, ids, ev_s, err);
-    for (int again = 0; !rc && again < 2; again++) {
-        rc = spm_cl_check(clEnqueueReadBuffer(r->cl.queue, r->lstat, CL_TRUE, 0, sizeof stat,
-                                              stat, 0, NULL, NULL),
-                          "clEnqueueReadBuffer(splat count)", err);
-        if (rc || (size_t)(spm_u32)stat[0] <= r->scap)
-            break;
-        /* more splats than room: room for them all, and the chunk shaded again */
-        spm_clr_release_events(ev_s, NSLOTS, &st->untimed);
-        rc = spm_clr_reserve_splats(r, (size_t)(spm_u32)stat[0], err) ||
-             shade_splats(r, b, off, ids, ev_s, err);
-    }
+         spm_clr_light_splats(r, b, off, ids, ev_s, stat, &st->untimed, err);
     size_t n = (size_t)(spm_u32)stat[0];
     if (!rc && n) {
         int shift = spm_splat_shift(stat[1], n);
@@ -214,13 +219,18 @@ int spm_clr_splat_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, si
     return 0;
 }
 
-/* subpaths [first, first + nb) of the pass, launched at the full chunk's
- * size (cl_kernels.c run_shade says why) */
+batch spm_clr_light_batch(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t first,
+                          size_t nb)
+{
+    size_t n = r->npix * spp, room = n < SPM_SPLAT_CHUNK ? n : SPM_SPLAT_CHUNK;
+    r->pofs = (spm_u32)(first % spp);
+    return (batch){first_sample, spp, (spm_u32)(first / spp), 0, nb, room};
+}
+
 static int light_chunk_of(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t first,
                           size_t nb, spm_pass_stats *st, spm_error *err)
 {
-    size_t n = r->npix * spp, room = n < SPM_SPLAT_CHUNK ? n : SPM_SPLAT_CHUNK;
-    batch b = {first_sample, spp, (spm_u32)(first / spp), 0, nb, room};
+    batch b = spm_clr_light_batch(r, first_sample, spp, first, nb);
     return light_chunk(r, &b, first, st, err);
 }
 
@@ -228,7 +238,7 @@ int spm_clr_light_pass(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, fl
                        spm_pass_stats *st, spm_error *err)
 {
     size_t n = r->npix * spp, room = n < SPM_SPLAT_CHUNK ? n : SPM_SPLAT_CHUNK;
-    if (reserve_light(r, room, err))
+    if (spm_clr_reserve_light(r, room, err))
         return 1;
     return spm_clr_splat_pass(r, first_sample, spp, SPM_SPLAT_CHUNK, light_chunk_of, pass_xyz, st,
                               err);
@@ -240,7 +250,7 @@ int spm_clr_light_warm_up(spm_cl_renderer *r, spm_error *err)
 {
     const size_t sizes[2] = {LOCAL_SIZE, 65536};
     int nsizes = strstr(r->cl.dev.platform_name, "Portable Computing Language") ? 2 : 1;
-    int rc = reserve_light(r, LOCAL_SIZE, err);
+    int rc = spm_clr_reserve_light(r, LOCAL_SIZE, err);
     for (int k = 0; k < nsizes && !rc; k++) {
         batch b = {0, 1, 0, 0, 0, sizes[k]};
         cl_event ev[NSLOTS + 3] = {NULL};

@@ -8,8 +8,9 @@
  *   cl_kernels.c         kernel arguments (spm_kernel_args.h) and launches
  *   cl_light.c           the light integrator's program and passes (chunks of
  *                        subpaths, their splats summed in fixed point)
- *   cl_test_hooks.c      trace-only and shade-only passes for the tests, and
- *                        failure injection */
+ *   cl_test_hooks.c      trace-only and shade-only passes for the tests (camera
+ *                        paths, and light subpaths with their pixel words and
+ *                        splats), and failure injection */
 #ifndef SPM_CL_RENDERER_H
 #define SPM_CL_RENDERER_H
 #include <stdio.h>
@@ -165,6 +166,20 @@ int spm_clr_splat_build(spm_cl_renderer *r, const spm_render_plan *plan, const c
                         spm_error *err);
 int spm_clr_reserve_splats(spm_cl_renderer *r, size_t n, spm_error *err);
 int spm_clr_reserve_film(spm_cl_renderer *r, spm_error *err);
+/* cl_light.c, a chunk's steps (its pass and the test hooks): the batch
+ * buffers and the pixel words for n subpaths, the splat list, and (once) the
+ * sums, zeroed, the pass image and lstat; the batch of subpaths
+ * [first, first + nb) of a pass (nb <= SPM_SPLAT_CHUNK), launched at the full
+ * chunk's size (cl_kernels.c run_shade says why), r->pofs its offset in its
+ * first pixel; the chunk's records bucketed (off, ids) shaded into the splat
+ * list, shaded again with room for all when they overflow it: stat the
+ * splats' count and largest exponent. */
+int spm_clr_reserve_light(spm_cl_renderer *r, size_t n, spm_error *err);
+batch spm_clr_light_batch(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, size_t first,
+                          size_t nb);
+int spm_clr_light_splats(spm_cl_renderer *r, const batch *b, const size_t off[NSLOTS + 1],
+                         cl_mem ids, cl_event ev_s[NSLOTS], cl_int stat[2], uint64_t *untimed,
+                         spm_error *err);
 
 /* cl_light.c: a pass of the splat film: its pass image zeroed, its
  * npix spp items in chunks [first, first + n) of `chunk`, each given to fn
