@@ -61,6 +61,7 @@ typedef int32_t spm_i32;
 /* ---- path records ------------------------------------------------------- */
 #define SPM_MAX_DEPTH 64        /* vertices per path record (same in both backends) */
 #define SPM_NONE 0xFFFFu        /* "no colour" in a 16-bit colour id */
+#define SPM_NO_PIXEL 0xFFFFFFFFu /* "no splat" in a 32-bit pixel word (pixel 65535 is one) */
 /* Pretest context B: k = 1..KMAX occurrences of a colour on one path. A path
  * meets at most SPM_MAX_DEPTH reflections, so the level feeler has a level for
  * every count it can see (a table that stopped short would give long chains

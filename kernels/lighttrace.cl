@@ -110,7 +110,7 @@ SPM_ALWAYS_INLINE int lt_start(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA), spm_
     float3 wi;
     float w = camera_link(&cam, nodes, tris, counters, k, SPM_DIM_LT_LENS, *o, e->tri, &wi, px0);
     if (!(w > 0.0f) || lt_emission(tris, mats, e, wi, &scale, &cos_o) == SPM_NONE) {
-        *px0 = SPM_NONE;
+        *px0 = SPM_NO_PIXEL;
         return 1;
     }
     hd->first_emit_c = scale * ts * cos_o * w / (e->pdf * pp);
@@ -143,7 +143,7 @@ SPM_ALWAYS_INLINE float lt_link(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA), spm
  * camera path (pixel i / spp, sample first_sample + i % spp). The record is a
  * camera path's device layout (spm_shared.h) read from the light, with the
  * pixel words in lpx: slab 0 the light's own splat, slab j + 1 vertex j's
- * (SPM_NONE: no splat). Parameters: SPM_TRACE_ARGS, SPM_LIGHT_TRACE_ARGS. */
+ * (SPM_NO_PIXEL: no splat). Parameters: SPM_TRACE_ARGS, SPM_LIGHT_TRACE_ARGS. */
 __kernel void spm_light_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
                               SPM_LIGHT_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA))
 {
@@ -159,7 +159,7 @@ __kernel void spm_light_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
     __global spm_vertex_ext *xrec = (__global spm_vertex_ext *)SPM_VERTEX_EXT(verts, npaths) + gid;
 #endif
     spm_path_head hd = {0u, SPM_END_ABSORBED, SPM_NONE, 0.0f, SPM_NONE, 0.0f, 0u, 0u};
-    uint level = init_level, setby = SPM_SETBY_NONE, px0 = SPM_NONE, colour, skip;
+    uint level = init_level, setby = SPM_SETBY_NONE, px0 = SPM_NO_PIXEL, colour, skip;
     ushort seen[SPM_MAX_DEPTH];
     float3 o, d;
     float beta;
@@ -191,10 +191,10 @@ __kernel void spm_light_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
         float mmean, minv;
         uint refl = bsdf_lobe(m, &b, &mmean, &minv);
         spm_vertex_ext xe = {0u, 0.0f, 0.0f, 0.0f};
-        uint px = SPM_NONE;
+        uint px = SPM_NO_PIXEL;
         float c = lt_link(SPM_TRACE_ARGS(SPM_KERNEL_ARG, SPM_COMMA), m, &b, &fr, key, j, x,
                           (uint)hit, beta, &xe, &px);
-        pxrec[(size_t)(j + 1u) * npaths] = c > 0.0f ? px : SPM_NONE;
+        pxrec[(size_t)(j + 1u) * npaths] = c > 0.0f ? px : SPM_NO_PIXEL;
         __global spm_vertex *vx = &vrec[(size_t)j * npaths];
         vx->ids = (refl & 0xFFFFu) | (colour << 16);
         vx->c = c;

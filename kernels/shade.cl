@@ -142,7 +142,7 @@ inline void disp_splats(spm_dev_head h, __global const spm_vertex *vp,
         L[0] = 0.0f;
         VERTEX_APPLY(1, SPM_VX_KIND(x), v, x, P, L);
         uint px = pxp[(size_t)(j + 1u) * npaths];
-        if (j >= jc && px != SPM_NONE) {
+        if (j >= jc && px != SPM_NO_PIXEL) {
             float sv[SPM_PATH_CH];
             disp_record(L[0] * dw, b, dcmf, sv, nspec);
             splat_append(sv, px, spx, sval, lstat, scap);

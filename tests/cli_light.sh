@@ -81,4 +81,10 @@ if grep -q orthographic "$T/ortho.scene"; then
 else
     bad "could not make an orthographic camera from $CORNELL"
 fi
+# pixel 65535 (135, 218 at 300 x 300) takes its splats: the 16-bit "none"
+# word once marked a splat-less slab, and that pixel stayed black
+"$BIN" render "$DATA/scenes/cornell.scene" --backend cpu --integrator light --width 300 --height 300 \
+    --spp 32 --seed 5 --quiet -o "$T/p65535.exr"
+check "light: pixel 65535 and its neighbours take splats" lit_window "$T/p65535.exr" 134 217
+
 finish

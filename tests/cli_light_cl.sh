@@ -73,4 +73,10 @@ split_invariant "${S[@]}"
 check "textures, OpenCL: exit 2" test $? -eq 2
 check "textures, OpenCL: says why" grep -q "does not look up textures" "$T/no.err"
 check "textures, OpenCL: nothing written" test ! -e "$T/no.exr"
+# pixel 65535 (135, 218 at 300 x 300) takes its splats: the 16-bit "none"
+# word once marked a splat-less slab, and that pixel stayed black
+"$BIN" render "$DATA/scenes/cornell.scene" --backend opencl --integrator light --width 300 --height 300 \
+    --spp 32 --seed 5 --quiet -o "$T/p65535.exr"
+check "light, OpenCL: pixel 65535 and its neighbours take splats" lit_window "$T/p65535.exr" 134 217
+
 finish

@@ -61,6 +61,13 @@ relavg() {
         sed -n 's/.*Stats Avg: *//p' | head -1 | awk '{m=$1; for (i=2;i<=NF;i++) if ($i>m) m=$i; print m}'
 }
 beyond() { relavg "$1" "$2" --subc 1e-3 --clamp:min=0 --mulc 1e30 --clamp:max=1; }
+# lit_window IMG X Y: the 3 x 3 pixels from (X, Y) each have a positive
+# channel sum (a light render's pixel words: pixel 65535 once meant "no splat").
+lit_window() {
+    oiiotool "$1" --cut "3x3+$2+$3" -o "$T/window.exr" > /dev/null 2>&1 &&
+        oiiotool --dumpdata "$T/window.exr" |
+        awk '/Pixel/ { n++; if ($(NF - 2) + $(NF - 1) + $NF > 0) lit++ } END { exit !(n == 9 && lit == 9) }'
+}
 # below A B: A is a number and A <= B
 below() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a != "" && a + 0 <= b + 0) }'; }
 # split_invariant ARGS...: specmip ARGS on PoCL's first device and on both

@@ -26,7 +26,7 @@
 
 #define SEED 7u
 #define SLABS (SPM_MAX_DEPTH + 1)
-#define TAG0 0x10000u /* tags start above SPM_NONE and any pixel of these images */
+#define TAG0 0x10000u /* tags start above any pixel of these images */
 /* as test_cl_trace: a subpath may diverge only where a few ulps of cos/sin
  * move a ray across an edge or a draw across a branch; a record whose weight
  * or vertex word is beyond CL_TEST_WEIGHT_REL (cl_testlib.h) counts as one.
@@ -98,7 +98,7 @@ static spm_u32 *tagged(const side *s, size_t n)
 {
     spm_u32 *t = spm_xcalloc(n * SLABS, sizeof *t);
     for (size_t k = 0; k < n * SLABS; k++)
-        t[k] = s->px[k] == SPM_NONE ? SPM_NONE : TAG0 + (spm_u32)k;
+        t[k] = s->px[k] == SPM_NO_PIXEL ? SPM_NO_PIXEL : TAG0 + (spm_u32)k;
     return t;
 }
 
@@ -218,11 +218,11 @@ static coverage covered(const cl_test_scene *s, const side *c, size_t n)
     int seen[SPM_LEVEL_MASK + 1] = {0};
     for (size_t i = 0; i < n; i++) {
         const spm_path *p = &c->p[i];
-        cv.light_splats += c->px[i * SLABS] != SPM_NONE;
+        cv.light_splats += c->px[i * SLABS] != SPM_NO_PIXEL;
         seen[c->lv[i] & SPM_LEVEL_MASK] = 1;
         int com = 0;
         for (spm_u32 j = 0; j < p->h.nvert; j++) {
-            spm_u32 refl = p->v[j].ids & 0xFFFFu, splat = c->px[i * SLABS + j + 1] != SPM_NONE;
+            spm_u32 refl = p->v[j].ids & 0xFFFFu, splat = c->px[i * SLABS + j + 1] != SPM_NO_PIXEL;
             com |= SPM_VX_LAMBDA(p->x[j]) != SPM_NONE;
             cv.committed += com && splat;
             cv.fluor += splat && s->tables.nfluor && refl != SPM_NONE &&

@@ -86,7 +86,7 @@ static void light_vertex(const spm_geometry *g, const spm_material *mats, const 
                          spm_light_path *lp)
 {
     float wi[3], scale, cos_o;
-    spm_u32 px = SPM_NONE;
+    spm_u32 px = SPM_NO_PIXEL;
     if (e->kind != SPM_LIGHT_AREA)
         return;
     float w = camera_link(&g->cam, g, k, SPM_DIM_LT_LENS, o, e->tri, wi, &px);
@@ -153,7 +153,7 @@ static uint8_t trace_light_path(const spm_geometry *g, const spm_material *mats,
     spm_path_head *h = &path->h;
     *h = (spm_path_head){0, SPM_END_ABSORBED, SPM_NONE, 0.0f, SPM_NONE, 0.0f, 0, 0};
     for (int j = 0; j <= SPM_MAX_DEPTH; j++)
-        lp->px[j] = SPM_NONE;
+        lp->px[j] = SPM_NO_PIXEL;
     spm_ref_walk walk = {g->disp, p->disperse, SPM_NONE};
     float o[3], d[3], beta;
     spm_u32 colour, skip;
@@ -182,7 +182,7 @@ static uint8_t trace_light_path(const spm_geometry *g, const spm_material *mats,
         float c = vertex_link(g, m, &b, &hf, &k, j, x, (spm_u32)hit, beta, &path->x[j],
                               &lp->px[j + 1]);
         if (!(c > 0.0f))
-            lp->px[j + 1] = SPM_NONE;
+            lp->px[j + 1] = SPM_NO_PIXEL;
         path->v[j] = (spm_vertex){(refl & 0xFFFFu) | (colour << 16), c};
         spm_u32 col2 = spm_ref_record(m, &b, &walk, &path->x[j]);
         seg = 0;

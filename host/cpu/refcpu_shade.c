@@ -283,7 +283,7 @@ static int light_flow(const spm_light_path *lp, const lanes *v, const spm_spec_m
         int kind = spm_ref_kind_of((int)SPM_VX_KIND(x), vx.ids & 0xFFFFu, v);
         vx.ids |= SPM_NONE << 16; /* no light sample: the light arrives in T */
         x.ids &= 0xFFFFu;         /* no hit */
-        if (lp->px[j + 1] != SPM_NONE) {
+        if (lp->px[j + 1] != SPM_NO_PIXEL) {
             spm_vertex_ext xc = x;
             xc.lobe = x.light;
             for (int l = 0; l < v->n; l++)
@@ -309,7 +309,7 @@ static void shade_light_path(const spm_light_path *lp, const lanes *v, const spm
 {
     float W[MAX_LANES], L[MAX_LANES];
     const spm_path *path = &lp->p;
-    if (path->h.first_emit != SPM_NONE && lp->px[0] != SPM_NONE) {
+    if (path->h.first_emit != SPM_NONE && lp->px[0] != SPM_NO_PIXEL) {
         spm_ref_fetch(v, path->h.first_emit, L);
         for (int l = 0; l < v->n; l++)
             L[l] *= path->h.first_emit_c;
@@ -325,7 +325,7 @@ static void shade_light_path(const spm_light_path *lp, const lanes *v, const spm
         for (int l = 0; l < v->n; l++)
             L[l] = 0.0f;
         spm_ref_vertex_apply(1, (int)SPM_VX_KIND(path->x[j]), &path->v[j], &path->x[j], v, W, L);
-        if (lp->px[j + 1] != SPM_NONE)
+        if (lp->px[j + 1] != SPM_NO_PIXEL)
             splat(v, map, pl, per_path, ch, L, lp->px[j + 1], out);
     }
 }
@@ -348,7 +348,7 @@ static void committed_splats(const spm_light_path *lp, const spm_shade_table *ta
         L = 0.0f;
         spm_ref_vertex_apply(1, (int)SPM_VX_KIND(path->x[j]), &path->v[j], &path->x[j], &v, &W,
                              &L);
-        if (j >= jc && lp->px[j + 1] != SPM_NONE)
+        if (j >= jc && lp->px[j + 1] != SPM_NO_PIXEL)
             bin_record(&v, b, L * iw, ch, spm_splats_push(out, lp->px[j + 1]));
     }
 }

@@ -257,7 +257,7 @@ int spm_cl_light_trace(spm_cl_renderer *r, spm_u32 first_sample, spm_u32 spp, si
     spm_clr_release_events(&ev, 1, NULL);
     for (size_t i = 0; !rc && i < n; i++) /* the slabs past the record were not written */
         for (spm_u32 s = 0; s < SLABS; s++)
-            px[i * SLABS + s] = s <= paths[i].h.nvert ? w[(size_t)s * n + i] : SPM_NONE;
+            px[i * SLABS + s] = s <= paths[i].h.nvert ? w[(size_t)s * n + i] : SPM_NO_PIXEL;
     free(h);
     free(w);
     return rc;
