@@ -95,6 +95,22 @@ SPM_ALWAYS_INLINE int bd_visible(const bd_scene *sc, float3 a, uint skip, float3
              ts < dist * (1.0f - 1e-4f));
 }
 
+/* the segment from a to b is clear both ways, a's and b's triangles skipped
+ * (bt: none off a surface). The test from a passes a face within dist 1e-4
+ * of b: at an edge of a closed box of metal, a light vertex on one face
+ * sees out through the next. A face other than b's met in that last piece
+ * is judged from b, where it lies at the start of the ray; b's own face
+ * first clears the segment with one ray. */
+SPM_ALWAYS_INLINE int bd_visible_join(const bd_scene *sc, float3 a, uint at, float3 b, uint bt,
+                                      float3 w, float dist)
+{
+    float ts;
+    int hit = intersect(sc->nodes, sc->tris, a, w, at, &ts, sc->counters);
+    if (hit < 0 || (uint)hit == bt)
+        return 1;
+    return ts >= dist * (1.0f - 1e-4f) && bd_visible(sc, b, bt, -w, dist);
+}
+
 /* Surface vertex i of subpath sp (key k) as its walk made it: the material,
  * frame and BSDF instance. */
 SPM_ALWAYS_INLINE void vertex_state(const bd_scene *sc, const bd_subpath *sp, int i, spm_key k,
@@ -225,6 +241,18 @@ SPM_ALWAYS_INLINE void light_subpath(const bd_scene *sc, const spm_trace_params 
     bd_walk(sc, k, SPM_IMPORTANCE, rw, o, d, skip, scale * cos_o / (e->pdf * pp * pd), pd, y);
 }
 
+/* One end of a join lies in the other's face plane, within the rounding of
+ * the hit points (refcpu_bdpt.c in_plane: 16 ulps of the largest
+ * coordinate): its cosine there is noise of either sign, which would join
+ * the two faces of one wall through it. n = 0: an end off a surface. */
+SPM_ALWAYS_INLINE int bd_in_plane(float3 a, float3 na, float3 b, float3 nb)
+{
+    float3 d = b - a, m3 = fmax(fabs(a), fabs(b));
+    float tau = 16.0f * FLT_EPSILON * fmax(m3.x, fmax(m3.y, m3.z));
+    return (dot3(na, na) > 0.0f && fabs(dot3(d, na)) <= tau) ||
+           (dot3(nb, nb) > 0.0f && fabs(dot3(d, nb)) <= tau);
+}
+
 /* ---- the joins ----------------------------------------------------------- */
 
 /* s = 0: camera vertex pt = z[t-1] on an emitter, Le toward z[t-2]; the
@@ -304,6 +332,8 @@ SPM_ALWAYS_INLINE int join_inner(const bd_scene *sc, spm_key k, spm_key ky, cons
     const bd_vertex *pt = &z->v[t - 1], *qs = &y->v[s - 1], *pm = &z->v[t - 2];
     if (pt->delta || (s > 1 && qs->delta))
         return 0;
+    if (bd_in_plane(pt->p, pt->n, qs->p, qs->n))
+        return 0;
     float3 w;
     float fy, py;
     float dist = toward(pt->p, qs->p, &w);
@@ -327,7 +357,9 @@ SPM_ALWAYS_INLINE int join_inner(const bd_scene *sc, spm_key k, spm_key ky, cons
         light_side(sc, ky, y, s, back, &fy, &py, J);
     }
     J->c = pt->beta * fz * fy / (dist * dist);
-    if (!(J->c > 0.0f) || !bd_visible(sc, pt->p, pt->tri, w, dist))
+    __global const spm_emitter *ye = &sc->emitters[y->e];
+    uint qt = s > 1 ? qs->tri : ye->kind == SPM_LIGHT_AREA ? ye->tri : 0xFFFFFFFFu;
+    if (!(J->c > 0.0f) || !bd_visible_join(sc, pt->p, pt->tri, qs->p, qt, w, dist))
         return 0;
     J->pt_rev = to_area(py, qs->p, pt->p, pt->n);
     J->ptm_rev = to_area(lobe_pdf(0, m, &fr, &b, w, fr.back, SPM_RADIANCE), pt->p, pm->p, pm->n);

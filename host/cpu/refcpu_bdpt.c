@@ -17,6 +17,7 @@
 #include "refcpu_bdpt.h"
 #include <math.h>
 #include <string.h>
+#include <float.h>
 #include "geometry_vec3.h"
 #include "spm_rng.h"
 #include "refcpu_bsdf.h"
@@ -250,13 +251,48 @@ typedef struct {
     float pt_rev, ptm_rev, qs_rev, qsm_rev;
 } bd_join;
 
-/* the segment from a to b is clear (either end's triangle skipped from a) */
+/* the segment from a to b is clear (a's triangle skipped from a) */
 static int visible(const spm_geometry *g, const float a[3], spm_u32 skip, const float w[3],
                    float dist)
 {
     float ts;
     spm_ref_record_ray(a, w, skip, SPM_RAY_CLOSEST);
     return !(spm_bvh_intersect(g, a, w, skip, &ts) >= 0 && ts < dist * (1.0f - 1e-4f));
+}
+
+/* the segment from a to b is clear both ways, a's and b's triangles skipped
+ * (bt: none off a surface). The test from a passes a face within dist 1e-4
+ * of b: at an edge of a closed box of metal, a light vertex on one face
+ * sees out through the next. A face other than b's met in that last piece
+ * is judged from b, where it lies at the start of the ray; b's own face
+ * first clears the segment with one ray. */
+static int visible_join(const spm_geometry *g, const float a[3], spm_u32 at, const float b[3],
+                        spm_u32 bt, const float w[3], float dist)
+{
+    float ts, back[3] = {-w[0], -w[1], -w[2]};
+    spm_ref_record_ray(a, w, at, SPM_RAY_CLOSEST);
+    int hit = spm_bvh_intersect(g, a, w, at, &ts);
+    if (hit < 0 || (spm_u32)hit == bt)
+        return 1;
+    return ts >= dist * (1.0f - 1e-4f) && visible(g, b, bt, back, dist);
+}
+
+/* One end of a join lies in the other's face plane, within the rounding of
+ * the hit points (|dot(b - a, n_a)| <= 16 ulps of the largest coordinate;
+ * measured: two ulps between the faces of a wall of the closed lamp): the
+ * cosine there is rounding noise, of either sign, and would let two
+ * vertices on the two faces of one wall join through it. Such a join's
+ * true cosine is below 16 ulps / dist: what is dropped is of that order.
+ * n = 0: an end off a surface (a point light). */
+static int in_plane(const float a[3], const float na[3], const float b[3], const float nb[3])
+{
+    float d[3], m = 0.0f;
+    v3_sub(d, b, a);
+    for (int i = 0; i < 3; i++)
+        m = fmaxf(m, fmaxf(fabsf(a[i]), fabsf(b[i])));
+    float tau = 16.0f * FLT_EPSILON * m;
+    return (v3_dot(na, na) > 0.0f && fabsf(v3_dot(d, na)) <= tau) ||
+           (v3_dot(nb, nb) > 0.0f && fabsf(v3_dot(d, nb)) <= tau);
 }
 
 /* s = 0: camera vertex pt = z[t-1] on an emitter, Le toward z[t-2]; the
@@ -318,6 +354,8 @@ static int join_inner(const spm_geometry *g, const spm_material *mats, const bd_
     if (pt->pdf.delta || (s > 1 && qs->pdf.delta))
         return 0;
     float w[3], back[3], fy, py;
+    if (in_plane(pt->p, pt->n, qs->p, qs->n))
+        return 0;
     float dist = toward(pt->p, qs->p, w);
     for (int i = 0; i < 3; i++)
         back[i] = -w[i];
@@ -340,7 +378,8 @@ static int join_inner(const spm_geometry *g, const spm_material *mats, const bd_
         J->qsm_rev = to_area(lobe_pdf(qs, back, wo, SPM_REF_IMPORTANCE), qs, &y->v[s - 2]);
     }
     J->c = pt->beta * fz * fy / (dist * dist);
-    if (!(J->c > 0.0f) || !visible(g, pt->p, pt->tri, w, dist))
+    spm_u32 qt = s > 1 ? qs->tri : y->e->kind == SPM_LIGHT_AREA ? y->e->tri : 0xFFFFFFFFu;
+    if (!(J->c > 0.0f) || !visible_join(g, pt->p, pt->tri, qs->p, qt, w, dist))
         return 0;
     float wz[3] = {-pt->h.d[0], -pt->h.d[1], -pt->h.d[2]};
     J->pt_rev = to_area(py, qs, pt);
