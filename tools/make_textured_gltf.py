@@ -31,7 +31,13 @@ every map glTF gives: base colour with an alpha channel (alphaMode MASK, one
 block 0: a hole), board_mr.png's metallic-roughness, a normal map of four
 tilted quadrants read through KHR_texture_transform (scale 2), an emissive
 texture (one block glows) and an occlusion map (not rendered: warned)
-(tests/cli_gltf_metalrough.sh renders it in every mode).
+(tests/cli_gltf_metalrough.sh renders it in every mode). ns_board.obj (with
+ns_board.mtl): the board as an OBJ plane, Kd 0.5 grey, Ks 0.04, Ni 1.5, Ns
+NS and map_Ns ns_exponent.png (4 x 4 grey blocks, t = (5 + 16 b) / 255 by
+block b); ns_board.gltf, its glTF equivalent: base colour 0.5 grey,
+metallic 0, roughness 1 and the map ns_rough.png, green the roughness
+r = (2 / (NS t + 2))^(1/4) of Walter et al.'s alpha = r^2 = sqrt(2 / (NS t
++ 2)) for the exponent NS t (docs/SCENE_FORMAT.md; tests/cli_mtl_ns.sh).
 The board's material: baseColorTexture x baseColorFactor (1 1 1), metallic 0,
 roughness 0.5 (a coated material of alpha 0.25 in specmip); the lamp's:
 emissiveTexture x emissiveFactor (1 1 1), base colour black."""
@@ -47,6 +53,7 @@ UVX = {"offset": [0.5, 0.25], "scale": [2, 1]}
 UVR = {"offset": [0.5, 0.25], "rotation": math.pi / 2, "scale": [2, 1]}
 EMISSIVE_FACTOR = [1.0, 0.8, 0.6]
 EMISSIVE_STRENGTH = 2.5
+NS = 200.0  # the MTL's Ns: the exponent map's scale
 
 
 def srgb_decode(c):
@@ -145,6 +152,28 @@ def main(folder):
     transformed(folder, board, "uvx", UVX)
     transformed(folder, board, "uvr", UVR)
     every_map(folder)
+    ns_pair(folder, board, square)
+
+
+def ns_pair(folder, board, square):
+    """The MTL exponent map and its glTF roughness peer (the module's docstring)."""
+    code = lambda x, y: 5 + 16 * ((y // BLOCK) * 4 + x // BLOCK)
+    rough = lambda t: (2 / (NS * t + 2)) ** 0.25
+    n = 4 * BLOCK
+    png(folder + "/ns_exponent.png", n, n, lambda x, y: (code(x, y),) * 3)
+    png(folder + "/ns_rough.png", n, n,
+        lambda x, y: (0, round(255 * rough(code(x, y) / 255)), 0))
+    with open(folder + "/ns_board.mtl", "w") as f:
+        f.write("newmtl ns_board\nKd 0.5 0.5 0.5\nKs 0.04 0.04 0.04\nNi 1.5\nNs %g\n"
+                "illum 2\nmap_Ns ns_exponent.png\n" % NS)
+    with open(folder + "/ns_board.obj", "w") as f:
+        f.write("mtllib ns_board.mtl\n" + "".join("v %g %g %g\n" % p for p in board) +
+                "".join("vt %g %g\n" % t for t in square) +
+                "usemtl ns_board\nf 1/1 2/2 3/3 4/4\n")
+    mat = {"name": "ns_board", "pbrMetallicRoughness": {
+        "baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0.0, "roughnessFactor": 1.0,
+        "metallicRoughnessTexture": {"index": 0}}}
+    gltf(folder + "/ns_board.gltf", [(board, square, 0)], [mat], ["ns_rough.png"])
 
 
 def metal_roughness(folder, board, square):

@@ -95,8 +95,9 @@ typedef struct {
     int32_t alpha_map;
     char alpha_name[96];       /* the opacity image as the file names it */
     char alpha_file[SPM_PATH_MAX];
-    /* glTF's metallicRoughnessTexture (mesh_metalrough.c): SPM_MESH_MRMAP_*,
-     * its name as the file gives it and its checked path ("" embedded) */
+    /* glTF's metallicRoughnessTexture, or an OBJ's map_Ns (mesh_metalrough.c):
+     * SPM_MESH_MRMAP_*, its name as the file gives it and its checked path
+     * ("" embedded) */
     int32_t mr_map;
     char mr_name[96];
     char mr_file[SPM_PATH_MAX];
@@ -311,12 +312,14 @@ int spm_mesh_map_image(const spm_mesh_data *d, int32_t embed, const char *file,
                        const char *mwhere, spm_file *f, spm_image_src *src, char *why,
                        size_t whylen);
 
-/* glTF's metallic-roughness map (mesh_metalrough.c). In the importer's
- * child: the metallicRoughnessTexture's name and path (beside the model,
- * checked by the path rule; 2 with *refused filled when outside). In the
- * parent: the material with its metallic (blue) and roughness (green)
- * channels bound to its mix record (SPM_MIX_*), or `material` unchanged
- * when it has no mix; a map that cannot be read, or on a mesh without
+/* glTF's metallic-roughness map and MTL's map_Ns (mesh_metalrough.c). In
+ * the importer's child: the metallicRoughnessTexture's (an OBJ's map_Ns's)
+ * name and path (beside the model, checked by the path rule; 2 with *refused
+ * filled when outside). In the parent: the material with its metallic (blue)
+ * and roughness (green) channels bound to its mix record (SPM_MIX_*), or
+ * `material` unchanged when it has no mix; for an OBJ the material with the
+ * exponent map as a roughness map (a mix of metallic 1 naming the material
+ * itself); a map that cannot be read or applied, or on a mesh without
  * texture coordinates, is warned about and the factors alone are used. */
 int spm_mesh_mix_read(const struct aiMaterial *m, const char *model, spm_mesh_material *out,
                       spm_error *refused);

@@ -361,7 +361,8 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
             !(base_tex && (type == aiTextureType_BASE_COLOR || type == aiTextureType_DIFFUSE)) &&
             !(out->alpha_map == SPM_MESH_AMAP_FILE && type == aiTextureType_OPACITY) &&
             !(out->mr_map && (type == aiTextureType_UNKNOWN || type == aiTextureType_METALNESS ||
-                              type == aiTextureType_DIFFUSE_ROUGHNESS)) &&
+                              type == aiTextureType_DIFFUSE_ROUGHNESS ||
+                              (obj && type == aiTextureType_SHININESS))) &&
             !(emit_tex && type == aiTextureType_EMISSIVE) &&
             !(out->nmap && (type == aiTextureType_NORMALS || type == aiTextureType_HEIGHT)))
             *ignored |= type == aiTextureType_NORMALS || type == aiTextureType_HEIGHT ||
@@ -371,7 +372,7 @@ static int material(const struct aiScene *sc, const spm_file *file, const struct
                               ? SPM_MESH_IGN_EMISSIVE_TEXTURES
                         : type == aiTextureType_LIGHTMAP || type == aiTextureType_AMBIENT_OCCLUSION
                               ? SPM_MESH_IGN_OCCLUSION
-                        : obj && (type == aiTextureType_SPECULAR || type == aiTextureType_SHININESS)
+                        : obj && type == aiTextureType_SPECULAR
                               ? SPM_MESH_IGN_SPECULAR_MAPS
                               : SPM_MESH_IGN_TEXTURES;
     }

@@ -249,7 +249,7 @@ const char *spm_mesh_ignored_name(int bit)
         "emissive textures (glTF emissiveTexture, MTL map_Ke: an emission is its factor alone, "
         "untextured)",
         "occlusion maps (a path tracer computes the occlusion they stand for)",
-        "MTL specular maps (map_Ks, map_Ns: the Ks and Ns values are used throughout)",
+        "MTL specular colour maps (map_Ks: the Ks value is used throughout)",
         "texture transforms outside glTF's KHR_texture_transform and texture coordinate "
         "sets other than the first (texCoord other than 0: such textures are read "
         "untransformed at TEXCOORD_0)"};
