@@ -608,7 +608,34 @@ static void print_text(const spm_rays_opts *o, const spm_render_setup *s, const 
         printf("  BVH stack overflows: %u\n", r->tcl.stack_overflows);
 }
 
-int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
+/* The report as one JSON object on standard output. */
+static void print_json(const spm_rays_opts *o, const spm_render_setup *s, const spm_rayset *rs,
+                       const rays_report *r, double record_s)
+{
+    const spm_geometry *g = &s->geom;
+    printf("{\n  \"scene\": ");
+    json_str(stdout, o->scene ? o->scene : "default");
+    printf(", \"triangles\": %d, \"nodes\": %d, \"width\": %d, "
+           "\"height\": %d, \"spp\": %d, \"rays_closest\": %zu, \"rays_shadow\": %zu,\n"
+           "  \"load_s\": %.6g, \"bvh_s\": %.6g, \"record_s\": %.6g, "
+           "\"stack_overflows\": %u, \"tree_bytes\": %zu,\n",
+           g->ntris, g->nnodes, s->scene.width, s->scene.height, o->spp, rs->nclosest,
+           rs->n - rs->nclosest, s->times.load_s, s->times.bvh_s, record_s,
+           r->tcl.stack_overflows, r->tcl.tree_bytes);
+    json_impl(stdout, "specmip", r->what, rs, &r->tcl, 0, 0, ",");
+    json_impl(stdout, "reference", "CPU reference traversal, 1 thread", rs, &r->tref, r->rcb,
+              r->rsb, ",");
+    if (r->have_embree) {
+        json_impl(stdout, "embree", r->einfo, rs, &r->tem, r->ecb, r->esb, ",");
+        printf("  \"embree_differ_adjacent\": %zu\n", r->eedge);
+    } else {
+        printf("  \"embree\": null\n");
+    }
+    printf("}\n");
+}
+
+/* The variant and work-group size the options ask for, or why they do not go together. */
+static int rays_variant(const spm_rays_opts *o, spm_error *err)
 {
     if (o->group)
         group = (size_t)o->group;
@@ -626,6 +653,13 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
         spm_errorf(err, "--rays-packet: work-groups of at most 64 rays (--rays-group %zu)", group);
         return SPM_EXIT_INPUT;
     }
+    return 0;
+}
+
+int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
+{
+    if (rays_variant(o, err))
+        return SPM_EXIT_INPUT;
     spm_render_config cfg;
     spm_render_config_defaults(&cfg);
     cfg.scene_path = o->scene;
@@ -699,33 +733,13 @@ int spm_bench_rays(const spm_rays_opts *o, spm_error *err)
         r.eedge = spm_rays_differ_adjacent(g, &rs, hcl, hem);
     }
     if (!rc) {
-        size_t ns = rs.n - rs.nclosest;
         snprintf(r.what, sizeof r.what, "specmip kernels/rays.cl%s on %s, work-groups of %zu",
                  variant == 1 ? " (packets)" : variant == 2 ? " (quantised nodes)" : "", r.dev,
                  group);
-        if (o->json) {
-            printf("{\n  \"scene\": ");
-            json_str(stdout, o->scene ? o->scene : "default");
-            printf(", \"triangles\": %d, \"nodes\": %d, \"width\": %d, "
-                   "\"height\": %d, \"spp\": %d, \"rays_closest\": %zu, \"rays_shadow\": %zu,\n"
-                   "  \"load_s\": %.6g, \"bvh_s\": %.6g, \"record_s\": %.6g, "
-                   "\"stack_overflows\": %u, \"tree_bytes\": %zu,\n",
-                   g->ntris, g->nnodes, s.scene.width,
-                   s.scene.height, o->spp, rs.nclosest, ns, s.times.load_s, s.times.bvh_s,
-                   record_s, r.tcl.stack_overflows, r.tcl.tree_bytes);
-            json_impl(stdout, "specmip", r.what, &rs, &r.tcl, 0, 0, ",");
-            json_impl(stdout, "reference", "CPU reference traversal, 1 thread", &rs, &r.tref, r.rcb,
-                      r.rsb, ",");
-            if (r.have_embree) {
-                json_impl(stdout, "embree", r.einfo, &rs, &r.tem, r.ecb, r.esb, ",");
-                printf("  \"embree_differ_adjacent\": %zu\n", r.eedge);
-            }
-            else
-                printf("  \"embree\": null\n");
-            printf("}\n");
-        } else {
+        if (o->json)
+            print_json(o, &s, &rs, &r, record_s);
+        else
             print_text(o, &s, &rs, &r);
-        }
     }
     free(hcl);
     free(href);
