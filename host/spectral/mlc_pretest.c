@@ -62,22 +62,17 @@ static void mul(vec_t a, const vec_t b)
         a[i] *= b[i];
 }
 
+/* the three sums in one pass, each in the order of the values (the same
+ * doubles as three passes; three chains of additions overlap) */
 static void xyz_of(const ctx_t *cx, const vec_t p, double xyz[3])
 {
-    for (int ch = 0; ch < 3; ch++) {
-        double s = 0.0;
-        for (int i = 0; i < V; i++)
-            s += p[i] * cx->w[ch][i];
-        xyz[ch] = s;
+    double x = 0.0, y = 0.0, z = 0.0;
+    for (int i = 0; i < V; i++) {
+        x += p[i] * cx->w[0][i];
+        y += p[i] * cx->w[1][i];
+        z += p[i] * cx->w[2][i];
     }
-}
-
-static double product_error(const ctx_t *cx, const vec_t ref, const vec_t test, spm_metric metric)
-{
-    double xr[3], xt[3];
-    xyz_of(cx, ref, xr);
-    xyz_of(cx, test, xt);
-    return spm_pretest_xyz_error(xr, xt, metric);
+    xyz[0] = x, xyz[1] = y, xyz[2] = z;
 }
 
 /* A level's error in one product (e: against truth; own: against level 0 in
@@ -101,9 +96,13 @@ static void judge(const double e[SPM_NUM_LEVELS], const double own[SPM_NUM_LEVEL
 static void errors(const ctx_t *cx, const vec_t pr, vec_t *pt, spm_metric metric,
                    double e[SPM_NUM_LEVELS], double own[SPM_NUM_LEVELS])
 {
+    double xr[3], xt[SPM_NUM_LEVELS][3]; /* each product's XYZ once */
+    xyz_of(cx, pr, xr);
+    for (int l = 0; l < SPM_NUM_LEVELS; l++)
+        xyz_of(cx, pt[l], xt[l]);
     for (int l = 0; l < SPM_NUM_LEVELS; l++) {
-        e[l] = product_error(cx, pr, pt[l], metric);
-        own[l] = l ? product_error(cx, pt[0], pt[l], metric) : 0.0;
+        e[l] = spm_pretest_xyz_error(xr, xt[l], metric);
+        own[l] = l ? spm_pretest_xyz_error(xt[0], xt[l], metric) : 0.0;
     }
 }
 

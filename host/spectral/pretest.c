@@ -59,12 +59,15 @@ static void at_level(const spm_spectrum *s, int level, bins_t out)
 static void xyz_1nm(const bins_t p, double xyz[3])
 {
     const double (*w)[SPM_TRUTH_BINS] = spm_cmf_truth();
-    for (int k = 0; k < 3; k++) {
-        double sum = 0.0;
-        for (int b = 0; b < SPM_TRUTH_BINS; b++)
-            sum += p[b] * w[k][b];
-        xyz[k] = sum;
+    /* the three sums in one pass, each in the order of the bins (the same
+     * doubles as three passes; three chains of additions overlap) */
+    double x = 0.0, y = 0.0, z = 0.0;
+    for (int b = 0; b < SPM_TRUTH_BINS; b++) {
+        x += p[b] * w[0][b];
+        y += p[b] * w[1][b];
+        z += p[b] * w[2][b];
     }
+    xyz[0] = x, xyz[1] = y, xyz[2] = z;
 }
 
 double spm_pretest_xyz_error(const double ref[3], const double test[3], spm_metric metric)
@@ -86,27 +89,22 @@ double spm_pretest_xyz_error(const double ref[3], const double test[3], spm_metr
     return metric == SPM_METRIC_DEAB ? spm_delta_e_ab(lr, lt) : spm_delta_e_2000(lr, lt);
 }
 
-static double product_error(const bins_t ref, const bins_t test, spm_metric metric)
-{
-    double xr[3], xt[3];
-    xyz_1nm(ref, xr);
-    xyz_1nm(test, xt);
-    return spm_pretest_xyz_error(xr, xt, metric);
-}
-
-/* Error of s^k * factor with s at level l against s at level 0 (1 nm). */
-static double context_error(const bins_t s0, const bins_t sl, int k, const bins_t factor,
-                            spm_metric metric)
+/* The error of s * factor against s0 * factor at each level l >= 1 (s at
+ * slv[l]), e[l]: the level-0 product and its XYZ computed once for all. */
+static void context_errors(const bins_t s0, const bins_t *slv, const bins_t factor,
+                           spm_metric metric, double e[SPM_NUM_LEVELS])
 {
     bins_t p0, pl;
-    for (int b = 0; b < SPM_TRUTH_BINS; b++) {
-        p0[b] = pl[b] = factor[b];
-        for (int j = 0; j < k; j++) {
-            p0[b] *= s0[b];
-            pl[b] *= sl[b];
-        }
+    double x0[3], xl[3];
+    for (int b = 0; b < SPM_TRUTH_BINS; b++)
+        p0[b] = factor[b] * s0[b];
+    xyz_1nm(p0, x0);
+    for (int l = 1; l < SPM_NUM_LEVELS; l++) {
+        for (int b = 0; b < SPM_TRUTH_BINS; b++)
+            pl[b] = factor[b] * slv[l][b];
+        xyz_1nm(pl, xl);
+        e[l] = spm_pretest_xyz_error(x0, xl, metric);
     }
-    return product_error(p0, pl, metric);
 }
 
 static double maxd(double a, double b) { return a > b ? a : b; }
@@ -142,15 +140,17 @@ static void split_set(const spm_spectrum *const *sp, int n, const unsigned char 
 }
 
 /* Context C: products of 1..SPM_PRETEST_SEQ_OTHERS other reflectances of the set,
- * times a random light (for a reflectance) or alone (the emission is s). */
-static double sequence_error(const set_t *set, int self, int seed, int is_light, const bins_t s0,
-                             const bins_t sl, const spm_pretest_opts *o)
+ * times a random light (for a reflectance) or alone (the emission is s); the
+ * worst error at each level l >= 1 in worst[l]. */
+static void sequence_errors(const set_t *set, int self, int seed, int is_light, const bins_t s0,
+                            const bins_t *slv, const spm_pretest_opts *o,
+                            double worst[SPM_NUM_LEVELS])
 {
+    memset(worst, 0, SPM_NUM_LEVELS * sizeof *worst);
     int others = set->nrefl - (is_light ? 0 : 1);
     if (others <= 0)
-        return 0.0;
+        return;
     uint64_t state = spm_pretest_seq_state(o, seed);
-    double worst = 0.0;
     for (int q = 0; q < o->nsequences; q++) {
         bins_t f;
         if (is_light)
@@ -166,9 +166,11 @@ static double sequence_error(const set_t *set, int self, int seed, int is_light,
             for (int b = 0; b < SPM_TRUTH_BINS; b++)
                 f[b] *= set->refl[r][b];
         }
-        worst = maxd(worst, context_error(s0, sl, 1, f, o->metric));
+        double e[SPM_NUM_LEVELS];
+        context_errors(s0, slv, f, o->metric, e);
+        for (int l = 1; l < SPM_NUM_LEVELS; l++)
+            worst[l] = maxd(worst[l], e[l]);
     }
-    return worst;
 }
 
 /* The contexts of a spectrum given at 1 nm (s0) and as each level renders it
@@ -181,32 +183,40 @@ static void run_given(const double *s0, const bins_t *slv, int is_light, int sel
     for (int b = 0; b < SPM_TRUTH_BINS; b++)
         one[b] = 1.0;
     memset(res, 0, sizeof *res);
-    for (int l = 1; l < SPM_NUM_LEVELS; l++) {
-        const double *sl = slv[l];
-        /* A and B: s^k under each light, the powers built up one k at a time;
-         * an emission ends the product, so for it every k is context A (s on
-         * its own). */
-        if (is_light) {
-            double e = context_error(s0, sl, 1, one, o->metric);
-            for (int k = 1; k <= SPM_PRETEST_KMAX; k++)
-                res->err_k[k - 1][l] = e;
-        } else {
-            for (int li = 0; li < set->nlights; li++) {
-                bins_t p0, pl;
-                memcpy(p0, set->lights[li], sizeof p0);
-                memcpy(pl, set->lights[li], sizeof pl);
-                for (int k = 1; k <= SPM_PRETEST_KMAX; k++) {
-                    for (int b = 0; b < SPM_TRUTH_BINS; b++) {
-                        p0[b] *= s0[b];
-                        pl[b] *= sl[b];
-                    }
-                    double e = product_error(p0, pl, o->metric);
+    /* A and B: s^k under each light, the powers built up one k at a time;
+     * an emission ends the product, so for it every k is context A (s on
+     * its own). */
+    if (is_light) {
+        double e[SPM_NUM_LEVELS];
+        context_errors(s0, slv, one, o->metric, e);
+        for (int k = 1; k <= SPM_PRETEST_KMAX; k++)
+            for (int l = 1; l < SPM_NUM_LEVELS; l++)
+                res->err_k[k - 1][l] = e[l];
+    } else {
+        for (int li = 0; li < set->nlights; li++) {
+            bins_t p0, pl[SPM_NUM_LEVELS];
+            memcpy(p0, set->lights[li], sizeof p0);
+            for (int l = 1; l < SPM_NUM_LEVELS; l++)
+                memcpy(pl[l], set->lights[li], sizeof pl[l]);
+            for (int k = 1; k <= SPM_PRETEST_KMAX; k++) {
+                double x0[3], xl[3];
+                for (int b = 0; b < SPM_TRUTH_BINS; b++)
+                    p0[b] *= s0[b];
+                xyz_1nm(p0, x0);
+                for (int l = 1; l < SPM_NUM_LEVELS; l++) {
+                    for (int b = 0; b < SPM_TRUTH_BINS; b++)
+                        pl[l][b] *= slv[l][b];
+                    xyz_1nm(pl[l], xl);
+                    double e = spm_pretest_xyz_error(x0, xl, o->metric);
                     res->err_k[k - 1][l] = li ? maxd(res->err_k[k - 1][l], e) : e;
                 }
             }
         }
-        err_ac[l] = maxd(res->err_k[0][l], sequence_error(set, self, seed, is_light, s0, sl, o));
     }
+    double err_c[SPM_NUM_LEVELS];
+    sequence_errors(set, self, seed, is_light, s0, slv, o, err_c);
+    for (int l = 1; l < SPM_NUM_LEVELS; l++)
+        err_ac[l] = maxd(res->err_k[0][l], err_c[l]);
     /* a context fails a level whose error exceeds the threshold */
     unsigned char fail_ac[SPM_NUM_LEVELS], fail_k[SPM_PRETEST_KMAX][SPM_NUM_LEVELS];
     for (int l = 0; l < SPM_NUM_LEVELS; l++) {
