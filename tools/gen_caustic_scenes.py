@@ -22,7 +22,8 @@ import struct
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gen_meshes import block, closed_block, outward, tri_lines, w  # noqa: E402
+from gen_meshes import (CORNELL_SPECTRA, block, closed_block, cornell_materials,  # noqa: E402
+                        outward, tri_lines, w)
 
 N = 32                      # the water surface: N x N quads
 X0, X1, Z0, Z1 = 0.010, 0.546, 0.010, 0.549
@@ -134,16 +135,7 @@ image 256 256
 spp 64
 camera position 0.278 0.42 -0.52  lookat 0.278 0.06 0.30  fov 46
 
-spectrum white     file colorchecker_n_ohta.csv column white_9_5
-spectrum red       file colorchecker_n_ohta.csv column red
-spectrum green     file colorchecker_n_ohta.csv column green
-spectrum equal     equal
-
-material white     reflect white
-material red       reflect red
-material green     reflect green
-material light     reflect white  emit equal 15000
-material water     dielectric ior 1.33
+""" + CORNELL_SPECTRA + "\n" + cornell_materials(15000) + """material water     dielectric ior 1.33
 
 """ + ROOM + """
 # the light, 3 x 3 cm just below the ceiling, facing down

@@ -707,6 +707,20 @@ def tri_lines(material, tris):
                                                         for v in t)) for t in tris)
 
 
+# cornell.scene's colours: its walls' ColorChecker spectra and its equal-energy
+# light, with their materials (the light of luminance EMIT)
+CORNELL_SPECTRA = """spectrum white     file colorchecker_n_ohta.csv column white_9_5
+spectrum red       file colorchecker_n_ohta.csv column red
+spectrum green     file colorchecker_n_ohta.csv column green
+spectrum equal     equal
+"""
+
+
+def cornell_materials(emit):
+    return ('material white     reflect white\nmaterial red       reflect red\n'
+            'material green     reflect green\nmaterial light     reflect white  emit equal %g\n' % emit)
+
+
 ROOM = """# room: floor, back wall, left (red) wall, right (green) wall, ceiling
 quad white  0.556 0.000 0.000  0.003 0.000 0.000  0.006 0.000 0.559  0.556 0.000 0.559
 quad white  0.556 0.000 0.559  0.006 0.000 0.559  0.000 0.549 0.559  0.556 0.549 0.559
@@ -735,11 +749,7 @@ image 256 256
 spp 64
 camera position 0.278 0.275 -0.789  direction 0 0 1  fov 40
 
-spectrum white     file colorchecker_n_ohta.csv column white_9_5
-spectrum red       file colorchecker_n_ohta.csv column red
-spectrum green     file colorchecker_n_ohta.csv column green
-spectrum equal     equal
-"""
+""" + CORNELL_SPECTRA
 
 SODIUM_HEAD = """# Copper under sodium light - where rgb breaks on a metal. The Cornell box of
 # cornell.scene, all walls ColorChecker white, lit only by the NIST low-pressure
@@ -798,8 +808,7 @@ def metals_scenes(out):
     """Writes metals.scene and copper_sodium.scene into out; returns their paths."""
     names = ('gold', 'copper', 'aluminium')
     s = METALS_HEAD + metal_spectra(names) + '\n'
-    s += ('material white     reflect white\nmaterial red       reflect red\n'
-          'material green     reflect green\nmaterial light     reflect white  emit equal 1000\n')
+    s += cornell_materials(1000)
     s += metal_materials(names, 0.2) + '\n' + ROOM % ('red', 'green')
     s += '\n# smooth blocks at the back: gold (tall, left), copper, aluminium (short, right)\n'
     for m, x, h, deg in (('gold', 0.125, 0.30, 40), ('copper', 0.28, 0.22, -45),
@@ -874,14 +883,13 @@ spectrum f11       file illuminant_F11.csv
 def coated_scenes(out):
     """Writes coated.scene and coated_spiky.scene into out; returns their paths."""
     s = COATED_HEAD + '\n'
-    s += ('material white     reflect white\nmaterial red       reflect red\n'
-          'material green     reflect green\nmaterial light     reflect white  emit equal 1000\n'
-          'material red_plastic   coated reflect red ior 1.5\n'
-          'material blue_paint    coated reflect blue ior 1.5 alpha 0.1\n'
-          'material white_glaze   coated reflect white ior 1.6\n'
-          'material yellow_paint  coated reflect yellow ior 1.5 alpha 0.3\n'
-          'material blue_plastic  coated reflect blue ior 1.5\n'
-          'material red_rough     coated reflect red ior 1.5 alpha 0.05\n')
+    s += cornell_materials(1000) + (
+        'material red_plastic   coated reflect red ior 1.5\n'
+        'material blue_paint    coated reflect blue ior 1.5 alpha 0.1\n'
+        'material white_glaze   coated reflect white ior 1.6\n'
+        'material yellow_paint  coated reflect yellow ior 1.5 alpha 0.3\n'
+        'material blue_plastic  coated reflect blue ior 1.5\n'
+        'material red_rough     coated reflect red ior 1.5 alpha 0.05\n')
     s += '\n' + ROOM % ('red', 'green')
     s += '\n# blocks at the back: red plastic (tall, left), blue paint, white glaze (short, right)\n'
     for m, x, h, deg in (('red_plastic', 0.125, 0.30, 40), ('blue_paint', 0.28, 0.22, -45),
@@ -938,11 +946,7 @@ image 256 256
 spp 64
 camera position 0.278 0.275 -0.789  direction 0 0 1  fov 40
 
-spectrum white     file colorchecker_n_ohta.csv column white_9_5
-spectrum red       file colorchecker_n_ohta.csv column red
-spectrum green     file colorchecker_n_ohta.csv column green
-spectrum equal     equal
-spectrum greenabs  inline 380 1.0 450 0.7 500 0.1 540 0.02 580 0.1 630 0.8 700 1.0 780 1.0 end
+""" + CORNELL_SPECTRA + """spectrum greenabs  inline 380 1.0 450 0.7 500 0.1 540 0.02 580 0.1 630 0.8 700 1.0 780 1.0 end
 """
 
 DEEP_HEAD = """# Deep-coloured glass - where rgb breaks on a dielectric. The Cornell box of
@@ -973,11 +977,10 @@ spectrum notch     inline 380 1.0 585 1.0 592 0.0 608 0.0 615 1.0 780 1.0 end
 def glass_scenes(out):
     """Writes glass.scene and glass_deep.scene into out; returns their paths."""
     s = GLASS_HEAD + '\n'
-    s += ('material white     reflect white\nmaterial red       reflect red\n'
-          'material green     reflect green\nmaterial light     reflect white  emit equal 1000\n'
-          'material clear     dielectric ior 1.5\n'
-          'material greenglass dielectric ior 1.5 absorb greenabs 12\n'
-          'material rough     dielectric ior 1.5 alpha 0.2\n')
+    s += cornell_materials(1000) + (
+        'material clear     dielectric ior 1.5\n'
+        'material greenglass dielectric ior 1.5 absorb greenabs 12\n'
+        'material rough     dielectric ior 1.5 alpha 0.2\n')
     s += '\n' + ROOM % ('red', 'green')
     s += '\n# at the back: a white block behind a clear block (left), a green glass block (right)\n'
     s += tri_lines('white', block(0.16, 0.47, 0.05, 0.30, 30))
@@ -1083,13 +1086,12 @@ def materials_scene(out):
     paths = [os.path.join(out, 'materials.scene'), os.path.join(out, 'materials_sphere.ply')]
     write_sphere_ply(paths[1], 12, 24)
     s = MATERIALS_HEAD + '\n'
-    s += ('material white     reflect white\nmaterial red       reflect red\n'
-          'material green     reflect green\nmaterial light     reflect white  emit equal 1000\n'
-          'material gold      conductor au_eta au_k\n'
-          'material plastic   coated reflect red ior 1.5\n'
-          'material clear     dielectric ior 1.5\n'
-          'material greenglass dielectric ior 1.5 absorb greenabs 12\n'
-          'material rough     dielectric ior 1.5 alpha 0.2\n')
+    s += cornell_materials(1000) + (
+        'material gold      conductor au_eta au_k\n'
+        'material plastic   coated reflect red ior 1.5\n'
+        'material clear     dielectric ior 1.5\n'
+        'material greenglass dielectric ior 1.5 absorb greenabs 12\n'
+        'material rough     dielectric ior 1.5 alpha 0.2\n')
     s += '\n' + ROOM % ('red', 'green')
     s += '\n# spheres: gold and plastic at the back; clear, green and rough glass in front\n'
     for mat, r, x, z in (('gold', 0.09, 0.15, 0.40), ('plastic', 0.09, 0.41, 0.40),
@@ -1141,16 +1143,7 @@ image 256 256
 spp 64
 camera position 0.278 0.275 -0.789  direction 0 0 1  fov 40
 
-spectrum white     file colorchecker_n_ohta.csv column white_9_5
-spectrum red       file colorchecker_n_ohta.csv column red
-spectrum green     file colorchecker_n_ohta.csv column green
-spectrum equal     equal
-
-material white     reflect white
-material red       reflect red
-material green     reflect green
-material light     reflect white  emit equal 1000
-material sf11      dielectric glass N-SF11
+""" + CORNELL_SPECTRA + "\n" + cornell_materials(1000) + """material sf11      dielectric glass N-SF11
 """
 
 # the prism's geometry (tests/cli_dispersion.sh reads it back from the scene)
