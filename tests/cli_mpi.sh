@@ -7,7 +7,7 @@
 # (existing output untouched, no temporary file left, the rank named), and
 # SIGTERM to mpirun (rank 0 writes the passes done in order, every rank exits 130).
 source "$(dirname "$0")/lib_cli.sh"
-MPI=(mpirun --allow-run-as-root --oversubscribe)
+source "$(dirname "$0")/lib_mpi.sh"
 # rank_pid MPIRUN_PID RANK: the PID of that rank (a child of mpirun on this machine)
 rank_pid() {
     local c

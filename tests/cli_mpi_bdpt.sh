@@ -7,15 +7,8 @@
 # rank 1's command line asks for the path integrator, which rank 0's
 # overrides. One device against two: cli_bdpt_cl.sh's split_invariant.
 source "$(dirname "$0")/lib_cli.sh"
-MPI=(mpirun --allow-run-as-root --oversubscribe)
+source "$(dirname "$0")/lib_mpi.sh"
 # 48 x 48 at 87 spp: three passes of 29 spp; the ranks meet at their first pass.
-BR=(render "$DATA/scenes/water_caustic.scene" --mode ml --width 48 --height 48 --spp 87 --seed 3 --quiet)
-"$BIN" "${BR[@]}" --integrator bdpt -o "$T/one.exr"
-check "bdpt, one process: exit 0" test $? -eq 0
-SPECMIP_TEST_MEET=2 "${MPI[@]}" -np 1 "$BIN" "${BR[@]}" --integrator bdpt --json \
-    -o "$T/two.exr" : -np 1 "$BIN" "${BR[@]}" > "$T/two.json" 2> "$T/two.err"
-check "bdpt, -np 2: exit 0" test $? -eq 0
-check "bdpt, -np 2: same EXR as one process" same_pixels "$T/one.exr" "$T/two.exr"
-check "bdpt, -np 2: every rank took passes" \
-    test "$(jq '[.devices[] | select(.passes >= 1)] | length' "$T/two.json")" = 2
+two_ranks_same bdpt render "$DATA/scenes/water_caustic.scene" --mode ml --width 48 --height 48 --spp 87 \
+    --seed 3 --quiet
 finish

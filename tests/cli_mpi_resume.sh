@@ -5,7 +5,7 @@
 # on rank 0, whatever rank rendered them); a resume of another mode is
 # refused by rank 0 (exit 2) and the film left as it was.
 source "$(dirname "$0")/lib_cli.sh"
-MPI=(mpirun --allow-run-as-root --oversubscribe)
+source "$(dirname "$0")/lib_mpi.sh"
 film_samples() { grep -a -m1 '^samples=' "$1" | cut -d= -f2; }
 
 # 128x128: 4 spp per pass, 8 spp ends on the pass grid and leaves 2 passes
