@@ -69,8 +69,13 @@ reference() {
         -o "$out/ref/$s-ref.exr"
 }
 # the mask of scene S: its dielectrics emit 1, nothing else reflects or emits
+# (black where it has none)
 mask() {
     local s=$1
+    if ! grep -q '^material .* dielectric' "$root/scenes/$s.scene"; then
+        oiiotool "$out/ref/$s-ref.exr" --mulc 0 -o "$out/ref/$s-mask.exr"
+        return
+    fi
     cp -r "$root/scenes" "$T/scenes"
     awk '$1 == "material" && $3 == "dielectric" { print "material", $2, "reflect equal 0 emit equal 1"; next }
          $1 == "material" { print "material", $2, "reflect equal 0"; next }
@@ -121,7 +126,7 @@ refs=()
 for s in $scenes; do refs+=("$out/ref/$s"); done
 "$py" "$root/bench/bdpt_error_time_summary.py" "$csv" "$mcsv" "$nref" "${refs[@]}"
 cpu=$(awk -F: '/model name/ { sub(/^ */, "", $2); print $2; exit }' /proc/cpuinfo)
-gnuplot -e "data='$csv'; out='$out/bdpt_error_time.png'; title='$cpu, PoCL, ${size}x$size, reference bdpt $nref x $rspp spp; process CPU time; load $(cut -d' ' -f1-3 /proc/loadavg)'" - << 'GP'
+gnuplot -e "data='$csv'; out='$out/bdpt_error_time.png'; title='$cpu, PoCL, ${size}x$size, reference the mean of $nref long bdpt renders; process CPU time; load $(cut -d' ' -f1-3 /proc/loadavg)'" - << 'GP'
 set terminal pngcairo size 1200,380
 set output out
 set datafile separator ","
