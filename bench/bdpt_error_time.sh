@@ -11,8 +11,8 @@
 #
 # Cost: each render's process CPU time (user + sys, /usr/bin/time; PoCL's
 # threads included), not its wall time, which the machine's other jobs
-# stretch; a sample's cost is the slope between the smallest and largest
-# sample count (the loading, tables and kernel build cancel). The render
+# stretch; a sample's cost from a long render against one of 1 sample (the
+# loading, tables and kernel build cancel). The render
 # stage's wall time (--json stages.render_s) is kept beside it.
 # Error: the mean absolute difference from the reference over every pixel and
 # channel of the linear sRGB image, relative to the reference's mean, and the
@@ -25,7 +25,8 @@
 # truth inside bdpt: ml's mean dE00 from truth on the same paths.
 # usage: bench/bdpt_error_time.sh [SPECMIP] [OUT] [REFERENCE_SPP] [SIZE] [SPP...]
 # environment: SCENES (default "water_caustic lamp_room cornell"), REF_SEEDS
-# (default 4), REF_ONLY=1 (make the references and stop)
+# (default 4), REF_ONLY=1 (make the references and stop), COST_ONLY=1 (the
+# references and the cost of a sample)
 set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
 bin=${1:-$root/build/specmip}
@@ -88,6 +89,24 @@ for s in $scenes; do
     [ -s "$out/ref/$s-mask.exr" ] || mask "$s"
 done
 [ "${REF_ONLY:-0}" = 1 ] && exit 0
+# the cost of a sample: a render of many samples against one of 1 (the
+# process's fixed CPU time, about 1 s, cancels), alternating, twice; the
+# counts give each integrator about 2 s of rendering
+ccsv="$out/bdpt_cost.csv"
+echo "scene,integrator,spp,cpu_s" > "$ccsv"
+for s in $scenes; do
+    for rep in 1 2; do
+        for i in path light bdpt; do
+            case $i in path) n=8192 ;; light) n=4096 ;; bdpt) n=2048 ;; esac
+            for m in 1 $n; do
+                read -r c w < <(render "$root/scenes/$s.scene" "$T/c.exr" --mode ml --integrator $i \
+                    --spp $m --seed $rep)
+                echo "$s,$i,$m,$c" >> "$ccsv"
+            done
+        done
+    done
+done
+[ "${COST_ONLY:-0}" = 1 ] && exit 0
 csv="$out/bdpt_error_time.csv"
 echo "scene,integrator,spp,seed,cpu_s,render_s,rel_mae,rel_mae_dielectric,rel_mae_rest,mean_de00" > "$csv"
 for s in $scenes; do
@@ -124,7 +143,7 @@ done
 cat "$csv" "$mcsv"
 refs=()
 for s in $scenes; do refs+=("$out/ref/$s"); done
-"$py" "$root/bench/bdpt_error_time_summary.py" "$csv" "$mcsv" "$nref" "${refs[@]}"
+"$py" "$root/bench/bdpt_error_time_summary.py" "$csv" "$mcsv" "$ccsv" "$nref" "${refs[@]}"
 cpu=$(awk -F: '/model name/ { sub(/^ */, "", $2); print $2; exit }' /proc/cpuinfo)
 gnuplot -e "data='$csv'; out='$out/bdpt_error_time.png'; title='$cpu, PoCL, ${size}x$size, reference the mean of $nref long bdpt renders; process CPU time; load $(cut -d' ' -f1-3 /proc/loadavg)'" - << 'GP'
 set terminal pngcairo size 1200,380

@@ -7,9 +7,9 @@ relative to the reference's mean over that region (the dielectric region: the
 mask's pixels above half its brightest, those whose camera ray meets a
 dielectric first).
 
-ERROR_CSV ML_TRUTH_CSV NREF REF_PREFIX...: per scene and integrator the cost of
-a sample (process CPU seconds, the slope between the smallest and largest
-sample count), the errors at the largest count (the mean over its seeds), the
+ERROR_CSV ML_TRUTH_CSV COST_CSV NREF REF_PREFIX...: per scene and integrator
+the cost of a sample (process CPU seconds of its long renders less those of
+its 1-sample renders, over the difference in samples), the errors at the largest count (the mean over its seeds), the
 error each would have at the path tracer's time (e sqrt(c / c_path)), and the
 reference's own error (from the spread of its NREF seeds' renders,
 REF_PREFIX-size-spp-k.exr); then ml against truth in bdpt."""
@@ -61,7 +61,20 @@ def reference_error(prefix):
     return [e / 2 for e in errors(a, b, mask)] + [len(imgs)]
 
 
-def summary(err_csv, ml_csv, refs):
+def costs(cost_csv):
+    """(scene, integrator) -> CPU seconds a sample"""
+    by = defaultdict(lambda: defaultdict(list))
+    for r in csv.DictReader(open(cost_csv)):
+        by[(r['scene'], r['integrator'])][int(r['spp'])].append(float(r['cpu_s']))
+    out = {}
+    for k, v in by.items():
+        lo, hi = min(v), max(v)
+        out[k] = (np.mean(v[hi]) - np.mean(v[lo])) / (hi - lo)
+    return out
+
+
+def summary(err_csv, ml_csv, cost_csv, refs):
+    per = costs(cost_csv)
     rows = list(csv.DictReader(open(err_csv)))
     by = defaultdict(list)
     for r in rows:
@@ -75,8 +88,7 @@ def summary(err_csv, ml_csv, refs):
         for i in ('path', 'light', 'bdpt'):
             rs = by[(s, i)]
             spp = sorted({int(r['spp']) for r in rs})
-            c = {n: np.mean([float(r['cpu_s']) for r in rs if int(r['spp']) == n]) for n in spp}
-            cost[i] = (c[spp[-1]] - c[spp[0]]) / (spp[-1] - spp[0])
+            cost[i] = per[(s, i)]
             top = [r for r in rs if int(r['spp']) == spp[-1]]
             err[i] = [np.mean([float(r[k]) for r in top]) for k in
                       ('rel_mae', 'rel_mae_dielectric', 'rel_mae_rest', 'mean_de00')]
@@ -84,7 +96,7 @@ def summary(err_csv, ml_csv, refs):
             f = math.sqrt(max(cost[i], 1e-9) / max(cost['path'], 1e-9))
             eq = [e * f for e in err[i][:3]]
             gain = [p / q if q > 0 else float('nan') for p, q in zip(err['path'][:3], eq)]
-            print('| %s | %s | %.4f | %.4f (%.4f / %.4f) | %.3f | %.4f | %.2f (%.2f / %.2f) |' % (
+            print('| %s | %s | %.5f | %.4f (%.4f / %.4f) | %.3f | %.4f | %.2f (%.2f / %.2f) |' % (
                 s, i, cost[i], err[i][0], err[i][1], err[i][2], err[i][3], eq[0], *gain))
     print('\n| scene | reference rel. MAE (dielectric / rest), renders |')
     print('| --- | --- |')
@@ -107,7 +119,7 @@ def main():
         print(','.join('%.6g' % e for e in errors(read(sys.argv[2]), read(sys.argv[3]),
                                                    read(sys.argv[4]))))
     else:
-        summary(sys.argv[1], sys.argv[2], sys.argv[4:])
+        summary(sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[5:])
 
 
 if __name__ == '__main__':
