@@ -26,7 +26,7 @@
 # usage: bench/bdpt_error_time.sh [SPECMIP] [OUT] [REFERENCE_SPP] [SIZE] [SPP...]
 # environment: SCENES (default "water_caustic lamp_room cornell"), REF_SEEDS
 # (default 4), REF_ONLY=1 (make the references and stop), COST_ONLY=1 (the
-# references and the cost of a sample)
+# references and the cost of a sample), COST_SPP, COST_REPS (see below)
 set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
 bin=${1:-$root/build/specmip}
@@ -90,14 +90,15 @@ for s in $scenes; do
 done
 [ "${REF_ONLY:-0}" = 1 ] && exit 0
 # the cost of a sample: a render of many samples against one of 1 (the
-# process's fixed CPU time, about 1 s, cancels), alternating, twice; the
-# counts give each integrator about 2 s of rendering
+# process's fixed CPU time, about 1 s, cancels), alternating, COST_REPS times
+# (default 2); COST_SPP the long renders' counts of path, light and bdpt
 ccsv="$out/bdpt_cost.csv"
 echo "scene,integrator,spp,cpu_s" > "$ccsv"
+read -r np nl nb <<< "${COST_SPP:-8192 4096 2048}"
 for s in $scenes; do
-    for rep in 1 2; do
+    for rep in $(seq 1 "${COST_REPS:-2}"); do
         for i in path light bdpt; do
-            case $i in path) n=8192 ;; light) n=4096 ;; bdpt) n=2048 ;; esac
+            case $i in path) n=$np ;; light) n=$nl ;; bdpt) n=$nb ;; esac
             for m in 1 $n; do
                 read -r c w < <(render "$root/scenes/$s.scene" "$T/c.exr" --mode ml --integrator $i \
                     --spp $m --seed $rep)
@@ -145,22 +146,25 @@ refs=()
 for s in $scenes; do refs+=("$out/ref/$s"); done
 "$py" "$root/bench/bdpt_error_time_summary.py" "$csv" "$mcsv" "$ccsv" "$nref" "${refs[@]}"
 cpu=$(awk -F: '/model name/ { sub(/^ */, "", $2); print $2; exit }' /proc/cpuinfo)
-gnuplot -e "data='$csv'; out='$out/bdpt_error_time.png'; title='$cpu, PoCL, ${size}x$size, reference the mean of $nref long bdpt renders; process CPU time; load $(cut -d' ' -f1-3 /proc/loadavg)'" - << 'GP'
-set terminal pngcairo size 1200,380
+pcsv="${csv%.csv}_plot.csv"
+gnuplot -e "data='$pcsv'; out='$out/bdpt_error_time.png'; title='$cpu, PoCL, ${size}x$size, ml; against the mean of $nref long bdpt renders; rendering CPU time (samples x process CPU time a sample); load $(cut -d' ' -f1-3 /proc/loadavg)'" - << 'GP'
+set terminal pngcairo size 1400,380
 set output out
 set datafile separator ","
-set multiplot layout 1,3 title title noenhanced
+set multiplot layout 1,4 title title noenhanced
 set logscale xy
-set xlabel "process CPU seconds"
+set xlabel "CPU seconds"
 set ylabel "mean |error| / mean (relative)"
 set grid
-set key top right
-set title "water_caustic" noenhanced
-plot for [i in "path light bdpt"] "< grep ^water_caustic,".i.", ".data using 5:7 with points title i
+set key bottom left
+set title "water_caustic, all pixels" noenhanced
+plot for [i in "path light bdpt"] "< grep ^water_caustic,".i.", ".data using 3:4 with linespoints title i
+set title "water_caustic, seen through the water" noenhanced
+plot for [i in "path light bdpt"] "< grep ^water_caustic,".i.", ".data using 3:5 with linespoints title i
 set title "lamp_room" noenhanced
-plot for [i in "path light bdpt"] "< grep ^lamp_room,".i.", ".data using 5:7 with points title i
+plot for [i in "path light bdpt"] "< grep ^lamp_room,".i.", ".data using 3:4 with linespoints title i
 set title "cornell" noenhanced
-plot for [i in "path light bdpt"] "< grep ^cornell,".i.", ".data using 5:7 with points title i
+plot for [i in "path light bdpt"] "< grep ^cornell,".i.", ".data using 3:4 with linespoints title i
 unset multiplot
 GP
-echo "bdpt_error_time.sh: $csv, $mcsv, $out/bdpt_error_time.png"
+echo "bdpt_error_time.sh: $csv, $mcsv, $ccsv, $out/bdpt_error_time.png"

@@ -79,6 +79,15 @@ def summary(err_csv, ml_csv, cost_csv, refs):
     by = defaultdict(list)
     for r in rows:
         by[(r['scene'], r['integrator'])].append(r)
+    # the chart's points: CPU seconds of rendering (spp x cost) and the mean
+    # error over the seeds, per scene, integrator and sample count
+    with open(err_csv.replace('.csv', '_plot.csv'), 'w') as f:
+        f.write('scene,integrator,cpu_render_s,rel_mae,rel_mae_dielectric,rel_mae_rest\n')
+        for (sc, i), rs in by.items():
+            for n in sorted({int(r['spp']) for r in rs}):
+                e = [np.mean([float(r[k]) for r in rs if int(r['spp']) == n])
+                     for k in ('rel_mae', 'rel_mae_dielectric', 'rel_mae_rest')]
+                f.write('%s,%s,%.4g,%.4g,%.4g,%.4g\n' % (sc, i, n * per[(sc, i)], *e))
     print('| scene | integrator | CPU s an spp | rel. MAE at max spp (dielectric / rest) | '
           'mean dE00 | rel. MAE at path\'s CPU time | path / it at equal time '
           '(dielectric / rest) |')
