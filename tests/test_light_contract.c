@@ -360,6 +360,16 @@ static void chi2_spot_emission(double alpha_test)
  * (o - c).w = -r and |o - c + r w| <= r, and the origins are uniform on the
  * disc: counts in 8 rings of equal area x 16 sectors against n / 128,
  * Pearson's chi-squared; pdf_pos 1 / (pi r^2). */
+/* an empty scene of 4 x 4 pixels seen from 3 above the origin, looking down */
+static void small_scene(spm_scene *s)
+{
+    ts_init(s);
+    s->width = s->height = 4;
+    s->fov_deg = 60.0f;
+    memcpy(s->eye, (float[]){0.0f, 3.0f, 0.0f}, sizeof s->eye);
+    memcpy(s->dir, (float[]){0.0f, -1.0f, 0.0f}, sizeof s->dir);
+}
+
 #define DISC_RINGS 8
 #define DISC_SECTORS 16
 static void distant_disc(double alpha_test)
@@ -367,11 +377,7 @@ static void distant_disc(double alpha_test)
     spm_scene s;
     spm_geometry g;
     spm_tables t;
-    ts_init(&s);
-    s.width = s.height = 4;
-    s.fov_deg = 60.0f;
-    memcpy(s.eye, (float[]){0.0f, 3.0f, 0.0f}, sizeof s.eye);
-    memcpy(s.dir, (float[]){0.0f, -1.0f, 0.0f}, sizeof s.dir);
+    small_scene(&s);
     int m = ts_material(&s, ts_colour(&s, SPM_KIND_REFLECTANCE, RHO), -1);
     ts_quad(&s, m, (float[]){-1, 0, -2}, (float[]){-1, 0, 2}, (float[]){3, 0, 2},
             (float[]){3, 0, -2});
@@ -482,11 +488,7 @@ static void chi2_twosided_emission(double alpha_test)
     spm_scene s;
     spm_geometry g;
     spm_tables t;
-    ts_init(&s);
-    s.width = s.height = 4;
-    s.fov_deg = 60.0f;
-    memcpy(s.eye, (float[]){0.0f, 3.0f, 0.0f}, sizeof s.eye);
-    memcpy(s.dir, (float[]){0.0f, -1.0f, 0.0f}, sizeof s.dir);
+    small_scene(&s);
     int m = ts_material(&s, -1, ts_colour(&s, SPM_KIND_EMISSION, 1.0));
     s.materials[m].flags |= 1u << SPM_AREA_FLAG_TWOSIDED;
     ts_tri(&s, m, (float[]){-1, 1, -1}, (float[]){1, 1.2f, -1}, (float[]){0, 0.9f, 1});
