@@ -19,7 +19,9 @@
  * undefines it after. */
 
 /* triangles of an emitting material (spm_types.h's emitter types): chosen by
- * power (area x Y of the emission), reached by rays too */
+ * power (area x Y of the emission), reached by rays too; p[D] = 1 when it
+ * emits from both faces ('twosided'), whose emission rays leave either face
+ * (each with probability 1/2, cosine-weighted about it) */
 #ifdef SPM_KERNEL_FILES
 #include "light_area.clh"
 #endif

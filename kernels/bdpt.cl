@@ -164,6 +164,8 @@ SPM_ALWAYS_INLINE void bd_walk(const bd_scene *sc, spm_key k, int mode, spm_walk
             prev->x.lobe = t;
         v->emit = SPM_NONE;
         float ecos = -dot3(d, v->n);
+        if (m.type & SPM_EMIT_TWOSIDED)
+            ecos = fabs(ecos); /* the back face emits too (refcpu_bdpt.c vertex_emission) */
         if (mode == SPM_RADIANCE && ecos > 0.0f)
             v->emit = light_eval(m, ecos, &v->escale);
         spm_bsdf b;
@@ -238,7 +240,10 @@ SPM_ALWAYS_INLINE void light_subpath(const bd_scene *sc, const spm_trace_params 
     if (y->colour == SPM_NONE)
         return;
     uint skip = e->kind == SPM_LIGHT_AREA ? e->tri : 0xFFFFFFFFu;
+    v->d = d; /* its ray's direction: a light at infinity's, for s = 1 */
     bd_walk(sc, k, SPM_IMPORTANCE, rw, o, d, skip, scale * cos_o / (e->pdf * pp * pd), pd, y);
+    if (y->n > 1 && light_at_infinity(e)) /* y[1] by the disc: pdf_pos |cos| */
+        y->v[1].fwd = pp * fabs(dot3(y->v[1].n, d));
 }
 
 /* One end of a join lies in the other's face plane, within the rounding of
@@ -256,8 +261,8 @@ SPM_ALWAYS_INLINE int bd_in_plane(float3 a, float3 na, float3 b, float3 nb)
 /* ---- the joins ----------------------------------------------------------- */
 
 /* s = 0: camera vertex pt = z[t-1] on an emitter, Le toward z[t-2]; the
- * light's densities of pt (pmf / area) and of its ray to z[t-2] (the front
- * face's cosine lobe). */
+ * light's densities of pt (pmf / area) and of its ray to z[t-2] (the face's
+ * cosine lobe, either face's of a two-sided light). */
 SPM_ALWAYS_INLINE int join_emitter(const bd_scene *sc, const bd_subpath *z, int t, bd_join *J)
 {
     const bd_vertex *pt = &z->v[t - 1], *pm = &z->v[t - 2];
@@ -268,7 +273,8 @@ SPM_ALWAYS_INLINE int join_emitter(const bd_scene *sc, const bd_subpath *z, int 
     float3 w;
     toward(pt->p, pm->p, &w);
     J->pt_rev = sc->light_pdf[pt->tri] / tr->area;
-    J->ptm_rev = to_area(fmax(dot3(w, ld3(tr->n)), 0.0f) / SPM_PI_F, pt->p, pm->p, pm->n);
+    int two = (sc->mats[tr->material].type & SPM_EMIT_TWOSIDED) != 0;
+    J->ptm_rev = to_area(light_area_pdf_dir(two, ld3(tr->n), w), pt->p, pm->p, pm->n);
     return J->c > 0.0f;
 }
 
@@ -364,6 +370,36 @@ SPM_ALWAYS_INLINE int join_inner(const bd_scene *sc, spm_key k, spm_key ky, cons
     J->pt_rev = to_area(py, qs->p, pt->p, pt->n);
     J->ptm_rev = to_area(lobe_pdf(0, m, &fr, &b, w, fr.back, SPM_RADIANCE), pt->p, pm->p, pm->n);
     J->qs_rev = to_area(lobe_pdf(0, m, &fr, &b, fr.back, w, SPM_RADIANCE), pt->p, qs->p, qs->n);
+    return 1;
+}
+
+/* s = 1, t >= 2, a light at infinity along one direction (a distant
+ * light; refcpu_bdpt.c join_infinite): z[t-1] lit along the light
+ * subpath's direction, unoccluded to infinity, beta_z f_z |cos| Le / pmf;
+ * pt's density by the light pdf_pos |cos at pt|, the light vertex's by pt
+ * in solid angle (pbrt-v4's PdfLight of an infinite light). */
+SPM_ALWAYS_INLINE int join_infinite(const bd_scene *sc, spm_key k, const bd_subpath *z, int t,
+                                    const bd_subpath *y, bd_join *J)
+{
+    const bd_vertex *pt = &z->v[t - 1], *pm = &z->v[t - 2];
+    __global const spm_emitter *e = &sc->emitters[y->e];
+    float3 d0 = y->v[0].d, w = -d0;
+    float scale, cos_o, pp, pd;
+    if (pt->delta || lt_emission(sc->tris, sc->mats, e, d0, &scale, &cos_o) == SPM_NONE)
+        return 0;
+    spm_material m;
+    spm_frame fr;
+    spm_bsdf b;
+    vertex_state(sc, z, t - 1, k, &m, &fr, &b);
+    spm_eval ez = bsdf_eval(m, &b, &fr, w, SPM_RADIANCE);
+    J->arg_pt = ez.cos_light;
+    J->c = pt->beta * ((ez.k * ez.f / ez.div) / ez.post) * scale * cos_o / e->pdf;
+    if (!(J->c > 0.0f) || !bd_visible(sc, pt->p, pt->tri, w, INFINITY))
+        return 0;
+    light_pdf_emission(sc->tris, e, y->v[0].p, d0, &pp, &pd);
+    J->pt_rev = pp * fabs(dot3(pt->n, w));
+    J->ptm_rev = to_area(lobe_pdf(0, m, &fr, &b, w, fr.back, SPM_RADIANCE), pt->p, pm->p, pm->n);
+    J->qs_rev = lobe_pdf(0, m, &fr, &b, fr.back, w, SPM_RADIANCE);
     return 1;
 }
 
@@ -523,11 +559,13 @@ __kernel void spm_bdpt_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
         light_subpath(&sc, &p, ky, &rw, &y);
     sc.lam = rw.lam;
     int light_delta = y.n > 0 && emitters[y.e].kind != SPM_LIGHT_AREA;
+    int infinite = y.n > 0 && light_at_infinity(&emitters[y.e]);
     for (int t = 1; t <= z.n; t++)
         for (int s = t == 1 ? 2 : 0; s <= y.n; s++) {
             bd_join J = {0.0f, 0.0f, 0.0f, k.pixel, 0.0f, 0.0f, 0.0f, 0.0f};
             int ok = s == 0   ? join_emitter(&sc, &z, t, &J)
                      : t == 1 ? join_camera(&sc, ky, &y, s, &J)
+                     : s == 1 && infinite ? join_infinite(&sc, k, &z, t, &y, &J)
                               : join_inner(&sc, k, ky, &z, t, &y, s, &J);
             if (!ok)
                 continue;

@@ -59,4 +59,5 @@ no_bdpt() { # no_bdpt NAME PATTERN ARGS...: exit 2, PATTERN on stderr, no output
     check "$what: nothing written" test ! -e "$T/no.exr"
 }
 no_bdpt "coated" "'coated' picks one of its terms" "$DATA/scenes/coated.scene" --backend cpu
+no_bdpt "environment map" "background is no light a subpath starts from yet" "$DATA/scenes/envmap.scene" --backend cpu
 finish

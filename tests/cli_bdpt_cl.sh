@@ -4,7 +4,8 @@
 # dimensions per vertex), the same strategies and MIS weights, image by image
 # within a measured float tolerance: a levelled mode on a diffuse box, a
 # conductor's factors, glass (delta vertices, a medium's absorption), a point
-# light seen through a thin lens, a spectral EXR; one device and two (PoCL's
+# light seen through a thin lens, a spectral EXR, spot, distant and two-sided
+# lights; one device and two (PoCL's
 # "pthread basic") giving the same pixels bit for bit (the records' values
 # summed in fixed point do not depend on the order of the adds nor on which
 # device renders a pass); the reference's refusals on the device. That the
@@ -61,6 +62,17 @@ sed 's/^light spot .*/material lamp emit equal 600\nquad lamp -3.211547 -0.3 1.6
     "$DATA/scenes/prism_wall.scene" > "$T/prism_area.scene"
 check "the prism's light is an area light" grep -q "^quad lamp" "$T/prism_area.scene"
 same_as_reference prism_hero "$T/prism_area.scene" 8 1e-4 exr --mode hero
+# the light kinds beyond area and point lights in one program: the ceiling
+# gone, a distant light through the opening (a light at infinity: its
+# subpaths leave the bounding sphere's disc, camera vertices joined along its
+# direction), a spot and a two-sided panel (its emission leaving either face,
+# its back seen by the camera)
+sed -e '/^quad white  0.556 0.549 0.559  0.000/d' \
+    -e 's/^material light .*/material light emit equal 300 twosided/' \
+    -e 's/^quad light .*/quad light  0.343 0.40 0.332  0.213 0.40 0.332  0.213 0.40 0.227  0.343 0.40 0.227\nlight distant 0.2 -1 0.3 equal 2\nlight spot 0.45 0.5 0.2 0.4 0 0.3 equal 5 cone 40/' \
+    "$DATA/scenes/cornell.scene" > "$T/lights.scene"
+check "the lights scene has its three kinds" test "$(grep -c '^light \|twosided' "$T/lights.scene")" = 3
+same_as_reference lights "$T/lights.scene" 8 1e-4 exr --mode ml
 
 # The device's BDPT against its own path tracer: the image means within 3 %
 # (measured 0.65 % apart at 128 and 512 spp, seed 7; two BDPT renders at 8

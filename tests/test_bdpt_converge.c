@@ -22,87 +22,8 @@
 #include "scene.h"
 #include "tables.h"
 #include "testutil.h"
-#include "integrator_testlib.h"
 
-#define SIDE 16
-#define K 32      /* independent renders of each integrator */
-#define SPP 48    /* samples per pixel of each */
-#define Z_MAX 5.5 /* per pixel and channel, Student's t with K - 1 = 31 degrees:
-                     two-sided 5e-6, 0.8 % over the 2 x 768 values (measured: worst
-                     4.1; 16 renders of 96 spp saw a light tracer's pixel on the
-                     floor under the gold boxes at 6.4, its rare large splats
-                     missing from the spread of so few renders) */
-
-typedef it_scene scene;
-
-enum { NP = 3 * SIDE * SIDE };
-
-/* the mean m and its variance v per pixel channel of K renders */
-static int moments(const scene *s, int integrator, double *m, double *v)
-{
-    static double y[NP];
-    for (int i = 0; i < NP; i++)
-        m[i] = v[i] = 0.0;
-    for (spm_u32 k = 0; k < K; k++) {
-        if (it_render_xyz(s, SPM_MODE_ML, integrator, 7919u * (spm_u32)(integrator + 1) + k, SPP, y))
-            return 1;
-        for (int i = 0; i < NP; i++)
-            m[i] += y[i], v[i] += y[i] * y[i];
-    }
-    for (int i = 0; i < NP; i++) {
-        m[i] /= K;
-        v[i] = fmax(0.0, v[i] / K - m[i] * m[i]) / (K - 1);
-    }
-    return 0;
-}
-
-static void compare(const char *scene_name, const char *other, const double *mb,
-                    const double *vb, const double *mo, const double *vo)
-{
-    double worst = 0.0, tot[3][2] = {{0}}, var[3][2] = {{0}}, se[2] = {0.0, 0.0};
-    int bad = 0;
-    for (int i = 0; i < NP; i++) {
-        double z = (mb[i] - mo[i]) / sqrt(vb[i] + vo[i] + 1e-30);
-        worst = fmax(worst, isnan(z) ? INFINITY : fabs(z));
-        bad += !(fabs(z) <= Z_MAX);
-        tot[i % 3][0] += mb[i], var[i % 3][0] += vb[i];
-        tot[i % 3][1] += mo[i], var[i % 3][1] += vo[i];
-        se[0] += mb[i] > 0.0 ? sqrt(vb[i]) / mb[i] / NP : 0.0;
-        se[1] += mo[i] > 0.0 ? sqrt(vo[i]) / mo[i] / NP : 0.0;
-    }
-    printf("%s %dx%d, %d renders of %d spp: bdpt against %s, worst |z| %.2f; mean relative "
-           "standard error bdpt %.2f %%, %s %.2f %%\n",
-           scene_name, SIDE, SIDE, K, SPP, other, worst, 100.0 * se[0], other, 100.0 * se[1]);
-    for (int c = 0; c < 3; c++) {
-        double zt = (tot[c][0] - tot[c][1]) / sqrt(var[c][0] + var[c][1]);
-        printf("  %c over the image: bdpt %.5f %s %.5f (%+.3f %%, z %.2f)\n", "XYZ"[c],
-               tot[c][0] / (NP / 3), other, tot[c][1] / (NP / 3),
-               100.0 * (tot[c][0] / tot[c][1] - 1.0), zt);
-        CHECK(tot[c][0] > 0.0 && tot[c][1] > 0.0, "%s: nothing rendered", scene_name);
-        CHECK(fabs(zt) <= 4.0, "%s: the image's %c differs from %s's by %.2f standard errors",
-              scene_name, "XYZ"[c], other, zt);
-    }
-    CHECK(bad == 0, "%s: %d pixel channels differ from %s's beyond %.1f standard errors "
-                    "(worst %.2f)", scene_name, bad, other, Z_MAX, worst);
-}
-
-/* bdpt against the light tracer, and (vs_path) against the path tracer */
-static void converge(const char *path, const char *name, int vs_path)
-{
-    static double m[3][NP], v[3][NP];
-    scene s;
-    if (it_load(&s, path, SIDE))
-        return;
-    for (int i = vs_path ? 0 : 1; i < 3; i++)
-        if (moments(&s, i, m[i], v[i]))
-            return;
-    if (vs_path)
-        compare(name, "path", m[SPM_INTEGRATOR_BDPT], v[SPM_INTEGRATOR_BDPT],
-                m[SPM_INTEGRATOR_PATH], v[SPM_INTEGRATOR_PATH]);
-    compare(name, "light", m[SPM_INTEGRATOR_BDPT], v[SPM_INTEGRATOR_BDPT],
-            m[SPM_INTEGRATOR_LIGHT], v[SPM_INTEGRATOR_LIGHT]);
-    it_free(&s);
-}
+#include "bdpt_converge_lib.h"
 
 /* the glossy box under a point light: cornell.scene with each line starting
  * with sub[k][0] replaced by sub[k][1]; the point light the area light's

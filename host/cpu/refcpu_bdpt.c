@@ -49,6 +49,7 @@ typedef struct {
     int n;
     const spm_emitter *e; /* the light subpath's light and its colour */
     spm_u32 colour;
+    float d0[3]; /* its ray's direction (a light at infinity's, for s = 1) */
 } bd_subpath;
 
 static float remap0(float f)
@@ -235,8 +236,11 @@ static void light_subpath(const spm_geometry *g, const spm_material *mats, const
     if (y->colour == SPM_NONE)
         return;
     spm_u32 skip = e->kind == SPM_LIGHT_AREA ? e->tri : 0xFFFFFFFFu;
+    memcpy(y->d0, d, sizeof y->d0);
     walk(g, mats, k, SPM_REF_IMPORTANCE, rw, o, d, skip, scale * cos_o / (e->pdf * pp * pd), pd,
          y);
+    if (y->n > 1 && spm_ref_light_at_infinity(e)) /* y[1] by the disc: pdf_pos |cos| */
+        y->v[1].pdf.fwd = pp * fabsf(v3_dot(y->v[1].n, y->d0));
 }
 
 /* ---- one connected path ------------------------------------------------- */
@@ -297,8 +301,8 @@ static int in_plane(const float a[3], const float na[3], const float b[3], const
 
 /* s = 0: camera vertex pt = z[t-1] on an emitter, Le toward z[t-2]; the
  * light's densities of pt (pmf / area) and of its ray to z[t-2] (its
- * emission sampling's: the front face's cosine lobe, none behind a
- * two-sided face, which light subpaths never leave by). */
+ * emission sampling's: the face's cosine lobe, either face's of a
+ * two-sided light). */
 static int join_emitter(const spm_geometry *g, const bd_subpath *z, int t, bd_join *J)
 {
     const bd_vertex *pt = &z->v[t - 1], *pm = &z->v[t - 2];
@@ -309,7 +313,8 @@ static int join_emitter(const spm_geometry *g, const bd_subpath *z, int t, bd_jo
     float w[3];
     toward(pt->p, pm->p, w);
     J->pt_rev = g->light_pdf[pt->tri] / tri->area; /* the light subpaths pick by power */
-    J->ptm_rev = to_area(fmaxf(v3_dot(w, tri->n), 0.0f) / SPM_PI_F, pt, pm);
+    int two = (pt->m->type & SPM_EMIT_TWOSIDED) != 0;
+    J->ptm_rev = to_area(spm_ref_light_area_pdf_dir(two, tri->n, w), pt, pm);
     return J->c > 0.0f;
 }
 
@@ -385,6 +390,34 @@ static int join_inner(const spm_geometry *g, const spm_material *mats, const bd_
     J->pt_rev = to_area(py, qs, pt);
     J->ptm_rev = to_area(lobe_pdf(pt, w, wz, SPM_REF_RADIANCE), pt, pm);
     J->qs_rev = to_area(lobe_pdf(pt, wz, w, SPM_REF_RADIANCE), pt, qs);
+    return 1;
+}
+
+/* s = 1, t >= 2, a light at infinity along one direction (a distant
+ * light): z[t-1] lit along the light subpath's direction d0, unoccluded to
+ * infinity; with f_y = Le / (pmf pdf_pos) over the disc the subpath left,
+ *   beta_z f_z |cos| Le / pmf.
+ * pbrt-v4's densities of an infinite light's vertex: pt's by the light its
+ * disc's, pdf_pos |cos at pt| (PdfLight); the light vertex's by pt in solid
+ * angle (no distance to convert by). */
+static int join_infinite(const spm_geometry *g, const spm_material *mats, const bd_subpath *z,
+                         int t, const bd_subpath *y, bd_join *J)
+{
+    const bd_vertex *pt = &z->v[t - 1], *pm = &z->v[t - 2];
+    float w[3] = {-y->d0[0], -y->d0[1], -y->d0[2]}, scale, cos_o, pp, pd;
+    if (pt->pdf.delta ||
+        spm_ref_lt_emission(g, mats, y->e, y->d0, &scale, &cos_o) == SPM_NONE)
+        return 0;
+    spm_ref_eval ez = spm_ref_eval_bsdf(pt->m, &pt->b, &pt->h, w, SPM_REF_RADIANCE);
+    J->arg_pt = ez.cos_light;
+    J->c = pt->beta * (ez.k * ez.f / ez.div) / ez.post * scale * cos_o / y->e->pdf;
+    if (!(J->c > 0.0f) || !visible(g, pt->p, pt->tri, w, INFINITY))
+        return 0;
+    spm_ref_light_pdf_emission(g, (spm_u32)(y->e - g->emitters), y->v[0].p, y->d0, &pp, &pd);
+    float wz[3] = {-pt->h.d[0], -pt->h.d[1], -pt->h.d[2]};
+    J->pt_rev = pp * fabsf(v3_dot(pt->n, w));
+    J->ptm_rev = to_area(lobe_pdf(pt, w, wz, SPM_REF_RADIANCE), pt, pm);
+    J->qs_rev = lobe_pdf(pt, wz, w, SPM_REF_RADIANCE);
     return 1;
 }
 
@@ -532,6 +565,7 @@ static void strategy(bd_ctx *cx, const spm_ref_key *ky, size_t i, const bd_subpa
     bd_join J = {0.0f, 0.0f, 0.0f, pixel, 0.0f, 0.0f, 0.0f, 0.0f};
     int ok = s == 0   ? join_emitter(cx->g, z, t, &J)
              : t == 1 ? join_camera(cx->g, ky, y, s, &J)
+             : s == 1 && spm_ref_light_at_infinity(y->e) ? join_infinite(cx->g, cx->mats, z, t, y, &J)
                       : join_inner(cx->g, cx->mats, z, t, y, s, &J);
     if (!ok)
         return;

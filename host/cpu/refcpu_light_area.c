@@ -103,20 +103,44 @@ int spm_ref_light_sample_AREA(const spm_geometry *g, const spm_material *mats, c
     return 1;
 }
 
+/* the face an emission ray leaves by, from u4: the front; a two-sided
+ * light's (p[D] = 1) either, each with probability 1/2, u4 rescaled to
+ * [0, 1) for the cosine it then draws. Returns the face's sign. */
+static float emission_face(const spm_emitter *e, float *u4)
+{
+    if (!(e->p[SPM_LIGHT_P_D] > 0.0f))
+        return 1.0f;
+    float u = 2.0f * *u4, side = u < 1.0f ? 1.0f : -1.0f;
+    *u4 = u < 1.0f ? u : u - 1.0f;
+    return side;
+}
+
+float spm_ref_light_area_pdf_dir(int twosided, const float n[3], const float d[3])
+{
+    float c = v3_dot(d, n);
+    if (twosided)
+        return fabsf(c) / (2.0f * SPM_PI_F);
+    return fmaxf(c, 0.0f) / SPM_PI_F;
+}
+
+/* a uniform point on the triangle (density 1 / area), a cosine-weighted
+ * direction about its emitting face (density cos / pi; a two-sided light's
+ * either face, |cos| / (2 pi)) */
 void spm_ref_light_sample_emission_AREA(const spm_geometry *g, const spm_emitter *e,
                                         const float u[4], float o[3], float d[3], float *pdf_pos,
                                         float *pdf_dir)
 {
     const spm_tri *et = &g->tris[e->tri];
+    float u4 = u[3], side = emission_face(e, &u4);
     float sqr1 = sqrtf(u[0]), a = 1.0f - sqr1, b = (1.0f - u[1]) * sqr1, c[3];
-    float phi = 2.0f * SPM_PI_F * u[2], sr = sqrtf(u[3]), z = sqrtf(1.0f - u[3]);
+    float phi = 2.0f * SPM_PI_F * u[2], sr = sqrtf(u4), z = sqrtf(1.0f - u4);
     v3_cross(c, et->n, et->t);
     for (int i = 0; i < 3; i++) {
         o[i] = et->v0[i] + (et->v1[i] - et->v0[i]) * a + (et->v2[i] - et->v0[i]) * b;
-        d[i] = et->t[i] * (cosf(phi) * sr) + c[i] * (sinf(phi) * sr) + et->n[i] * z;
+        d[i] = et->t[i] * (cosf(phi) * sr) + c[i] * (sinf(phi) * sr) + et->n[i] * (side * z);
     }
     *pdf_pos = 1.0f / et->area;
-    *pdf_dir = z / SPM_PI_F;
+    *pdf_dir = z / (e->p[SPM_LIGHT_P_D] > 0.0f ? 2.0f * SPM_PI_F : SPM_PI_F);
 }
 
 void spm_ref_light_pdf_emission_AREA(const spm_geometry *g, const spm_emitter *e, const float o[3],
@@ -125,5 +149,5 @@ void spm_ref_light_pdf_emission_AREA(const spm_geometry *g, const spm_emitter *e
     (void)o;
     const spm_tri *tr = &g->tris[e->tri];
     *pdf_pos = 1.0f / tr->area;
-    *pdf_dir = fmaxf(v3_dot(d, tr->n), 0.0f) / SPM_PI_F;
+    *pdf_dir = spm_ref_light_area_pdf_dir(e->p[SPM_LIGHT_P_D] > 0.0f, tr->n, d);
 }

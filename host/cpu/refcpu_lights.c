@@ -94,6 +94,11 @@ void spm_ref_light_to_world(const float n[3], const float l[3], float out[3])
         out[i] = l[0] * b1[i] + l[1] * b2[i] + l[2] * n[i];
 }
 
+int spm_ref_light_at_infinity(const spm_emitter *e)
+{
+    return e->kind == SPM_LIGHT_DISTANT || e->kind == SPM_LIGHT_SUN || e->kind == SPM_LIGHT_ENVMAP;
+}
+
 int spm_ref_light_delta(spm_ref_lsample *ls, const spm_emitter *e, float g, float scale)
 {
     ls->pdf = 0.0f;

@@ -107,6 +107,14 @@ int spm_ref_light_delta(spm_ref_lsample *ls, const spm_emitter *e, float g, floa
 void spm_ref_light_to_world(const float n[3], const float l[3], float out[3]);
 /* the ray sink's hook (refcpu.h spm_ref_rays): ray o + t d, what it asks */
 void spm_ref_record_ray(const float o[3], const float d[3], spm_u32 skip, spm_u32 emitter);
+/* 1 when light e is at infinity (a distant light, the sun, the map): its
+ * emission rays leave a disc of the scene's bounding sphere, pdf_pos per
+ * unit area across the ray (pbrt-v4's infinite lights in BDPT) */
+int spm_ref_light_at_infinity(const spm_emitter *e);
+/* An area light's density of emission direction d (unit) from its face of
+ * normal n, in solid angle (refcpu_light_area.c): cos / pi on the front, a
+ * two-sided light's |cos| / (2 pi) */
+float spm_ref_light_area_pdf_dir(int twosided, const float n[3], const float d[3]);
 /* A spot light's falloff f(theta) at cosine cos_l to its axis
  * (refcpu_light_spot.c): the light tracer's intensity in a sampled direction. */
 float spm_ref_spot_falloff(const spm_emitter *e, float cos_l);

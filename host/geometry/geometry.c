@@ -184,6 +184,9 @@ static void list_emitters(const spm_scene *sc, spm_geometry *g)
             w[g->nemitters] = emitter_power(sc, &g->tris[i]);
             g->emitters[g->nemitters].kind = SPM_LIGHT_AREA;
             g->emitters[g->nemitters].colour = SPM_NONE; /* its material's */
+            /* its emission rays leave both faces (spm_lights.h AREA) */
+            g->emitters[g->nemitters].p[SPM_LIGHT_P_D] =
+                (float)(spm_material_faces(&sc->materials[g->tris[i].material]) == 2);
             g->emitters[g->nemitters++].tri = (spm_u32)i;
         }
     /* the `light` statements' (lights.h), then the sun, next to the map: the

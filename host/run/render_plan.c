@@ -192,13 +192,12 @@ static const char *bdpt_why(const spm_render_plan *p)
     const char *type = picking_type(p->tables);
     for (size_t e = 0; e < (size_t)p->geom->nemitters; e++)
         if (p->geom->emitters[e].kind != SPM_LIGHT_AREA &&
-            p->geom->emitters[e].kind != SPM_LIGHT_POINT)
-            return "it joins camera vertices to area and point lights only (a spot's cone, a "
-                   "distant or sky light is not joined yet)";
-    for (int m = 0; m < p->tables->nmaterials; m++)
-        if (p->tables->materials[m].type & SPM_EMIT_TWOSIDED)
-            return "a two-sided emitter's back face is never left by a light subpath (its "
-                   "emission sampling covers the front), which MIS would weigh as if it were";
+            p->geom->emitters[e].kind != SPM_LIGHT_POINT &&
+            p->geom->emitters[e].kind != SPM_LIGHT_SPOT &&
+            p->geom->emitters[e].kind != SPM_LIGHT_DISTANT)
+            return "it joins camera vertices to area, point, spot and distant lights only (a "
+                   "sun or a map is a light at infinity a camera path meets by escaping, whose "
+                   "vertex MIS does not weigh yet)";
     if (p->tables->nfluor)
         return "a connection between a fluorescent camera vertex and a light vertex would "
                "need the re-radiation matrix on both sides of it, which is not carried yet";
@@ -235,8 +234,10 @@ int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err)
             why = "an orthographic camera sees along one direction only, which no vertex's "
                   "connection to the camera meets";
         else if (tp->bg_up != SPM_NONE || tp->bg_down != SPM_NONE || p->geom->env)
-            why = "the background is no light a subpath starts from (it has no emission "
-                  "sampling), and the camera seeing it is a camera path's";
+            why = "the background is no light a subpath starts from yet (a sky's or a map's "
+                  "emission would leave a disc of the scene's bounding sphere along a direction "
+                  "its own sampling draws, and a camera vertex escaping to it would be a light "
+                  "vertex at infinity, which MIS does not weigh yet)";
         else if (surface_textures(p->geom, p->tables->nmaterials))
             why = "a light subpath does not look up textures or opacity yet (its vertices "
                   "would carry the material's mean colour; a textured emission it does)";
