@@ -12,21 +12,9 @@
 #include "cl_testlib.h"
 #include "geomtest_scene.h"
 #include "testutil.h"
+#include "geometry_vec3.h"
 
 #define NDIR 48 /* directions per point */
-
-static float frand(uint32_t *s)
-{
-    *s = *s * 1664525u + 1013904223u;
-    return (float)(*s >> 8) / 16777216.0f;
-}
-
-static void unit(float d[3])
-{
-    float l = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (int i = 0; i < 3; i++)
-        d[i] /= l;
-}
 
 typedef struct {
     float lo[3], hi[3], mid[3];
@@ -37,18 +25,7 @@ static void box_scene(spm_scene *s, spm_geometry *g, const box *b, spm_u32 *ligh
 {
     ts_init(s);
     int m = ts_material(s, ts_colour(s, SPM_KIND_REFLECTANCE, 0.5), -1);
-    for (int a = 0; a < 3; a++)
-        for (int side = 0; side < 2; side++) {
-            int u = (a + 1) % 3, v = (a + 2) % 3;
-            float q[4][3];
-            for (int k = 0; k < 4; k++) {
-                q[k][a] = side ? b->hi[a] : b->lo[a];
-                q[k][u] = (k == 1 || k == 2) ? b->hi[u] : b->lo[u];
-                q[k][v] = k >= 2 ? b->hi[v] : b->lo[v];
-            }
-            ts_tri(s, m, q[0], q[1], q[2]);
-            ts_tri(s, m, q[0], q[2], q[3]);
-        }
+    ts_box(s, m, b->lo, b->hi, 0);
     float w = b->hi[0] - b->lo[0], y = b->hi[1] + 2 * w;
     ts_tri(s, m, (float[]){b->mid[0] - 9 * w, y, b->mid[2] - 9 * w},
            (float[]){b->mid[0] + 9 * w, y, b->mid[2] - 9 * w}, (float[]){b->mid[0], y, b->mid[2] + 9 * w});
@@ -90,7 +67,7 @@ static int face_of(const spm_geometry *g, const box *b, const float p[3], float 
             g->tris[i].v0[1] < b->hi[1] + size) {
             for (int k = 0; k < 3; k++)
                 n_in[k] = (float)(side > 0 ? c[k] : -c[k]);
-            unit(n_in);
+            v3_normalise(n_in, n_in);
             return i;
         }
     }
@@ -100,19 +77,19 @@ static int face_of(const spm_geometry *g, const box *b, const float p[3], float 
 /* NDIR rays from p on face f (inward normal n) into the box: closest-hit
  * rays, then as many shadow rays towards the light. */
 static void leave(spm_rayset *rs, const float p[3], int f, const float n[3], spm_u32 light,
-                  uint32_t *seed)
+                  unsigned *seed)
 {
     for (int k = 0; k < NDIR; k++) {
         float d[3];
         do {
             for (int i = 0; i < 3; i++)
-                d[i] = 2 * frand(seed) - 1;
+                d[i] = 2 * ts_rand(seed) - 1;
         } while (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 1 ||
                  d[0] * n[0] + d[1] * n[1] + d[2] * n[2] <= 0);
         if (k < 6) /* grazing: nearly in the face's plane */
             for (int i = 0; i < 3; i++)
                 d[i] += -(d[0] * n[0] + d[1] * n[1] + d[2] * n[2]) * n[i] * 0.9999f;
-        unit(d);
+        v3_normalise(d, d);
         spm_ray *r = &rs->rays[rs->n++];
         memcpy(r->o, p, sizeof r->o);
         memcpy(r->d, d, sizeof r->d);
@@ -126,7 +103,7 @@ static void leave(spm_rayset *rs, const float p[3], int f, const float n[3], spm
 static spm_rayset edge_rays(const spm_geometry *g, const box *b, spm_u32 light)
 {
     spm_rayset rs = {spm_xmalloc(12 * 9 * 2 * NDIR * sizeof(spm_ray)), 0, 0};
-    uint32_t seed = 17;
+    unsigned seed = 17;
     const float us[9] = {0.0f, 1.0f, 0.5f, 0.25f, 0.1f, 1.0f / 3.0f, 0.7f, 0.9f, 0.01f};
     for (int a = 0; a < 3; a++)
         for (int c = 0; c < 4; c++)
@@ -143,10 +120,10 @@ static spm_rayset edge_rays(const spm_geometry *g, const box *b, spm_u32 light)
                 /* the hit of a ray from inside aimed at the point */
                 float o[3], d[3], t, h[3];
                 for (int i = 0; i < 3; i++) {
-                    o[i] = b->mid[i] + (b->hi[i] - b->lo[i]) * 0.2f * (frand(&seed) - 0.5f);
+                    o[i] = b->mid[i] + (b->hi[i] - b->lo[i]) * 0.2f * (ts_rand(&seed) - 0.5f);
                     d[i] = p[i] - o[i];
                 }
-                unit(d);
+                v3_normalise(d, d);
                 int hit = spm_bvh_intersect(g, o, d, 0xFFFFFFFFu, &t);
                 CHECK(hit >= 0, "the ray aimed at edge point %d %d %d left the box", a, c, k);
                 if (hit < 0)
