@@ -568,6 +568,14 @@ SPM_INLINE spm_u32 spm_divisor_div(spm_u32 n, spm_divisor dv)
  * same for a scene in any unit: the factor area / d^2 is at most 1e6, reached
  * within a thousandth of the triangle's size of the point. */
 #define SPM_D2_MIN_REL 1e-6f
+
+/* A ray leaving a surface starts off it (host/geometry/bvh.c spm_ray_spawn,
+ * kernels/traverse.clh ray_spawn): at least 2 e inside every edge of the
+ * triangle it leaves and e off its plane on the ray's side, e this many
+ * FLT_EPSILON of the triangle's largest |coordinate| (the rounding of a hit
+ * point and of a neighbour's plane is a few; docs/ARCHITECTURE.md "Rays
+ * leaving a surface"). Relative to the coordinates: the same in any unit. */
+#define SPM_SPAWN_ULPS 16.0f
 #define SPM_PI_F 3.14159265358979323846f
 
 /* Image textures on a reflectance (kernels/texture.clh, host/cpu/refcpu_texture.c,

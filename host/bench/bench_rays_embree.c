@@ -76,13 +76,15 @@ typedef struct {
 static void closest(job *j, size_t i)
 {
     const spm_ray *r = &j->rs->rays[i];
+    float o[3]; /* where the renderer's traversal starts it */
+    spm_ray_spawn(j->g, r->skip, r->o, r->d, o);
     skip_ctx c;
     rtcInitIntersectContext(&c.ctx);
     c.ctx.filter = skip_filter;
     c.skip = r->skip;
     c.emitter = RTC_INVALID_GEOMETRY_ID;
     struct RTCRayHit rh;
-    rh.ray = (struct RTCRay){r->o[0], r->o[1], r->o[2], 0.0f, r->d[0], r->d[1], r->d[2], 0.0f,
+    rh.ray = (struct RTCRay){o[0], o[1], o[2], 0.0f, r->d[0], r->d[1], r->d[2], 0.0f,
                              INFINITY, UINT_MAX, 0, 0};
     rh.hit.geomID = rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(j->scene, &c.ctx, &rh);
@@ -94,7 +96,9 @@ static void closest(job *j, size_t i)
 static void shadow(job *j, size_t i)
 {
     const spm_ray *r = &j->rs->rays[i];
-    float te = spm_tri_intersect(&j->g->tris[r->emitter], r->o, r->d);
+    float o[3]; /* where the renderer's traversal starts it */
+    spm_ray_spawn(j->g, r->skip, r->o, r->d, o);
+    float te = spm_tri_intersect(&j->g->tris[r->emitter], o, r->d);
     if (r->emitter == r->skip)
         te = -1.0f;
     skip_ctx c;
@@ -102,7 +106,7 @@ static void shadow(job *j, size_t i)
     c.ctx.filter = skip_filter;
     c.skip = r->skip;
     c.emitter = r->emitter;
-    struct RTCRay ray = {r->o[0], r->o[1], r->o[2], 0.0f, r->d[0], r->d[1], r->d[2], 0.0f,
+    struct RTCRay ray = {o[0], o[1], o[2], 0.0f, r->d[0], r->d[1], r->d[2], 0.0f,
                          te >= 0.0f ? te : INFINITY, UINT_MAX, 0, 0};
     rtcOccluded1(j->scene, &c.ctx, &ray);
     j->hits[i] = ray.tfar == -INFINITY ? INT_MAX : -1;
@@ -113,14 +117,16 @@ static void shadow(job *j, size_t i)
 static void occluder(job *j, size_t i)
 {
     const spm_ray *r = &j->rs->rays[i];
-    float te = r->emitter == r->skip ? -1.0f : spm_tri_intersect(&j->g->tris[r->emitter], r->o, r->d);
+    float o[3]; /* where the renderer's traversal starts it */
+    spm_ray_spawn(j->g, r->skip, r->o, r->d, o);
+    float te = r->emitter == r->skip ? -1.0f : spm_tri_intersect(&j->g->tris[r->emitter], o, r->d);
     skip_ctx c;
     rtcInitIntersectContext(&c.ctx);
     c.ctx.filter = skip_filter;
     c.skip = r->skip;
     c.emitter = r->emitter;
     struct RTCRayHit rh;
-    rh.ray = (struct RTCRay){r->o[0], r->o[1], r->o[2], 0.0f, r->d[0], r->d[1], r->d[2], 0.0f,
+    rh.ray = (struct RTCRay){o[0], o[1], o[2], 0.0f, r->d[0], r->d[1], r->d[2], 0.0f,
                              te >= 0.0f ? te : INFINITY, UINT_MAX, 0, 0};
     rh.hit.geomID = rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(j->scene, &c.ctx, &rh);

@@ -80,8 +80,10 @@ int spm_ref_light_sample_AREA(const spm_geometry *g, const spm_material *mats, c
     if (blocker >= 0 && (spm_u32)blocker != ei)
         return 0;
     if (blocker < 0 && g->ntex) { /* the light's surface not there at the point (opacity) */
-        float te = spm_tri_intersect(&g->tris[ei], x, ls->wi);
-        if (te > 0.0f && !spm_alpha_there(g, ei, x, ls->wi, te))
+        float xs[3]; /* where the shadow ray starts (spm_ray_spawn) */
+        spm_ray_spawn(g, hit, x, ls->wi, xs);
+        float te = spm_tri_intersect(&g->tris[ei], xs, ls->wi);
+        if (te > 0.0f && !spm_alpha_there(g, ei, xs, ls->wi, te))
             return 0;
     }
     float cos_e = -v3_dot(ls->wi, em->n);

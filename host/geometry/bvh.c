@@ -46,9 +46,10 @@ static void shear_vertex(const spm_ray_frame *f, const float v[3], float *x, flo
  * where the products of floats are exact: its sign is then that of the exact
  * value (a nonzero float difference of rounded products already has it).
  * Nothing here compares with an absolute bound, so the decisions are the same
- * for a scene in any unit; only t > 0 keeps hits behind the origin out (the
- * origin's own triangle is skipped by the callers: that stops a ray
- * re-hitting the surface it leaves, at any scale). kernels/traverse.clh does
+ * for a scene in any unit; only t > 0 keeps hits behind the origin out (a
+ * ray leaving a surface starts off it, spm_ray_spawn, and skips its own
+ * triangle: it neither re-hits the plane it leaves nor passes a face that
+ * meets it at an edge, at any scale). kernels/traverse.clh does
  * the same operations in the same order, contraction off on both sides
  * (CMakeLists.txt), so the two answer every ray alike. */
 float spm_tri_intersect_frame(const spm_tri *t, const spm_ray_frame *f)
@@ -80,6 +81,63 @@ float spm_tri_intersect(const spm_tri *t, const float o[3], const float d[3])
     return spm_tri_intersect_frame(t, &f);
 }
 
+/* |x| + |y| + |z| of b - a: at least the edge's length */
+static float edge_l1(const float a[3], const float b[3])
+{
+    return fabsf(b[0] - a[0]) + fabsf(b[1] - a[1]) + fabsf(b[2] - a[2]);
+}
+
+/* Where a ray leaving triangle `from` at o along d starts. A hit point
+ * carries rounding of its coordinates: on an edge of a closed box it may lie
+ * just outside the neighbouring face, whose hit is then at t <= 0 and does
+ * not count (light left the box). So the point is rebuilt from its
+ * barycentrics on the triangle, each raised so it lies at least 2 e inside
+ * every edge (distance to edge k = b_k 2 area / |edge k|; the L1 length bounds
+ * |edge k| from above), and moved e off the plane on d's side:
+ *   e = SPM_SPAWN_ULPS FLT_EPSILON max |vertex coordinate|,
+ *   b_k' = max(b_k, e |edge k|_1 / area),  p = v0 + (v1 - v0) b1' / s + (v2 - v0) b2' / s,
+ *   o' = p +- e n  (s = b0' + b1' + b2').
+ * Then the plane it leaves (and a coplanar neighbour's) lies behind the ray
+ * and a face meeting the triangle at an edge ahead of it at t > 0, in a
+ * scene of any unit. A triangle too small for the margins starts the ray
+ * from its centroid. kernels/traverse.clh ray_spawn is the same operations. */
+void spm_ray_spawn(const spm_geometry *g, spm_u32 from, const float o[3], const float d[3],
+                   float out[3])
+{
+    if (from >= (spm_u32)g->ntris) {
+        for (int i = 0; i < 3; i++)
+            out[i] = o[i];
+        return;
+    }
+    const spm_tri *t = &g->tris[from];
+    float e0[3], e1[3], q[3], c[3], m = 0.0f;
+    v3_sub(e0, t->v1, t->v0);
+    v3_sub(e1, t->v2, t->v0);
+    v3_sub(q, o, t->v0);
+    for (int i = 0; i < 3; i++) {
+        m = fmaxf(m, fabsf(t->v0[i]));
+        m = fmaxf(m, fabsf(t->v1[i]));
+        m = fmaxf(m, fabsf(t->v2[i]));
+    }
+    float e = SPM_SPAWN_ULPS * FLT_EPSILON * m, den = 2.0f * t->area;
+    v3_cross(c, q, e1);
+    float b1 = v3_dot(c, t->n) / den;
+    v3_cross(c, e0, q);
+    float b2 = v3_dot(c, t->n) / den;
+    float b0 = 1.0f - b1 - b2;
+    float m0 = e * edge_l1(t->v1, t->v2) / t->area, m1 = e * edge_l1(t->v0, t->v2) / t->area,
+          m2 = e * edge_l1(t->v0, t->v1) / t->area;
+    if (m0 + m1 + m2 < 0.5f) {
+        b0 = fmaxf(b0, m0), b1 = fmaxf(b1, m1), b2 = fmaxf(b2, m2);
+    } else {
+        b0 = 1.0f / 3.0f, b1 = b0, b2 = b0;
+    }
+    float s = b0 + b1 + b2, side = v3_dot(d, t->n) < 0.0f ? -e : e;
+    b1 = b1 / s, b2 = b2 / s;
+    for (int i = 0; i < 3; i++)
+        out[i] = t->v0[i] + e0[i] * b1 + e1[i] * b2 + t->n[i] * side;
+}
+
 /* Keeps the nearer hit; an exact tie goes to the lower index so the result
  * does not depend on the order triangles are visited in. A hit where the
  * surface's opacity says it is not there does not count (spm_alpha_there:
@@ -95,11 +153,12 @@ static void consider(const spm_geometry *g, int i, const spm_ray_frame *f, spm_u
         *best = i, *best_t = t;
 }
 
-int spm_brute_intersect(const spm_geometry *g, const float o[3], const float d[3], spm_u32 skip,
+int spm_brute_intersect(const spm_geometry *g, const float o0[3], const float d[3], spm_u32 skip,
                         float *t_out)
 {
     int best = -1;
-    float best_t = INFINITY;
+    float best_t = INFINITY, o[3];
+    spm_ray_spawn(g, skip, o0, d, o);
     spm_ray_frame f;
     spm_ray_frame_make(o, d, &f);
     for (int i = 0; i < g->ntris; i++)
@@ -130,14 +189,15 @@ static int box_hit(const spm_bvh_node *n, const float o[3], const float inv[3], 
     return t0 <= t1;
 }
 
-int spm_bvh_intersect(const spm_geometry *g, const float o[3], const float d[3], spm_u32 skip,
+int spm_bvh_intersect(const spm_geometry *g, const float o0[3], const float d[3], spm_u32 skip,
                       float *t_out)
 {
     int best = -1;
-    float best_t = INFINITY, tn;
+    float best_t = INFINITY, tn, o[3];
     *t_out = best_t;
     if (g->nnodes == 0)
         return -1;
+    spm_ray_spawn(g, skip, o0, d, o);
     /* A zero component gets the reciprocal 1e30 (per unit of distance, as d is
      * a unit vector): its slab distances (bmin - o) * 1e30 are then beyond
      * every hit unless o lies within float rounding of the slab's face (the

@@ -133,12 +133,20 @@ spm_camera spm_camera_make(const float eye[3], const float dir[3], float fov_deg
 spm_camera spm_camera_of_scene(const spm_scene *s);
 
 /* Closest hit along origin + t dir, t > 0, ignoring triangle `skip` (or
- * SPM_NONE-like 0xFFFFFFFF). Returns the triangle index or -1; *t_out set. */
+ * SPM_NONE-like 0xFFFFFFFF). Returns the triangle index or -1; *t_out set.
+ * A ray with a `skip` leaves that triangle: it starts at spm_ray_spawn's
+ * point, and t is measured from there. */
 int spm_bvh_intersect(const spm_geometry *g, const float o[3], const float d[3], spm_u32 skip,
                       float *t_out);
 /* The same by testing every triangle (for tests). */
 int spm_brute_intersect(const spm_geometry *g, const float o[3], const float d[3], spm_u32 skip,
                         float *t_out);
+/* The start of a ray leaving triangle `from` at o along d (bvh.c): o rebuilt
+ * on the triangle a margin inside its edges and moved off its plane on d's
+ * side, by SPM_SPAWN_ULPS of the triangle's coordinates; o itself when
+ * `from` is no triangle. */
+void spm_ray_spawn(const spm_geometry *g, spm_u32 from, const float o[3], const float d[3],
+                   float out[3]);
 
 /* Both intersectors use the watertight test (spm_tri_intersect) and break an
  * exact tie in t by the lower triangle index, so the answer does not depend on
