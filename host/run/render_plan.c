@@ -199,9 +199,6 @@ static const char *bdpt_why(const spm_render_plan *p)
         if (p->tables->materials[m].type & SPM_EMIT_TWOSIDED)
             return "a two-sided emitter's back face is never left by a light subpath (its "
                    "emission sampling covers the front), which MIS would weigh as if it were";
-    if (p->tables->nfluor)
-        return "a connection between a fluorescent camera vertex and a light vertex would "
-               "need the re-radiation matrix on both sides of it, which is not carried yet";
     if (type) {
         snprintf(why, sizeof why, "material type '%s' picks one of its terms per vertex, and "
                                   "MIS needs its density as a function of the two directions",
