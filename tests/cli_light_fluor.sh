@@ -15,7 +15,8 @@
 #  - a conductor on a fluorescent subpath: walls that fluoresce with
 #    absorption 0 give the image of plain walls (the conductor's Fresnel
 #    factor at the camera connection's cosine and at the sampled ray's);
-#  - hero and bdpt refuse a fluorescent scene, saying why.
+#  - hero mode refuses a fluorescent scene, saying why (bdpt renders one:
+#    cli_bdpt_fluor.sh).
 # That light and path tracing converge on fluorescent scenes is
 # test_light_integrator's (per pixel, against measured noise).
 source "$(dirname "$0")/lib_cli.sh"
@@ -80,7 +81,7 @@ for be in opencl cpu; do
         num "$(jnum "$T/fc.json" .mean)" '<' 1e-3
 done
 
-for run in "hero light opencl:hero mode cannot render fluorescent" "ml bdpt cpu:re-radiation matrix"; do
+for run in "hero light opencl:hero mode cannot render fluorescent"; do
     read -r m i be <<< "${run%%:*}"
     "$BIN" render "$T/wall.scene" --integrator "$i" --mode "$m" --backend "$be" --quiet \
         -o "$T/no.exr" 2> "$T/err"

@@ -130,6 +130,15 @@ static const char *const prism[][2] = {
                     "quad lamp -3.211547 -0.3 1.688169  -3.211547 0.3 1.688169  "
                     "-3.157737 0.3 2.285751  -3.157737 -0.3 2.285751\n"}};
 
+/* two dyes in series (fluor_relay.scene: the floor's turns the lamp's blue
+ * green, the back wall's that green red) with its spot light made an area
+ * light of 0.6 x 0.6 facing down over the floor, so bdpt joins to it: the
+ * wall's red exists only if each connected path applies the floor's matrix
+ * before the wall's, whichever subpath either vertex came from */
+static const char *const relay_area[][2] = {
+    {"light spot ", "material lamp emit band 40\n"
+                    "quad lamp -0.3 1 1.2  0.3 1 1.2  0.3 1 1.8  -0.3 1 1.8\n"}};
+
 int main(void)
 {
     char cornell[1024], dir[] = "/tmp/specmip_bdpt_XXXXXX", path[1200];
@@ -144,6 +153,13 @@ int main(void)
     spm_data_path("scenes/prism_wall.scene", wall, sizeof wall);
     if (!it_write_variant(wall, path, prism, 1))
         converge(path, "prism_area", 0);
+    remove(path);
+    char fluor[1024], relay[1024];
+    spm_data_path("scenes/fluorescent.scene", fluor, sizeof fluor);
+    converge(fluor, "fluorescent", 1);
+    spm_data_path("tests/data/scenes/fluor_relay.scene", relay, sizeof relay);
+    if (!it_write_variant(relay, path, relay_area, 1))
+        converge(path, "relay_area", 1);
     remove(path);
     rmdir(dir);
     TEST_END();
