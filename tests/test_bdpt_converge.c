@@ -6,9 +6,11 @@
  * the Cornell box (diffuse, an area light) and a glossy box lit by a point
  * light (its boxes rough conductors: importance-mode eval and pdf of a
  * lobe that is no Lambertian, a delta light that no camera vertex meets),
- * and a dispersive prism throwing an area light's spectrum onto a wall (both
+ * a dispersive prism throwing an area light's spectrum onto a wall (both
  * subpaths sharing the sample's committed wavelength, its pdf counted once;
- * against the light tracer only, see prism below).
+ * against the light tracer only, see prism below), and fluorescent scenes
+ * (each connected path's re-radiation matrices in light-flow order, whichever
+ * subpath a fluorescent vertex came from).
  * Scenes with mirrors or smooth glass are not compared: a path tracer misses
  * what a point light throws through them and a light tracer what the camera
  * sees in them, which is what bdpt adds (their weights: test_bdpt_mis). */
