@@ -75,6 +75,7 @@ SPM_MATERIAL_TYPE(FLUOR,
     .nparams = 4,
     .vertex_u32 = 0,
     .rng_dims = 0,
+    .connectable = 1, /* the Lambertian's lobe; the matrix is the shade stage's */
     .define = "SPM_WITH_FLUOR",
     .fill = fluor_fill,
     .derive = fluor_derive)
@@ -88,6 +89,7 @@ SPM_MATERIAL_TYPE(DONALDSON,
     .nparams = 1,
     .vertex_u32 = 0,
     .rng_dims = 0,
+    .connectable = 1,
     .define = "SPM_WITH_FLUOR", /* the fluorescent type's code, shared */
     .fill = fluor_fill,
     .derive = fluor_derive)

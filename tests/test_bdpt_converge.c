@@ -6,9 +6,11 @@
  * the Cornell box (diffuse, an area light) and a glossy box lit by a point
  * light (its boxes rough conductors: importance-mode eval and pdf of a
  * lobe that is no Lambertian, a delta light that no camera vertex meets),
- * and a dispersive prism throwing an area light's spectrum onto a wall (both
+ * a dispersive prism throwing an area light's spectrum onto a wall (both
  * subpaths sharing the sample's committed wavelength, its pdf counted once;
- * against the light tracer only, see prism below).
+ * against the light tracer only, see prism below), and fluorescent scenes
+ * (each connected path's re-radiation matrices in light-flow order, whichever
+ * subpath a fluorescent vertex came from).
  * Scenes with mirrors or smooth glass are not compared: a path tracer misses
  * what a point light throws through them and a light tracer what the camera
  * sees in them, which is what bdpt adds (their weights: test_bdpt_mis). */
@@ -51,6 +53,15 @@ static const char *const prism[][2] = {
                     "quad lamp -3.211547 -0.3 1.688169  -3.211547 0.3 1.688169  "
                     "-3.157737 0.3 2.285751  -3.157737 -0.3 2.285751\n"}};
 
+/* two dyes in series (fluor_relay.scene: the floor's turns the lamp's blue
+ * green, the back wall's that green red) with its spot light made an area
+ * light of 0.6 x 0.6 facing down over the floor, so bdpt joins to it: the
+ * wall's red exists only if each connected path applies the floor's matrix
+ * before the wall's, whichever subpath either vertex came from */
+static const char *const relay_area[][2] = {
+    {"light spot ", "material lamp emit band 40\n"
+                    "quad lamp -0.3 1 1.2  0.3 1 1.2  0.3 1 1.8  -0.3 1 1.8\n"}};
+
 int main(void)
 {
     char cornell[1024], dir[] = "/tmp/specmip_bdpt_XXXXXX", path[1200];
@@ -65,6 +76,13 @@ int main(void)
     spm_data_path("scenes/prism_wall.scene", wall, sizeof wall);
     if (!it_write_variant(wall, path, prism, 1))
         converge(path, "prism_area", 0);
+    remove(path);
+    char fluor[1024], relay[1024];
+    spm_data_path("scenes/fluorescent.scene", fluor, sizeof fluor);
+    converge_mode(fluor, "fluorescent", 1, SPM_MODE_RGB);
+    spm_data_path("tests/data/scenes/fluor_relay.scene", relay, sizeof relay);
+    if (!it_write_variant(relay, path, relay_area, 1))
+        converge_mode(path, "relay_area", 1, SPM_MODE_RGB);
     remove(path);
     rmdir(dir);
     TEST_END();

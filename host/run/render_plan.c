@@ -198,9 +198,6 @@ static const char *bdpt_why(const spm_render_plan *p)
             return "it joins camera vertices to area, point, spot and distant lights only (a "
                    "sun or a map is a light at infinity a camera path meets by escaping, whose "
                    "vertex MIS does not weigh yet)";
-    if (p->tables->nfluor)
-        return "a connection between a fluorescent camera vertex and a light vertex would "
-               "need the re-radiation matrix on both sides of it, which is not carried yet";
     if (type) {
         snprintf(why, sizeof why, "material type '%s' picks one of its terms per vertex, and "
                                   "MIS needs its density as a function of the two directions",
