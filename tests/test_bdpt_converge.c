@@ -8,7 +8,9 @@
  * lobe that is no Lambertian, a delta light that no camera vertex meets),
  * and a dispersive prism throwing an area light's spectrum onto a wall (both
  * subpaths sharing the sample's committed wavelength, its pdf counted once;
- * against the light tracer only, see prism below).
+ * against the light tracer only, see prism below); and a lamp behind a slab
+ * of rough glass (scenes/frosted_lamp.scene: the rough refraction's eval in
+ * both modes at the joins, its reverse densities through the slab in MIS).
  * Scenes with mirrors or smooth glass are not compared: a path tracer misses
  * what a point light throws through them and a light tracer what the camera
  * sees in them, which is what bdpt adds (their weights: test_bdpt_mis). */
@@ -56,8 +58,10 @@ static int moments(const scene *s, int integrator, double *m, double *v)
     return 0;
 }
 
+/* pixels 0: the image's totals alone (an integrator whose K renders do not
+ * measure its own spread per pixel, see frosted_lamp) */
 static void compare(const char *scene_name, const char *other, const double *mb,
-                    const double *vb, const double *mo, const double *vo)
+                    const double *vb, const double *mo, const double *vo, int pixels)
 {
     double worst = 0.0, tot[3][2] = {{0}}, var[3][2] = {{0}}, se[2] = {0.0, 0.0};
     int bad = 0;
@@ -82,11 +86,12 @@ static void compare(const char *scene_name, const char *other, const double *mb,
         CHECK(fabs(zt) <= 4.0, "%s: the image's %c differs from %s's by %.2f standard errors",
               scene_name, "XYZ"[c], other, zt);
     }
-    CHECK(bad == 0, "%s: %d pixel channels differ from %s's beyond %.1f standard errors "
+    CHECK(!pixels || bad == 0, "%s: %d pixel channels differ from %s's beyond %.1f standard errors "
                     "(worst %.2f)", scene_name, bad, other, Z_MAX, worst);
 }
 
-/* bdpt against the light tracer, and (vs_path) against the path tracer */
+/* bdpt against the light tracer, and (vs_path) against the path tracer: 1
+ * per pixel and over the image, 2 over the image alone */
 static void converge(const char *path, const char *name, int vs_path)
 {
     static double m[3][NP], v[3][NP];
@@ -98,9 +103,9 @@ static void converge(const char *path, const char *name, int vs_path)
             return;
     if (vs_path)
         compare(name, "path", m[SPM_INTEGRATOR_BDPT], v[SPM_INTEGRATOR_BDPT],
-                m[SPM_INTEGRATOR_PATH], v[SPM_INTEGRATOR_PATH]);
+                m[SPM_INTEGRATOR_PATH], v[SPM_INTEGRATOR_PATH], vs_path == 1);
     compare(name, "light", m[SPM_INTEGRATOR_BDPT], v[SPM_INTEGRATOR_BDPT],
-            m[SPM_INTEGRATOR_LIGHT], v[SPM_INTEGRATOR_LIGHT]);
+            m[SPM_INTEGRATOR_LIGHT], v[SPM_INTEGRATOR_LIGHT], 1);
     it_free(&s);
 }
 
@@ -130,6 +135,12 @@ static const char *const prism[][2] = {
                     "quad lamp -3.211547 -0.3 1.688169  -3.211547 0.3 1.688169  "
                     "-3.157737 0.3 2.285751  -3.157737 -0.3 2.285751\n"}};
 
+/* The frosted lamp is compared with the path tracer over the image only:
+ * a camera path meets the lamp behind the slab by its sampled rays alone
+ * (glass occludes light samples), rare and large (relative standard error
+ * per pixel 41 % against bdpt's 3.3 %), so its K renders do not measure its
+ * spread per pixel (worst |z| 36 at 48 spp); against the light tracer, per
+ * pixel (worst 3.0), the image totals within 0.8 % of the path tracer's. */
 int main(void)
 {
     char cornell[1024], dir[] = "/tmp/specmip_bdpt_XXXXXX", path[1200];
@@ -145,6 +156,9 @@ int main(void)
     if (!it_write_variant(wall, path, prism, 1))
         converge(path, "prism_area", 0);
     remove(path);
+    char frosted[1024];
+    spm_data_path("scenes/frosted_lamp.scene", frosted, sizeof frosted);
+    converge(frosted, "frosted_lamp", 2);
     rmdir(dir);
     TEST_END();
 }
