@@ -299,7 +299,7 @@ SPM_ALWAYS_INLINE int join_camera(const bd_scene *sc, spm_key ky, const bd_subpa
     spm_frame fr;
     spm_bsdf b;
     vertex_state(sc, y, s - 1, ky, &m, &fr, &b);
-    spm_eval e = bsdf_eval(m, &b, &fr, wi, SPM_IMPORTANCE);
+    spm_eval e = bsdf_eval(m, &b, &fr, wi, SPM_IMPORTANCE | SPM_JOIN);
     float f = qs->beta * (e.k * e.f / e.div) / e.post;
     J->arg_qs = e.cos_light;
     J->c = f * we / pdf;
@@ -321,12 +321,24 @@ SPM_ALWAYS_INLINE void light_side(const bd_scene *sc, spm_key ky, const bd_subpa
     spm_frame fr;
     spm_bsdf b;
     vertex_state(sc, y, s - 1, ky, &m, &fr, &b);
-    spm_eval ey = bsdf_eval(m, &b, &fr, back, SPM_IMPORTANCE);
+    spm_eval ey = bsdf_eval(m, &b, &fr, back, SPM_IMPORTANCE | SPM_JOIN);
     *fy = qs->beta * (ey.k * ey.f / ey.div) / ey.post;
     J->arg_qs = ey.cos_light;
     *py = lobe_pdf(0, m, &fr, &b, fr.back, back, SPM_IMPORTANCE);
     J->qsm_rev = to_area(lobe_pdf(0, m, &fr, &b, back, fr.back, SPM_IMPORTANCE), qs->p,
                          y->v[s - 2].p, y->v[s - 2].n);
+}
+
+/* A camera vertex's argument for its join along w (dist long), arg its
+ * eval's: an absorbing vertex's (the ABSORB kind: glass) is the medium's
+ * length when the join runs into its back face's side, inside (a sampled
+ * ray's `inside`), else none (refcpu_bdpt.c join_arg). */
+SPM_ALWAYS_INLINE float join_arg(const bd_vertex *v, const spm_frame *fr, float3 w, float dist,
+                                 float arg)
+{
+    if (SPM_VX_KIND(v->x) != SPM_FK_ABSORB)
+        return arg;
+    return dot3(w, fr->ng) < 0.0f ? dist : 0.0f;
 }
 
 /* s >= 1, t >= 2: z[t-1] joined to y[s-1] (s = 1: the light's point):
@@ -348,9 +360,9 @@ SPM_ALWAYS_INLINE int join_inner(const bd_scene *sc, spm_key k, spm_key ky, cons
     spm_frame fr;
     spm_bsdf b;
     vertex_state(sc, z, t - 1, k, &m, &fr, &b);
-    spm_eval ez = bsdf_eval(m, &b, &fr, w, SPM_RADIANCE);
+    spm_eval ez = bsdf_eval(m, &b, &fr, w, SPM_RADIANCE | SPM_JOIN);
     float fz = (ez.k * ez.f / ez.div) / ez.post;
-    J->arg_pt = ez.cos_light;
+    J->arg_pt = join_arg(pt, &fr, w, dist, ez.cos_light);
     if (s == 1) {
         float scale, cos_o, pp, pd;
         __global const spm_emitter *e = &sc->emitters[y->e];
@@ -473,7 +485,8 @@ SPM_ALWAYS_INLINE const bd_vertex *path_vertex(const bd_subpath *z, int t, const
     *x = v->x;
     if (camera && i < t - 1)
         return v;
-    float arg = camera ? J->arg_pt : i == s - 1 ? J->arg_qs : light_arg(y, i);
+    int joined = i == s - 1 && SPM_VX_KIND(v->x) != SPM_FK_ABSORB; /* else its segment's */
+    float arg = camera ? J->arg_pt : joined ? J->arg_qs : light_arg(y, i);
     int last = n == nv - 1;
     x->lobe = last ? 0.0f : arg;
     x->light = last ? arg : x->light;

@@ -133,7 +133,7 @@ SPM_ALWAYS_INLINE float lt_link(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA), spm
                           x, hit, &wi, px);
     if (!(w > 0.0f))
         return 0.0f;
-    spm_eval e = bsdf_eval(m, b, fr, wi, SPM_IMPORTANCE);
+    spm_eval e = bsdf_eval(m, b, fr, wi, SPM_IMPORTANCE | SPM_JOIN);
     xe->light = e.cos_light;
     float c = beta * (e.k * e.f / e.div) / e.post * w;
     return c > 0.0f ? c : 0.0f;

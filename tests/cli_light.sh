@@ -3,7 +3,7 @@
 # Cornell box that records its integrator, the same pixels whatever the passes
 # (a render resumed from its film equals one straight through), and the
 # refusals, each with its reason and exit 2 and nothing written: an unknown integrator, a background, a
-# fluorescence, a rough dielectric, an orthographic camera, a resumed film of the other
+# fluorescence, an orthographic camera, a resumed film of the other
 # integrator. How it converges to the path tracer is tests/test_light_integrator.c;
 # the OpenCL backend's kernels against this reference, tests/cli_light_cl.sh.
 source "$(dirname "$0")/lib_cli.sh"
@@ -35,9 +35,7 @@ check "light, resumed: the pixels of a straight render" same_pixels "$T/s.exr" "
 check "a light film resumed by the path integrator: refused" test $? -eq 2
 check "a light film resumed by the path integrator: names the integrator" grep -q integrator "$T/rp.err"
 
-# refusals: exit 2, the reason, nothing written (a rough dielectric: the light
-# integrator rendered a Cornell box with a rough glass box 7 % darker than the
-# path tracer, as its eval has no transmission)
+# refusals: exit 2, the reason, nothing written
 # A spot light's falloff on light subpaths: bench/peers/point_spot.scene's spot alone (its
 # intensity falling linearly over the outer 12 of its 35 degrees), light against path
 # tracing: image means within 3 % (measured 0.3 to 0.4 % apart at seeds 3 to 5; 47 % when
@@ -68,10 +66,6 @@ refused "background" "background is no light a subpath starts from" \
     render "$T/sky.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 refused "environment map" "background is no light a subpath starts from" \
     render "$DATA/scenes/envmap.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
-sed 's/^material tall_box  reflect blue_sky/material tall_box  dielectric ior 1.5 alpha 0.3/' \
-    "$CORNELL" > "$T/rough.scene"
-refused "rough dielectric" "rough dielectric's eval has no transmission" \
-    render "$T/rough.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 refused "textures" "does not look up textures" \
     render "$DATA/scenes/textured.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 sed 's/^camera position \(.*\) fov 40$/camera position \1 orthographic 0.6/' "$CORNELL" > "$T/ortho.scene"

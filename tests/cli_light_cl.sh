@@ -44,6 +44,9 @@ sed 's/^camera position \(.*\) fov 40$/camera position \1 fov 40 aperture 0.05 f
 echo "light point 0.3 0.4 0.3 equal 5" >> "$T/lens.scene"
 check "the lens scene has its lens" grep -q "aperture 0.05" "$T/lens.scene"
 same_as_reference lens "$T/lens.scene" 16 --mode ml
+# a lamp behind a slab of rough glass: the importance-mode refraction's eval at
+# the joins to the camera (kernels/dielectric.clh diel_ft)
+same_as_reference frosted "$DATA/scenes/frosted_lamp.scene" 8 --mode ml
 # a spot light whose intensity falls off across its cone
 grep -v '^light point' "$DATA/bench/peers/point_spot.scene" > "$T/spot.scene"
 same_as_reference spot "$T/spot.scene" 16 --mode ml

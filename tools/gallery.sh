@@ -29,7 +29,7 @@ for scene in "${scenes[@]}"; do
     extra=()
     case $name in # a scene only light subpaths reach (a path tracer renders it black)
         prism_wall | ball_lens) extra=(--integrator light) ;;
-        water_caustic | lamp_room) extra=(--integrator bdpt) ;; # caustics a path tracer misses
+        water_caustic | lamp_room | frosted_lamp) extra=(--integrator bdpt) ;; # caustics, a lamp behind frosted glass
     esac
     "$bin" render "$scene" --mode ml --width "$w" --height "$h" --spp "$spp" --seed 1 --quiet \
         ${extra[@]+"${extra[@]}"} -o "$out/$name.png"

@@ -334,7 +334,8 @@ static int join_camera(const spm_geometry *g, const spm_ref_key *k, const bd_sub
     if (!(we > 0.0f) || !(pdf > 0.0f) || !visible(g, qs->p, qs->tri, wi, dist))
         return 0;
     J->px = spm_ref_lt_film_pixel(&g->cam, film);
-    spm_ref_eval e = spm_ref_eval_bsdf(qs->m, &qs->b, &qs->h, wi, SPM_REF_IMPORTANCE);
+    spm_ref_eval e =
+        spm_ref_eval_bsdf(qs->m, &qs->b, &qs->h, wi, SPM_REF_IMPORTANCE | SPM_REF_JOIN);
     f = qs->beta * (e.k * e.f / e.div) / e.post;
     J->arg_qs = e.cos_light;
     J->c = f * we / pdf;
@@ -347,6 +348,17 @@ static int join_camera(const spm_geometry *g, const spm_ref_key *k, const bd_sub
     float wo[3] = {-qs->h.d[0], -qs->h.d[1], -qs->h.d[2]};
     J->qsm_rev = to_area(lobe_pdf(qs, wi, wo, SPM_REF_IMPORTANCE), qs, &y->v[s - 2]);
     return J->c > 0.0f;
+}
+
+/* Camera vertex v's argument for its join along w (dist long), arg its
+ * eval's: an absorbing vertex's (the ABSORB kind: glass) is the medium's
+ * length when the join runs into its back face's side, inside (a sampled
+ * ray's `inside`), else none. */
+static float join_arg(const bd_vertex *v, const float w[3], float dist, float arg)
+{
+    if (SPM_VX_KIND(v->x) != SPM_FK_ABSORB)
+        return arg;
+    return v3_dot(w, v->h.ng) < 0.0f ? dist : 0.0f;
 }
 
 /* s >= 1, t >= 2: z[t-1] joined to y[s-1] (s = 1: the light's point):
@@ -364,9 +376,10 @@ static int join_inner(const spm_geometry *g, const spm_material *mats, const bd_
     float dist = toward(pt->p, qs->p, w);
     for (int i = 0; i < 3; i++)
         back[i] = -w[i];
-    spm_ref_eval ez = spm_ref_eval_bsdf(pt->m, &pt->b, &pt->h, w, SPM_REF_RADIANCE);
+    spm_ref_eval ez =
+        spm_ref_eval_bsdf(pt->m, &pt->b, &pt->h, w, SPM_REF_RADIANCE | SPM_REF_JOIN);
     float fz = (ez.k * ez.f / ez.div) / ez.post;
-    J->arg_pt = ez.cos_light;
+    J->arg_pt = join_arg(pt, w, dist, ez.cos_light);
     if (s == 1) {
         float scale, cos_o, pp, pd;
         if (spm_ref_lt_emission(g, mats, y->e, back, &scale, &cos_o) == SPM_NONE)
@@ -375,7 +388,8 @@ static int join_inner(const spm_geometry *g, const spm_material *mats, const bd_
         spm_ref_light_pdf_emission(g, (spm_u32)(y->e - g->emitters), qs->p, back, &pp, &pd);
         py = pd; /* the light's density of its ray toward pt */
     } else {
-        spm_ref_eval ey = spm_ref_eval_bsdf(qs->m, &qs->b, &qs->h, back, SPM_REF_IMPORTANCE);
+        spm_ref_eval ey = spm_ref_eval_bsdf(qs->m, &qs->b, &qs->h, back,
+                                            SPM_REF_IMPORTANCE | SPM_REF_JOIN);
         fy = qs->beta * (ey.k * ey.f / ey.div) / ey.post;
         J->arg_qs = ey.cos_light;
         float wo[3] = {-qs->h.d[0], -qs->h.d[1], -qs->h.d[2]};
@@ -503,7 +517,8 @@ static int write_path(const bd_subpath *z, int t, const bd_subpath *y, int s, co
     }
     for (int i = s - 1; i >= 1; i--, n++) {
         const bd_vertex *v = &y->v[i];
-        r->x[n] = words(v, i == s - 1 ? J->arg_qs : light_arg(y, i), n == nv - 1);
+        int joined = i == s - 1 && SPM_VX_KIND(v->x) != SPM_FK_ABSORB; /* else its segment's */
+        r->x[n] = words(v, joined ? J->arg_qs : light_arg(y, i), n == nv - 1);
         if (v->disp)
             disp_words(&r->x[n], &first, lam);
         r->v[n] = (spm_vertex){v->refl | (SPM_NONE << 16), 0.0f};

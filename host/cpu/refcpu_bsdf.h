@@ -13,6 +13,11 @@
 
 #define SPM_REF_RADIANCE 0
 #define SPM_REF_IMPORTANCE 1
+/* or'd into eval's mode by the light integrators' joins (a vertex joined to
+ * the camera or to another subpath's vertex): the whole BSDF, with what a
+ * camera path's light sample leaves to its sampled rays (a rough
+ * dielectric's refraction) */
+#define SPM_REF_JOIN 2
 
 /* a path's random-number key */
 typedef struct {

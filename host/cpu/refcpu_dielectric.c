@@ -117,11 +117,47 @@ void spm_ref_begin_DIELECTRIC(const spm_material *m, const spm_ref_hit *h, const
     b->nee = b->c.alpha != 0.0f;
 }
 
+/* A join's refraction toward unit l (world, below the surface: wi_z < 0),
+ * Walter et al. 2007 with pbrt-v4's adjoint: f |cos_i| =
+ *   (1 - F(wo.h)) D(h) G2 (wo.h) |wi.h| / (wo_z (wi.h + wo.h / e)^2) / e^2
+ * in radiance mode, without the 1 / e^2 in importance mode (the adjoint
+ * BSDF, Veach 1997 5.2: light is not compressed into the denser medium, its
+ * importance is), h = unit(wo + e wi) turned to wo's side; *pdf the
+ * density of sampling l (spm_ref_pdf_DIELECTRIC's refraction). */
+static float diel_ft(const spm_ref_bsdf *b, const float l[3], int mode, float *pdf)
+{
+    const spm_ref_cond *c = &b->c;
+    float wi[3] = {v3_dot(l, c->t), v3_dot(l, c->b), v3_dot(l, c->n)}, s[3], h[3], ct;
+    float a = c->alpha, e = b->eta;
+    *pdf = 0.0f;
+    for (int i = 0; i < 3; i++)
+        s[i] = c->wo[i] + wi[i] * e;
+    v3_normalise(h, s);
+    if (h[2] < 0.0f)
+        h[0] = -h[0], h[1] = -h[1], h[2] = -h[2];
+    float co = v3_dot(c->wo, h), ci = v3_dot(wi, h), den = co + e * ci;
+    if (!(c->wo[2] > 0.0f) || !(wi[2] < 0.0f) || !(co > 0.0f) || !(ci < 0.0f) || den == 0.0f)
+        return 0.0f;
+    float t = 1.0f - spm_ref_diel_fresnel(co, e, &ct), d = spm_ref_ggx_d(a, h[2]);
+    float lo = spm_ref_ggx_lambda(a, c->wo[2]), li = spm_ref_ggx_lambda(a, -wi[2]);
+    float jac = e * e * -ci / (den * den); /* |dh / dwi|, times 4 (wo.h) in reflection's terms */
+    *pdf = t * d / (1.0f + lo) * co / c->wo[2] * jac;
+    float f = t * d / (1.0f + lo + li) * co / c->wo[2] * jac;
+    return mode & SPM_REF_IMPORTANCE ? f : f / (e * e);
+}
+
 spm_ref_eval spm_ref_eval_DIELECTRIC(const spm_material *m, const spm_ref_bsdf *b,
                                      const spm_ref_hit *h, const float wi[3], int mode)
 {
-    (void)m, (void)mode;
+    (void)m;
     float pb;
+    if ((mode & SPM_REF_JOIN) && !(v3_dot(wi, b->c.n) > 0.0f)) { /* a join's refraction */
+        spm_ref_eval e = spm_ref_eval_value(diel_ft(b, wi, mode, &pb), 1.0f);
+        if (h->smooth && !(v3_dot(wi, h->gn) < 0.0f)) /* not through the surface */
+            e.f = 0.0f;
+        e.pdf = pb;
+        return e;
+    }
     spm_ref_eval e = spm_ref_eval_value(diel_f(&b->c, b->eta, wi, &pb), 1.0f);
     if (h->smooth && !(v3_dot(wi, b->c.n) > 0.0f)) /* below the shading horizon */
         e.f = 0.0f;
@@ -130,12 +166,18 @@ spm_ref_eval spm_ref_eval_DIELECTRIC(const spm_material *m, const spm_ref_bsdf *
 }
 
 /* reflection F G1 D / (4 wo_z); refraction (Walter et al. 2007)
- * (1 - F) G1 D (wo.h) / wo_z e^2 |wi.h| / (wo.h + e wi.h)^2, h = unit(wo + e wi) */
-float spm_ref_pdf_DIELECTRIC(const spm_material *m, const spm_ref_bsdf *b, const float wo[3],
-                             const float wi[3], int mode)
+ * (1 - F) G1 D (wo.h) / wo_z e^2 |wi.h| / (wo.h + e wi.h)^2, h = unit(wo + e wi);
+ * from wo on the other side (a reverse density through the refraction,
+ * --integrator bdpt's MIS): the same with both mirrored in the surface and
+ * the index inverted, as a vertex seen from there would have it */
+float spm_ref_pdf_DIELECTRIC(const spm_material *m, const spm_ref_bsdf *b, const float wo_in[3],
+                             const float wi_in[3], int mode)
 {
     (void)m, (void)mode;
     float a = b->c.alpha, e = b->eta, ct, s[3], h[3];
+    float wo[3] = {wo_in[0], wo_in[1], wo_in[2]}, wi[3] = {wi_in[0], wi_in[1], wi_in[2]};
+    if (wo[2] < 0.0f)
+        wo[2] = -wo[2], wi[2] = -wi[2], e = 1.0f / e;
     if (!(wo[2] > 0.0f) || a == 0.0f)
         return 0.0f;
     float g1 = 1.0f / (1.0f + spm_ref_ggx_lambda(a, wo[2]));

@@ -110,7 +110,7 @@ static float vertex_link(const spm_geometry *g, const spm_material *m, const spm
     float w = camera_link(&g->cam, g, k, SPM_DIM_VERTEX(j) + SPM_DIM_EPOINT_A, x, hit, wi, px);
     if (!(w > 0.0f))
         return 0.0f;
-    spm_ref_eval e = spm_ref_eval_bsdf(m, b, h, wi, SPM_REF_IMPORTANCE);
+    spm_ref_eval e = spm_ref_eval_bsdf(m, b, h, wi, SPM_REF_IMPORTANCE | SPM_REF_JOIN);
     xv->light = e.cos_light;
     float c = beta * (e.k * e.f / e.div) / e.post * w;
     return c > 0.0f ? c : 0.0f;

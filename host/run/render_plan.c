@@ -160,18 +160,6 @@ int spm_integrator_parse(const char *name)
     return -1;
 }
 
-/* A rough dielectric: its eval has the reflection alone (its transmission
- * reaches camera paths through their sampled rays only), and a light
- * subpath's connection to the camera through it needs the transmission. */
-static int rough_dielectric(const spm_tables *t)
-{
-    for (int m = 0; m < t->nmaterials; m++)
-        if (SPM_MAT_TAG(t->materials[m]) == SPM_MAT_DIELECTRIC &&
-            t->materials[m].p[SPM_DIEL_P_ALPHA] > 0.0f)
-            return 1;
-    return 0;
-}
-
 /* A type whose descriptor is not `connectable` (its vertex picks one of its
  * terms by a random number: the coated lobes, the rough diffuse terms, the
  * fluorescent ones): the first in the scene, by keyword. */
@@ -238,9 +226,6 @@ int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err)
         else if (surface_textures(p->geom, p->tables->nmaterials))
             why = "a light subpath does not look up textures or opacity yet (its vertices "
                   "would carry the material's mean colour; a textured emission it does)";
-        else if (rough_dielectric(p->tables))
-            why = "a rough dielectric's eval has no transmission, which a vertex's connection to "
-                  "the camera through it needs";
         else if (tp->nemitters == 0)
             why = "the scene has no light to start a subpath from";
     }
