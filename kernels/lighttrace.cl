@@ -36,7 +36,7 @@ SPM_ALWAYS_INLINE uint film_pixel(const spm_camera *cam, float2 f)
 SPM_ALWAYS_INLINE float camera_link(const spm_camera *cam, __global const spm_bvh4_node *nodes,
                                     __global const spm_tri *tris, __global uint *counters,
                                     spm_key k, uint dim, float3 p, uint skip, float3 *wi,
-                                    uint *px)
+                                    uint *px SPM_ALPHA_PARAMS)
 {
     float dist, pdf, t;
     float2 film;
@@ -44,7 +44,7 @@ SPM_ALWAYS_INLINE float camera_link(const spm_camera *cam, __global const spm_bv
                                 &film);
     if (!(we > 0.0f) || !(pdf > 0.0f))
         return 0.0f;
-    if (intersect(nodes, tris, p, *wi, skip, &t, counters) >= 0 && t < dist)
+    if (intersect(nodes, tris, p, *wi, skip, &t, counters SPM_ALPHA_ARGS) >= 0 && t < dist)
         return 0.0f;
     *px = film_pixel(cam, film);
     return we / pdf;
@@ -108,7 +108,8 @@ SPM_ALWAYS_INLINE int lt_start(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA), spm_
         return 1;
     spm_camera cam = p.cam;
     float3 wi;
-    float w = camera_link(&cam, nodes, tris, counters, k, SPM_DIM_LT_LENS, *o, e->tri, &wi, px0);
+    float w = camera_link(&cam, nodes, tris, counters, k, SPM_DIM_LT_LENS, *o, e->tri, &wi,
+                          px0 SPM_ALPHA_ARGS);
     if (!(w > 0.0f) || lt_emission(tris, mats, e, wi, &scale, &cos_o) == SPM_NONE) {
         *px0 = SPM_NO_PIXEL;
         return 1;
@@ -130,7 +131,7 @@ SPM_ALWAYS_INLINE float lt_link(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA), spm
         return 0.0f;
     spm_camera cam = p.cam;
     float w = camera_link(&cam, nodes, tris, counters, k, SPM_DIM_VERTEX(j) + SPM_DIM_EPOINT_A,
-                          x, hit, &wi, px);
+                          x, hit, &wi, px SPM_ALPHA_ARGS);
     if (!(w > 0.0f))
         return 0.0f;
     spm_eval e = bsdf_eval(m, b, fr, wi, SPM_IMPORTANCE);
@@ -172,7 +173,7 @@ __kernel void spm_light_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
     int seg = 0;
     for (uint j = 0; started; j++) {
         float t;
-        int hit = intersect(nodes, tris, o, d, skip, &t, counters);
+        int hit = intersect(nodes, tris, o, d, skip, &t, counters SPM_ALPHA_ARGS);
         if (hit < 0) {
             hd.end = SPM_END_ESCAPED;
             break;
@@ -190,6 +191,9 @@ __kernel void spm_light_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
         bsdf_begin(m, &fr, key, j, &walk, &b);
         float mmean, minv;
         uint refl = bsdf_lobe(m, &b, &mmean, &minv);
+        spm_camera cam = p.cam;
+        refl = texture_seen(tex, uvs, mi, (uint)hit, tr, x, &cam, key, j, refl, m.refl, &mmean,
+                            &minv);
         spm_vertex_ext xe = {0u, 0.0f, 0.0f, 0.0f};
         uint px = SPM_NO_PIXEL;
         float c = lt_link(SPM_TRACE_ARGS(SPM_KERNEL_ARG, SPM_COMMA), m, &b, &fr, key, j, x,
