@@ -130,6 +130,38 @@ static const char *const prism[][2] = {
                     "quad lamp -3.211547 -0.3 1.688169  -3.211547 0.3 1.688169  "
                     "-3.157737 0.3 2.285751  -3.157737 -0.3 2.285751\n"}};
 
+/* textured.scene's floor and back wall in squares of a few pixels at SIDE
+ * (a vertex of either subpath records the texel's colour: its mean colour
+ * would wash the squares out) */
+static const char *const textured[][2] = {
+    {"texture floor ", "texture floor   checker 2   0.80 0.80 0.78  0.12 0.12 0.12\n"},
+    {"texture wall ", "texture wall    checker 2   0.60 0.05 0.04  0.05 0.12 0.55\n"}};
+
+/* the Cornell box's white floor, back wall and ceiling normal-mapped in
+ * squares leaning 22 degrees to +x and to -x: a light subpath's vertices
+ * need the adjoint of their shading normal (Veach) */
+static const char *const bumpy[][2] = {
+    {"material white ", "texture bump checker 2  0.68 0.5 0.9  0.32 0.5 0.9\n"
+                        "material white reflect white normal texture bump\n"}};
+
+/* textures, opacity and normal maps on both subpaths, against both */
+static void converge_textures(const char *dir, const char *cornell)
+{
+    char src[1024], path[1200];
+    snprintf(path, sizeof path, "%s/textured.scene", dir);
+    spm_data_path("scenes/textured.scene", src, sizeof src);
+    if (!it_write_variant(src, path, textured, 2))
+        converge(path, "textured", 1);
+    spm_data_path("scenes/cutout.scene", src, sizeof src);
+    converge(src, "cutout", 0);
+    snprintf(path, sizeof path, "%s/bumpy.scene", dir);
+    if (!it_write_variant(cornell, path, bumpy, 1))
+        converge(path, "bumpy", 1);
+    remove(path);
+    snprintf(path, sizeof path, "%s/textured.scene", dir);
+    remove(path);
+}
+
 int main(void)
 {
     char cornell[1024], dir[] = "/tmp/specmip_bdpt_XXXXXX", path[1200];
@@ -145,6 +177,7 @@ int main(void)
     if (!it_write_variant(wall, path, prism, 1))
         converge(path, "prism_area", 0);
     remove(path);
+    converge_textures(dir, cornell);
     rmdir(dir);
     TEST_END();
 }
