@@ -196,6 +196,8 @@ SPM_ALWAYS_INLINE void bd_walk(const bd_scene *sc, spm_key k, int mode, spm_walk
         beta *= minv;
         beta *= s.wt;
         beta *= s.w;
+        if (mode == SPM_IMPORTANCE)
+            beta *= adjoint_ns(&fr, -d, s.wi);
         pdf_dir = lobe_pdf(v->delta, m, &fr, &b, -d, s.wi, mode);
         prev->rev = to_area(lobe_pdf(v->delta, m, &fr, &b, s.wi, -d, mode), v->p, prev->p, prev->n);
         seg = s.inside;
@@ -311,7 +313,7 @@ SPM_ALWAYS_INLINE int join_camera(const bd_scene *sc, spm_key ky, const bd_subpa
     spm_bsdf b;
     vertex_state(sc, y, s - 1, ky, &m, &fr, &b);
     spm_eval e = bsdf_eval(m, &b, &fr, wi, SPM_IMPORTANCE);
-    float f = qs->beta * (e.k * e.f / e.div) / e.post;
+    float f = qs->beta * (e.k * e.f / e.div) / e.post * adjoint_ns(&fr, fr.back, wi);
     J->arg_qs = e.cos_light;
     J->c = f * we / pdf;
     float3 lens = qs->p + wi * dist;
@@ -333,7 +335,7 @@ SPM_ALWAYS_INLINE void light_side(const bd_scene *sc, spm_key ky, const bd_subpa
     spm_bsdf b;
     vertex_state(sc, y, s - 1, ky, &m, &fr, &b);
     spm_eval ey = bsdf_eval(m, &b, &fr, back, SPM_IMPORTANCE);
-    *fy = qs->beta * (ey.k * ey.f / ey.div) / ey.post;
+    *fy = qs->beta * (ey.k * ey.f / ey.div) / ey.post * adjoint_ns(&fr, fr.back, back);
     J->arg_qs = ey.cos_light;
     *py = lobe_pdf(0, m, &fr, &b, fr.back, back, SPM_IMPORTANCE);
     J->qsm_rev = to_area(lobe_pdf(0, m, &fr, &b, back, fr.back, SPM_IMPORTANCE), qs->p,

@@ -18,6 +18,20 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 
+/* Veach's correction of a shading normal for importance at a light
+ * subpath's vertex (pbrt-v4's CorrectShadingNormal): light arrives from wo,
+ * leaves along wi; f |wi . ns| times
+ *   |wo . ns| |wi . ng| / (|wo . ng| |wi . ns|)
+ * (host/cpu/refcpu_shading.c spm_ref_adjoint_ns); 1 at a flat hit. */
+SPM_ALWAYS_INLINE float adjoint_ns(const spm_frame *fr, float3 wo, float3 wi)
+{
+    if (!fr->smooth)
+        return 1.0f;
+    float num = fabs(dot3(wo, fr->n)) * fabs(dot3(wi, fr->gn));
+    float den = fabs(dot3(wo, fr->gn)) * fabs(dot3(wi, fr->n));
+    return den > 0.0f ? num / den : 0.0f;
+}
+
 /* The pixel film point f in [-1, 1]^2 falls in (f.y = 1 the top row), the
  * inverse of the camera ray's cx = 2 (x + u) / w - 1, cy = 1 - 2 (y + v) / h. */
 SPM_ALWAYS_INLINE uint film_pixel(const spm_camera *cam, float2 f)
@@ -137,6 +151,7 @@ SPM_ALWAYS_INLINE float lt_link(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA), spm
     spm_eval e = bsdf_eval(m, b, fr, wi, SPM_IMPORTANCE);
     xe->light = e.cos_light;
     float c = beta * (e.k * e.f / e.div) / e.post * w;
+    c *= adjoint_ns(fr, fr->back, wi);
     return c > 0.0f ? c : 0.0f;
 }
 
@@ -227,6 +242,7 @@ __kernel void spm_light_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
             break;
         beta *= s.wt;
         beta *= s.w;
+        beta *= adjoint_ns(&fr, -d, s.wi);
         seg = s.inside;
 #ifdef SPM_WITH_VEXT
         if (s.cos_lobe != 0.0f)

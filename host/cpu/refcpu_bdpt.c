@@ -192,6 +192,8 @@ static void walk(const spm_geometry *g, const spm_material *mats, const spm_ref_
         beta *= s.wt;
         beta *= s.w;
         float wo[3] = {-d[0], -d[1], -d[2]};
+        if (mode == SPM_REF_IMPORTANCE)
+            beta *= spm_ref_adjoint_ns(&v->h, wo, s.wi);
         pdf_dir = lobe_pdf(v, wo, s.wi, mode);
         prev->pdf.rev = to_area(lobe_pdf(v, s.wi, wo, mode), v, prev);
         seg = s.inside;
@@ -342,7 +344,8 @@ static int join_camera(const spm_geometry *g, const spm_ref_key *k, const bd_sub
         return 0;
     J->px = spm_ref_lt_film_pixel(&g->cam, film);
     spm_ref_eval e = spm_ref_eval_bsdf(qs->m, &qs->b, &qs->h, wi, SPM_REF_IMPORTANCE);
-    f = qs->beta * (e.k * e.f / e.div) / e.post;
+    float wq[3] = {-qs->h.d[0], -qs->h.d[1], -qs->h.d[2]};
+    f = qs->beta * (e.k * e.f / e.div) / e.post * spm_ref_adjoint_ns(&qs->h, wq, wi);
     J->arg_qs = e.cos_light;
     J->c = f * we / pdf;
     bd_vertex lv = {0};
@@ -383,9 +386,9 @@ static int join_inner(const spm_geometry *g, const spm_material *mats, const bd_
         py = pd; /* the light's density of its ray toward pt */
     } else {
         spm_ref_eval ey = spm_ref_eval_bsdf(qs->m, &qs->b, &qs->h, back, SPM_REF_IMPORTANCE);
-        fy = qs->beta * (ey.k * ey.f / ey.div) / ey.post;
-        J->arg_qs = ey.cos_light;
         float wo[3] = {-qs->h.d[0], -qs->h.d[1], -qs->h.d[2]};
+        fy = qs->beta * (ey.k * ey.f / ey.div) / ey.post * spm_ref_adjoint_ns(&qs->h, wo, back);
+        J->arg_qs = ey.cos_light;
         py = lobe_pdf(qs, wo, back, SPM_REF_IMPORTANCE);
         J->qsm_rev = to_area(lobe_pdf(qs, back, wo, SPM_REF_IMPORTANCE), qs, &y->v[s - 2]);
     }

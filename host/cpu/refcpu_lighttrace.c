@@ -113,7 +113,9 @@ static float vertex_link(const spm_geometry *g, const spm_material *m, const spm
         return 0.0f;
     spm_ref_eval e = spm_ref_eval_bsdf(m, b, h, wi, SPM_REF_IMPORTANCE);
     xv->light = e.cos_light;
+    float wo[3] = {-h->d[0], -h->d[1], -h->d[2]};
     float c = beta * (e.k * e.f / e.div) / e.post * w;
+    c *= spm_ref_adjoint_ns(h, wo, wi);
     return c > 0.0f ? c : 0.0f;
 }
 
@@ -205,6 +207,8 @@ static uint8_t trace_light_path(const spm_geometry *g, const spm_material *mats,
             break;
         beta *= s.wt;
         beta *= s.w;
+        float wo[3] = {-d[0], -d[1], -d[2]};
+        beta *= spm_ref_adjoint_ns(&hf, wo, s.wi);
         seg = s.inside;
         path->x[j].lobe = s.cos_lobe;
         for (int a = 0; a < 3; a++)
