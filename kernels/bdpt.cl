@@ -17,6 +17,11 @@
  * kind. Parameters: SPM_TRACE_ARGS, SPM_BDPT_TRACE_ARGS. */
 #pragma OPENCL FP_CONTRACT OFF
 #include "spm_bdpt.h"
+#ifdef SPM_WITH_ALPHA /* the traversal's opacity test reads the texture words */
+#define BD_ALPHA , sc->tex, sc->uvs
+#else
+#define BD_ALPHA
+#endif
 
 /* A subpath vertex: v[0] the endpoint (the lens or the light), v[1..] the
  * surface vertices. d the ray that reached it; n its triangle's normal (0
@@ -36,6 +41,7 @@ typedef struct {
     bd_vertex v[SPM_BDPT_SUBPATH + 1];
     int n;
     uint e, colour; /* the light subpath's light and its emission's colour */
+    float ts;       /* a textured emission's factor at the light's point */
 } bd_subpath;
 
 /* What the kernel reads of the scene, as one argument to its helpers. */
@@ -91,7 +97,7 @@ SPM_ALWAYS_INLINE float toward(float3 a, float3 b, float3 *w)
 SPM_ALWAYS_INLINE int bd_visible(const bd_scene *sc, float3 a, uint skip, float3 w, float dist)
 {
     float ts;
-    return !(intersect(sc->nodes, sc->tris, a, w, skip, &ts, sc->counters) >= 0 &&
+    return !(intersect(sc->nodes, sc->tris, a, w, skip, &ts, sc->counters BD_ALPHA) >= 0 &&
              ts < dist * (1.0f - 1e-4f));
 }
 
@@ -105,7 +111,7 @@ SPM_ALWAYS_INLINE int bd_visible_join(const bd_scene *sc, float3 a, uint at, flo
                                       float3 w, float dist)
 {
     float ts;
-    int hit = intersect(sc->nodes, sc->tris, a, w, at, &ts, sc->counters);
+    int hit = intersect(sc->nodes, sc->tris, a, w, at, &ts, sc->counters BD_ALPHA);
     if (hit < 0 || (uint)hit == bt)
         return 1;
     return ts >= dist * (1.0f - 1e-4f) && bd_visible(sc, b, bt, -w, dist);
@@ -119,6 +125,9 @@ SPM_ALWAYS_INLINE void vertex_state(const bd_scene *sc, const bd_subpath *sp, in
     const bd_vertex *v = &sp->v[i];
     __global const spm_tri *tr = &sc->tris[v->tri];
     *m = sc->mats[tr->material];
+#ifdef SPM_WITH_TEXTURE /* the metallic-roughness mix's pick, again */
+    mix_pick(sc->tex, sc->uvs, sc->mats, tr, v->tri, v->p, k, (uint)(i - 1), m);
+#endif
     hit_frame(tr, sc->vnormals, sc->tex, sc->uvs, v->tri, sp->v[i - 1].p, v->d, fr);
     spm_walk w = {sc->disp, sc->disperse, sc->lam};
     bsdf_begin(*m, fr, k, (uint)(i - 1), &w, b);
@@ -146,13 +155,13 @@ SPM_ALWAYS_INLINE void bd_walk(const bd_scene *sc, spm_key k, int mode, spm_walk
         uint j = (uint)(sp->n - 1);
         float t;
         bd_vertex *v = &sp->v[sp->n], *prev = &sp->v[sp->n - 1];
-        int hit = intersect(sc->nodes, sc->tris, o, d, skip, &t, sc->counters);
+        int hit = intersect(sc->nodes, sc->tris, o, d, skip, &t, sc->counters BD_ALPHA);
         if (hit < 0)
             return;
         __global const spm_tri *tr = &sc->tris[hit];
-        spm_material m = sc->mats[tr->material];
-        spm_frame fr;
         v->p = o + d * t;
+        SPM_MATERIAL_AT(m, mi, sc->mats, sc->tex, sc->uvs, tr, (uint)hit, v->p, k, j);
+        spm_frame fr;
         v->d = d;
         v->n = ld3(tr->n);
         v->tri = (uint)hit;
@@ -167,13 +176,16 @@ SPM_ALWAYS_INLINE void bd_walk(const bd_scene *sc, spm_key k, int mode, spm_walk
         if (m.type & SPM_EMIT_TWOSIDED)
             ecos = fabs(ecos); /* the back face emits too (refcpu_bdpt.c vertex_emission) */
         if (mode == SPM_RADIANCE && ecos > 0.0f)
-            v->emit = light_eval(m, ecos, &v->escale);
+            v->emit = light_eval_at(m, ecos, &v->escale, sc->tex, sc->uvs, (uint)hit, tr, v->p,
+                                    k, j, 0u);
         spm_bsdf b;
         b.commit = 0; /* only the types whose index a bin sets write it */
         bsdf_begin(m, &fr, k, j, rw, &b);
         v->disp = b.commit != 0;
         float mmean, minv;
         v->refl = bsdf_lobe(m, &b, &mmean, &minv);
+        v->refl = texture_seen(sc->tex, sc->uvs, mi, (uint)hit, tr, v->p, &sc->cam, k, j, v->refl,
+                               m.refl, &mmean, &minv);
         v->x = (spm_vertex_ext){0u, 0.0f, 0.0f, 0.0f};
         v->col2 = bsdf_record(m, &b, rw, &v->x);
         v->delta = !b.nee;
@@ -186,6 +198,8 @@ SPM_ALWAYS_INLINE void bd_walk(const bd_scene *sc, spm_key k, int mode, spm_walk
         beta *= minv;
         beta *= s.wt;
         beta *= s.w;
+        if (mode == SPM_IMPORTANCE)
+            beta *= adjoint_ns(&fr, -d, s.wi);
         pdf_dir = lobe_pdf(v->delta, m, &fr, &b, -d, s.wi, mode);
         prev->rev = to_area(lobe_pdf(v->delta, m, &fr, &b, s.wi, -d, mode), v->p, prev->p, prev->n);
         seg = s.inside;
@@ -232,6 +246,10 @@ SPM_ALWAYS_INLINE void light_subpath(const bd_scene *sc, const spm_trace_params 
     if (!(pp > 0.0f && pd > 0.0f))
         return;
     y->colour = lt_emission(sc->tris, sc->mats, e, d, &scale, &cos_o);
+    y->ts = 1.0f; /* a textured emission, looked up once as the light tracer's start does */
+    if (e->kind == SPM_LIGHT_AREA)
+        y->colour = emit_texture(sc->tex, sc->uvs, e->tri, &sc->tris[e->tri], o, k, SPM_MAX_DEPTH,
+                                 0u, y->colour, &y->ts);
     v->p = o;
     if (e->kind == SPM_LIGHT_AREA)
         v->n = ld3(sc->tris[e->tri].n);
@@ -241,7 +259,8 @@ SPM_ALWAYS_INLINE void light_subpath(const bd_scene *sc, const spm_trace_params 
         return;
     uint skip = e->kind == SPM_LIGHT_AREA ? e->tri : 0xFFFFFFFFu;
     v->d = d; /* its ray's direction: a light at infinity's, for s = 1 */
-    bd_walk(sc, k, SPM_IMPORTANCE, rw, o, d, skip, scale * cos_o / (e->pdf * pp * pd), pd, y);
+    bd_walk(sc, k, SPM_IMPORTANCE, rw, o, d, skip, scale * y->ts * cos_o / (e->pdf * pp * pd),
+            pd, y);
     if (y->n > 1 && light_at_infinity(e)) /* y[1] by the disc: pdf_pos |cos| */
         y->v[1].fwd = pp * fabs(dot3(y->v[1].n, d));
 }
@@ -300,7 +319,7 @@ SPM_ALWAYS_INLINE int join_camera(const bd_scene *sc, spm_key ky, const bd_subpa
     spm_bsdf b;
     vertex_state(sc, y, s - 1, ky, &m, &fr, &b);
     spm_eval e = bsdf_eval(m, &b, &fr, wi, SPM_IMPORTANCE | SPM_JOIN);
-    float f = qs->beta * (e.k * e.f / e.div) / e.post;
+    float f = qs->beta * (e.k * e.f / e.div) / e.post * adjoint_ns(&fr, fr.back, wi);
     J->arg_qs = e.cos_light;
     J->c = f * we / pdf;
     float3 lens = qs->p + wi * dist;
@@ -322,7 +341,7 @@ SPM_ALWAYS_INLINE void light_side(const bd_scene *sc, spm_key ky, const bd_subpa
     spm_bsdf b;
     vertex_state(sc, y, s - 1, ky, &m, &fr, &b);
     spm_eval ey = bsdf_eval(m, &b, &fr, back, SPM_IMPORTANCE | SPM_JOIN);
-    *fy = qs->beta * (ey.k * ey.f / ey.div) / ey.post;
+    *fy = qs->beta * (ey.k * ey.f / ey.div) / ey.post * adjoint_ns(&fr, fr.back, back);
     J->arg_qs = ey.cos_light;
     *py = lobe_pdf(0, m, &fr, &b, fr.back, back, SPM_IMPORTANCE);
     J->qsm_rev = to_area(lobe_pdf(0, m, &fr, &b, back, fr.back, SPM_IMPORTANCE), qs->p,
@@ -368,7 +387,7 @@ SPM_ALWAYS_INLINE int join_inner(const bd_scene *sc, spm_key k, spm_key ky, cons
         __global const spm_emitter *e = &sc->emitters[y->e];
         if (lt_emission(sc->tris, sc->mats, e, back, &scale, &cos_o) == SPM_NONE)
             return 0;
-        fy = scale * cos_o / qs->fwd;
+        fy = scale * y->ts * cos_o / qs->fwd;
         light_pdf_emission(sc->tris, e, qs->p, back, &pp, &pd);
         py = pd; /* the light's density of its ray toward pt */
     } else {
@@ -403,7 +422,7 @@ SPM_ALWAYS_INLINE int join_infinite(const bd_scene *sc, spm_key k, const bd_subp
     spm_frame fr;
     spm_bsdf b;
     vertex_state(sc, z, t - 1, k, &m, &fr, &b);
-    spm_eval ez = bsdf_eval(m, &b, &fr, w, SPM_RADIANCE);
+    spm_eval ez = bsdf_eval(m, &b, &fr, w, SPM_RADIANCE | SPM_JOIN);
     J->arg_pt = ez.cos_light;
     J->c = pt->beta * ((ez.k * ez.f / ez.div) / ez.post) * scale * cos_o / e->pdf;
     if (!(J->c > 0.0f) || !bd_visible(sc, pt->p, pt->tri, w, INFINITY))

@@ -18,6 +18,20 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 
+/* Veach's correction of a shading normal for importance at a light
+ * subpath's vertex (pbrt-v4's CorrectShadingNormal): light arrives from wo,
+ * leaves along wi; f |wi . ns| times
+ *   |wo . ns| |wi . ng| / (|wo . ng| |wi . ns|)
+ * (host/cpu/refcpu_shading.c spm_ref_adjoint_ns); 1 at a flat hit. */
+SPM_ALWAYS_INLINE float adjoint_ns(const spm_frame *fr, float3 wo, float3 wi)
+{
+    if (!fr->smooth)
+        return 1.0f;
+    float num = fabs(dot3(wo, fr->n)) * fabs(dot3(wi, fr->gn));
+    float den = fabs(dot3(wo, fr->gn)) * fabs(dot3(wi, fr->n));
+    return den > 0.0f ? num / den : 0.0f;
+}
+
 /* The pixel film point f in [-1, 1]^2 falls in (f.y = 1 the top row), the
  * inverse of the camera ray's cx = 2 (x + u) / w - 1, cy = 1 - 2 (y + v) / h. */
 SPM_ALWAYS_INLINE uint film_pixel(const spm_camera *cam, float2 f)
@@ -36,7 +50,7 @@ SPM_ALWAYS_INLINE uint film_pixel(const spm_camera *cam, float2 f)
 SPM_ALWAYS_INLINE float camera_link(const spm_camera *cam, __global const spm_bvh4_node *nodes,
                                     __global const spm_tri *tris, __global uint *counters,
                                     spm_key k, uint dim, float3 p, uint skip, float3 *wi,
-                                    uint *px)
+                                    uint *px SPM_ALPHA_PARAMS)
 {
     float dist, pdf, t;
     float2 film;
@@ -44,7 +58,7 @@ SPM_ALWAYS_INLINE float camera_link(const spm_camera *cam, __global const spm_bv
                                 &film);
     if (!(we > 0.0f) || !(pdf > 0.0f))
         return 0.0f;
-    if (intersect(nodes, tris, p, *wi, skip, &t, counters) >= 0 && t < dist)
+    if (intersect(nodes, tris, p, *wi, skip, &t, counters SPM_ALPHA_ARGS) >= 0 && t < dist)
         return 0.0f;
     *px = film_pixel(cam, film);
     return we / pdf;
@@ -108,7 +122,8 @@ SPM_ALWAYS_INLINE int lt_start(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA), spm_
         return 1;
     spm_camera cam = p.cam;
     float3 wi;
-    float w = camera_link(&cam, nodes, tris, counters, k, SPM_DIM_LT_LENS, *o, e->tri, &wi, px0);
+    float w = camera_link(&cam, nodes, tris, counters, k, SPM_DIM_LT_LENS, *o, e->tri, &wi,
+                          px0 SPM_ALPHA_ARGS);
     if (!(w > 0.0f) || lt_emission(tris, mats, e, wi, &scale, &cos_o) == SPM_NONE) {
         *px0 = SPM_NO_PIXEL;
         return 1;
@@ -130,12 +145,13 @@ SPM_ALWAYS_INLINE float lt_link(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA), spm
         return 0.0f;
     spm_camera cam = p.cam;
     float w = camera_link(&cam, nodes, tris, counters, k, SPM_DIM_VERTEX(j) + SPM_DIM_EPOINT_A,
-                          x, hit, &wi, px);
+                          x, hit, &wi, px SPM_ALPHA_ARGS);
     if (!(w > 0.0f))
         return 0.0f;
     spm_eval e = bsdf_eval(m, b, fr, wi, SPM_IMPORTANCE | SPM_JOIN);
     xe->light = e.cos_light;
     float c = beta * (e.k * e.f / e.div) / e.post * w;
+    c *= adjoint_ns(fr, fr->back, wi);
     return c > 0.0f ? c : 0.0f;
 }
 
@@ -172,7 +188,7 @@ __kernel void spm_light_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
     int seg = 0;
     for (uint j = 0; started; j++) {
         float t;
-        int hit = intersect(nodes, tris, o, d, skip, &t, counters);
+        int hit = intersect(nodes, tris, o, d, skip, &t, counters SPM_ALPHA_ARGS);
         if (hit < 0) {
             hd.end = SPM_END_ESCAPED;
             break;
@@ -190,6 +206,9 @@ __kernel void spm_light_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
         bsdf_begin(m, &fr, key, j, &walk, &b);
         float mmean, minv;
         uint refl = bsdf_lobe(m, &b, &mmean, &minv);
+        spm_camera cam = p.cam;
+        refl = texture_seen(tex, uvs, mi, (uint)hit, tr, x, &cam, key, j, refl, m.refl, &mmean,
+                            &minv);
         spm_vertex_ext xe = {0u, 0.0f, 0.0f, 0.0f};
         uint px = SPM_NO_PIXEL;
         float c = lt_link(SPM_TRACE_ARGS(SPM_KERNEL_ARG, SPM_COMMA), m, &b, &fr, key, j, x,
@@ -223,6 +242,7 @@ __kernel void spm_light_trace(SPM_TRACE_ARGS(SPM_KERNEL_PARAM, SPM_COMMA),
             break;
         beta *= s.wt;
         beta *= s.w;
+        beta *= adjoint_ns(&fr, -d, s.wi);
         seg = s.inside;
 #ifdef SPM_WITH_VEXT
         if (s.cos_lobe != 0.0f)

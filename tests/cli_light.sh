@@ -3,7 +3,7 @@
 # Cornell box that records its integrator, the same pixels whatever the passes
 # (a render resumed from its film equals one straight through), and the
 # refusals, each with its reason and exit 2 and nothing written: an unknown integrator, a background, a
-# fluorescence, an orthographic camera, a resumed film of the other
+# fluorescence, an emitter with an opacity, an orthographic camera, a resumed film of the other
 # integrator. How it converges to the path tracer is tests/test_light_integrator.c;
 # the OpenCL backend's kernels against this reference, tests/cli_light_cl.sh.
 source "$(dirname "$0")/lib_cli.sh"
@@ -66,8 +66,11 @@ refused "background" "background is no light a subpath starts from" \
     render "$T/sky.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 refused "environment map" "background is no light a subpath starts from" \
     render "$DATA/scenes/envmap.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
-refused "textures" "does not look up textures" \
-    render "$DATA/scenes/textured.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
+sed 's/^material light     reflect white  emit equal 1000$/& opacity 0.5 blend/' "$CORNELL" \
+    > "$T/veiled_lamp.scene"
+check "the veiled lamp has its opacity" grep -q "emit equal 1000 opacity" "$T/veiled_lamp.scene"
+refused "an emitter with an opacity" "an emitter's every point, which its opacity" \
+    render "$T/veiled_lamp.scene" --backend cpu --integrator light --width 8 --height 8 --spp 1
 sed 's/^camera position \(.*\) fov 40$/camera position \1 orthographic 0.6/' "$CORNELL" > "$T/ortho.scene"
 if grep -q orthographic "$T/ortho.scene"; then
     refused "orthographic camera" "orthographic camera" \

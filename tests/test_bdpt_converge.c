@@ -70,31 +70,95 @@ static const char *const relay_area[][2] = {
  * per pixel 41 % against bdpt's 3.3 %), so its K renders do not measure its
  * spread per pixel (worst |z| 36 at 48 spp); against the light tracer, per
  * pixel (worst 3.0), the image totals within 0.8 % of the path tracer's. */
-int main(void)
+/* textured.scene's floor and back wall in squares of a few pixels at SIDE
+ * (a vertex of either subpath records the texel's colour: its mean colour
+ * would wash the squares out) */
+static const char *const textured[][2] = {
+    {"texture floor ", "texture floor   checker 2   0.80 0.80 0.78  0.12 0.12 0.12\n"},
+    {"texture wall ", "texture wall    checker 2   0.60 0.05 0.04  0.05 0.12 0.55\n"}};
+
+/* the Cornell box's white floor, back wall and ceiling normal-mapped in
+ * squares leaning 22 degrees to +x and to -x: a light subpath's vertices
+ * need the adjoint of their shading normal (Veach) */
+static const char *const bumpy[][2] = {
+    {"material white ", "texture bump checker 2  0.68 0.5 0.9  0.32 0.5 0.9\n"
+                        "material white reflect white normal texture bump\n"}};
+
+/* textures, opacity and normal maps on both subpaths, against both */
+static void converge_textures(const char *dir, const char *cornell)
 {
-    char cornell[1024], dir[] = "/tmp/specmip_bdpt_XXXXXX", path[1200];
-    spm_data_path("scenes/cornell.scene", cornell, sizeof cornell);
-    converge(cornell, "cornell", 1);
-    CHECK(mkdtemp(dir) != NULL, "mkdtemp");
+    char src[1024], path[1200];
+    snprintf(path, sizeof path, "%s/textured.scene", dir);
+    spm_data_path("scenes/textured.scene", src, sizeof src);
+    if (!it_write_variant(src, path, textured, 2))
+        converge(path, "textured", 1);
+    spm_data_path("scenes/cutout.scene", src, sizeof src);
+    converge(src, "cutout", 0);
+    snprintf(path, sizeof path, "%s/bumpy.scene", dir);
+    if (!it_write_variant(cornell, path, bumpy, 1))
+        converge(path, "bumpy", 1);
+    remove(path);
+    snprintf(path, sizeof path, "%s/textured.scene", dir);
+    remove(path);
+}
+
+/* the plain scenes: the Cornell box, the glossy box under a point light,
+ * the area-lit prism */
+static void converge_plain(const char *dir, const char *cornell)
+{
+    char path[1200], wall[1024];
     snprintf(path, sizeof path, "%s/glossy_point.scene", dir);
+    converge(cornell, "cornell", 1);
     if (!it_write_variant(cornell, path, glossy, NSUB))
         converge(path, "glossy_point", 1);
-    remove(path);
-    char wall[1024];
     spm_data_path("scenes/prism_wall.scene", wall, sizeof wall);
     if (!it_write_variant(wall, path, prism, 1))
         converge(path, "prism_area", 0);
     remove(path);
-    char fluor[1024], relay[1024];
+}
+
+static void converge_fluor(const char *dir, const char *cornell)
+{
+    char path[1200], fluor[1024], relay[1024];
+    (void)cornell;
+    snprintf(path, sizeof path, "%s/relay_area.scene", dir);
     spm_data_path("scenes/fluorescent.scene", fluor, sizeof fluor);
     converge_mode(fluor, "fluorescent", 1, SPM_MODE_RGB);
     spm_data_path("tests/data/scenes/fluor_relay.scene", relay, sizeof relay);
     if (!it_write_variant(relay, path, relay_area, 1))
         converge_mode(path, "relay_area", 1, SPM_MODE_RGB);
     remove(path);
+}
+
+static void converge_rough(const char *dir, const char *cornell)
+{
     char frosted[1024];
+    (void)dir, (void)cornell;
     spm_data_path("scenes/frosted_lamp.scene", frosted, sizeof frosted);
     converge(frosted, "frosted_lamp", 2);
+}
+
+/* argv[1] names one group of scenes (ctest runs each as a test of its own,
+ * side by side); none runs them all */
+int main(int argc, char **argv)
+{
+    static const struct {
+        const char *name;
+        void (*run)(const char *dir, const char *cornell);
+    } group[] = {{"plain", converge_plain},
+                 {"fluor", converge_fluor},
+                 {"rough", converge_rough},
+                 {"textures", converge_textures}};
+    char cornell[1024], dir[] = "/tmp/specmip_bdpt_XXXXXX";
+    int ran = 0;
+    spm_data_path("scenes/cornell.scene", cornell, sizeof cornell);
+    CHECK(mkdtemp(dir) != NULL, "mkdtemp");
+    for (size_t i = 0; i < sizeof group / sizeof group[0]; i++)
+        if (argc < 2 || !strcmp(argv[1], group[i].name)) {
+            group[i].run(dir, cornell);
+            ran++;
+        }
+    CHECK(ran > 0, "no group of scenes named '%s'", argc > 1 ? argv[1] : "");
     rmdir(dir);
     TEST_END();
 }

@@ -25,6 +25,8 @@
 #include "refcpu_camera.h"
 #include "refcpu_shading.h"
 #include "refcpu_feeler.h"
+#include "refcpu_texture.h"
+#include "refcpu_metalrough.h"
 
 /* A subpath vertex: v[0] the endpoint (the lens or the light), v[1..] the
  * surface vertices. n: its triangle's normal (0 off a surface: a lens, a
@@ -37,6 +39,7 @@ typedef struct {
     spm_ref_hit h;
     spm_ref_bsdf b;
     const spm_material *m;
+    spm_material mix; /* m: the metallic-roughness mix's pick */
     spm_u32 tri, refl, col2, emit;
     float escale, beta;
     int disp;
@@ -50,6 +53,7 @@ typedef struct {
     const spm_emitter *e; /* the light subpath's light and its colour */
     spm_u32 colour;
     float d0[3]; /* its ray's direction (a light at infinity's, for s = 1) */
+    float ts; /* a textured emission's factor at the light's point */
 } bd_subpath;
 
 static float remap0(float f)
@@ -130,13 +134,15 @@ static float toward(const float a[3], const float b[3], float w[3])
 
 /* surface vertex v's emission toward the camera vertex before it (a camera
  * subpath's vertex on an emitting face) */
-static void vertex_emission(const spm_geometry *g, bd_vertex *v, const float d[3])
+static void vertex_emission(const spm_geometry *g, bd_vertex *v, const float d[3],
+                            const spm_ref_key *k, int j)
 {
     const spm_tri *tri = &g->tris[v->tri];
     float ecos = -v3_dot(d, tri->n);
     if (v->m->type & SPM_EMIT_TWOSIDED)
         ecos = fabsf(ecos);
     v->emit = ecos > 0.0f ? spm_ref_light_eval(v->m, ecos, &v->escale) : SPM_NONE;
+    v->emit = spm_ref_emit_texture(g, v->tri, v->p, k, (spm_u32)j, 0u, v->emit, &v->escale);
 }
 
 /* The walk from the subpath's last vertex along o + t d (pdf_dir the
@@ -158,7 +164,8 @@ static void walk(const spm_geometry *g, const spm_material *mats, const spm_ref_
         if (hit < 0)
             return;
         v->tri = (spm_u32)hit;
-        v->m = &mats[g->tris[hit].material];
+        spm_u32 mi = spm_ref_mix_pick(g, mats, (spm_u32)hit, v->p, k, j, &v->mix);
+        v->m = &v->mix;
         memcpy(v->n, g->tris[hit].n, sizeof v->n);
         v->beta = beta;
         v->pdf = (spm_bdpt_pdf){to_area(pdf_dir, prev, v), 0.0f, 0};
@@ -166,12 +173,14 @@ static void walk(const spm_geometry *g, const spm_material *mats, const spm_ref_
             prev->x.lobe = t;
         v->emit = SPM_NONE;
         if (mode == SPM_REF_RADIANCE)
-            vertex_emission(g, v, d);
+            vertex_emission(g, v, d, k, j);
         v->b.commit = 0; /* only the types whose index a bin sets write it */
         spm_ref_begin(v->m, &v->h, k, j, rw, &v->b);
         v->disp = v->b.commit != 0;
         float mmean, minv;
         v->refl = spm_ref_lobe(v->m, &v->b, &mmean, &minv);
+        v->refl = spm_ref_texture_seen(g, mi, (spm_u32)hit, v->p, k, j, v->refl, v->m->refl,
+                                       &mmean, &minv);
         v->x = (spm_vertex_ext){0u, 0.0f, 0.0f, 0.0f};
         v->col2 = spm_ref_record(v->m, &v->b, rw, &v->x);
         v->pdf.delta = !v->b.nee;
@@ -184,6 +193,8 @@ static void walk(const spm_geometry *g, const spm_material *mats, const spm_ref_
         beta *= s.wt;
         beta *= s.w;
         float wo[3] = {-d[0], -d[1], -d[2]};
+        if (mode == SPM_REF_IMPORTANCE)
+            beta *= spm_ref_adjoint_ns(&v->h, wo, s.wi);
         pdf_dir = lobe_pdf(v, wo, s.wi, mode);
         prev->pdf.rev = to_area(lobe_pdf(v, s.wi, wo, mode), v, prev);
         seg = s.inside;
@@ -228,6 +239,9 @@ static void light_subpath(const spm_geometry *g, const spm_material *mats, const
     if (!(pp > 0.0f && pd > 0.0f))
         return;
     y->colour = spm_ref_lt_emission(g, mats, e, d, &scale, &cos_o);
+    y->ts = 1.0f; /* a textured emission, looked up once as the light tracer's start does */
+    if (e->kind == SPM_LIGHT_AREA)
+        y->colour = spm_ref_emit_texture(g, e->tri, o, k, SPM_MAX_DEPTH, 0u, y->colour, &y->ts);
     memcpy(v->p, o, sizeof v->p);
     if (e->kind == SPM_LIGHT_AREA)
         memcpy(v->n, g->tris[e->tri].n, sizeof v->n);
@@ -237,8 +251,8 @@ static void light_subpath(const spm_geometry *g, const spm_material *mats, const
         return;
     spm_u32 skip = e->kind == SPM_LIGHT_AREA ? e->tri : 0xFFFFFFFFu;
     memcpy(y->d0, d, sizeof y->d0);
-    walk(g, mats, k, SPM_REF_IMPORTANCE, rw, o, d, skip, scale * cos_o / (e->pdf * pp * pd), pd,
-         y);
+    walk(g, mats, k, SPM_REF_IMPORTANCE, rw, o, d, skip, scale * y->ts * cos_o / (e->pdf * pp * pd),
+         pd, y);
     if (y->n > 1 && spm_ref_light_at_infinity(e)) /* y[1] by the disc: pdf_pos |cos| */
         y->v[1].pdf.fwd = pp * fabsf(v3_dot(y->v[1].n, y->d0));
 }
@@ -336,7 +350,8 @@ static int join_camera(const spm_geometry *g, const spm_ref_key *k, const bd_sub
     J->px = spm_ref_lt_film_pixel(&g->cam, film);
     spm_ref_eval e =
         spm_ref_eval_bsdf(qs->m, &qs->b, &qs->h, wi, SPM_REF_IMPORTANCE | SPM_REF_JOIN);
-    f = qs->beta * (e.k * e.f / e.div) / e.post;
+    float wq[3] = {-qs->h.d[0], -qs->h.d[1], -qs->h.d[2]};
+    f = qs->beta * (e.k * e.f / e.div) / e.post * spm_ref_adjoint_ns(&qs->h, wq, wi);
     J->arg_qs = e.cos_light;
     J->c = f * we / pdf;
     bd_vertex lv = {0};
@@ -384,15 +399,15 @@ static int join_inner(const spm_geometry *g, const spm_material *mats, const bd_
         float scale, cos_o, pp, pd;
         if (spm_ref_lt_emission(g, mats, y->e, back, &scale, &cos_o) == SPM_NONE)
             return 0;
-        fy = scale * cos_o / qs->pdf.fwd;
+        fy = scale * y->ts * cos_o / qs->pdf.fwd;
         spm_ref_light_pdf_emission(g, (spm_u32)(y->e - g->emitters), qs->p, back, &pp, &pd);
         py = pd; /* the light's density of its ray toward pt */
     } else {
         spm_ref_eval ey = spm_ref_eval_bsdf(qs->m, &qs->b, &qs->h, back,
                                             SPM_REF_IMPORTANCE | SPM_REF_JOIN);
-        fy = qs->beta * (ey.k * ey.f / ey.div) / ey.post;
-        J->arg_qs = ey.cos_light;
         float wo[3] = {-qs->h.d[0], -qs->h.d[1], -qs->h.d[2]};
+        fy = qs->beta * (ey.k * ey.f / ey.div) / ey.post * spm_ref_adjoint_ns(&qs->h, wo, back);
+        J->arg_qs = ey.cos_light;
         py = lobe_pdf(qs, wo, back, SPM_REF_IMPORTANCE);
         J->qsm_rev = to_area(lobe_pdf(qs, back, wo, SPM_REF_IMPORTANCE), qs, &y->v[s - 2]);
     }
@@ -422,7 +437,8 @@ static int join_infinite(const spm_geometry *g, const spm_material *mats, const 
     if (pt->pdf.delta ||
         spm_ref_lt_emission(g, mats, y->e, y->d0, &scale, &cos_o) == SPM_NONE)
         return 0;
-    spm_ref_eval ez = spm_ref_eval_bsdf(pt->m, &pt->b, &pt->h, w, SPM_REF_RADIANCE);
+    spm_ref_eval ez =
+        spm_ref_eval_bsdf(pt->m, &pt->b, &pt->h, w, SPM_REF_RADIANCE | SPM_REF_JOIN);
     J->arg_pt = ez.cos_light;
     J->c = pt->beta * (ez.k * ez.f / ez.div) / ez.post * scale * cos_o / y->e->pdf;
     if (!(J->c > 0.0f) || !visible(g, pt->p, pt->tri, w, INFINITY))

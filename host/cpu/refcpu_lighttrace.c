@@ -19,6 +19,7 @@
 #include "refcpu_shading.h"
 #include "refcpu_feeler.h"
 #include "refcpu_bdpt.h"
+#include "refcpu_texture.h"
 
 /* The pixel film point (fx, fy) in [-1, 1]^2 falls in (fy = 1 the top row),
  * the inverse of the camera ray's cx = 2 (x + u) / w - 1, cy = 1 - 2 (y + v) / h. */
@@ -112,7 +113,9 @@ static float vertex_link(const spm_geometry *g, const spm_material *m, const spm
         return 0.0f;
     spm_ref_eval e = spm_ref_eval_bsdf(m, b, h, wi, SPM_REF_IMPORTANCE | SPM_REF_JOIN);
     xv->light = e.cos_light;
+    float wo[3] = {-h->d[0], -h->d[1], -h->d[2]};
     float c = beta * (e.k * e.f / e.div) / e.post * w;
+    c *= spm_ref_adjoint_ns(h, wo, wi);
     return c > 0.0f ? c : 0.0f;
 }
 
@@ -170,7 +173,7 @@ static uint8_t trace_light_path(const spm_geometry *g, const spm_material *mats,
             break;
         }
         spm_material mix;
-        spm_ref_mix_pick(g, mats, (spm_u32)hit, x, &k, j, &mix);
+        spm_u32 mi = spm_ref_mix_pick(g, mats, (spm_u32)hit, x, &k, j, &mix);
         const spm_material *m = &mix;
         if (seg && j > 0) /* the segment's length inside: its absorption, in the shade stage */
             path->x[j - 1].lobe = t;
@@ -178,6 +181,7 @@ static uint8_t trace_light_path(const spm_geometry *g, const spm_material *mats,
         spm_ref_begin(m, &hf, &k, j, &walk, &b);
         float mmean, minv;
         spm_u32 refl = spm_ref_lobe(m, &b, &mmean, &minv);
+        refl = spm_ref_texture_seen(g, mi, (spm_u32)hit, x, &k, j, refl, m->refl, &mmean, &minv);
         path->x[j] = (spm_vertex_ext){0u, 0.0f, 0.0f, 0.0f};
         float c = vertex_link(g, m, &b, &hf, &k, j, x, (spm_u32)hit, beta, &path->x[j],
                               &lp->px[j + 1]);
@@ -203,6 +207,8 @@ static uint8_t trace_light_path(const spm_geometry *g, const spm_material *mats,
             break;
         beta *= s.wt;
         beta *= s.w;
+        float wo[3] = {-d[0], -d[1], -d[2]};
+        beta *= spm_ref_adjoint_ns(&hf, wo, s.wi);
         seg = s.inside;
         path->x[j].lobe = s.cos_lobe;
         for (int a = 0; a < 3; a++)

@@ -216,3 +216,12 @@ int spm_ref_next_vertex(const spm_geometry *g, const float o[3], const float d[3
     spm_ref_hit_frame(g, &g->tris[hit], o, d, h);
     return hit;
 }
+
+float spm_ref_adjoint_ns(const spm_ref_hit *h, const float wo[3], const float wi[3])
+{
+    if (!h->smooth)
+        return 1.0f;
+    float num = fabsf(v3_dot(wo, h->n)) * fabsf(v3_dot(wi, h->gn));
+    float den = fabsf(v3_dot(wo, h->gn)) * fabsf(v3_dot(wi, h->n));
+    return den > 0.0f ? num / den : 0.0f;
+}

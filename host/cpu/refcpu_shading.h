@@ -39,4 +39,11 @@ int spm_ref_next_vertex(const spm_geometry *g, const float o[3], const float d[3
  * refraction over it): 0 then, and the path ends. */
 int spm_ref_sample_sided(const spm_material *m, const spm_ref_bsdf *b, const spm_ref_hit *h,
                          const spm_ref_key *k, int j, int mode, spm_ref_bsample *s);
+/* Veach's correction of a shading normal for importance (a light subpath's
+ * vertex, pbrt-v4's CorrectShadingNormal): light arrives from wo and leaves
+ * along wi, and f |wi . ns| times
+ *   |wo . ns| |wi . ng| / (|wo . ng| |wi . ns|)
+ * is the adjoint of the radiance-mode f |wo . ns|; 1 at a flat hit, 0 where
+ * the denominator is. kernels/lighttrace.cl adjoint_ns has the kernels'. */
+float spm_ref_adjoint_ns(const spm_ref_hit *h, const float wo[3], const float wi[3]);
 #endif

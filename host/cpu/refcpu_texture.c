@@ -91,6 +91,30 @@ spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, 
     return tex[tex[SPM_TEXD_PALETTE] + at];
 }
 
+/* A light integrator's vertex colour: the texture's pick with the footprint
+ * the camera sees x with, a pixel's angle times the distance from the eye,
+ * along the eye's ray to it (kernels/texture.clh texture_seen). It depends on
+ * x alone, not on the subpath that made the vertex, so every strategy that
+ * reaches x weighs one filter of the texture. */
+spm_u32 spm_ref_texture_seen(const spm_geometry *g, spm_u32 mat, spm_u32 hit, const float x[3],
+                             const spm_ref_key *k, int j, spm_u32 refl, spm_u32 base, float *mean,
+                             float *inv_mean)
+{
+    if (!g->ntex)
+        return refl;
+    float d[3], r = 1.0f;
+    v3_sub(d, x, g->cam.eye);
+    float dist = sqrtf(v3_dot(d, d)), pix = 2.0f * g->cam.tan_half / (float)g->cam.width;
+    if (!(dist > 0.0f))
+        return refl;
+    for (int i = 0; i < 3; i++)
+        d[i] /= dist;
+    refl = spm_ref_texture_colour(g, mat, hit, x, d, pix * dist, k, j, refl, base, &r);
+    *mean *= r;
+    *inv_mean = r > 0.0f ? *inv_mean / r : 0.0f;
+    return refl;
+}
+
 /* the largest of the edges' |(n_j - n_i) . (p_j - p_i)| / |p_j - p_i|^2 (0 flat) */
 static float curvature(const spm_geometry *g, const spm_tri *tri)
 {

@@ -14,6 +14,14 @@ spm_u32 spm_ref_texture_colour(const spm_geometry *g, spm_u32 mat, spm_u32 hit, 
                                const float d[3], float cone, const spm_ref_key *k, int j,
                                spm_u32 refl, spm_u32 base, float *survive);
 
+/* The colour a light integrator's vertex j records there (its subpath's key
+ * k): spm_ref_texture_colour with the footprint of the camera's direct view
+ * of x, the same whichever subpath made the vertex; *mean and *inv_mean, its
+ * Russian roulette's, scaled by the pick's survival ratio. */
+spm_u32 spm_ref_texture_seen(const spm_geometry *g, spm_u32 mat, spm_u32 hit, const float x[3],
+                             const spm_ref_key *k, int j, spm_u32 refl, spm_u32 base, float *mean,
+                             float *inv_mean);
+
 /* The grid node picked at (u, v) on level l of the texture whose header is
  * h (texel along x by r1, along y by r2, the cell's corner by r3): its index
  * in a palette (kernels/texture.clh tex_node_at). */

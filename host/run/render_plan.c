@@ -195,16 +195,15 @@ static const char *bdpt_why(const spm_render_plan *p)
     return NULL;
 }
 
-/* 1 when a material of g has a texture on its surface (a reflectance) or an
- * opacity; a texture on an emission is not one. */
-static int surface_textures(const spm_geometry *g, int nmaterials)
+/* 1 when an area light's material has an opacity: a light subpath leaves
+ * its every point, where a ray meets only the part of it that is there. */
+static int emitter_opacity(const spm_geometry *g)
 {
-    if (!g->ntex)
+    if (!spm_geometry_has_alpha(g))
         return 0;
-    if (spm_geometry_has_alpha(g))
-        return 1;
-    for (int m = 0; m < nmaterials; m++)
-        if (g->tex[g->tex[SPM_TEXD_MATS] + (spm_u32)m] & 0xFFFFu)
+    for (int e = 0; e < g->nemitters; e++)
+        if (g->emitters[e].kind == SPM_LIGHT_AREA &&
+            g->tex[g->tex[SPM_TEXD_ALPHA] + g->tris[g->emitters[e].tri].material])
             return 1;
     return 0;
 }
@@ -223,9 +222,9 @@ int spm_render_plan_integrator(spm_render_plan *p, int i, spm_error *err)
                   "emission would leave a disc of the scene's bounding sphere along a direction "
                   "its own sampling draws, and a camera vertex escaping to it would be a light "
                   "vertex at infinity, which MIS does not weigh yet)";
-        else if (surface_textures(p->geom, p->tables->nmaterials))
-            why = "a light subpath does not look up textures or opacity yet (its vertices "
-                  "would carry the material's mean colour; a textured emission it does)";
+        else if (emitter_opacity(p->geom))
+            why = "a light subpath starts on an emitter's every point, which its opacity "
+                  "would thin (an opaque emitter with a textured emission it renders)";
         else if (tp->nemitters == 0)
             why = "the scene has no light to start a subpath from";
     }
