@@ -71,11 +71,11 @@ S=(render "$SPIKY" --integrator light --mode ml --width 48 --height 48 --spp 87 
 split_invariant "${S[@]}"
 
 # The reference's refusals hold on the device, with their reasons.
-"$BIN" render "$DATA/scenes/textured.scene" --integrator light --width 8 --height 8 --spp 1 \
+"$BIN" render "$DATA/scenes/envmap.scene" --integrator light --width 8 --height 8 --spp 1 \
     -o "$T/no.exr" 2> "$T/no.err"
-check "textures, OpenCL: exit 2" test $? -eq 2
-check "textures, OpenCL: says why" grep -q "does not look up textures" "$T/no.err"
-check "textures, OpenCL: nothing written" test ! -e "$T/no.exr"
+check "background, OpenCL: exit 2" test $? -eq 2
+check "background, OpenCL: says why" grep -q "background is no light a subpath starts from" "$T/no.err"
+check "background, OpenCL: nothing written" test ! -e "$T/no.exr"
 # pixel 65535 (135, 218 at 300 x 300) takes its splats: the 16-bit "none"
 # word once marked a splat-less slab, and that pixel stayed black
 "$BIN" render "$DATA/scenes/cornell.scene" --backend opencl --integrator light --width 300 --height 300 \
