@@ -295,7 +295,11 @@ static void test_slab_scale(void)
  * grazes a block's corner inside (lengths of 1e-5 to 1e-2) the rays' float
  * differences (1e-6 relative after several refractions) move it by far more
  * than its own rounding: measured 8 such paths in 9216, worst 3.8e-5 scene
- * units (the box is 0.56 wide; exp(-sigma d) moves by < 1e-3 there). */
+ * units (the box is 0.56 wide; exp(-sigma d) moves by < 1e-3 there); since a
+ * ray leaves a surface from a point moved inside its triangle and off its
+ * plane (ARCHITECTURE.md "Rays leaving a surface"), whose few float operations
+ * each backend rounds its own way, 13 paths, worst 4.6e-5: at most 2 in 1000
+ * (LEN_OFF_FRACTION), the absolute bound LEN_ABS as before. */
 static double len_diff(const spm_path *a, const spm_path *b, int *off)
 {
     double worst = 0.0;
@@ -308,6 +312,7 @@ static double len_diff(const spm_path *a, const spm_path *b, int *off)
     return worst;
 }
 #define LEN_ABS 2e-4
+#define LEN_OFF_FRACTION 2e-3
 
 static int ext_differs(const spm_path *a, const spm_path *b)
 {
@@ -359,7 +364,7 @@ static void diel_report(size_t n, void *ctx)
           "too little dielectric transport");
     printf("lengths inside: %zu paths beyond the relative tolerance, worst %.3g\n", k->len_off,
            k->len_worst);
-    CHECK((double)k->len_off <= TB_MAX_DIVERGENT_FRACTION * (double)n && k->len_worst <= LEN_ABS,
+    CHECK((double)k->len_off <= LEN_OFF_FRACTION * (double)n && k->len_worst <= LEN_ABS,
           "lengths inside: %zu paths off, worst %g", k->len_off, k->len_worst);
 }
 
